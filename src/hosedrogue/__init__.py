@@ -1,0 +1,34 @@
+"""hosedrogue: the probe-and-drogue aerial refuelling hose as a Kane-equation chain of rigid
+links (after Wu et al., 2018), with its air environment, equilibrium, linearization, model
+reduction and PID/LQR control.
+
+Quick start::
+
+    from hosedrogue import PAPER, solve_equilibrium, simulate
+    eq = solve_equilibrium(PAPER)
+    res = simulate(PAPER, duration_s=5.0)
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("hosedrogue")
+except PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0.0.0+unknown"
+
+from .params import PAPER, Params, ParameterError, load_params  # noqa: E402
+
+__all__ = ["PAPER", "Params", "ParameterError", "load_params", "solve_equilibrium", "simulate", "__version__"]
+
+
+def __getattr__(name):
+    # heavy modules (numba compilation) load on first use
+    if name == "solve_equilibrium":
+        from .analysis.equilibrium import solve_equilibrium
+
+        return solve_equilibrium
+    if name == "simulate":
+        from .simulation import simulate
+
+        return simulate
+    raise AttributeError(name)

@@ -1,0 +1,197 @@
+"""The balance position (Sec. 2.3.2; MODEL.md 5): the rest state in steady air.
+
+Method (no hand-tuned starting guesses):
+
+1. *Towed-cable guess.* In a uniform free stream, with bending ignored, every link of a chain
+   of two-force members lies along the resultant of the forces on everything aft of it. Marching
+   from the drogue to the tow point, each link's direction is found by a short fixed-point
+   iteration (its own drag depends on its direction). This is exact without wake and bending.
+2. *Newton polish.* ``scipy.optimize.root`` (MINPACK ``hybr``) on the full static generalized
+   forces ``Q(q) = 0`` (wake, bending, everything), with a central-difference Jacobian.
+3. *Continuation.* If the direct solve fails (strong wake at low dynamic pressure), the wake's
+   circulation is raised from 0 to its full value in steps, each solve starting from the last.
+
+The solver's own result is returned with the answer so a failure can be diagnosed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.optimize
+
+from ..constants import G0
+from ..model import kernels as K
+from ..model.system import HoseModel
+from ..params import PAPER, Params
+
+#: Converged when every generalized force is below this fraction of the hose's weight moment
+#: S_1 g l_1: 1e-10 of it moves the drogue by far less than a micrometre.
+RESIDUAL_TOLERANCE = 1e-10
+
+
+class EquilibriumError(RuntimeError):
+    """The balance position could not be found; ``.result`` holds the solver's result."""
+
+    def __init__(self, message: str, result=None):
+        super().__init__(message)
+        self.result = result
+
+
+@dataclass(frozen=True)
+class Equilibrium:
+    """The balance position, in S_p (x forward, y right, z down), SI units."""
+
+    q: np.ndarray  #: generalized coordinates (2n,) [rad]
+    joints_m: np.ndarray  #: joint positions (n+1, 3) [m]
+    drogue_position_m: np.ndarray  #: (3,) [m]
+    drogue_drag_n: np.ndarray  #: aerodynamic force on the drogue (3,) [N]
+    tow_force_n: np.ndarray  #: force the hose exerts on the tow point (3,) [N]
+    balance_ratio: float  #: D = V_D / L_H: drogue drop below the tow point over hose length
+    residual: float  #: max |Q| over S_1 g l_1 (dimensionless)
+    solver: object = field(repr=False)  #: scipy OptimizeResult of the last Newton solve
+
+    @property
+    def link_angles_rad(self) -> np.ndarray:
+        """(n, 2): [pitch, yaw] of every link [rad]."""
+        return self.q.reshape(-1, 2)
+
+    @property
+    def drogue_drag_magnitude_n(self) -> float:
+        return float(np.linalg.norm(self.drogue_drag_n))
+
+    @property
+    def state(self) -> np.ndarray:
+        """The full state [q, 0] (4n,)."""
+        return np.concatenate([self.q, np.zeros_like(self.q)])
+
+    def to_dict(self) -> dict:
+        return {
+            "drogue_position_m": self.drogue_position_m.tolist(),
+            "drogue_drag_n": self.drogue_drag_magnitude_n,
+            "drogue_drag_vector_n": self.drogue_drag_n.tolist(),
+            "tow_force_n": self.tow_force_n.tolist(),
+            "balance_ratio": self.balance_ratio,
+            "link_angles_rad": self.link_angles_rad.tolist(),
+            "residual": self.residual,
+            "solver_success": bool(self.solver.success),
+            "solver_message": str(self.solver.message),
+        }
+
+
+def towed_cable_guess(model: HoseModel) -> np.ndarray:
+    """Link angles of the chain in a uniform free stream without bending (step 1 above)."""
+    n, l, M = model.n, model.l, model.M
+    V, rho = model.params.flight.airspeed_m_s, model.rho
+    hose, drogue = model.params.hose, model.params.drogue
+    q_cn = 0.5 * rho * math.pi * hose.outer_diameter_m * hose.normal_drag_coefficient
+    q_ct = 0.5 * rho * math.pi * hose.outer_diameter_m * hose.tangential_drag_coefficient
+    wind = np.array([-V, 0.0, 0.0])
+    drogue_drag = 0.5 * rho * V * V * math.pi * drogue.diameter_m**2 / 4 * drogue.drag_coefficient
+
+    def link_drag(k: int, e: np.ndarray) -> np.ndarray:
+        vrel = -wind
+        vt = -vrel @ e
+        vn = vrel + vt * e
+        return -q_ct * l[k] * vt * abs(vt) * (-e) - q_cn * l[k] * np.linalg.norm(vn) * vn
+
+    carried = np.array([-drogue_drag, 0.0, 0.0])  # forces aft of the current link's aft joint
+    q = np.zeros(2 * n)
+    e_aft = None
+    for k in range(n - 1, -1, -1):
+        base = carried + np.array([0.0, 0.0, M[k] * G0])
+        if e_aft is not None:
+            base = base + 0.5 * link_drag(k + 1, e_aft)
+        e = base / np.linalg.norm(base)
+        for _ in range(100):
+            total = base + 0.5 * link_drag(k, e)
+            e_new = total / np.linalg.norm(total)
+            if np.linalg.norm(e_new - e) < 1e-14:
+                e = e_new
+                break
+            e = e_new
+        # the link pulls its aft joint forward along -e; the joint's load points along +e
+        e_aft = e
+        carried = base + 0.5 * link_drag(k, e)
+        q[2 * k + 1] = math.asin(max(-1.0, min(1.0, -e[1])))
+        q[2 * k] = math.atan2(e[2], -e[0])
+    return q
+
+
+def _residual_fn(model: HoseModel, env: np.ndarray):
+    gust = model.gust_values
+    Q = np.empty(2 * model.n)
+
+    def fun(q):
+        K.static_residual(np.ascontiguousarray(q), model.l, model.M, model.J, model.ps, env, gust, 0.0, Q)
+        return Q.copy()
+
+    def jac(q, h=1e-7):
+        m = q.size
+        Jm = np.empty((m, m))
+        qp = q.copy()
+        for i in range(m):
+            qp[i] = q[i] + h
+            fp = fun(qp)
+            qp[i] = q[i] - h
+            fm = fun(qp)
+            qp[i] = q[i]
+            Jm[:, i] = (fp - fm) / (2 * h)
+        return Jm
+
+    return fun, jac
+
+
+def _newton(model: HoseModel, env: np.ndarray, q0: np.ndarray, scale: float):
+    fun, jac = _residual_fn(model, env)
+    sol = scipy.optimize.root(fun, q0, jac=jac, method="hybr", options={"xtol": 1e-13})
+    res = float(np.max(np.abs(fun(sol.x)))) / scale
+    return sol, res
+
+
+def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) -> Equilibrium:
+    """Balance position for steady air (free stream and, if enabled, the tanker wake).
+
+    Raises
+    ------
+    EquilibriumError
+        If no converged rest state is found; its ``result`` is the last solver result.
+    """
+    model = model if model is not None else HoseModel(params)
+    scale = model.S[0] * G0 * model.l[0]
+    q = towed_cable_guess(model)
+    env_full = model.steady_env
+    sol, res = _newton(model, env_full, q, scale)
+    if not (res < RESIDUAL_TOLERANCE):
+        # continuation in the wake's circulation
+        q_c = q
+        for frac in np.linspace(0.0, 1.0, 11):
+            env = env_full.copy()
+            env[K.ENV_WAKE + 1] *= frac
+            sol, res = _newton(model, env, q_c, scale)
+            if not np.all(np.isfinite(sol.x)):
+                break
+            q_c = sol.x
+        if not (res < RESIDUAL_TOLERANCE):
+            raise EquilibriumError(
+                f"equilibrium not found: residual {res:.3g} of the weight moment after wake "
+                f"continuation (solver: {sol.message})",
+                sol,
+            )
+    q = sol.x.copy()
+    # angles are only defined modulo 2 pi; report the principal values
+    q = (q + np.pi) % (2 * np.pi) - np.pi
+    out = model.outputs(np.concatenate([q, np.zeros_like(q)]), steady=True)
+    drogue = out.joints_m[-1].copy()
+    return Equilibrium(
+        q=q,
+        joints_m=out.joints_m.copy(),
+        drogue_position_m=drogue,
+        drogue_drag_n=out.drogue_drag_n.copy(),
+        tow_force_n=out.tow_force_n.copy(),
+        balance_ratio=float(drogue[2] / model.params.hose.length_m),
+        residual=res,
+        solver=sol,
+    )

@@ -1,0 +1,184 @@
+"""Command line: parse, call, print. Exit status 0 success, 2 bad input, 3 a run that stopped
+early (its partial output is written and marked ``completed: false``), 1 anything unexpected.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import shutil
+import sys
+from pathlib import Path
+
+from .params import PAPER, ParameterError, Params, load_params
+
+EXIT_BAD_INPUT = 2
+EXIT_INCOMPLETE = 3
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (no usage dump) and exit status 2."""
+
+    def error(self, message):  # noqa: D401 - argparse API
+        self.exit(EXIT_BAD_INPUT, f"hosedrogue: error: {message} (see '{self.prog} --help')\n")
+
+
+def _finite_float(name: str, lo: float, hi: float, unit: str):
+    def parse(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be a number in [{lo:g}, {hi:g}] {unit}")
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be a number in [{lo:g}, {hi:g}] {unit}")
+        return v
+
+    return parse
+
+
+def _positive_int(name: str, lo: int, hi: int):
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be an integer in [{lo}, {hi}]")
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be an integer in [{lo}, {hi}]")
+        return v
+
+    return parse
+
+
+def _flight_overrides(args) -> dict:
+    """Parameter overrides from --altitude, --airspeed, --links, --no-wake (validated later)."""
+    over: dict = {}
+    if getattr(args, "altitude", None) is not None:
+        over.setdefault("flight", {})["altitude_m"] = args.altitude
+    if getattr(args, "airspeed", None) is not None:
+        over.setdefault("flight", {})["airspeed_m_s"] = args.airspeed
+    if getattr(args, "links", None) is not None:
+        over.setdefault("hose", {})["links"] = args.links
+    if getattr(args, "no_wake", False):
+        over.setdefault("wake", {})["enabled"] = False
+    return over
+
+
+def _params_from_args(args) -> Params:
+    base = load_params(args.config) if getattr(args, "config", None) else PAPER
+    over = _flight_overrides(args)
+    return base.replace(**over) if over else base
+
+
+# --- commands ------------------------------------------------------------------------------------
+def cmd_steady(args) -> int:
+    from .analysis.equilibrium import solve_equilibrium
+
+    params = _params_from_args(args)
+    eq = solve_equilibrium(params)
+    if args.json:
+        print(json.dumps(eq.to_dict()))
+        return 0
+    x, y, z = eq.drogue_position_m
+    fx, fy, fz = eq.tow_force_n
+    print(f"Balance position: {params.hose.links} links, {params.hose.length_m:g} m hose, "
+          f"{params.flight.airspeed_m_s:g} m/s at {params.flight.altitude_m:g} m, "
+          f"wake {'on' if params.wake.enabled else 'off'}")
+    print(f"  drogue position (x fwd, y right, z down) [m]: {x:9.4f} {y:9.4f} {z:9.4f}")
+    print(f"  drogue drag [N]:                               {eq.drogue_drag_magnitude_n:9.2f}")
+    print(f"  tow-point force [N]:                           {fx:9.2f} {fy:9.2f} {fz:9.2f}")
+    print(f"  balance ratio D = V_D / L_H:                   {eq.balance_ratio:9.4f}")
+    return 0
+
+
+def _prepare_out(out: Path) -> None:
+    if out.exists() and not out.is_dir():
+        raise ParameterError(f"--out = {str(out)!r}: exists and is not a directory")
+
+
+def cmd_simulate(args) -> int:
+    from .runner import run_scenario, write_run
+    from .scenarios import load_scenario
+
+    scenario = load_scenario(args.scenario).with_overrides(duration_s=args.duration, seed=args.seed)
+    out = Path(args.out)
+    _prepare_out(out)
+    created = not out.exists()
+    try:
+        result = run_scenario(scenario)
+    except BaseException:
+        if created and out.exists():
+            shutil.rmtree(out, ignore_errors=True)
+        raise
+    paths = write_run(result, out)
+    for p in paths:
+        print(f"wrote {p}")
+    if not result.completed:
+        print(f"hosedrogue: run incomplete: {result.message}", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="hosedrogue", description=(
+        "Probe-and-drogue aerial refuelling hose: Kane-equation rigid-link model (Wu et al., 2018). "
+        "Frame S_p: origin at the tow point, x forward, y right, z down; SI units."))
+    from . import __version__
+
+    p.add_argument("--version", action="version", version=f"hosedrogue {__version__}")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    def flight_options(sp, links=True):
+        sp.add_argument("--altitude", metavar="M", type=_finite_float("--altitude", 0, 20000, "m"),
+                        help="flight altitude [m], 0-20000 (default: paper, 8000 m)")
+        sp.add_argument("--airspeed", metavar="M_PER_S", type=_finite_float("--airspeed", 1e-9, 400, "m/s"),
+                        help="true airspeed [m/s], > 0 (default: paper, 150 m/s)")
+        if links:
+            sp.add_argument("--links", metavar="N", type=_positive_int("--links", 1, 1000),
+                            help="number of rigid links of the hose, >= 1 (default 20)")
+        sp.add_argument("--config", metavar="FILE", help="TOML file of parameter overrides ([hose], [flight], ...)")
+        sp.add_argument("--no-wake", action="store_true", help="switch the tanker wake off (free stream only)")
+
+    s = sub.add_parser("steady", help="balance position (equilibrium) of the hose and drogue",
+                       description="Print the balance position: drogue position [m] in S_p, drogue drag [N], "
+                                   "tow-point force [N] and D = V_D/L_H (drogue drop over hose length).")
+    flight_options(s)
+    s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    s.set_defaults(func=cmd_steady)
+
+    s = sub.add_parser("simulate", help="run a scenario file (time simulation)",
+                       description="Run SCENARIO (a shipped name such as 'swing-release' or "
+                                   "'paper-turbulence', or a TOML path) and write DIR/timeseries.csv "
+                                   "(SI units), DIR/run.json and DIR/displacement.png.")
+    s.add_argument("scenario", metavar="SCENARIO", help="scenario name or TOML file")
+    s.add_argument("--duration", metavar="S", type=_finite_float("--duration", 1e-9, 86400, "s"),
+                   help="simulated time [s] (overrides the file)")
+    s.add_argument("--seed", metavar="N", type=_positive_int("--seed", 0, 2**63 - 1),
+                   help="turbulence seed (overrides the file)")
+    s.add_argument("--out", metavar="DIR", default="out/simulate", help="output folder (default out/simulate)")
+    s.set_defaults(func=cmd_simulate)
+
+    for extra in _EXTRA_COMMANDS:
+        extra(sub, flight_options)
+    return p
+
+
+#: Other modules register sub-commands here: f(subparsers, flight_options).
+_EXTRA_COMMANDS: list = []
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except ParameterError as exc:
+        print(f"hosedrogue: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("hosedrogue: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Numerical core of the hose model (numba kernels) and its Python wrapper."""

@@ -1,0 +1,138 @@
+"""Time integrators (numba): fixed-step classical RK4 with an optional linear controller in the
+loop, compiled end to end so a run is not dominated by Python overhead.
+
+The closed-loop state is ``z = [x, xc]``: the hose state ``x = [q, qd]`` (4n) followed by the
+controller state ``xc``. The controller reads the drogue's lateral and vertical offset from
+``y_ref`` (plus sensor noise) and returns the force ``u = Cc xc + Dc y`` [N], clipped to
+``+-u_max`` per axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .kernels import NONFINITE, OK, YAW_LIMIT, rhs
+
+
+@njit(cache=True)
+def drogue_yz(x, l):
+    """Drogue (joint n) lateral and vertical position [m] in S_p."""
+    n = l.shape[0]
+    y = 0.0
+    z = 0.0
+    for k in range(n):
+        c2 = math.cos(x[2 * k + 1])
+        y -= l[k] * math.sin(x[2 * k + 1])
+        z += l[k] * math.sin(x[2 * k]) * c2
+    return y, z
+
+
+@njit(cache=True)
+def noise_at(t, noise, noise_dt):
+    """Zero-order-held sensor noise sample [m] (2,) at time t."""
+    i = int(t / noise_dt)
+    if i >= noise.shape[0]:
+        i = noise.shape[0] - 1
+    if i < 0:
+        i = 0
+    return noise[i, 0], noise[i, 1]
+
+
+@njit(cache=True)
+def control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
+    """Controller output u (2,) [N] at state z."""
+    y, zz = drogue_yz(z[:nx], l)
+    ny, nz = noise_at(t, noise, noise_dt)
+    m0 = y - y_ref[0] + ny
+    m1 = zz - y_ref[1] + nz
+    nc = Cc.shape[1]
+    for i in range(2):
+        acc = Dc[i, 0] * m0 + Dc[i, 1] * m1
+        for j in range(nc):
+            acc += Cc[i, j] * z[nx + j]
+        if acc > u_max[i]:
+            acc = u_max[i]
+        elif acc < -u_max[i]:
+            acc = -u_max[i]
+        u[i] = acc
+    return m0, m1
+
+
+@njit(cache=True)
+def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max,
+                      noise, noise_dt, dz, u):
+    nx = 4 * l.shape[0]
+    m0, m1 = control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+    rhs(t, z[:nx], u, l, M, S, J, ps, env, gust, dz[:nx])
+    nc = Ac.shape[0]
+    for i in range(nc):
+        acc = Bc[i, 0] * m0 + Bc[i, 1] * m1
+        for j in range(nc):
+            acc += Ac[i, j] * z[nx + j]
+        dz[nx + i] = acc
+
+
+@njit(cache=True)
+def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
+            u_max, noise, noise_dt, max_yaw, ts, zs, us):
+    """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
+    in ts, zs, us (the control force at that state). Returns (status, saved count, failure time).
+
+    Stops early on a non-finite state (status NONFINITE) or a link yaw beyond ``max_yaw`` [rad]
+    (status YAW_LIMIT); what was saved up to then stays valid.
+    """
+    n = l.shape[0]
+    nz = z0.shape[0]
+    z = z0.copy()
+    k1 = np.empty(nz)
+    k2 = np.empty(nz)
+    k3 = np.empty(nz)
+    k4 = np.empty(nz)
+    tmp = np.empty(nz)
+    u = np.empty(2)
+    ts[0] = t0
+    zs[0, :] = z
+    nx = 4 * n
+    control_force(t0, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+    us[0, 0] = u[0]
+    us[0, 1] = u[1]
+    saved = 1
+    t = t0
+    for step in range(1, nsteps + 1):
+        closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max, noise,
+                          noise_dt, k1, u)
+        for i in range(nz):
+            tmp[i] = z[i] + 0.5 * h * k1[i]
+        closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
+                          u_max, noise, noise_dt, k2, u)
+        for i in range(nz):
+            tmp[i] = z[i] + 0.5 * h * k2[i]
+        closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
+                          u_max, noise, noise_dt, k3, u)
+        for i in range(nz):
+            tmp[i] = z[i] + h * k3[i]
+        closed_loop_deriv(t + h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max,
+                          noise, noise_dt, k4, u)
+        for i in range(nz):
+            z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        t = t0 + step * h
+        status = OK
+        for i in range(nz):
+            if not math.isfinite(z[i]):
+                status = NONFINITE
+        for k in range(n):
+            if abs(z[2 * k + 1]) > max_yaw:
+                status = YAW_LIMIT
+        if status != OK:
+            return status, saved, t
+        if step % save_every == 0:
+            ts[saved] = t
+            zs[saved, :] = z
+            control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+            us[saved, 0] = u[0]
+            us[saved, 1] = u[1]
+            saved += 1
+    return OK, saved, t

@@ -1,0 +1,162 @@
+"""The hose-drogue model: validated parameters turned into the arrays the numba core works on.
+
+:class:`HoseModel` is the Python-facing object: ``accelerations``, ``mass_matrix``, ``energy``,
+``joint_positions`` and ``outputs`` at a state, plus everything the integrators and the
+equilibrium solver need. The air environment (free stream, tanker wake, gust record) is part of
+the model so that every force evaluation asks the same air-velocity function.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..constants import G0
+from ..environment.atmosphere import density
+from ..environment.turbulence import GustRecord, generate_gusts
+from ..environment.wake import wake_scalars
+from ..params import PAPER, Params
+from . import kernels as K
+
+
+@dataclass(frozen=True)
+class StateOutputs:
+    """Quantities derived from one state, all in S_p (x forward, y right, z down), SI units."""
+
+    qdd: np.ndarray  #: generalized accelerations (2n,) [rad/s^2]
+    joints_m: np.ndarray  #: joint positions (n+1, 3) [m], row 0 is the tow point
+    joint_velocities_m_s: np.ndarray  #: joint velocities (n+1, 3) [m/s]
+    drogue_drag_n: np.ndarray  #: aerodynamic force on the drogue (3,) [N]
+    tow_force_n: np.ndarray  #: force the hose exerts on the tow point (3,) [N]
+
+
+class HoseModel:
+    """Arrays and entry points of one parameter set.
+
+    Parameters
+    ----------
+    params : Params
+        Validated parameters (default: the paper's case).
+    gusts : GustRecord, optional
+        Turbulence record; by default generated from ``params.turbulence`` over ``gust_duration_s``.
+    gust_duration_s : float
+        Length of the generated gust record [s] when ``gusts`` is not given.
+    """
+
+    def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None,
+                 gust_duration_s: float = 0.0):
+        self.params = params
+        hose, drogue, flight = params.hose, params.drogue, params.flight
+        n = hose.links
+        self.n = n
+        self.rho = density(flight.altitude_m) * flight.density_scale
+        lk = hose.link_length_m
+        self.l = np.full(n, lk)
+        link_mass = hose.mass_per_length_kg_m * self.l
+        self.M = link_mass.copy()
+        self.M[-1] += drogue.mass_kg
+        self.S = np.cumsum(self.M[::-1])[::-1].copy()
+        if hose.link_inertia == "paper":
+            self.J = np.full(n, hose.link_inertia_kg_m2)
+        else:
+            self.J = link_mass * self.l**2 / 12.0
+        inertia_area = math.pi * (hose.outer_diameter_m**4 - hose.inner_diameter_m**4) / 64.0
+        bending = {"off": K.BENDING_OFF, "paper": K.BENDING_PAPER, "moment": K.BENDING_MOMENT}
+        ps = np.zeros(K.PS_SIZE)
+        ps[K.PS_G] = G0
+        ps[K.PS_RHO] = self.rho
+        ps[K.PS_V] = flight.airspeed_m_s
+        ps[K.PS_DO] = hose.outer_diameter_m
+        ps[K.PS_CT] = hose.tangential_drag_coefficient
+        ps[K.PS_CN] = hose.normal_drag_coefficient
+        ps[K.PS_DROGUE_CDA] = math.pi * drogue.diameter_m**2 / 4.0 * drogue.drag_coefficient
+        ps[K.PS_EI] = hose.elastic_modulus_pa * inertia_area
+        ps[K.PS_BENDING] = bending[hose.bending]
+        ps[K.PS_JD] = drogue.inertia_kg_m2
+        self.ps = ps
+        if gusts is None:
+            gusts = generate_gusts(params.turbulence, flight.airspeed_m_s, max(gust_duration_s, 0.0))
+        self.gusts = gusts
+        self.env = self._environment(gusts)
+        self.steady_env = self._environment(None)
+
+    def _environment(self, gusts: GustRecord | None) -> np.ndarray:
+        """The env array; ``gusts=None`` gives steady air (no turbulence)."""
+        p = self.params
+        env = np.zeros(K.ENV_SIZE)
+        env[K.ENV_V] = p.flight.airspeed_m_s
+        if self.rho > 0.0:  # without air there are no air forces, and the wake's circulation W/(rho V b0) is undefined
+            env[K.ENV_WAKE:K.ENV_WAKE + 6] = wake_scalars(p.tanker, p.wake, p.flight.airspeed_m_s, self.rho)
+        if gusts is None or not p.turbulence.enabled:
+            env[K.ENV_T_ON] = math.inf
+            env[K.ENV_T_OFF] = math.inf
+            env[K.ENV_G_DT] = 1.0
+        else:
+            env[K.ENV_FROZEN] = 1.0 if p.turbulence.distribution == "frozen" else 0.0
+            env[K.ENV_T_ON] = gusts.t_on_s
+            env[K.ENV_T_OFF] = gusts.t_off_s
+            env[K.ENV_G_T0] = gusts.t0_s
+            env[K.ENV_G_DT] = gusts.dt_s
+        return env
+
+    @property
+    def gust_values(self) -> np.ndarray:
+        return np.ascontiguousarray(self.gusts.values, dtype=np.float64)
+
+    # --- state-level entry points -------------------------------------------------------------
+    def _check_state(self, x: np.ndarray) -> np.ndarray:
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        if x.shape != (4 * self.n,):
+            raise ValueError(f"state has shape {x.shape}; expected ({4 * self.n},) = [q, qd] for n = {self.n}")
+        return x
+
+    def outputs(self, x, t: float = 0.0, u=(0.0, 0.0), steady: bool = False) -> StateOutputs:
+        """Accelerations and derived outputs at state ``x`` = [q, qd], time t [s], force u [N]."""
+        x = self._check_state(x)
+        n = self.n
+        qdd = np.empty(2 * n)
+        r = np.empty((n + 1, 3))
+        v = np.empty((n + 1, 3))
+        dd = np.empty(3)
+        tf = np.empty(3)
+        env = self.steady_env if steady else self.env
+        K.evaluate(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
+                   self.ps, env, self.gust_values, qdd, r, v, dd, tf)
+        return StateOutputs(qdd, r, v, dd, tf)
+
+    def accelerations(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
+        """Generalized accelerations [rad/s^2] (2n,)."""
+        return self.outputs(np.concatenate([q, qd]), t, u).qdd
+
+    def derivative(self, t: float, x, u=(0.0, 0.0)) -> np.ndarray:
+        """dx/dt of the state x = [q, qd] (4n,)."""
+        x = self._check_state(x)
+        dx = np.empty_like(x)
+        K.rhs(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
+              self.ps, self.env, self.gust_values, dx)
+        return dx
+
+    def mass_matrix(self, q) -> np.ndarray:
+        """H(q) (2n, 2n) [kg m^2]."""
+        return K.mass_matrix_at(np.ascontiguousarray(q, dtype=np.float64), self.l, self.S, self.J, self.ps)
+
+    def energy(self, x) -> tuple[float, float]:
+        """(kinetic, potential) energy [J]; potential includes the ``moment`` bending energy."""
+        return K.energy(self._check_state(x), self.l, self.M, self.J, self.ps)
+
+    def static_residual(self, q, steady: bool = True) -> np.ndarray:
+        """Generalized forces at rest [N m] (2n,); zero at an equilibrium."""
+        Q = np.empty(2 * self.n)
+        env = self.steady_env if steady else self.env
+        K.static_residual(np.ascontiguousarray(q, dtype=np.float64), self.l, self.M, self.J,
+                          self.ps, env, self.gust_values, 0.0, Q)
+        return Q
+
+    def joint_positions(self, q) -> np.ndarray:
+        """Joint positions (n+1, 3) [m] in S_p; row 0 is the tow point."""
+        q = np.asarray(q, dtype=np.float64)
+        th1, th2 = q[0::2], q[1::2]
+        e = np.stack([-np.cos(th1) * np.cos(th2), -np.sin(th2), np.sin(th1) * np.cos(th2)], axis=1)
+        return np.vstack([np.zeros(3), np.cumsum(self.l[:, None] * e, axis=0)])

@@ -1,0 +1,339 @@
+"""Typed, validated, immutable parameter sets.
+
+The defaults of these dataclasses *are* the paper's case (Wu et al., 2018, Table 1 and Sec. 2.3):
+``PAPER = Params()`` is the one definition of the paper preset. TOML files and dictionaries override
+any field; unknown keys, wrong types and values outside the allowed range raise
+:class:`ParameterError`, whose one-line message names the field, the value and what is allowed.
+
+Units are SI and are part of every field name (``_m``, ``_kg``, ``_s``, ``_m_s``, ...).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+from .constants import H_MAX_ATMOSPHERE
+
+INF = math.inf
+
+
+class ParameterError(ValueError):
+    """Invalid input: the message is one line naming the field, the value and what is allowed."""
+
+
+def _num(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = False, unit: str = ""):
+    """Metadata for a real-valued field with range (lo, hi] (openness selectable)."""
+    return {"kind": "float", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": hi_open, "unit": unit}
+
+
+def _int(lo: int, hi: int, unit: str = ""):
+    return {"kind": "int", "lo": lo, "hi": hi, "unit": unit}
+
+
+def _choice(*choices: str):
+    return {"kind": "choice", "choices": choices}
+
+
+def _bool():
+    return {"kind": "bool"}
+
+
+def _vec3(lo: float, hi: float = INF, *, lo_open: bool = False, unit: str = ""):
+    return {"kind": "vec3", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": False, "unit": unit}
+
+
+def _describe_range(meta: Mapping[str, Any]) -> str:
+    lo, hi = meta["lo"], meta["hi"]
+    left = "(" if meta.get("lo_open") else "["
+    right = ")" if (meta.get("hi_open") or hi == INF) else "]"
+    unit = f" {meta['unit']}" if meta.get("unit") else ""
+    hi_s = "inf" if hi == INF else f"{hi:g}"
+    return f"a finite number in {left}{lo:g}, {hi_s}{right}{unit}"
+
+
+def _check_real(name: str, value: Any, meta: Mapping[str, Any]) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ParameterError(f"{name} = {value!r}: must be {_describe_range(meta)}")
+    v = float(value)
+    lo, hi = meta["lo"], meta["hi"]
+    bad = (
+        not math.isfinite(v)
+        or (v <= lo if meta.get("lo_open") else v < lo)
+        or (v >= hi if meta.get("hi_open") else v > hi)
+    )
+    if bad:
+        raise ParameterError(f"{name} = {value!r}: must be {_describe_range(meta)}")
+    return v
+
+
+def _validate_field(section: str, f: dataclasses.Field, value: Any) -> Any:
+    meta = f.metadata
+    name = f"{section}.{f.name}"
+    kind = meta["kind"]
+    if kind == "float":
+        return _check_real(name, value, meta)
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int) or not meta["lo"] <= value <= meta["hi"]:
+            raise ParameterError(f"{name} = {value!r}: must be an integer in [{meta['lo']}, {meta['hi']}]")
+        return int(value)
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise ParameterError(f"{name} = {value!r}: must be true or false")
+        return value
+    if kind == "choice":
+        if value not in meta["choices"]:
+            allowed = ", ".join(repr(c) for c in meta["choices"])
+            raise ParameterError(f"{name} = {value!r}: must be one of {allowed}")
+        return value
+    if kind == "vec3":
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            value = (value, value, value)
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise ParameterError(
+                f"{name} = {value!r}: must be one number or a list of 3 numbers [u, v, w], each "
+                f"{_describe_range(meta)}"
+            )
+        return tuple(_check_real(f"{name}[{i}]", v, meta) for i, v in enumerate(value))
+    raise AssertionError(kind)  # pragma: no cover - metadata is defined in this module
+
+
+class _Section:
+    """Mixin: validates every field at construction (frozen dataclasses)."""
+
+    _section: str = ""
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            checked = _validate_field(self._section, f, getattr(self, f.name))
+            object.__setattr__(self, f.name, checked)
+        self._check_consistency()
+
+    def _check_consistency(self) -> None:
+        """Cross-field checks; overridden where needed."""
+
+
+@dataclass(frozen=True)
+class Tanker(_Section):
+    """The tanker aircraft (paper Table 1)."""
+
+    _section = "tanker"
+    mass_kg: float = field(default=60000.0, metadata=_num(0.0, unit="kg"))
+    span_m: float = field(default=34.0, metadata=_num(0.0, unit="m"))
+
+
+@dataclass(frozen=True)
+class Hose(_Section):
+    """The hose, modelled as ``links`` rigid links of equal length (paper Table 1; MODEL.md 2-3)."""
+
+    _section = "hose"
+    length_m: float = field(default=16.0, metadata=_num(0.0, unit="m"))
+    links: int = field(default=20, metadata=_int(1, 1000))
+    inner_diameter_m: float = field(default=0.051, metadata=_num(0.0, lo_open=False, unit="m"))
+    outer_diameter_m: float = field(default=0.067, metadata=_num(0.0, unit="m"))
+    mass_per_length_kg_m: float = field(default=4.4, metadata=_num(0.0, unit="kg/m"))
+    elastic_modulus_pa: float = field(default=13.79e6, metadata=_num(0.0, lo_open=False, unit="Pa"))
+    #: Link rotational inertia J_y = J_z [kg m^2] used when ``link_inertia == "paper"``.
+    link_inertia_kg_m2: float = field(default=2.816, metadata=_num(0.0, lo_open=False, unit="kg m^2"))
+    #: "paper": Table 1's 2.816 kg m^2 per link; "rod": m l^2 / 12 of each link (MODEL.md 2).
+    link_inertia: str = field(default="paper", metadata=_choice("paper", "rod"))
+    #: "paper": Eq. 20 equivalent joint force; "moment": conservative restoring moment; "off".
+    bending: str = field(default="paper", metadata=_choice("paper", "moment", "off"))
+    normal_drag_coefficient: float = field(default=0.28, metadata=_num(0.0, lo_open=False))
+    tangential_drag_coefficient: float = field(default=0.001, metadata=_num(0.0, lo_open=False))
+
+    def _check_consistency(self) -> None:
+        if self.inner_diameter_m >= self.outer_diameter_m:
+            raise ParameterError(
+                f"hose.inner_diameter_m = {self.inner_diameter_m!r}: must be smaller than "
+                f"hose.outer_diameter_m = {self.outer_diameter_m!r}"
+            )
+
+    @property
+    def link_length_m(self) -> float:
+        return self.length_m / self.links
+
+
+@dataclass(frozen=True)
+class Drogue(_Section):
+    """The drogue (paper Table 1)."""
+
+    _section = "drogue"
+    mass_kg: float = field(default=29.0, metadata=_num(0.0, unit="kg"))
+    diameter_m: float = field(default=0.61, metadata=_num(0.0, unit="m"))
+    inertia_kg_m2: float = field(default=1.349, metadata=_num(0.0, lo_open=False, unit="kg m^2"))
+    drag_coefficient: float = field(default=0.712, metadata=_num(0.0, lo_open=False))
+
+
+@dataclass(frozen=True)
+class Flight(_Section):
+    """Straight and level flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m)."""
+
+    _section = "flight"
+    altitude_m: float = field(
+        default=8000.0, metadata=_num(0.0, H_MAX_ATMOSPHERE, lo_open=False, unit="m")
+    )
+    airspeed_m_s: float = field(default=150.0, metadata=_num(0.0, 400.0, unit="m/s"))
+    #: Multiplies the ICAO density; 0 switches all air forces off (used by energy checks).
+    density_scale: float = field(default=1.0, metadata=_num(0.0, 10.0, lo_open=False))
+
+
+@dataclass(frozen=True)
+class Wake(_Section):
+    """Hallock-Burnham tanker wake (MODEL.md 4). Geometry as fractions of the tanker span."""
+
+    _section = "wake"
+    enabled: bool = field(default=True, metadata=_bool())
+    #: Lateral position of the tow point right of the centreline, over span (right wing mid-span).
+    tow_point_y_over_span: float = field(default=0.25, metadata=_num(-0.5, 0.5, lo_open=False))
+    #: Distance between the two vortices over span (elliptic loading: pi/4).
+    vortex_spacing_over_span: float = field(default=math.pi / 4, metadata=_num(0.0, 1.0))
+    #: Vortex core radius over span.
+    core_radius_over_span: float = field(default=0.035, metadata=_num(0.0, 1.0))
+    #: Height of the vortices below the tow point [m] (z down).
+    vertical_offset_m: float = field(default=0.0, metadata=_num(-100.0, 100.0, lo_open=False, unit="m"))
+
+
+@dataclass(frozen=True)
+class Turbulence(_Section):
+    """Dryden turbulence (MODEL.md 4). The paper's case: isotropic 1.5 m/s, 530 m, on at 10 s for 20 s."""
+
+    _section = "turbulence"
+    enabled: bool = field(default=False, metadata=_bool())
+    model: str = field(default="mil-f-8785c", metadata=_choice("mil-f-8785c", "mil-hdbk-1797"))
+    #: Intensity per axis [u, v, w] (m/s); one number means isotropic.
+    sigma_m_s: tuple = field(default=(1.5, 1.5, 1.5), metadata=_vec3(0.0, 50.0, unit="m/s"))
+    #: Scale length per axis [u, v, w] (m).
+    scale_length_m: tuple = field(default=(530.0, 530.0, 530.0), metadata=_vec3(1.0, 1e5, unit="m"))
+    start_s: float = field(default=10.0, metadata=_num(0.0, lo_open=False, unit="s"))
+    duration_s: float = field(default=20.0, metadata=_num(0.0, lo_open=False, unit="s"))
+    #: "uniform": the whole hose sees the tow point's gust; "frozen": delayed by distance / airspeed.
+    distribution: str = field(default="uniform", metadata=_choice("uniform", "frozen"))
+    #: Sample interval of the gust record [s]; independent of the integration step.
+    sample_time_s: float = field(default=0.005, metadata=_num(0.0, 1.0, unit="s"))
+    seed: int = field(default=2018, metadata=_int(0, 2**63 - 1))
+
+
+@dataclass(frozen=True)
+class Numerics(_Section):
+    """Time integration settings. The default step is justified in docs/convergence.md."""
+
+    _section = "numerics"
+    integrator: str = field(default="rk4", metadata=_choice("rk4", "adaptive"))
+    step_s: float = field(default=0.005, metadata=_num(0.0, 1.0, unit="s"))
+    #: Keep every ``output_every``-th step in the result.
+    output_every: int = field(default=2, metadata=_int(1, 10**6))
+    rtol: float = field(default=1e-9, metadata=_num(0.0, 1.0))
+    atol: float = field(default=1e-11, metadata=_num(0.0, 1.0))
+    #: A link yaw beyond this (degrees) stops the run: the angle coordinates are singular at 90.
+    max_yaw_deg: float = field(default=85.0, metadata=_num(0.0, 89.9, unit="deg"))
+
+
+SECTIONS = {
+    "tanker": Tanker,
+    "hose": Hose,
+    "drogue": Drogue,
+    "flight": Flight,
+    "wake": Wake,
+    "turbulence": Turbulence,
+    "numerics": Numerics,
+}
+
+
+@dataclass(frozen=True)
+class Params:
+    """All parameters of one model run. ``Params()`` is the paper's case."""
+
+    tanker: Tanker = field(default_factory=Tanker)
+    hose: Hose = field(default_factory=Hose)
+    drogue: Drogue = field(default_factory=Drogue)
+    flight: Flight = field(default_factory=Flight)
+    wake: Wake = field(default_factory=Wake)
+    turbulence: Turbulence = field(default_factory=Turbulence)
+    numerics: Numerics = field(default_factory=Numerics)
+
+    def replace(self, **sections: Mapping[str, Any]) -> "Params":
+        """Return a copy with fields overridden, e.g. ``p.replace(flight={"airspeed_m_s": 200})``."""
+        return params_from_dict(sections, base=self)
+
+    def to_dict(self) -> dict[str, dict[str, Any]]:
+        return {
+            name: {f.name: _plain(getattr(getattr(self, name), f.name)) for f in dataclasses.fields(cls)}
+            for name, cls in SECTIONS.items()
+        }
+
+
+def _plain(v: Any) -> Any:
+    return list(v) if isinstance(v, tuple) else v
+
+
+#: The paper's case (Table 1, 16 m hose in 20 links, 150 m/s, 8000 m): the one definition.
+PAPER = Params()
+
+#: Named turbulence intensities are resolved by hosedrogue.environment.turbulence.
+TURBULENCE_PRESET_KEY = "intensity"
+
+
+def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
+    """Override ``base`` with a nested mapping ``{section: {field: value}}``.
+
+    Unknown sections and fields are errors. ``turbulence.intensity`` may name a standard
+    intensity ("light", "moderate", "severe") that sets ``sigma_m_s`` from the altitude.
+    """
+    if not isinstance(data, Mapping):
+        raise ParameterError(f"parameters = {data!r}: must be a table of sections")
+    sections = {}
+    for name, cls in SECTIONS.items():
+        current = getattr(base, name)
+        overrides = data.get(name, {})
+        if not isinstance(overrides, Mapping):
+            raise ParameterError(f"{name} = {overrides!r}: must be a table of fields")
+        overrides = dict(overrides)
+        if name == "turbulence" and TURBULENCE_PRESET_KEY in overrides:
+            level = overrides.pop(TURBULENCE_PRESET_KEY)
+            if "sigma_m_s" in overrides:
+                raise ParameterError(
+                    f"turbulence.intensity = {level!r}: give either intensity or sigma_m_s, not both"
+                )
+            from .environment.turbulence import standard_intensity
+
+            altitude = data.get("flight", {}).get("altitude_m", base.flight.altitude_m)
+            overrides["sigma_m_s"] = standard_intensity(level, altitude)
+        known = {f.name for f in dataclasses.fields(cls)}
+        for key in overrides:
+            if key not in known:
+                allowed = ", ".join(sorted(known | ({TURBULENCE_PRESET_KEY} if name == "turbulence" else set())))
+                raise ParameterError(f"{name}.{key}: unknown field; allowed: {allowed}")
+        values = {f.name: overrides.get(f.name, getattr(current, f.name)) for f in dataclasses.fields(cls)}
+        sections[name] = cls(**values)
+    for name in data:
+        if name not in SECTIONS:
+            raise ParameterError(f"{name}: unknown section; allowed: {', '.join(SECTIONS)}")
+    return Params(**sections)
+
+
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """Read a TOML file, turning I/O and syntax problems into :class:`ParameterError`."""
+    p = Path(path)
+    try:
+        with p.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise ParameterError(f"config file {str(p)!r}: not found") from None
+    except IsADirectoryError:
+        raise ParameterError(f"config file {str(p)!r}: is a directory, expected a TOML file") from None
+    except PermissionError:
+        raise ParameterError(f"config file {str(p)!r}: not readable (permission denied)") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError(f"config file {str(p)!r}: not valid TOML ({exc})") from None
+    except UnicodeDecodeError:
+        raise ParameterError(f"config file {str(p)!r}: not valid UTF-8 TOML") from None
+
+
+def load_params(path: str | Path, base: Params = PAPER) -> Params:
+    """Parameters from a TOML file of ``[section]`` tables overriding ``base``."""
+    return params_from_dict(read_toml(path), base=base)

@@ -1,0 +1,138 @@
+"""Scenario files: a TOML file with a ``[scenario]`` table (run settings), optional
+``[controller]``, ``[actuator]`` and ``[sensor]`` tables, and any parameter sections of
+:mod:`hosedrogue.params` (``[flight]``, ``[turbulence]``, ...) overriding the paper's case.
+
+Scenarios shipped with the package are found by name (``paper-turbulence``) or file name
+(``scenarios/paper-turbulence.toml``); any other path is read from disk.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from ..params import SECTIONS, PAPER, ParameterError, Params, params_from_dict, read_toml
+
+SCENARIO_KEYS = {
+    "name", "description", "duration_s", "initial", "initial_pitch_offset_deg",
+    "initial_yaw_offset_deg",
+}
+CONTROLLER_TYPES = ("none", "pid", "lqr")
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A runnable case: parameters plus run settings."""
+
+    name: str
+    params: Params
+    duration_s: float
+    description: str = ""
+    #: "equilibrium": start at rest at the balance position; "displaced": add the offsets below
+    #: to every link's balance angles and release from rest.
+    initial: str = "equilibrium"
+    initial_pitch_offset_deg: float = 0.0
+    initial_yaw_offset_deg: float = 0.0
+    controller: str = "none"
+    actuator: dict = field(default_factory=dict)
+    sensor: dict = field(default_factory=dict)
+    source: str = ""
+
+    def with_overrides(self, duration_s: float | None = None, seed: int | None = None) -> "Scenario":
+        import dataclasses
+
+        s = self
+        if duration_s is not None:
+            _check_duration(duration_s, "--duration")
+            s = dataclasses.replace(s, duration_s=float(duration_s))
+        if seed is not None:
+            if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+                raise ParameterError(f"--seed = {seed!r}: must be an integer >= 0")
+            s = dataclasses.replace(s, params=s.params.replace(turbulence={"seed": seed}))
+        return s
+
+
+def _check_duration(value: Any, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
+        math.isfinite(value) and 0 < value <= 86400
+    ):
+        raise ParameterError(f"{name} = {value!r}: must be a finite number in (0, 86400] s")
+    return float(value)
+
+
+def shipped_scenarios() -> list[str]:
+    """Names of the scenarios shipped with the package."""
+    root = resources.files(__package__)
+    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))
+
+
+def resolve(name_or_path: str) -> tuple[str, dict]:
+    """Find a scenario by shipped name, ``scenarios/NAME.toml`` or path; return (source, data)."""
+    path = Path(name_or_path)
+    if path.exists():
+        return str(path), read_toml(path)
+    stem = path.name[:-5] if path.name.endswith(".toml") else path.name
+    root = resources.files(__package__)
+    candidate = root / f"{stem}.toml"
+    if candidate.is_file() and (path.parent in (Path("."), Path("scenarios"))):
+        with resources.as_file(candidate) as p:
+            return f"scenarios/{stem}.toml", read_toml(p)
+    raise ParameterError(
+        f"scenario {name_or_path!r}: no such file or shipped scenario; shipped: {', '.join(shipped_scenarios())}"
+    )
+
+
+def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
+    """Load and validate a scenario file (see the module docstring)."""
+    source, data = resolve(name_or_path)
+    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor"}
+    for key in data:
+        if key not in known:
+            raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(known))}")
+    sc = dict(data.get("scenario", {}))
+    for key in sc:
+        if key not in SCENARIO_KEYS:
+            raise ParameterError(f"scenario.{key}: unknown field; allowed: {', '.join(sorted(SCENARIO_KEYS))}")
+    if "duration_s" not in sc:
+        raise ParameterError("scenario.duration_s: missing; give the simulated time in seconds")
+    duration = _check_duration(sc["duration_s"], "scenario.duration_s")
+    initial = sc.get("initial", "equilibrium")
+    if initial not in ("equilibrium", "displaced"):
+        raise ParameterError(f"scenario.initial = {initial!r}: must be one of 'equilibrium', 'displaced'")
+    offsets = {}
+    for key in ("initial_pitch_offset_deg", "initial_yaw_offset_deg"):
+        v = sc.get(key, 0.0)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and abs(v) <= 60):
+            raise ParameterError(f"scenario.{key} = {v!r}: must be a finite number in [-60, 60] deg")
+        offsets[key] = float(v)
+    ctrl = dict(data.get("controller", {}))
+    for key in ctrl:
+        if key != "type":
+            raise ParameterError(f"controller.{key}: unknown field; allowed: type")
+    ctype = ctrl.get("type", "none")
+    if ctype not in CONTROLLER_TYPES:
+        raise ParameterError(f"controller.type = {ctype!r}: must be one of {', '.join(map(repr, CONTROLLER_TYPES))}")
+    actuator = dict(data.get("actuator", {}))
+    for key in actuator:
+        if key != "max_force_n":
+            raise ParameterError(f"actuator.{key}: unknown field; allowed: max_force_n")
+    sensor = dict(data.get("sensor", {}))
+    for key in sensor:
+        if key not in ("noise_std_m", "sample_time_s"):
+            raise ParameterError(f"sensor.{key}: unknown field; allowed: noise_std_m, sample_time_s")
+    params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=base)
+    return Scenario(
+        name=str(sc.get("name", Path(source).stem)),
+        params=params,
+        duration_s=duration,
+        description=str(sc.get("description", "")),
+        initial=initial,
+        controller=ctype,
+        actuator=actuator,
+        sensor=sensor,
+        source=source,
+        **offsets,
+    )
