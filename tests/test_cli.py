@@ -1,0 +1,171 @@
+"""Command line: output contract and the error behaviour for bad input and diverging runs."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from hosedrogue.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_steady_json_contract(capsys):
+    code, out, err = run(capsys, "steady", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    for key in ("drogue_position_m", "drogue_drag_n", "tow_force_n", "balance_ratio", "link_angles_rad"):
+        assert key in d
+    assert len(d["drogue_position_m"]) == 3 and len(d["tow_force_n"]) == 3
+    assert len(d["link_angles_rad"]) == 20
+    x, y, z = d["drogue_position_m"]
+    assert x < 0 and z > 0  # the drogue trails aft and hangs below the tow point
+    assert d["balance_ratio"] == pytest.approx(z / 16.0)
+
+
+def test_no_wake_is_the_free_stream_case(capsys):
+    """--no-wake gives exactly the free-stream balance: no lateral offset at all."""
+    _, out, _ = run(capsys, "steady", "--json", "--no-wake", "--links", "8")
+    d = json.loads(out)
+    assert d["drogue_position_m"][1] == 0.0
+    assert all(a[1] == 0.0 for a in d["link_angles_rad"])
+
+
+def test_steady_table_and_overrides(capsys):
+    code, out, _ = run(capsys, "steady", "--altitude", "3000", "--airspeed", "120", "--links", "10")
+    assert code == 0
+    assert "120 m/s at 3000 m" in out and "10 links" in out
+
+
+BAD_ARGS = [
+    (["steady", "--links", "0"], "--links"),
+    (["steady", "--links", "-3"], "--links"),
+    (["steady", "--links", "two"], "--links"),
+    (["steady", "--airspeed", "0"], "--airspeed"),
+    (["steady", "--airspeed", "-10"], "--airspeed"),
+    (["steady", "--airspeed", "nan"], "--airspeed"),
+    (["steady", "--altitude", "25000"], "--altitude"),
+    (["steady", "--altitude", "-1"], "--altitude"),
+    (["simulate", "no-such-scenario"], "no-such-scenario"),
+    (["simulate", "swing-release", "--duration", "0"], "--duration"),
+    (["simulate", "swing-release", "--seed", "-1"], "--seed"),
+]
+
+
+@pytest.mark.parametrize("argv,names", BAD_ARGS)
+def test_bad_arguments_one_line_exit_2(capsys, tmp_path, argv, names):
+    out_dir = tmp_path / "o"
+    if argv[0] == "simulate":
+        argv = argv + ["--out", str(out_dir)]
+    try:
+        code = main(argv)  # errors found by main itself return 2
+    except SystemExit as exc:  # errors found by argparse exit 2
+        code = exc.code
+    _, err = capsys.readouterr()
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1 and names in err
+    assert not out_dir.exists()
+
+
+BAD_CONFIGS = [
+    ("[hose]\nlength_m = 0\n", "hose.length_m"),
+    ("[hose]\nlength_m = -16.0\n", "hose.length_m"),
+    ("[hose]\nmass_per_length_kg_m = nan\n", "hose.mass_per_length_kg_m"),
+    ("[drogue]\nmass_kg = -29\n", "drogue.mass_kg"),
+    ("[hose]\nlinks = 0\n", "hose.links"),
+    ("[hose]\nlinks = 2.5\n", "hose.links"),
+    ("[flight]\nairspeed_m_s = 0.0\n", "flight.airspeed_m_s"),
+    ("[flight]\naltitude_m = 30000.0\n", "flight.altitude_m"),
+    ("[flight]\nairspeed = 150.0\n", "flight.airspeed"),
+    ("[fligth]\nairspeed_m_s = 150.0\n", "fligth"),
+    ("[hose]\nlength_m = \"16\"\n", "hose.length_m"),
+    ("[hose]\nbending = \"stiff\"\n", "hose.bending"),
+    ("[hose\nlength_m = 16\n", "not valid TOML"),
+]
+
+
+@pytest.mark.parametrize("text,names", BAD_CONFIGS)
+def test_bad_config_one_line_exit_2(capsys, tmp_path, text, names):
+    cfg = tmp_path / "bad.toml"
+    cfg.write_text(text)
+    code, out, err = run(capsys, "steady", "--config", str(cfg))
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1 and names in err
+    assert out == ""
+
+
+def test_unreadable_config(capsys, tmp_path):
+    code, _, err = run(capsys, "steady", "--config", str(tmp_path / "missing.toml"))
+    assert code == 2 and "not found" in err
+    code, _, err = run(capsys, "steady", "--config", str(tmp_path))
+    assert code == 2 and "directory" in err
+
+
+def test_bad_scenario_leaves_no_output(capsys, tmp_path):
+    sc = tmp_path / "s.toml"
+    sc.write_text("[scenario]\nduration_s = 5.0\n[hose]\nouter_diameter_m = -0.067\n")
+    out_dir = tmp_path / "o"
+    code, _, err = run(capsys, "simulate", str(sc), "--out", str(out_dir))
+    assert code == 2 and "hose.outer_diameter_m" in err and len(err.strip().splitlines()) == 1
+    assert not out_dir.exists()
+
+
+def test_simulate_writes_timeseries_and_run_json(capsys, tmp_path):
+    out_dir = tmp_path / "o"
+    code, out, err = run(capsys, "simulate", "swing-release", "--duration", "1.0", "--seed", "7",
+                         "--out", str(out_dir))
+    assert code == 0, err
+    import pandas as pd
+
+    ts = pd.read_csv(out_dir / "timeseries.csv")
+    for col in ("t_s", "drogue_x_m", "drogue_y_m", "drogue_z_m", "u_hor_n", "u_ver_n"):
+        assert col in ts.columns
+    assert ts["t_s"].iloc[-1] == pytest.approx(1.0)
+    meta = json.loads((out_dir / "run.json").read_text())
+    assert meta["completed"] is True and meta["seed"] == 7
+    assert meta["params"]["hose"]["links"] == 20 and "version" in meta
+
+
+@pytest.mark.parametrize(
+    "extra,why",
+    [
+        # yaw limit: the displaced start yaws every link 20 deg; a 5 deg limit stops the run
+        ("[numerics]\nmax_yaw_deg = 5.0\n", "yaw"),
+        # a step far beyond RK4's stability limit (|lambda| h ~ 19 rad/s x 0.9 s) blows up
+        ("[numerics]\nstep_s = 0.9\noutput_every = 1\n", ""),
+    ],
+)
+def test_diverging_run_is_kept_and_marked_incomplete(capsys, tmp_path, extra, why):
+    sc = tmp_path / "div.toml"
+    sc.write_text("[scenario]\nduration_s = 30.0\ninitial = \"displaced\"\ninitial_yaw_offset_deg = 20.0\n"
+                  + extra)
+    out_dir = tmp_path / "o"
+    code, _, err = run(capsys, "simulate", str(sc), "--out", str(out_dir))
+    assert code == 3
+    assert "stopped at t =" in err and why in err
+    meta = json.loads((out_dir / "run.json").read_text())
+    assert meta["completed"] is False and meta["t_end_s"] < 30.0
+    assert (out_dir / "timeseries.csv").exists()
+
+
+def test_subprocess_no_traceback(tmp_path):
+    """The installed entry point: exit 2 and one stderr line, no Python traceback."""
+    r = subprocess.run([sys.executable, "-m", "hosedrogue", "steady", "--airspeed", "-5"],
+                       capture_output=True, text=True)
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("cmd", [["--help"], ["steady", "--help"], ["simulate", "--help"]])
+def test_help_mentions_units(capsys, cmd):
+    with pytest.raises(SystemExit) as exc:
+        main(cmd)
+    assert exc.value.code == 0
+    out = capsys.readouterr().out
+    assert "[m" in out or "m/s" in out or "SI" in out
