@@ -1,0 +1,113 @@
+"""Convergence studies: integration step and number of links.
+
+``step_convergence`` runs a case at several RK4 steps and measures the largest drogue-position
+difference from a run at a much finer step; ``link_convergence`` measures how the balance
+position and the lowest lateral and vertical modes change as the hose is cut into more links.
+These numbers justify the default step (``Numerics.step_s``) and the paper's 20 links
+(docs/convergence.md, and the report).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..params import PAPER, Params
+from .equilibrium import solve_equilibrium
+
+#: The cases of the step study: a strong free swing, the paper's turbulence case, and the same
+#: with the paper's PID in the loop (the stiffest: the derivative filter pole is at ~106 rad/s).
+STEP_CASES = ("swing", "turbulence", "turbulence+pid")
+
+
+@dataclass(frozen=True)
+class StepStudy:
+    case: str
+    steps_s: np.ndarray
+    max_error_m: np.ndarray  #: max over time of |drogue position - reference| [m]
+    reference_step_s: float
+    duration_s: float
+
+    @property
+    def observed_order(self) -> np.ndarray:
+        """log2 of successive error ratios (4 for RK4 on smooth forcing)."""
+        e = self.max_error_m
+        return np.log2(e[:-1] / e[1:])
+
+
+def _case_setup(case: str, params: Params):
+    from ..controllers.pid import PAPER_PID, pid_controller
+
+    n = params.hose.links
+    if case == "swing":
+        p = params.replace(turbulence={"enabled": False})
+        eq = solve_equilibrium(p)
+        x0 = eq.state.copy()
+        x0[0 : 2 * n : 2] += math.radians(15)
+        x0[1 : 2 * n : 2] += math.radians(10)
+        return p, eq, x0, None, 10.0
+    p = params.replace(turbulence={"enabled": True})
+    eq = solve_equilibrium(p)
+    ctrl = pid_controller(PAPER_PID["lateral"], PAPER_PID["vertical"]) if case.endswith("pid") else None
+    return p, eq, eq.state, ctrl, 30.0
+
+
+def step_convergence(case: str = "swing", steps_s=(0.02, 0.01, 0.005, 0.0025),
+                     reference_step_s: float = 0.000625, params: Params = PAPER) -> StepStudy:
+    """Drogue-position error of RK4 at ``steps_s`` against a run at ``reference_step_s``."""
+    from ..simulation import simulate
+
+    if case not in STEP_CASES:
+        raise ValueError(f"case = {case!r}: must be one of {', '.join(STEP_CASES)}")
+    p, eq, x0, ctrl, duration = _case_setup(case, params)
+    out_dt = 0.04  # a common multiple of every step in the study
+
+    def path(h):
+        pp = p.replace(numerics={"step_s": h, "output_every": int(round(out_dt / h))})
+        res = simulate(pp, duration, x0=x0, control=ctrl, equilibrium=eq)
+        if not res.completed:
+            raise RuntimeError(f"{case} at step {h} s: {res.message}")
+        return res.drogue_position_m
+
+    ref = path(reference_step_s)
+    errs = np.array([np.max(np.abs(path(h) - ref)) for h in steps_s])
+    return StepStudy(case, np.asarray(steps_s, float), errs, reference_step_s, duration)
+
+
+@dataclass(frozen=True)
+class LinkStudy:
+    links: np.ndarray
+    drogue_position_m: np.ndarray  #: (k, 3)
+    lowest_lateral_rad_s: np.ndarray  #: damped frequency of the lowest mode seen laterally
+    lowest_vertical_rad_s: np.ndarray
+
+
+def link_convergence(links=(5, 10, 20, 40, 80), params: Params = PAPER) -> LinkStudy:
+    """Balance position and lowest lightly damped mode frequencies against the link count."""
+    from .linearize import linearize
+
+    pos, lat, ver = [], [], []
+    for n in links:
+        p = params.replace(hose={"links": int(n)})
+        lm = linearize(p)
+        pos.append(lm.equilibrium.drogue_position_m)
+        w_lat, w_ver = _lowest_modes(lm)
+        lat.append(w_lat)
+        ver.append(w_ver)
+    return LinkStudy(np.asarray(links), np.array(pos), np.array(lat), np.array(ver))
+
+
+def _lowest_modes(lm) -> tuple[float, float]:
+    """Imaginary part of the lowest-frequency pole visible in each output (modal residue > 1 %
+    of the largest), which is the pendulum mode of the lateral and vertical channels."""
+    lam, vec = np.linalg.eig(lm.A)
+    left = np.linalg.inv(vec)
+    out = []
+    for ch in range(2):
+        res = np.abs((lm.C[ch] @ vec) * (left @ lm.B[:, ch]))
+        order = np.argsort(np.abs(lam.imag))
+        keep = [i for i in order if lam[i].imag > 0 and res[i] > 0.01 * res.max()]
+        out.append(float(lam[keep[0]].imag) if keep else float("nan"))
+    return out[0], out[1]
