@@ -42,7 +42,7 @@ def build_controller(scenario: Scenario, model: HoseModel, eq: Equilibrium):
 def run_scenario(scenario: Scenario) -> SimulationResult:
     """Simulate a scenario; the result's ``meta`` records what was run."""
     params = scenario.params
-    model = HoseModel(params, gust_duration_s=scenario.duration_s)
+    model = HoseModel(params)
     eq = solve_equilibrium(params, model=model)
     controller = build_controller(scenario, model, eq)
     result = simulate(

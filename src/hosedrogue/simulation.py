@@ -88,7 +88,7 @@ def simulate(
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
     if model is None:
-        model = HoseModel(params, gust_duration_s=duration_s)
+        model = HoseModel(params)
     if equilibrium is None:
         equilibrium = solve_equilibrium(params, model=model)
     n = model.n
@@ -171,7 +171,8 @@ def _run_adaptive(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
     u_max = np.full(2, actuator.max_force_n)
     u = np.empty(2)
     args = (model.l, model.M, model.S, model.J, model.ps, model.env, model.gust_values,
-            ctrl.A, ctrl.B, ctrl.C, ctrl.D, y_ref, u_max, noise, sensor.sample_time_s)
+            ctrl.A, ctrl.B, ctrl.C, ctrl.D, y_ref, u_max, noise, sensor.sample_time_s,
+            K.make_workspace(model.n))
     max_yaw = math.radians(num.max_yaw_deg)
     n = model.n
 

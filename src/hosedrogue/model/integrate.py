@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .kernels import NONFINITE, OK, YAW_LIMIT, rhs
+from .kernels import NONFINITE, OK, YAW_LIMIT, make_workspace_jit, rhs_ws
 
 
 @njit(cache=True)
@@ -63,10 +63,11 @@ def control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
 
 @njit(cache=True)
 def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max,
-                      noise, noise_dt, dz, u):
+                      noise, noise_dt, ws, dz, u):
+    """dz/dt of the hose and controller state z = [x, xc]; u receives the control force."""
     nx = 4 * l.shape[0]
     m0, m1 = control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
-    rhs(t, z[:nx], u, l, M, S, J, ps, env, gust, dz[:nx])
+    rhs_ws(t, z[:nx], u, l, M, S, J, ps, env, gust, ws, dz[:nx])
     nc = Ac.shape[0]
     for i in range(nc):
         acc = Bc[i, 0] * m0 + Bc[i, 1] * m1
@@ -93,6 +94,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     k4 = np.empty(nz)
     tmp = np.empty(nz)
     u = np.empty(2)
+    ws = make_workspace_jit(n)
     ts[0] = t0
     zs[0, :] = z
     nx = 4 * n
@@ -103,19 +105,19 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     t = t0
     for step in range(1, nsteps + 1):
         closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max, noise,
-                          noise_dt, k1, u)
+                          noise_dt, ws, k1, u)
         for i in range(nz):
             tmp[i] = z[i] + 0.5 * h * k1[i]
         closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-                          u_max, noise, noise_dt, k2, u)
+                          u_max, noise, noise_dt, ws, k2, u)
         for i in range(nz):
             tmp[i] = z[i] + 0.5 * h * k2[i]
         closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-                          u_max, noise, noise_dt, k3, u)
+                          u_max, noise, noise_dt, ws, k3, u)
         for i in range(nz):
             tmp[i] = z[i] + h * k3[i]
         closed_loop_deriv(t + h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max,
-                          noise, noise_dt, k4, u)
+                          noise, noise_dt, ws, k4, u)
         for i in range(nz):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t = t0 + step * h

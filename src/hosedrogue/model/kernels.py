@@ -11,8 +11,11 @@ Everything here is a pure function of float64 arrays; no Python objects, no I/O,
 
 Kane's equations give ``H(q) qdd = Q(q, qd, t, u)``. With masses lumped at joints and
 ``dV_i/dqd_{j}`` zero for ``j > i`` every generalized force is a dot product of a link's partial
-velocity with a *suffix sum* of joint forces, so ``Q`` costs O(n). ``H`` is dense: its entry for
-links i, j is ``S_max(i,j) l_i l_j g_i . g_j`` with ``S_k`` the mass at and aft of joint k+1.
+velocity with a *suffix sum* of joint forces, so ``Q`` costs O(n). ``H`` is dense (its entry for
+links i, j is ``S_max(i,j) l_i l_j g_i . g_j`` with ``S_k`` the mass at and aft of joint k+1), but
+the time integrators never form it: :func:`chain_forward_dynamics` solves for ``qdd`` in O(n) by
+an articulated-body recursion. The dense path (:func:`accelerations_dense`) stays as the
+reference the recursion is tested against.
 
 Layout of the scalar arrays (indices are the module constants below):
 
@@ -83,13 +86,13 @@ def link_frames(q, n, e, a, b, cs):
 
 
 @njit(cache=True)
-def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, xi):
-    """Joint positions r, velocities v (n+1,3; row 0 = tow point) and the velocity-product part of
-    the joint accelerations xi (n+1,3): a_k = sum_j l_j (a_j qdd_j1 + b_j qdd_j2) + xi_k."""
+def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
+    """Joint positions r and velocities v (n+1,3; row 0 = tow point) and each link's
+    velocity-product acceleration c (n,3) = l_k d2e_k/dt2 at zero qdd (paper Eq. 16), so that
+    joint k+1 accelerates as A_{k+1} = A_k + l_k (a_k qdd_k1 + b_k qdd_k2) + c_k."""
     for i in range(3):
         r[0, i] = 0.0
         v[0, i] = 0.0
-        xi[0, i] = 0.0
     for k in range(n):
         d1 = qd[2 * k]
         d2 = qd[2 * k + 1]
@@ -97,16 +100,12 @@ def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, xi):
         lk = l[k]
         p11 = d1 * d1 + d2 * d2
         p12 = 2.0 * d1 * d2
-        # second derivative of e_k at zero qdd (paper Eq. 16)
-        ex = c1 * c2 * p11 - s1 * s2 * p12
-        ey = s2 * d2 * d2
-        ez = -s1 * c2 * p11 - c1 * s2 * p12
+        c[k, 0] = lk * (c1 * c2 * p11 - s1 * s2 * p12)
+        c[k, 1] = lk * s2 * d2 * d2
+        c[k, 2] = lk * (-s1 * c2 * p11 - c1 * s2 * p12)
         for i in range(3):
             r[k + 1, i] = r[k, i] + lk * e[k, i]
             v[k + 1, i] = v[k, i] + lk * (a[k, i] * d1 + b[k, i] * d2)
-        xi[k + 1, 0] = xi[k, 0] + lk * ex
-        xi[k + 1, 1] = xi[k, 1] + lk * ey
-        xi[k + 1, 2] = xi[k, 2] + lk * ez
 
 
 @njit(cache=True)
@@ -203,11 +202,30 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
 
 
 @njit(cache=True)
-def generalized_forces(qd, l, M, J, ps, n, a, b, cs, xi, F, Mom, G, Q):
-    """Q (2n): generalized active forces minus velocity-product inertia terms.
+def rotational_terms(qd, J, n, cs, Mom, tau):
+    """tau (n,2): generalized forces of each link's own rotation - its inertia's velocity terms
+    and the moments on it, through the partial angular velocities [0,1,0], [s1,0,c1]."""
+    for k in range(n):
+        c1, s1, c2, s2 = cs[k, 0], cs[k, 1], cs[k, 2], cs[k, 3]
+        d1 = qd[2 * k]
+        d2 = qd[2 * k + 1]
+        # link inertia J (I - e e^T) in S_p: T_rot = J/2 (c2^2 d1^2 + d2^2) (paper Eq. 18); the
+        # drogue's isotropic inertia Jd I has constant coefficients and adds no velocity terms
+        tau[k, 0] = 2.0 * J[k] * c2 * s2 * d1 * d2 + Mom[k, 1]
+        tau[k, 1] = -J[k] * c2 * s2 * d1 * d1 + s1 * Mom[k, 0] + c1 * Mom[k, 2]
 
-    G (n+1,3) receives the suffix sums G_k = sum_{m>=k} (F_m - M_m xi_m) over joints 1..n.
+
+@njit(cache=True)
+def generalized_forces(l, M, n, a, b, c, F, tau, G, Q):
+    """Q (2n): generalized active forces minus velocity-product inertia terms (dense path).
+
+    G (n+1,3) receives the suffix sums G_k = sum_{m>=k} (F_m - M_m xi_m) over joints 1..n, with
+    xi_m = sum_{i<m} c_i the velocity-product part of joint m's acceleration.
     """
+    xi = np.zeros((n + 1, 3))
+    for k in range(n):
+        for i in range(3):
+            xi[k + 1, i] = xi[k, i] + c[k, i]
     for i in range(3):
         G[n, i] = 0.0
     for k in range(n - 1, -1, -1):
@@ -215,18 +233,8 @@ def generalized_forces(qd, l, M, J, ps, n, a, b, cs, xi, F, Mom, G, Q):
             G[k, i] = G[k + 1, i] + F[k + 1, i] - M[k] * xi[k + 1, i]
     for k in range(n):
         lk = l[k]
-        Q[2 * k] = lk * (a[k, 0] * G[k, 0] + a[k, 1] * G[k, 1] + a[k, 2] * G[k, 2])
-        Q[2 * k + 1] = lk * (b[k, 0] * G[k, 0] + b[k, 1] * G[k, 1] + b[k, 2] * G[k, 2])
-        c1, s1, c2, s2 = cs[k, 0], cs[k, 1], cs[k, 2], cs[k, 3]
-        d1 = qd[2 * k]
-        d2 = qd[2 * k + 1]
-        # link rotational inertia J (I - e e^T) in S_p: T_rot = J/2 (c2^2 d1^2 + d2^2) (Eq. 18)
-        Q[2 * k] += 2.0 * J[k] * c2 * s2 * d1 * d2
-        Q[2 * k + 1] -= J[k] * c2 * s2 * d1 * d1
-        # moments through the partial angular velocities [0,1,0] and [s1,0,c1] (Eqs. 13-14)
-        Q[2 * k] += Mom[k, 1]
-        Q[2 * k + 1] += s1 * Mom[k, 0] + c1 * Mom[k, 2]
-    # the drogue's isotropic inertia Jd I on link n has constant coefficients: no velocity terms
+        Q[2 * k] = lk * (a[k, 0] * G[k, 0] + a[k, 1] * G[k, 1] + a[k, 2] * G[k, 2]) + tau[k, 0]
+        Q[2 * k + 1] = lk * (b[k, 0] * G[k, 0] + b[k, 1] * G[k, 1] + b[k, 2] * G[k, 2]) + tau[k, 1]
 
 
 @njit(cache=True)
@@ -255,75 +263,191 @@ def mass_matrix(l, S, J, ps, n, a, b, cs, H):
     H[2 * n - 1, 2 * n - 1] += ps[PS_JD]
 
 
+def make_workspace(n):
+    """Scratch arrays for one chain of n links, allocated once per run (not per evaluation)."""
+    return (
+        np.empty((n, 3)),  # 0 e
+        np.empty((n, 3)),  # 1 a
+        np.empty((n, 3)),  # 2 b
+        np.empty((n, 4)),  # 3 cs
+        np.empty((n + 1, 3)),  # 4 r
+        np.empty((n + 1, 3)),  # 5 v
+        np.empty((n, 3)),  # 6 c
+        np.empty((n + 1, 3)),  # 7 F
+        np.empty((n, 3)),  # 8 Mom
+        np.empty((n, 2)),  # 9 tau
+        np.empty((n, 6)),  # 10 U (3x2, row-major)
+        np.empty((n, 4)),  # 11 Dinv (2x2, row-major)
+        np.empty((n, 2)),  # 12 right-hand sides of the joint equations
+        np.empty(3),  # 13 drogue drag
+        np.empty(3),  # 14 tow force
+        np.empty(2 * n),  # 15 qdd
+    )
+
+
+make_workspace_jit = njit(cache=True)(make_workspace)
+
+
 @njit(cache=True)
-def evaluate(t, x, u, l, M, S, J, ps, env, gust, qdd, r, v, drogue_drag, tow_force):
-    """Accelerations qdd (2n) and outputs: joint positions r and velocities v (n+1,3), drogue
-    drag (3) and the force the hose exerts on the tow point (3), all in S_p."""
+def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, tow_force):
+    """Solve H qdd = Q in O(n) by an articulated-body recursion for this chain.
+
+    The part of the chain aft of joint k, cut through link k, resists the acceleration A of
+    joint k with the force ``IA_k A + beta_k``. Backward pass: from the drogue, fold each
+    link's two joint equations into (IA, beta) of the joint ahead of it. Forward pass: from the
+    tow point (A_0 = 0), solve each link's 2x2 joint equations. Returns the force the hose
+    exerts on the tow point, ``F_0 - (IA_1 A_0 + beta_1)`` with A_0 = 0.
+    """
+    # IA (symmetric 3x3, stored full) and beta of the subsystem aft of the current joint
+    IA00 = IA01 = IA02 = IA11 = IA12 = IA22 = 0.0
+    be0 = be1 = be2 = 0.0
+    for k in range(n - 1, -1, -1):
+        # add the lumped mass and external force of joint k+1
+        IA00 += M[k]
+        IA11 += M[k]
+        IA22 += M[k]
+        be0 -= F[k + 1, 0]
+        be1 -= F[k + 1, 1]
+        be2 -= F[k + 1, 2]
+        lk = l[k]
+        g0x, g0y, g0z = lk * a[k, 0], lk * a[k, 1], lk * a[k, 2]
+        g1x, g1y, g1z = lk * b[k, 0], lk * b[k, 1], lk * b[k, 2]
+        # U = IA G (3x2)
+        u00 = IA00 * g0x + IA01 * g0y + IA02 * g0z
+        u10 = IA01 * g0x + IA11 * g0y + IA12 * g0z
+        u20 = IA02 * g0x + IA12 * g0y + IA22 * g0z
+        u01 = IA00 * g1x + IA01 * g1y + IA02 * g1z
+        u11 = IA01 * g1x + IA11 * g1y + IA12 * g1z
+        u21 = IA02 * g1x + IA12 * g1y + IA22 * g1z
+        # D = G^T IA G + R (R: the link's and, on the last link, the drogue's rotational inertia)
+        c2 = cs[k, 2]
+        r0 = J[k] * c2 * c2
+        r1 = J[k]
+        if k == n - 1:
+            r0 += Jd
+            r1 += Jd
+        d00 = g0x * u00 + g0y * u10 + g0z * u20 + r0
+        d01 = g0x * u01 + g0y * u11 + g0z * u21
+        d11 = g1x * u01 + g1y * u11 + g1z * u21 + r1
+        det = d00 * d11 - d01 * d01
+        i00 = d11 / det
+        i01 = -d01 / det
+        i11 = d00 / det
+        # right-hand side of the joint equations without the fore joint's acceleration
+        h0 = tau[k, 0] - (g0x * be0 + g0y * be1 + g0z * be2)
+        h1 = tau[k, 1] - (g1x * be0 + g1y * be1 + g1z * be2)
+        U[k, 0], U[k, 1], U[k, 2], U[k, 3], U[k, 4], U[k, 5] = u00, u01, u10, u11, u20, u21
+        Dinv[k, 0], Dinv[k, 1], Dinv[k, 2], Dinv[k, 3] = i00, i01, i01, i11
+        rv[k, 0] = h0
+        rv[k, 1] = h1
+        # W = U Dinv (3x2)
+        w00 = u00 * i00 + u01 * i01
+        w01 = u00 * i01 + u01 * i11
+        w10 = u10 * i00 + u11 * i01
+        w11 = u10 * i01 + u11 * i11
+        w20 = u20 * i00 + u21 * i01
+        w21 = u20 * i01 + u21 * i11
+        # articulated inertia seen through the link: IA - U Dinv U^T
+        IA00 -= w00 * u00 + w01 * u01
+        IA01 -= w00 * u10 + w01 * u11
+        IA02 -= w00 * u20 + w01 * u21
+        IA11 -= w10 * u10 + w11 * u11
+        IA12 -= w10 * u20 + w11 * u21
+        IA22 -= w20 * u20 + w21 * u21
+        # bias seen through the link: IA~ c + U Dinv h + beta
+        cx, cy, cz = c[k, 0], c[k, 1], c[k, 2]
+        be0 += IA00 * cx + IA01 * cy + IA02 * cz + w00 * h0 + w01 * h1
+        be1 += IA01 * cx + IA11 * cy + IA12 * cz + w10 * h0 + w11 * h1
+        be2 += IA02 * cx + IA12 * cy + IA22 * cz + w20 * h0 + w21 * h1
+    tow_force[0] = F[0, 0] - be0
+    tow_force[1] = F[0, 1] - be1
+    tow_force[2] = F[0, 2] - be2
+    Ax = Ay = Az = 0.0
+    for k in range(n):
+        px = Ax + c[k, 0]
+        py = Ay + c[k, 1]
+        pz = Az + c[k, 2]
+        h0 = rv[k, 0] - (U[k, 0] * px + U[k, 2] * py + U[k, 4] * pz)
+        h1 = rv[k, 1] - (U[k, 1] * px + U[k, 3] * py + U[k, 5] * pz)
+        q1 = Dinv[k, 0] * h0 + Dinv[k, 1] * h1
+        q2 = Dinv[k, 2] * h0 + Dinv[k, 3] * h1
+        qdd[2 * k] = q1
+        qdd[2 * k + 1] = q2
+        lk = l[k]
+        Ax = px + lk * (a[k, 0] * q1 + b[k, 0] * q2)
+        Ay = py + lk * (a[k, 1] * q1 + b[k, 1] * q2)
+        Az = pz + lk * (a[k, 2] * q1 + b[k, 2] * q2)
+
+
+@njit(cache=True)
+def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
+    """Accelerations (ws[15]) and outputs in the workspace: joint positions ws[4], velocities
+    ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
     n = l.shape[0]
     q = x[: 2 * n]
     qd = x[2 * n:]
-    e = np.empty((n, 3))
-    a = np.empty((n, 3))
-    b = np.empty((n, 3))
-    cs = np.empty((n, 4))
-    xi = np.empty((n + 1, 3))
-    F = np.empty((n + 1, 3))
-    Mom = np.empty((n, 3))
-    G = np.empty((n + 1, 3))
-    Q = np.empty(2 * n)
-    H = np.empty((2 * n, 2 * n))
+    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
     link_frames(q, n, e, a, b, cs)
-    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, xi)
-    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag)
-    generalized_forces(qd, l, M, J, ps, n, a, b, cs, xi, F, Mom, G, Q)
-    mass_matrix(l, S, J, ps, n, a, b, cs, H)
-    sol = np.linalg.solve(H, Q)
-    for i in range(2 * n):
-        qdd[i] = sol[i]
-    # force on the tow point = half of link 1's drag + sum of joint forces - sum of m a
-    for i in range(3):
-        acc = F[0, i] + G[0, i]
-        for k in range(n):
-            acc -= S[k] * l[k] * (a[k, i] * qdd[2 * k] + b[k, i] * qdd[2 * k + 1])
-        tow_force[i] = acc
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
+    rotational_terms(qd, J, n, cs, Mom, tau)
+    chain_forward_dynamics(l, M, J, ps[PS_JD], n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12],
+                           ws[15], ws[14])
 
 
 @njit(cache=True)
-def rhs(t, x, u, l, M, S, J, ps, env, gust, dx):
-    """State derivative dx (4n) of x = [q, qd]."""
+def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
+    """State derivative dx (4n) of x = [q, qd], using the workspace ws (no allocation)."""
     n = l.shape[0]
-    qdd = np.empty(2 * n)
-    r = np.empty((n + 1, 3))
-    v = np.empty((n + 1, 3))
-    dd = np.empty(3)
-    tf = np.empty(3)
-    evaluate(t, x, u, l, M, S, J, ps, env, gust, qdd, r, v, dd, tf)
+    evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws)
+    qdd = ws[15]
     for i in range(2 * n):
         dx[i] = x[2 * n + i]
         dx[2 * n + i] = qdd[i]
 
 
 @njit(cache=True)
-def static_residual(q, l, M, J, ps, env, gust, t, Q):
-    """Generalized forces at rest (qd = 0, u = 0): zero exactly at an equilibrium."""
+def rhs(t, x, u, l, M, S, J, ps, env, gust, dx):
+    """State derivative dx (4n) of x = [q, qd] (allocates its own workspace)."""
+    ws = make_workspace_jit(l.shape[0])
+    rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx)
+
+
+@njit(cache=True)
+def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
+    """qdd by forming the dense mass matrix and solving it (O(n^3)); the reference the
+    recursion is tested against."""
     n = l.shape[0]
+    ws = make_workspace_jit(n)
+    q = x[: 2 * n]
+    qd = x[2 * n:]
+    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    link_frames(q, n, e, a, b, cs)
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
+    rotational_terms(qd, J, n, cs, Mom, tau)
+    G = np.empty((n + 1, 3))
+    Q = np.empty(2 * n)
+    generalized_forces(l, M, n, a, b, c, F, tau, G, Q)
+    H = np.empty((2 * n, 2 * n))
+    mass_matrix(l, S, J, ps, n, a, b, cs, H)
+    return np.linalg.solve(H, Q)
+
+
+@njit(cache=True)
+def static_residual(q, l, M, J, ps, env, gust, t, Q):
+    """Generalized forces at rest (qd = 0, u = 0) into Q (2n): zero exactly at an equilibrium."""
+    n = l.shape[0]
+    ws = make_workspace_jit(n)
     qd = np.zeros(2 * n)
     u = np.zeros(2)
-    e = np.empty((n, 3))
-    a = np.empty((n, 3))
-    b = np.empty((n, 3))
-    cs = np.empty((n, 4))
-    r = np.empty((n + 1, 3))
-    v = np.empty((n + 1, 3))
-    xi = np.empty((n + 1, 3))
-    F = np.empty((n + 1, 3))
-    Mom = np.empty((n, 3))
-    G = np.empty((n + 1, 3))
-    dd = np.empty(3)
+    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
     link_frames(q, n, e, a, b, cs)
-    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, xi)
-    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, dd)
-    generalized_forces(qd, l, M, J, ps, n, a, b, cs, xi, F, Mom, G, Q)
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
+    rotational_terms(qd, J, n, cs, Mom, tau)
+    G = np.empty((n + 1, 3))
+    generalized_forces(l, M, n, a, b, c, F, tau, G, Q)
 
 
 @njit(cache=True)
@@ -331,17 +455,12 @@ def energy(x, l, M, J, ps):
     """(kinetic, potential) energy [J]; potential = gravity (z down) + bending-moment elastic
     energy (the ``moment`` option is the conservative one)."""
     n = l.shape[0]
+    ws = make_workspace_jit(n)
     q = x[: 2 * n]
     qd = x[2 * n:]
-    e = np.empty((n, 3))
-    a = np.empty((n, 3))
-    b = np.empty((n, 3))
-    cs = np.empty((n, 4))
-    r = np.empty((n + 1, 3))
-    v = np.empty((n + 1, 3))
-    xi = np.empty((n + 1, 3))
+    e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
     link_frames(q, n, e, a, b, cs)
-    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, xi)
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     g = ps[PS_G]
     T = 0.0
     U = 0.0

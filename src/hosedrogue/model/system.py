@@ -40,13 +40,10 @@ class HoseModel:
     params : Params
         Validated parameters (default: the paper's case).
     gusts : GustRecord, optional
-        Turbulence record; by default generated from ``params.turbulence`` over ``gust_duration_s``.
-    gust_duration_s : float
-        Length of the generated gust record [s] when ``gusts`` is not given.
+        Turbulence record; by default generated from ``params.turbulence`` (its window and seed).
     """
 
-    def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None,
-                 gust_duration_s: float = 0.0):
+    def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None):
         self.params = params
         hose, drogue, flight = params.hose, params.drogue, params.flight
         n = hose.links
@@ -77,7 +74,7 @@ class HoseModel:
         ps[K.PS_JD] = drogue.inertia_kg_m2
         self.ps = ps
         if gusts is None:
-            gusts = generate_gusts(params.turbulence, flight.airspeed_m_s, max(gust_duration_s, 0.0))
+            gusts = generate_gusts(params.turbulence, flight.airspeed_m_s)
         self.gusts = gusts
         self.env = self._environment(gusts)
         self.steady_env = self._environment(None)
@@ -115,15 +112,11 @@ class HoseModel:
     def outputs(self, x, t: float = 0.0, u=(0.0, 0.0), steady: bool = False) -> StateOutputs:
         """Accelerations and derived outputs at state ``x`` = [q, qd], time t [s], force u [N]."""
         x = self._check_state(x)
-        n = self.n
-        qdd = np.empty(2 * n)
-        r = np.empty((n + 1, 3))
-        v = np.empty((n + 1, 3))
-        dd = np.empty(3)
-        tf = np.empty(3)
+        ws = K.make_workspace(self.n)
         env = self.steady_env if steady else self.env
-        K.evaluate(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
-                   self.ps, env, self.gust_values, qdd, r, v, dd, tf)
+        K.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
+                      self.ps, env, self.gust_values, ws)
+        qdd, r, v, dd, tf = ws[15], ws[4], ws[5], ws[13], ws[14]
         return StateOutputs(qdd, r, v, dd, tf)
 
     def accelerations(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
@@ -137,6 +130,12 @@ class HoseModel:
         K.rhs(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
               self.ps, self.env, self.gust_values, dx)
         return dx
+
+    def accelerations_dense(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
+        """qdd from the dense mass matrix (O(n^3) reference for the O(n) recursion)."""
+        x = self._check_state(np.concatenate([q, qd]))
+        return K.accelerations_dense(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M,
+                                     self.S, self.J, self.ps, self.env, self.gust_values)
 
     def mass_matrix(self, q) -> np.ndarray:
         """H(q) (2n, 2n) [kg m^2]."""

@@ -1,0 +1,89 @@
+"""Speed of the compiled model, printed as figures (never asserted).
+
+* real-time factor (simulated seconds per wall second) of the paper's 20-link turbulence case
+  (wake and turbulence on, RK4 at the default step), compile time excluded and reported apart;
+* time per RK4 step against the number of links (20 ... 400) and its growth per doubling;
+* the same 20-link case written as a user would without this package: a numpy right-hand side
+  that forms and solves the dense mass matrix, integrated by scipy's solve_ivp (RK45).
+
+Run:  .venv/bin/python benchmarks/realtime.py   (one core: NUMBA_NUM_THREADS=1 is set here)
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import math  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from hosedrogue.analysis.equilibrium import solve_equilibrium  # noqa: E402
+from hosedrogue.controllers.linear import LinearController  # noqa: E402
+from hosedrogue.model.integrate import rk4_run  # noqa: E402
+from hosedrogue.model.system import HoseModel  # noqa: E402
+from hosedrogue.params import PAPER  # noqa: E402
+
+TURBULENCE = {"enabled": True, "start_s": 0.0, "duration_s": 1e6}
+
+
+def rk4_wall_time(model, x0, duration_s, repeats=3):
+    h = model.params.numerics.step_s
+    nsteps = int(round(duration_s / h))
+    every = nsteps  # keep only the end: measure the integrator, not the output copies
+    ctrl = LinearController.static_zero()
+    ts = np.empty(2)
+    zs = np.empty((2, x0.size))
+    us = np.empty((2, 2))
+    args = (x0, 0.0, h, nsteps, every, model.l, model.M, model.S, model.J, model.ps, model.env,
+            model.gust_values, ctrl.A, ctrl.B, ctrl.C, ctrl.D, np.zeros(2), np.full(2, np.inf),
+            np.zeros((1, 2)), 1.0, math.radians(85.0), ts, zs, us)
+    best = math.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        status, _, _ = rk4_run(*args)
+        best = min(best, time.perf_counter() - t0)
+        assert status == 0
+    return best, nsteps
+
+
+def main():
+    t0 = time.perf_counter()
+    p = PAPER.replace(turbulence=TURBULENCE)
+    model = HoseModel(p)
+    eq = solve_equilibrium(p, model=model)
+    rk4_wall_time(model, eq.state, 0.01, repeats=1)
+    print(f"first call (import, compile or cache load, equilibrium): {time.perf_counter() - t0:.2f} s")
+
+    duration = 60.0
+    wall, nsteps = rk4_wall_time(model, eq.state, duration)
+    print(f"paper turbulence case, 20 links, RK4 h = {p.numerics.step_s} s, {duration:g} s simulated:")
+    print(f"  wall {wall * 1e3:.1f} ms, {wall / nsteps * 1e6:.2f} us/step, real-time factor {duration / wall:,.0f}")
+
+    print("time per RK4 step against links (turbulence and wake on):")
+    prev = None
+    for n in (20, 50, 100, 200, 400):
+        pn = p.replace(hose={"links": n})
+        mn = HoseModel(pn)
+        eqn = solve_equilibrium(pn, model=mn)
+        dur = 20.0 if n <= 100 else 8.0
+        wall_n, steps_n = rk4_wall_time(mn, eqn.state, dur)
+        per = wall_n / steps_n
+        growth = "" if prev is None else f"  x{per / prev[1]:.2f} for x{n / prev[0]:.1f} links"
+        print(f"  n = {n:4d}: {per * 1e6:8.2f} us/step, real-time factor {dur / wall_n:10,.0f}{growth}")
+        prev = (n, per)
+
+    from naive import naive_wall_time
+
+    wall_naive, sim_naive = naive_wall_time(p, eq.state, 5.0)
+    rtf_naive = sim_naive / wall_naive
+    print(f"the same case in numpy + scipy.solve_ivp (dense solve, RK45, rtol 1e-6): real-time factor "
+          f"{rtf_naive:.2f}; this package is {duration / wall / rtf_naive:,.0f} times faster")
+
+
+if __name__ == "__main__":
+    main()

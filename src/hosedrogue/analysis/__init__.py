@@ -1,0 +1,1 @@
+"""Analysis of the hose-drogue model: equilibrium, linearization and model reduction."""

@@ -1,0 +1,487 @@
+"""Dryden turbulence: spectra, forming filters, exact discretization and the gust record.
+
+Spectra
+-------
+For an aircraft flying at true airspeed V through a frozen turbulence field, the temporal
+frequency is ``omega = V Omega`` [rad/s]. With ``x = L omega / V`` the one-sided power spectral
+densities, normalised so that ``integral_0^inf Phi(omega) d omega = sigma^2``, are
+
+* MIL-F-8785C (default):
+  ``Phi_u = sigma^2 (2 L / (pi V)) / (1 + x^2)``,
+  ``Phi_v = Phi_w = sigma^2 (L / (pi V)) (1 + 3 x^2) / (1 + x^2)^2``;
+* MIL-HDBK-1797 (option): ``Phi_u`` as above and
+  ``Phi_v = Phi_w = sigma^2 (2 L / (pi V)) (1 + 12 x^2) / (1 + 4 x^2)^2``
+  (the handbook's form with the lateral/vertical scale length written as 2L).
+
+Forming filters
+---------------
+Each axis is the output of a linear filter ``dx = A x dt + B dW``, ``g = C x`` driven by
+unit-intensity white noise (``E[dW dW] = dt``). Its two-sided output spectrum is ``|H(i omega)|^2``
+with ``H(s) = C (sI - A)^-1 B``, so the one-sided spectrum in the convention above is
+``|H(i omega)|^2 / pi``. The transfer functions are therefore sqrt(pi) times the usual
+"spectral square roots"::
+
+    u (both):        H(s) = sigma sqrt(2 T)      / (1 + T s),                     T = L / V
+    v, w (8785C):    H(s) = sigma sqrt(T)   (1 + sqrt(3) T s)   / (1 + T s)^2
+    v, w (1797):     H(s) = sigma sqrt(2 T) (1 + 2 sqrt(3) T s) / (1 + 2 T s)^2
+
+The realizations are scaled so that the stationary state covariance is the identity matrix (checked
+by a Lyapunov solve in the tests); the stationary output variance is then ``C C^T = sigma^2``
+exactly, and a stationary initial state is a vector of standard normal numbers.
+
+Exact discretization
+--------------------
+At a sample interval dt the state obeys ``x[k+1] = Phi x[k] + w[k]`` with ``Phi = expm(A dt)`` and
+``w[k] ~ N(0, Qd)``, ``Qd = integral_0^dt expm(A s) B B^T expm(A^T s) ds`` (Van Loan's method).
+Started from the stationary distribution, the sampled record has exactly the autocovariance of the
+continuous process at the sample times, for any dt: the gust statistics do not depend on the
+sample interval or on the integration step.
+
+Standard intensities
+--------------------
+:func:`standard_intensity` gives the medium/high-altitude rms intensity of MIL-F-8785C (1980)
+Fig. 7 / MIL-HDBK-1797 (1997), "probability of exceedance of high-altitude intensity", as digitized
+in the lookup table of the MathWorks Aerospace Blockset "Dryden Wind Turbulence Model" blocks
+(MathWorks documentation: light = 1e-2, moderate = 1e-3, severe = 1e-5 probability of exceedance;
+the same numbers appear in JSBSim's ``FGWinds.cpp``). Altitudes 500-80 000 ft, intensities in ft/s;
+the model is isotropic there (sigma_u = sigma_v = sigma_w, L = 1750 ft = 533.4 m).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+from numba import njit
+
+from ..constants import FT_TO_M
+from ..params import ParameterError, Turbulence
+
+#: Filter families, as accepted by ``Turbulence.model``.
+MODELS = ("mil-f-8785c", "mil-hdbk-1797")
+#: Gust axes along S_p x, y, z.
+AXES = ("u", "v", "w")
+
+_SQRT3 = math.sqrt(3.0)
+
+
+# ----------------------------------------------------------------------------------------------
+# spectra and filters
+# ----------------------------------------------------------------------------------------------
+def _check_model(model: str) -> None:
+    if model not in MODELS:
+        allowed = ", ".join(repr(m) for m in MODELS)
+        raise ParameterError(f"turbulence.model = {model!r}: must be one of {allowed}")
+
+
+def _check_axis(axis: str) -> None:
+    if axis not in AXES:
+        raise ValueError(f"axis = {axis!r}: must be one of 'u', 'v', 'w'")
+
+
+def _check_filter_args(sigma: float, L: float, V: float) -> None:
+    if not (math.isfinite(sigma) and sigma >= 0.0):
+        raise ValueError(f"sigma = {sigma!r}: must be a finite number >= 0 [m/s]")
+    if not (math.isfinite(L) and L > 0.0):
+        raise ValueError(f"L = {L!r}: the scale length must be a finite number > 0 [m]")
+    if not (math.isfinite(V) and V > 0.0):
+        raise ValueError(f"V = {V!r}: the airspeed must be a finite number > 0 [m/s]")
+
+
+def dryden_psd(model: str, axis: str, omega, sigma: float, L: float, V: float) -> np.ndarray:
+    """One-sided Dryden power spectral density in temporal frequency.
+
+    Parameters
+    ----------
+    model : {"mil-f-8785c", "mil-hdbk-1797"}
+        Spectrum family (see the module docstring).
+    axis : {"u", "v", "w"}
+        Gust component along S_p x, y or z.
+    omega : array_like
+        Temporal circular frequency [rad/s], >= 0.
+    sigma : float
+        Rms intensity of the component [m/s].
+    L : float
+        Scale length of the component [m].
+    V : float
+        True airspeed [m/s].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``Phi(omega)`` [(m/s)^2 / (rad/s)], normalised so that its integral over
+        ``omega in [0, inf)`` equals ``sigma^2``.
+    """
+    _check_model(model)
+    _check_axis(axis)
+    _check_filter_args(sigma, L, V)
+    x2 = (L * np.asarray(omega, dtype=np.float64) / V) ** 2
+    if axis == "u":
+        return sigma**2 * (2.0 * L / (math.pi * V)) / (1.0 + x2)
+    if model == "mil-f-8785c":
+        return sigma**2 * (L / (math.pi * V)) * (1.0 + 3.0 * x2) / (1.0 + x2) ** 2
+    return sigma**2 * (2.0 * L / (math.pi * V)) * (1.0 + 12.0 * x2) / (1.0 + 4.0 * x2) ** 2
+
+
+def forming_filter(model: str, axis: str, sigma: float, L: float, V: float):
+    """Continuous forming filter of one gust component, driven by unit-intensity white noise.
+
+    Parameters
+    ----------
+    model : {"mil-f-8785c", "mil-hdbk-1797"}
+        Spectrum family.
+    axis : {"u", "v", "w"}
+        Gust component along S_p x, y or z.
+    sigma : float
+        Rms intensity [m/s].
+    L : float
+        Scale length [m].
+    V : float
+        True airspeed [m/s].
+
+    Returns
+    -------
+    A : numpy.ndarray
+        State matrix [1/s], (n, n) with n = 1 (u) or 2 (v, w).
+    B : numpy.ndarray
+        Noise input matrix [1/sqrt(s)], (n, 1).
+    C : numpy.ndarray
+        Output matrix [m/s], (1, n).
+
+    Notes
+    -----
+    ``dx = A x dt + B dW``, gust ``= C x``, with W a standard Wiener process. The state is scaled so
+    that its stationary covariance is the identity, hence the stationary output variance is
+    ``C C^T = sigma^2`` and ``|C (i omega I - A)^-1 B|^2 / pi = dryden_psd(...)``.
+    """
+    _check_model(model)
+    _check_axis(axis)
+    _check_filter_args(sigma, L, V)
+    T = L / V
+    if axis == "u":
+        # H = sigma sqrt(2T) / (1 + T s); state variance B^2 T / 2 = 1
+        A = np.array([[-1.0 / T]])
+        B = np.array([[math.sqrt(2.0 / T)]])
+        C = np.array([[sigma]])
+        return A, B, C
+    if model == "mil-f-8785c":
+        gain, lead, tau = sigma * math.sqrt(T), _SQRT3 * T, T
+    else:
+        gain, lead, tau = sigma * math.sqrt(2.0 * T), 2.0 * _SQRT3 * T, 2.0 * T
+    # H = gain (1 + lead s) / (1 + tau s)^2, realized as a critically damped oscillator whose
+    # position and velocity are scaled to unit stationary variance (they are uncorrelated).
+    A = np.array([[0.0, 1.0], [-1.0, -2.0]]) / tau
+    B = np.array([[0.0], [2.0 / math.sqrt(tau)]])
+    C = gain / (2.0 * math.sqrt(tau)) * np.array([[1.0, lead / tau]])
+    return A, B, C
+
+
+def discretize_filter(A: np.ndarray, B: np.ndarray, dt: float):
+    """Exact discretization of the linear SDE ``dx = A x dt + B dW`` (Van Loan, 1978).
+
+    Parameters
+    ----------
+    A : numpy.ndarray
+        State matrix [1/s], (n, n).
+    B : numpy.ndarray
+        Noise input matrix [1/sqrt(s)], (n, m), unit-intensity white noise.
+    dt : float
+        Sample interval [s], > 0.
+
+    Returns
+    -------
+    Phi : numpy.ndarray
+        Transition matrix ``expm(A dt)``, (n, n).
+    Qd : numpy.ndarray
+        Covariance of the state increment over one interval,
+        ``integral_0^dt expm(A s) B B^T expm(A^T s) ds``, (n, n), symmetric.
+
+    Notes
+    -----
+    Van Loan's block matrix contains ``-A``, whose exponential grows like ``exp(|A| dt)``; when
+    ``|A| dt`` is large (a sample interval of many filter time constants) its round-off would
+    swamp ``Qd``. So the block exponential is taken over ``h = dt / 2^s`` with ``|A| h <= 1/2``,
+    and ``Qd`` is doubled ``s`` times by ``Qd(2h) = Phi(h) Qd(h) Phi(h)^T + Qd(h)`` (a sum of
+    positive semi-definite terms: no cancellation). ``Phi`` is ``expm(A dt)`` directly.
+    """
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise ValueError(f"dt = {dt!r}: the sample interval must be a finite number > 0 [s]")
+    A = np.asarray(A, dtype=np.float64)
+    B = np.asarray(B, dtype=np.float64)
+    n = A.shape[0]
+    a_dt = np.linalg.norm(A, 1) * dt
+    halvings = max(0, math.ceil(math.log2(a_dt / 0.5))) if a_dt > 0.5 else 0
+    h = dt / 2.0**halvings
+    M = np.zeros((2 * n, 2 * n))
+    M[:n, :n] = -A
+    M[:n, n:] = B @ B.T
+    M[n:, n:] = A.T
+    E = scipy.linalg.expm(M * h)
+    Phi_h = E[n:, n:].T
+    Qd = Phi_h @ E[:n, n:]
+    for _ in range(halvings):
+        Qd = Phi_h @ Qd @ Phi_h.T + Qd
+        Phi_h = Phi_h @ Phi_h
+    Phi = scipy.linalg.expm(A * dt)
+    return Phi, 0.5 * (Qd + Qd.T)
+
+
+def _noise_factor(Qd: np.ndarray) -> np.ndarray:
+    """Lower factor L with L L^T = Qd (Cholesky; eigen-decomposition if round-off spoils it)."""
+    try:
+        return scipy.linalg.cholesky(Qd, lower=True)
+    except np.linalg.LinAlgError:
+        # Only for extreme dt / (L/V): Qd is positive definite in exact arithmetic, but its
+        # smallest eigenvalue can drown in round-off; clip it at zero.
+        w, U = np.linalg.eigh(Qd)
+        return U * np.sqrt(np.clip(w, 0.0, None))
+
+
+@njit(cache=True)
+def _run_filter(phi, lq, c, x0, noise, out):
+    """Fill ``out[k] = c . x[k]`` with ``x[k+1] = phi x[k] + lq noise[k]``, ``x[0] = x0``."""
+    n = x0.shape[0]
+    x = x0.copy()
+    xn = np.empty(n)
+    nsamp = out.shape[0]
+    for k in range(nsamp):
+        y = 0.0
+        for i in range(n):
+            y += c[i] * x[i]
+        out[k] = y
+        if k == nsamp - 1:
+            break
+        for i in range(n):
+            s = 0.0
+            for j in range(n):
+                s += phi[i, j] * x[j] + lq[i, j] * noise[k, j]
+            xn[i] = s
+        for i in range(n):
+            x[i] = xn[i]
+
+
+# ----------------------------------------------------------------------------------------------
+# the gust record
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class GustRecord:
+    """Sampled gust velocities and the window in which they act.
+
+    Attributes
+    ----------
+    t0_s : float
+        Time of the first sample [s].
+    dt_s : float
+        Sample interval [s].
+    values : numpy.ndarray
+        float64, C-contiguous, shape (N, 3), N >= 2: gust velocity ``[u, v, w]`` [m/s] along
+        S_p x, y, z at times ``t0_s + k dt_s``. Treat as read-only.
+    t_on_s, t_off_s : float
+        The gusts act for ``t_on_s <= t < t_off_s`` [s] and are zero outside.
+    """
+
+    t0_s: float
+    dt_s: float
+    values: np.ndarray
+    t_on_s: float
+    t_off_s: float
+
+    def __post_init__(self) -> None:
+        values = np.ascontiguousarray(self.values, dtype=np.float64)
+        if values.ndim != 2 or values.shape[1] != 3 or values.shape[0] < 2:
+            raise ValueError(f"values: shape {values.shape} must be (N, 3) with N >= 2")
+        if not (math.isfinite(self.dt_s) and self.dt_s > 0.0):
+            raise ValueError(f"dt_s = {self.dt_s!r}: must be a finite number > 0 [s]")
+        object.__setattr__(self, "values", values)
+
+    @property
+    def time_s(self) -> np.ndarray:
+        """Sample times [s], shape (N,)."""
+        return self.t0_s + self.dt_s * np.arange(self.values.shape[0])
+
+    def at(self, t):
+        """Gust velocity at time(s) ``t``, as :func:`gust_at` computes it.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Time [s].
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape ``np.shape(t) + (3,)``: ``[u, v, w]`` [m/s] along S_p x, y, z; linear
+            interpolation between samples, clamped at the ends of the record, zero outside
+            ``[t_on_s, t_off_s)``.
+        """
+        t = np.asarray(t, dtype=np.float64)
+        v = self.values
+        last = v.shape[0] - 1
+        s = (t - self.t0_s) / self.dt_s
+        s = np.clip(np.where(np.isfinite(s), s, 0.0), 0.0, float(last))  # NaN/inf: masked below
+        i = np.minimum(np.floor(s).astype(np.intp), last - 1)
+        f = (s - i)[..., None]
+        out = v[i] + f * (v[i + 1] - v[i])
+        out = np.where((s >= last)[..., None], v[last], out)  # same arithmetic as gust_at
+        inside = (t >= self.t_on_s) & (t < self.t_off_s)
+        return np.where(inside[..., None], out, 0.0)
+
+
+@njit(cache=True)
+def gust_at(t, t0, dt, values, t_on, t_off):
+    """Gust velocity at time t from a sampled record (numba; the inner-loop lookup).
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    t0, dt : float
+        Time of the first sample and sample interval of the record [s].
+    values : numpy.ndarray
+        (N, 3) gust velocities [m/s] along S_p x, y, z (``GustRecord.values``).
+    t_on, t_off : float
+        Window [s]: zero unless ``t_on <= t < t_off``.
+
+    Returns
+    -------
+    gu, gv, gw : float
+        Gust velocity [m/s]; linear interpolation between samples, clamped at the ends.
+    """
+    n = values.shape[0]
+    if not (t >= t_on and t < t_off) or n == 0:
+        return 0.0, 0.0, 0.0
+    s = (t - t0) / dt
+    if s <= 0.0:
+        return values[0, 0], values[0, 1], values[0, 2]
+    if s >= n - 1:
+        return values[n - 1, 0], values[n - 1, 1], values[n - 1, 2]
+    i = int(s)
+    f = s - i
+    return (
+        values[i, 0] + f * (values[i + 1, 0] - values[i, 0]),
+        values[i, 1] + f * (values[i + 1, 1] - values[i, 1]),
+        values[i, 2] + f * (values[i + 1, 2] - values[i, 2]),
+    )
+
+
+def generate_gusts(
+    turbulence: Turbulence,
+    airspeed_m_s: float,
+    duration_s: float | None = None,
+    seed: int | None = None,
+) -> GustRecord:
+    """Draw a stationary Dryden gust record by exact discretization of the forming filters.
+
+    Parameters
+    ----------
+    turbulence : Turbulence
+        Model, intensities ``sigma_m_s`` [m/s] and scale lengths ``scale_length_m`` [m] per axis
+        [u, v, w], sample interval ``sample_time_s`` [s], window start ``start_s`` [s], seed.
+    airspeed_m_s : float
+        True airspeed V [m/s] that converts the frozen spatial field to time.
+    duration_s : float, optional
+        Length of the gust window [s]; default ``turbulence.duration_s``. The window is
+        ``[start_s, start_s + duration_s)``.
+    seed : int, optional
+        Seed of the ``numpy.random.PCG64`` generator; default ``turbulence.seed``.
+
+    Returns
+    -------
+    GustRecord
+        Samples at ``start_s + k dt`` covering the window plus at least one sample past its end.
+        The record is stationary from its first sample. The same seed gives bit-identical values.
+        With ``turbulence.enabled`` false, a two-sample record of zeros (same window).
+
+    Notes
+    -----
+    Random numbers are drawn in this fixed order: for u, then v, then w, first the stationary
+    initial state (1 or 2 standard normals), then the (N - 1, n) noise array of that axis.
+    """
+    V = float(airspeed_m_s)
+    if not (math.isfinite(V) and V > 0.0):
+        raise ParameterError(f"airspeed_m_s = {airspeed_m_s!r}: must be a finite number > 0 m/s")
+    duration = turbulence.duration_s if duration_s is None else float(duration_s)
+    if not (math.isfinite(duration) and duration >= 0.0):
+        raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number >= 0 s")
+    dt = turbulence.sample_time_s
+    t_on = turbulence.start_s
+    t_off = t_on + duration
+    if not turbulence.enabled:
+        return GustRecord(t_on, dt, np.zeros((2, 3)), t_on, t_off)
+
+    nsamp = int(math.ceil(duration / dt)) + 2
+    rng = np.random.Generator(np.random.PCG64(turbulence.seed if seed is None else seed))
+    values = np.empty((nsamp, 3))
+    column = np.empty(nsamp)
+    for j, axis in enumerate(AXES):
+        A, B, C = forming_filter(
+            turbulence.model, axis, turbulence.sigma_m_s[j], turbulence.scale_length_m[j], V
+        )
+        Phi, Qd = discretize_filter(A, B, dt)
+        lq = _noise_factor(Qd)
+        n = A.shape[0]
+        x0 = rng.standard_normal(n)  # stationary covariance of this realization is I
+        noise = rng.standard_normal((nsamp - 1, n))
+        _run_filter(
+            np.ascontiguousarray(Phi), np.ascontiguousarray(lq), np.ascontiguousarray(C[0]), x0, noise, column
+        )
+        values[:, j] = column
+    return GustRecord(t_on, dt, values, t_on, t_off)
+
+
+# ----------------------------------------------------------------------------------------------
+# standard intensities (MIL-F-8785C Fig. 7; MathWorks Dryden block lookup table)
+# ----------------------------------------------------------------------------------------------
+#: Altitude breakpoints of the high-altitude intensity table [ft].
+INTENSITY_ALTITUDE_FT = (500.0, 1750.0, 3750.0, 7500.0, 15000.0, 25000.0, 35000.0, 45000.0,
+                         55000.0, 65000.0, 75000.0, 80000.0)
+#: Rms intensity [ft/s] per level at those altitudes (MIL-F-8785C Fig. 7, as digitized in the
+#: MathWorks Aerospace Blockset Dryden blocks and JSBSim FGWinds).
+INTENSITY_FT_S = {
+    "light": (6.6, 6.9, 7.4, 6.7, 4.6, 2.7, 0.4, 0.0, 0.0, 0.0, 0.0, 0.0),
+    "moderate": (8.6, 9.6, 10.6, 10.1, 8.0, 6.6, 5.0, 4.2, 2.7, 0.0, 0.0, 0.0),
+    "severe": (15.6, 17.6, 23.0, 23.6, 22.1, 20.0, 16.0, 15.1, 12.1, 7.9, 6.2, 5.1),
+}
+#: Probability of exceedance of each level (MathWorks Dryden block documentation).
+PROBABILITY_OF_EXCEEDANCE = {"light": 1e-2, "moderate": 1e-3, "severe": 1e-5}
+
+
+def standard_intensity(level: str, altitude_m: float) -> tuple[float, float, float]:
+    """Standard isotropic turbulence intensity at a medium/high altitude.
+
+    Parameters
+    ----------
+    level : {"light", "moderate", "severe"}
+        Probability of exceedance 1e-2, 1e-3 or 1e-5.
+    altitude_m : float
+        Altitude [m], within the table: 152.4-24 384 m (500-80 000 ft).
+
+    Returns
+    -------
+    tuple of float
+        ``(sigma_u, sigma_v, sigma_w)`` [m/s], all equal; linear interpolation in altitude of
+        MIL-F-8785C Fig. 7 (see the module docstring for the source).
+
+    Raises
+    ------
+    ParameterError
+        For an unknown level or an altitude outside the table. (MIL-F-8785C prescribes its
+        low-altitude model below 1000 ft; the table's lowest point, 500 ft, is accepted as given.)
+    """
+    if not isinstance(level, str) or level not in INTENSITY_FT_S:
+        raise ParameterError(
+            f"turbulence.intensity = {level!r}: must be one of 'light', 'moderate', 'severe'"
+        )
+    lo_m = INTENSITY_ALTITUDE_FT[0] * FT_TO_M
+    hi_m = INTENSITY_ALTITUDE_FT[-1] * FT_TO_M
+    h = float(altitude_m)
+    if not (math.isfinite(h) and lo_m <= h <= hi_m):
+        raise ParameterError(
+            f"flight.altitude_m = {altitude_m!r}: standard turbulence intensities are tabulated for "
+            f"[{lo_m:g}, {hi_m:g}] m (500-80000 ft, MIL-F-8785C Fig. 7); give turbulence.sigma_m_s instead"
+        )
+    sigma_ft_s = float(np.interp(h / FT_TO_M, INTENSITY_ALTITUDE_FT, INTENSITY_FT_S[level]))
+    sigma = sigma_ft_s * FT_TO_M
+    return (sigma, sigma, sigma)
