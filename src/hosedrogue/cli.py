@@ -119,6 +119,85 @@ def cmd_simulate(args) -> int:
     return 0
 
 
+def cmd_sweep(args) -> int:
+    from .analysis.sweep import DEFAULT_AIRSPEEDS_M_S, DEFAULT_ALTITUDES_M, steady_sweep
+    from .plotting.figures import plot_sweep, save_figure
+    from .progress import progress_bar
+
+    params = _params_from_args(args)
+    alts = args.altitudes or DEFAULT_ALTITUDES_M
+    vels = args.airspeeds or DEFAULT_AIRSPEEDS_M_S
+    out = Path(args.out)
+    _prepare_out(out)
+    with progress_bar(total=len(alts) * len(vels), desc="equilibria") as bar:
+        result = steady_sweep(params, alts, vels, progress=lambda: bar.update(1))
+    out.mkdir(parents=True, exist_ok=True)
+    result.to_csv(out / "sweep.csv")
+    save_figure(plot_sweep(result), out / "sweep.png")
+    failed = sum(not r["converged"] for r in result.rows)
+    print(f"wrote {out / 'sweep.csv'}\nwrote {out / 'sweep.png'}")
+    if failed:
+        print(f"hosedrogue: {failed} grid points did not converge (NaN in sweep.csv)", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    return 0
+
+
+def _parse_order(text: str):
+    if text == "full":
+        return None
+    try:
+        order = int(text)
+    except ValueError:
+        order = 0
+    if order < 1:
+        raise ParameterError(f"--order = {text!r}: must be 'full' or an integer >= 1")
+    return order
+
+
+def cmd_linearize(args) -> int:
+    import numpy as np
+
+    from .analysis.linearize import linearize
+    from .analysis.reduction import format_tf, table2_form
+    from .controllers.design import reduced_channels
+
+    order = _parse_order(args.order)
+    params = _params_from_args(args)
+    lm = linearize(params)
+    ch = reduced_channels(lm, order)
+    data = {}
+    for name, sys_ in (("lateral", ch.lateral), ("vertical", ch.vertical)):
+        num, den = table2_form(sys_)
+        poles = np.sort_complex(sys_.poles())  # from the state matrix, not the polynomial
+        data[name] = {"num": num.tolist(), "den": den.tolist(),
+                      "poles": [[float(p.real), float(p.imag)] for p in poles]}
+    data["order"] = "full" if order is None else order
+    data["flight"] = {"altitude_m": params.flight.altitude_m, "airspeed_m_s": params.flight.airspeed_m_s,
+                      "wake": params.wake.enabled, "links": params.hose.links}
+    if args.json:
+        print(json.dumps(data))
+        return 0
+    print(f"Linear model about the balance position: {params.flight.airspeed_m_s:g} m/s at "
+          f"{params.flight.altitude_m:g} m, wake {'on' if params.wake.enabled else 'off'}, "
+          f"{params.hose.links} links; order {data['order']} per channel (balanced truncation)")
+    for name, label in (("lateral", "u_hor [N] -> P_ny [m]"), ("vertical", "u_ver [N] -> P_nz [m]")):
+        print(f"  {name} ({label}):")
+        print(f"    G(s) = {format_tf(np.array(data[name]['num']), np.array(data[name]['den']))}")
+        poles = ", ".join(f"{re:.4g}{im:+.4g}j" for re, im in data[name]["poles"])
+        print(f"    poles [rad/s]: {poles}")
+    return 0
+
+
+def cmd_reproduce(args) -> int:
+    from .report.build import build_report
+
+    out = Path(args.out)
+    _prepare_out(out)
+    build_report(out, fast=args.fast)
+    print(f"wrote {out / 'index.html'}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="hosedrogue", description=(
         "Probe-and-drogue aerial refuelling hose: Kane-equation rigid-link model (Wu et al., 2018). "
@@ -158,13 +237,45 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--out", metavar="DIR", default="out/simulate", help="output folder (default out/simulate)")
     s.set_defaults(func=cmd_simulate)
 
-    for extra in _EXTRA_COMMANDS:
-        extra(sub, flight_options)
+    s = sub.add_parser("sweep", help="balance position over a grid of altitudes and airspeeds (paper Fig. 3)",
+                       description="Solve the balance position at every altitude [m] x airspeed [m/s] and write "
+                                   "DIR/sweep.csv (drogue position [m], drag [N], tow force [N], V_D/L_H) and "
+                                   "DIR/sweep.png (drogue drag and V_D/L_H against airspeed, one curve per altitude).")
+    s.add_argument("--altitudes", metavar="M", type=_finite_float("--altitudes", 0, 20000, "m"), nargs="+",
+                   help="altitudes [m] (default 2000 4000 6000 8000 10000)")
+    s.add_argument("--airspeeds", metavar="M_PER_S", type=_finite_float("--airspeeds", 1e-9, 400, "m/s"), nargs="+",
+                   help="airspeeds [m/s] (default 100 to 250 in steps of 10)")
+    s.add_argument("--links", metavar="N", type=_positive_int("--links", 1, 1000), help="number of links (default 20)")
+    s.add_argument("--config", metavar="FILE", help="TOML file of parameter overrides")
+    s.add_argument("--no-wake", action="store_true", help="switch the tanker wake off")
+    s.add_argument("--out", metavar="DIR", default="out/sweep", help="output folder (default out/sweep)")
+    s.set_defaults(func=cmd_sweep)
+
+    s = sub.add_parser("linearize", help="linear model about the balance position, reduced transfer functions",
+                       description="Linearize about the balance position (inputs u_hor, u_ver [N] at the drogue; "
+                                   "outputs the drogue's lateral and vertical offset P_ny, P_nz [m]) and print each "
+                                   "channel's transfer function (descending powers of s, denominator monic) at the "
+                                   "requested order (balanced truncation) with its poles [rad/s].")
+    flight_options(s)
+    s.add_argument("--order", default="2", metavar="full|N",
+                   help="'full' or the reduced order per channel, >= 1 (default 2, as the paper's design model)")
+    s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    s.set_defaults(func=cmd_linearize)
+
+    s = sub.add_parser("reproduce", help="regenerate the paper's results as an HTML report",
+                       description="Regenerate every result of the paper's Sections 2.3 and 3 from this model and "
+                                   "write DIR/index.html with figures (PNG), data (CSV), report.json and an animation.")
+    s.add_argument("--out", metavar="DIR", default="out/report", help="output folder (default out/report)")
+    s.add_argument("--fast", action="store_true", help="coarser grids and shorter runs (< 1 min); marked as such")
+    s.set_defaults(func=cmd_reproduce)
+
+    try:
+        from .campaign import add_montecarlo_parser
+    except ImportError:  # pragma: no cover - the campaign module needs nothing optional to import
+        add_montecarlo_parser = None
+    if add_montecarlo_parser is not None:
+        add_montecarlo_parser(sub)
     return p
-
-
-#: Other modules register sub-commands here: f(subparsers, flight_options).
-_EXTRA_COMMANDS: list = []
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -30,11 +30,10 @@ def build_controller(scenario: Scenario, model: HoseModel, eq: Equilibrium):
     """The scenario's controller as a LinearController (None for "none")."""
     if scenario.controller == "none":
         return None
-    if scenario.controller == "pid":
-        from .controllers.pid import PAPER_PID, pid_controller
+    from .controllers.design import paper_lqr_for, paper_pid
 
-        return pid_controller(PAPER_PID["lateral"], PAPER_PID["vertical"])
-    from .controllers.design import paper_lqr_for
+    if scenario.controller == "pid":
+        return paper_pid()
 
     return paper_lqr_for(scenario.params, eq)
 

@@ -35,6 +35,11 @@ from numba import njit
 from ..environment.turbulence import gust_at
 from ..environment.wake import wake_velocity
 
+#: Compilation options of every kernel. ``error_model="numpy"`` drops Python's zero-division
+#: checks from the inner loops; the fast-math flags allow contraction into fused multiply-adds
+#: and reassociation but *not* "no NaNs/infs", so divergence is still detected.
+JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+
 # ps layout
 PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD = range(10)
 PS_SIZE = 10
@@ -49,7 +54,7 @@ ENV_SIZE = 12
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
 
 
-@njit(cache=True)
+@njit(**JIT)
 def air_velocity(px, py, pz, t, env, gust):
     """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]."""
     V = env[ENV_V]
@@ -62,7 +67,7 @@ def air_velocity(px, py, pz, t, env, gust):
     return -V + gu, wy + gv, wz + gw
 
 
-@njit(cache=True)
+@njit(**JIT)
 def link_frames(q, n, e, a, b, cs):
     """Fill e, a, b (n,3) and cs (n,4) = [c1, s1, c2, s2] for every link."""
     for k in range(n):
@@ -85,7 +90,7 @@ def link_frames(q, n, e, a, b, cs):
         b[k, 2] = -s1 * s2
 
 
-@njit(cache=True)
+@njit(**JIT)
 def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
     """Joint positions r and velocities v (n+1,3; row 0 = tow point) and each link's
     velocity-product acceleration c (n,3) = l_k d2e_k/dt2 at zero qdd (paper Eq. 16), so that
@@ -108,7 +113,7 @@ def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
             v[k + 1, i] = v[k, i] + lk * (a[k, i] * d1 + b[k, i] * d2)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending."""
@@ -201,7 +206,7 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
                 Mom[k + 1, 2] -= scale * wz
 
 
-@njit(cache=True)
+@njit(**JIT)
 def rotational_terms(qd, J, n, cs, Mom, tau):
     """tau (n,2): generalized forces of each link's own rotation - its inertia's velocity terms
     and the moments on it, through the partial angular velocities [0,1,0], [s1,0,c1]."""
@@ -215,7 +220,7 @@ def rotational_terms(qd, J, n, cs, Mom, tau):
         tau[k, 1] = -J[k] * c2 * s2 * d1 * d1 + s1 * Mom[k, 0] + c1 * Mom[k, 2]
 
 
-@njit(cache=True)
+@njit(**JIT)
 def generalized_forces(l, M, n, a, b, c, F, tau, G, Q):
     """Q (2n): generalized active forces minus velocity-product inertia terms (dense path).
 
@@ -237,7 +242,7 @@ def generalized_forces(l, M, n, a, b, c, F, tau, G, Q):
         Q[2 * k + 1] = lk * (b[k, 0] * G[k, 0] + b[k, 1] * G[k, 1] + b[k, 2] * G[k, 2]) + tau[k, 1]
 
 
-@njit(cache=True)
+@njit(**JIT)
 def mass_matrix(l, S, J, ps, n, a, b, cs, H):
     """H (2n,2n): S_max(i,j) l_i l_j g_i . g_j plus the links' and drogue's rotational inertia."""
     for j in range(n):
@@ -285,10 +290,10 @@ def make_workspace(n):
     )
 
 
-make_workspace_jit = njit(cache=True)(make_workspace)
+make_workspace_jit = njit(**JIT)(make_workspace)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, tow_force):
     """Solve H qdd = Q in O(n) by an articulated-body recursion for this chain.
 
@@ -379,7 +384,7 @@ def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd
         Az = pz + lk * (a[k, 2] * q1 + b[k, 2] * q2)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
     """Accelerations (ws[15]) and outputs in the workspace: joint positions ws[4], velocities
     ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
@@ -395,7 +400,7 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
                            ws[15], ws[14])
 
 
-@njit(cache=True)
+@njit(**JIT)
 def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
     """State derivative dx (4n) of x = [q, qd], using the workspace ws (no allocation)."""
     n = l.shape[0]
@@ -406,14 +411,14 @@ def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
         dx[2 * n + i] = qdd[i]
 
 
-@njit(cache=True)
+@njit(**JIT)
 def rhs(t, x, u, l, M, S, J, ps, env, gust, dx):
     """State derivative dx (4n) of x = [q, qd] (allocates its own workspace)."""
     ws = make_workspace_jit(l.shape[0])
     rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
     """qdd by forming the dense mass matrix and solving it (O(n^3)); the reference the
     recursion is tested against."""
@@ -434,7 +439,7 @@ def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
     return np.linalg.solve(H, Q)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def static_residual(q, l, M, J, ps, env, gust, t, Q):
     """Generalized forces at rest (qd = 0, u = 0) into Q (2n): zero exactly at an equilibrium."""
     n = l.shape[0]
@@ -450,7 +455,7 @@ def static_residual(q, l, M, J, ps, env, gust, t, Q):
     generalized_forces(l, M, n, a, b, c, F, tau, G, Q)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def energy(x, l, M, J, ps):
     """(kinetic, potential) energy [J]; potential = gravity (z down) + bending-moment elastic
     energy (the ``moment`` option is the conservative one)."""
@@ -485,7 +490,7 @@ def energy(x, l, M, J, ps):
     return T, U
 
 
-@njit(cache=True)
+@njit(**JIT)
 def mass_matrix_at(q, l, S, J, ps):
     """Dense H(q) for tests and linear analysis."""
     n = l.shape[0]
