@@ -1,0 +1,45 @@
+"""Closed loop on the nonlinear model in the paper's turbulence case (paper Sec. 3.3, Fig. 12)."""
+
+import numpy as np
+import pytest
+
+from hosedrogue.runner import run_scenario
+from hosedrogue.scenarios import load_scenario
+
+
+@pytest.fixture(scope="module")
+def runs():
+    return {name: run_scenario(load_scenario(name))
+            for name in ("paper-turbulence", "paper-turbulence-pid", "paper-turbulence-lqr")}
+
+
+def peaks(res):
+    return np.max(np.abs(res.drogue_offset_m[:, 1:]), axis=0)
+
+
+def test_open_loop_moves_like_the_paper(runs):
+    """Paper: 0.5-1 m peak displacement without control. Asserted loosely (0.2-2 m per axis)
+    since one seed of a random process is compared with one published record."""
+    p = peaks(runs["paper-turbulence"])
+    assert np.all((p > 0.2) & (p < 2.0)), p
+
+
+def test_pid_cuts_peak_displacement_tenfold(runs):
+    """The brief: stable and at least ten times smaller peak displacement, on each axis."""
+    res = runs["paper-turbulence-pid"]
+    assert res.completed
+    ratio = peaks(runs["paper-turbulence"]) / peaks(res)
+    assert np.all(ratio >= 10.0), ratio
+    # settled again after the gusts stop (t > 30 s): back within 1 mm by the end
+    assert np.max(np.abs(res.drogue_offset_m[res.t_s > 55.0, 1:])) < 1e-3
+
+
+def test_lqr_with_paper_weights_is_stable_and_reduces_displacement(runs):
+    """The paper's Q and R, taken in SI units, give a slow loop (see docs/paper-differences.md):
+    it stays stable and reduces the peak, but by far less than tenfold. Asserted as measured,
+    not as the paper claims."""
+    res = runs["paper-turbulence-lqr"]
+    assert res.completed
+    ratio = peaks(runs["paper-turbulence"]) / peaks(res)
+    assert np.all(ratio > 1.0), ratio
+    assert np.max(np.abs(res.drogue_offset_m[res.t_s > 55.0, 1:])) < 0.05
