@@ -27,6 +27,7 @@ from hosedrogue.controllers.linear import LinearController  # noqa: E402
 from hosedrogue.model.integrate import rk4_run  # noqa: E402
 from hosedrogue.model.system import HoseModel  # noqa: E402
 from hosedrogue.params import PAPER  # noqa: E402
+from hosedrogue.simulation import Actuator  # noqa: E402
 
 TURBULENCE = {"enabled": True, "start_s": 0.0, "duration_s": 1e6}
 
@@ -40,7 +41,7 @@ def rk4_wall_time(model, x0, duration_s, repeats=3):
     zs = np.empty((2, x0.size))
     us = np.empty((2, 2))
     args = (x0, 0.0, h, nsteps, every, model.l, model.M, model.S, model.J, model.ps, model.env,
-            model.gust_values, ctrl.A, ctrl.B, ctrl.C, ctrl.D, np.zeros(2), np.full(2, np.inf),
+            model.gust_values, ctrl.A, ctrl.B, ctrl.C, ctrl.D, np.zeros(2), Actuator().as_array(),
             np.zeros((1, 2)), 1.0, math.radians(85.0), ts, zs, us)
     best = math.inf
     for _ in range(repeats):

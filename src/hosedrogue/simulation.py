@@ -31,13 +31,30 @@ _STATUS_TEXT = {
 
 @dataclass(frozen=True)
 class Actuator:
-    """Limits on the control force: magnitude per axis [N] (inf: none)."""
+    """Limits on the control force: magnitude per axis [N] and rate [N/s] (inf: none).
+
+    With a finite rate the applied force follows the command through a first-order lag of
+    ``time_constant_s`` whose slope is clipped to the rate limit.
+    """
 
     max_force_n: float = math.inf
+    max_rate_n_s: float = math.inf
+    time_constant_s: float = 0.01
 
     def __post_init__(self):
-        if not (self.max_force_n > 0):
-            raise ParameterError(f"actuator.max_force_n = {self.max_force_n!r}: must be > 0 N")
+        for name in ("max_force_n", "max_rate_n_s", "time_constant_s"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0 or math.isnan(v):
+                raise ParameterError(f"actuator.{name} = {v!r}: must be a number > 0 (inf for no limit)")
+        if not math.isfinite(self.time_constant_s):
+            raise ParameterError(f"actuator.time_constant_s = {self.time_constant_s!r}: must be finite")
+
+    @property
+    def rate_limited(self) -> bool:
+        return math.isfinite(self.max_rate_n_s)
+
+    def as_array(self) -> np.ndarray:
+        return np.array([self.max_force_n, self.max_force_n, self.max_rate_n_s, self.time_constant_s])
 
 
 @dataclass(frozen=True)
@@ -103,7 +120,7 @@ def simulate(
     else:
         ctrl = control if control is not None else LinearController.static_zero()
         noise = _sensor_noise(sensor, duration_s, params.turbulence.seed)
-        z0 = np.concatenate([x0, np.zeros(ctrl.n_states)])
+        z0 = np.concatenate([x0, np.zeros(ctrl.n_states + (2 if actuator.rate_limited else 0))])
         if num.integrator == "rk4":
             ts, zs, us, status, t_stop = _run_rk4(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor)
         else:
@@ -151,7 +168,7 @@ def _run_rk4(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
     ts = np.empty(nsave)
     zs = np.empty((nsave, z0.size))
     us = np.empty((nsave, 2))
-    u_max = np.full(2, actuator.max_force_n)
+    u_max = actuator.as_array()
     max_yaw = math.radians(model.params.numerics.max_yaw_deg)
     status, saved, t_stop = rk4_run(
         z0, 0.0, h, nsteps, every, model.l, model.M, model.S, model.J, model.ps, model.env,
@@ -162,13 +179,13 @@ def _run_rk4(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
 
 
 def _run_adaptive(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
-    from .model.integrate import closed_loop_deriv, control_force
+    from .model.integrate import applied_force, closed_loop_deriv
 
     num = model.params.numerics
     h_out = num.step_s * num.output_every
     t_eval = np.arange(0.0, duration_s + 0.5 * h_out, h_out)
     t_eval = t_eval[t_eval <= duration_s + 1e-12]
-    u_max = np.full(2, actuator.max_force_n)
+    u_max = actuator.as_array()
     u = np.empty(2)
     args = (model.l, model.M, model.S, model.J, model.ps, model.env, model.gust_values,
             ctrl.A, ctrl.B, ctrl.C, ctrl.D, y_ref, u_max, noise, sensor.sample_time_s,
@@ -191,7 +208,7 @@ def _run_adaptive(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
     ts = sol.t.copy()
     us = np.empty((ts.size, 2))
     for i in range(ts.size):
-        control_force(ts[i], zs[i], 4 * n, model.l, ctrl.C, ctrl.D, y_ref, u_max, noise,
+        applied_force(ts[i], zs[i], 4 * n, model.l, ctrl.C, ctrl.D, y_ref, u_max, noise,
                       sensor.sample_time_s, u)
         us[i] = u
     if sol.status == 1:

@@ -1,10 +1,12 @@
 """Time integrators (numba): fixed-step classical RK4 with an optional linear controller in the
 loop, compiled end to end so a run is not dominated by Python overhead.
 
-The closed-loop state is ``z = [x, xc]``: the hose state ``x = [q, qd]`` (4n) followed by the
-controller state ``xc``. The controller reads the drogue's lateral and vertical offset from
-``y_ref`` (plus sensor noise) and returns the force ``u = Cc xc + Dc y`` [N], clipped to
-``+-u_max`` per axis.
+The closed-loop state is ``z = [x, xc, ua]``: the hose state ``x = [q, qd]`` (4n), the
+controller state ``xc``, and - only when the actuator is rate-limited - the applied force ``ua``
+(2). The controller reads the drogue's lateral and vertical offset from ``y_ref`` (plus sensor
+noise) and commands ``u = Cc xc + Dc y`` [N], clipped to ``+-act[0:2]`` per axis. ``act`` is
+``[max_hor_n, max_ver_n, max_rate_n_s, time_constant_s]``; with a finite rate the applied force
+follows the command as ``ua' = clip((u - ua) / time_constant, -rate, rate)``.
 """
 
 from __future__ import annotations
@@ -43,7 +45,7 @@ def noise_at(t, noise, noise_dt):
 
 @njit(cache=True)
 def control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
-    """Controller output u (2,) [N] at state z."""
+    """Commanded force u (2,) [N] at state z (saturated); returns the measured offsets."""
     y, zz = drogue_yz(z[:nx], l)
     ny, nz = noise_at(t, noise, noise_dt)
     m0 = y - y_ref[0] + ny
@@ -62,13 +64,32 @@ def control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
 
 
 @njit(cache=True)
-def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max,
+def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u):
+    """Force acting on the drogue (2,) [N] into u; returns the measured offsets and the
+    commanded force (which differs from u only for a rate-limited actuator)."""
+    m0, m1 = control_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    c0, c1 = u[0], u[1]
+    na = nx + Cc.shape[1]
+    if z.shape[0] > na:
+        u[0] = z[na]
+        u[1] = z[na + 1]
+    return m0, m1, c0, c1
+
+
+@njit(cache=True)
+def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
                       noise, noise_dt, ws, dz, u):
-    """dz/dt of the hose and controller state z = [x, xc]; u receives the control force."""
+    """dz/dt of z = [x, xc, (ua)]; u receives the force applied to the drogue."""
     nx = 4 * l.shape[0]
-    m0, m1 = control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+    m0, m1, c0, c1 = applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
     rhs_ws(t, z[:nx], u, l, M, S, J, ps, env, gust, ws, dz[:nx])
     nc = Ac.shape[0]
+    na = nx + nc
+    if z.shape[0] > na:
+        rate = act[2]
+        for i in range(2):
+            r = ((c0 if i == 0 else c1) - z[na + i]) / act[3]
+            dz[na + i] = min(max(r, -rate), rate)
     for i in range(nc):
         acc = Bc[i, 0] * m0 + Bc[i, 1] * m1
         for j in range(nc):
@@ -98,7 +119,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     ts[0] = t0
     zs[0, :] = z
     nx = 4 * n
-    control_force(t0, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+    applied_force(t0, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
     us[0, 0] = u[0]
     us[0, 1] = u[1]
     saved = 1
@@ -133,7 +154,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
         if step % save_every == 0:
             ts[saved] = t
             zs[saved, :] = z
-            control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+            applied_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
             us[saved, 0] = u[0]
             us[saved, 1] = u[1]
             saved += 1

@@ -117,12 +117,17 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
         raise ParameterError(f"controller.type = {ctype!r}: must be one of {', '.join(map(repr, CONTROLLER_TYPES))}")
     actuator = dict(data.get("actuator", {}))
     for key in actuator:
-        if key != "max_force_n":
-            raise ParameterError(f"actuator.{key}: unknown field; allowed: max_force_n")
+        if key not in ("max_force_n", "max_rate_n_s", "time_constant_s"):
+            raise ParameterError(
+                f"actuator.{key}: unknown field; allowed: max_force_n, max_rate_n_s, time_constant_s")
     sensor = dict(data.get("sensor", {}))
     for key in sensor:
         if key not in ("noise_std_m", "sample_time_s"):
             raise ParameterError(f"sensor.{key}: unknown field; allowed: noise_std_m, sample_time_s")
+    from ..simulation import Actuator, Sensor  # validates values now, before any run or output
+
+    Actuator(**actuator)
+    Sensor(**sensor)
     params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=base)
     return Scenario(
         name=str(sc.get("name", Path(source).stem)),
