@@ -29,7 +29,7 @@ from hosedrogue.model.system import HoseModel  # noqa: E402
 from hosedrogue.params import PAPER  # noqa: E402
 from hosedrogue.simulation import Actuator  # noqa: E402
 
-TURBULENCE = {"enabled": True, "start_s": 0.0, "duration_s": 1e6}
+TURBULENCE = {"enabled": True, "start_s": 0.0, "duration_s": 100.0}
 
 
 def rk4_wall_time(model, x0, duration_s, repeats=3):

@@ -217,6 +217,16 @@ class Turbulence(_Section):
     sample_time_s: float = field(default=0.005, metadata=_num(0.0, 1.0, unit="s"))
     seed: int = field(default=2018, metadata=_int(0, 2**63 - 1))
 
+    #: Largest gust record [samples]: 1e7 x 3 axes x 8 bytes = 240 MB.
+    MAX_SAMPLES = 10_000_000
+
+    def _check_consistency(self) -> None:
+        if self.duration_s / self.sample_time_s > self.MAX_SAMPLES:
+            raise ParameterError(
+                f"turbulence.duration_s = {self.duration_s!r}: with sample_time_s = {self.sample_time_s!r} "
+                f"the gust record would exceed {self.MAX_SAMPLES:.0e} samples; shorten it or sample coarser"
+            )
+
 
 @dataclass(frozen=True)
 class Numerics(_Section):
