@@ -83,6 +83,7 @@ def static_march(p):
         # carried = C_{k+1}, the resultant on everything aft of joint k (first: the drogue's drag)
         e_next, drag_next = None, np.zeros(3)
         es = [None] * n
+        th_prev = [0.3, 0.0]
         for k in range(n - 1, -1, -1):
             def resultant(th, k=k, r_aft=r_aft, e_next=e_next):
                 e = unit_along(*th)
@@ -97,7 +98,8 @@ def static_march(p):
                 c = c / np.linalg.norm(c)
                 return [math.atan2(c[2], -c[0]) - th[0], math.asin(-c[1]) - th[1]]
 
-            th = scipy.optimize.fsolve(residual, [0.3, 0.0], xtol=1e-12)
+            th = scipy.optimize.fsolve(residual, th_prev, xtol=1e-11)
+            th_prev = th
             e, c = resultant(th)
             es[k] = e
             carried = c  # C_k: every external force on joints k..n
