@@ -169,3 +169,24 @@ def test_help_mentions_units(capsys, cmd):
     assert exc.value.code == 0
     out = capsys.readouterr().out
     assert "[m" in out or "m/s" in out or "SI" in out
+
+
+def test_linearize_json_contract(capsys):
+    code, out, err = run(capsys, "linearize", "--json", "--order", "2")
+    assert code == 0, err
+    d = json.loads(out)
+    for ch in ("lateral", "vertical"):
+        num, den = d[ch]["num"], d[ch]["den"]
+        assert den[0] == pytest.approx(1.0) and len(den) == 3 and len(num) <= 2
+        assert len(d[ch]["poles"]) == 2 and all(re < 0 for re, _ in d[ch]["poles"])
+        # poles are the roots of the printed denominator
+        roots = np.sort_complex(np.roots(den))
+        listed = np.sort_complex(np.array([complex(re, im) for re, im in d[ch]["poles"]]))
+        assert np.allclose(roots, listed, rtol=1e-6)
+
+
+def test_linearize_table_and_bad_order(capsys):
+    code, out, _ = run(capsys, "linearize", "--order", "6", "--no-wake", "--links", "10")
+    assert code == 0 and "lateral" in out and "s^6" in out
+    code, _, err = run(capsys, "linearize", "--order", "zero")
+    assert code == 2 and "--order" in err and len(err.strip().splitlines()) == 1
