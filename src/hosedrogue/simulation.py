@@ -262,10 +262,7 @@ def _derived_outputs(model: HoseModel, ts, xs, us):
     vel = np.empty((N, 3))
     drag = np.empty((N, 3))
     tow = np.empty((N, 3))
-    for i in range(N):
-        o = model.outputs(xs[i], ts[i], us[i])
-        joints[i] = o.joints_m
-        vel[i] = o.joint_velocities_m_s[-1]
-        drag[i] = o.drogue_drag_n
-        tow[i] = o.tow_force_n
+    K.outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
+                     model.l, model.M, model.S, model.J, model.ps, model.env, model.gust_values,
+                     joints, vel, drag, tow)
     return joints, vel, drag, tow

@@ -502,3 +502,17 @@ def mass_matrix_at(q, l, S, J, ps):
     link_frames(q, n, e, a, b, cs)
     mass_matrix(l, S, J, ps, n, a, b, cs, H)
     return H
+
+
+@njit(**JIT)
+def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, drogue_drag, tow):
+    """Derived outputs at every saved state: joints (N, n+1, 3), drogue velocity, drogue drag
+    and tow-point force (N, 3)."""
+    n = l.shape[0]
+    ws = make_workspace_jit(n)
+    for i in range(ts.shape[0]):
+        evaluate_ws(ts[i], xs[i], us[i], l, M, S, J, ps, env, gust, ws)
+        joints[i] = ws[4]
+        drogue_vel[i] = ws[5][n]
+        drogue_drag[i] = ws[13]
+        tow[i] = ws[14]
