@@ -1,0 +1,298 @@
+"""The reproduction report (``hosedrogue reproduce``) and the figure functions behind it.
+
+One fast report is built per module (about half a minute); the tests check that every figure and
+table of the paper's Sec. 2.3 and 3 is on the page and on disk, that the page is self-contained
+(opens offline), and that ``report.json`` holds the headline numbers as finite values. The
+plotting smoke tests use small synthetic data and check units on every axis and that no pyplot
+figure is ever created.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import matplotlib.pyplot as plt
+from matplotlib.figure import Figure
+
+from hosedrogue.plotting import figures as F
+
+#: Every figure of the report: HTML id -> PNG file.
+FIGURES = {
+    "fig-convergence": "fig_convergence.png",
+    "fig03": "fig03_sweep.png",
+    "fig04": "fig04_turbulence_speeds.png",
+    "fig05": "fig05_linear_steps.png",
+    "fig06": "fig06_pole_zero.png",
+    "fig07": "fig07_bode.png",
+    "fig08": "fig08_step_compare.png",
+    "fig10": "fig10_closed_loop_steps.png",
+    "fig11": "fig11_pid_orders.png",
+    "fig12": "fig12_controller_on_off.png",
+    "fig13": "fig13_control_forces.png",
+    "fig-hose3d": "fig_hose3d.png",
+}
+
+#: Every table of the report: HTML id -> CSV file.
+TABLES = {
+    "table-parameters": "table1_parameters.csv",
+    "table-differences": "differences.csv",
+    "table-step-convergence": "convergence_steps.csv",
+    "table-link-convergence": "convergence_links.csv",
+    "table-fig4": "fig04_turbulence_speeds.csv",
+    "table-2": "table2.csv",
+    "table-2-characteristics": "table2_characteristics.csv",
+    "table-2-coefficients": "table2.csv",
+    "table-linearization-conditions": "linearization_conditions.csv",
+    "table-reduction-error": "reduction_error.csv",
+    "table-3": "table3.csv",
+    "table-closed-loop": "closed_loop_peaks.csv",
+    "table-realization-spread": "realization_spread.csv",
+    "table-comparison": "comparison.csv",
+}
+
+#: The data behind each figure.
+FIGURE_DATA = [
+    "convergence_steps.csv", "convergence_links.csv", "fig03_sweep.csv", "fig04_turbulence_speeds.csv",
+    "fig05_linear_steps.csv", "fig06_pole_zero.csv", "fig07_bode.csv", "fig08_step_compare.csv",
+    "fig10_closed_loop_steps.csv", "fig11_pid_orders.csv", "fig12_controller_on_off.csv",
+    "fig13_control_forces.csv", "fig_hose3d.csv", "anim_turbulence.csv",
+]
+
+#: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
+SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
+            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation"]
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    from hosedrogue.report import build_report
+
+    out = tmp_path_factory.mktemp("report")
+    headline = build_report(out, fast=True, progress=False)
+    return out, headline, (out / "index.html").read_text(encoding="utf-8")
+
+
+def test_every_figure_and_table_is_on_the_page_and_on_disk(report):
+    out, _, page = report
+    for fig_id, png in FIGURES.items():
+        assert f'id="{fig_id}"' in page, fig_id
+        assert f'src="{png}"' in page, png
+        assert (out / png).stat().st_size > 10_000, png
+    for table_id, csv in TABLES.items():
+        assert f'id="{table_id}"' in page, table_id
+        assert (out / csv).stat().st_size > 0, csv
+    for csv in FIGURE_DATA:
+        assert (out / csv).stat().st_size > 0, csv
+    for section in SECTIONS:
+        assert f'<section id="{section}"' in page, section
+    assert 'id="anim"' in page and 'src="anim_turbulence.gif"' in page
+    gif = out / "anim_turbulence.gif"
+    assert gif.read_bytes()[:6] in (b"GIF87a", b"GIF89a")
+    assert gif.stat().st_size < 3e6
+
+
+def test_page_is_self_contained(report):
+    out, _, page = report
+    for src in re.findall(r'<img[^>]+src="([^"]+)"', page):
+        assert "://" not in src and not src.startswith("/"), src
+        assert (out / src).is_file(), src
+    for href in re.findall(r'href="([^"]+)"', page):
+        if not href.startswith("#"):
+            assert "://" not in href and (out / href).is_file(), href
+    assert "<script" not in page.lower()
+    assert "<link" not in page.lower()
+    assert not re.search(r"https?://", page), "no web addresses: the page must open offline"
+    assert "@import" not in page and "url(" not in page
+
+
+def test_fast_version_says_so_prominently(report):
+    _, headline, page = report
+    assert 'id="fast-banner"' in page and "FAST VERSION" in page
+    assert "FAST VERSION" in re.search(r"<title>(.*?)</title>", page).group(1)
+    assert headline["build"]["fast"] is True
+
+
+def _numbers(obj, path="report"):
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            yield from _numbers(v, f"{path}.{k}")
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            yield from _numbers(v, f"{path}[{i}]")
+    else:
+        yield path, obj
+
+
+def test_report_json_holds_finite_headline_numbers(report):
+    out, headline, _ = report
+    data = json.loads((out / "report.json").read_text())
+    assert data == headline
+    for path, v in _numbers(data):
+        assert v is not None, f"{path} is not finite"
+        if isinstance(v, float):
+            assert math.isfinite(v), path
+    cl = data["closed_loop"]
+    for k in ("off", "PID", "LQR"):
+        assert cl[k]["peak_lateral_m"] > 0 and cl[k]["peak_vertical_m"] > 0
+    for k in ("PID", "LQR"):
+        assert cl[k]["peak_force_hor_n"] > 0 and cl[k]["reduction_lateral"] > 1
+    conv = data["convergence"]
+    assert conv["default_step_s"] == 0.005
+    assert set(conv["max_drogue_error_at_default_step_m"]) == {"swing", "turbulence", "turbulence+pid"}
+    assert {"lateral", "vertical"} <= set(data["table2"])
+    assert "PID_lateral_rise_time_s" in data["table3"]
+    assert data["steady"]["balance_ratio"] > 0
+
+
+def test_paper_pid_reproduces_table3_on_the_papers_models(report):
+    """Same gains on the same (paper's) models must give the paper's numbers: a check of the
+    report's plumbing. 6 %: the 2 % settling time of the vertical channel reads 1.379 s from the
+    printed transfer function against the paper's 1.31 s (the paper rounds its coefficients)."""
+    _, headline, _ = report
+    from hosedrogue.paper import TABLE3
+
+    for ch in ("lateral", "vertical"):
+        for key in ("rise_time_s", "settling_time_s", "overshoot_pct"):
+            ours = headline["table3"][f"PID_{ch}_{key}"]["on_paper_model"]
+            assert ours == pytest.approx(TABLE3[("PID", ch)][key], rel=0.06), (ch, key)
+
+
+# --- plotting smoke tests -------------------------------------------------------------------------
+UNIT = re.compile(r"\[[^\]]+\]")
+
+
+def _check_figure(fig):
+    assert isinstance(fig, Figure)
+    axes = [ax for ax in fig.axes if ax.get_visible()]
+    assert axes
+    for ax in axes:
+        assert UNIT.search(ax.get_xlabel()), f"x label without unit: {ax.get_xlabel()!r}"
+        assert UNIT.search(ax.get_ylabel()), f"y label without unit: {ax.get_ylabel()!r}"
+        if hasattr(ax, "get_zlabel"):
+            assert UNIT.search(ax.get_zlabel()), f"z label without unit: {ax.get_zlabel()!r}"
+    assert plt.get_fignums() == [], "a pyplot figure was created"
+
+
+def _fake_result(n_links=3, n=200, seed=0, on=False):
+    """A SimulationResult of a short swinging chain (no physics: shapes and units only)."""
+    from hosedrogue.results import SimulationResult
+
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 4.0, n)
+    s = np.linspace(0.0, 1.0, n_links + 1)
+    amp = 0.01 if on else 0.5
+    joints = np.zeros((n, n_links + 1, 3))
+    joints[:, :, 0] = -15.0 * s
+    joints[:, :, 1] = amp * np.sin(2 * t)[:, None] * s + 0.4 * s
+    joints[:, :, 2] = 5.5 * s + amp * np.cos(3 * t)[:, None] * s
+    return SimulationResult(
+        t_s=t, states=np.zeros((n, 4 * n_links)), joints_m=joints, drogue_velocity_m_s=np.zeros((n, 3)),
+        drogue_drag_n=np.zeros((n, 3)), tow_force_n=np.zeros((n, 3)),
+        control_n=rng.normal(size=(n, 2)) * (30.0 if on else 0.0), completed=True, message="",
+        equilibrium_m=joints[0, -1].copy())
+
+
+def _curves(n, labels):
+    return {lab: {"lateral": np.sin(np.linspace(0, 3, n)) + k, "vertical": np.cos(np.linspace(0, 3, n)) + k}
+            for k, lab in enumerate(labels)}
+
+
+@pytest.fixture(autouse=True)
+def _no_pyplot_figures():
+    plt.close("all")
+    yield
+    assert plt.get_fignums() == []
+
+
+def test_plot_sweep():
+    from hosedrogue.analysis.sweep import COLUMNS, SweepResult
+
+    rows = []
+    for h in (2000.0, 8000.0):
+        for v in (100.0, 150.0, 200.0):
+            rows.append(dict(zip(COLUMNS, (h, v, -15.0, 0.4, 5.0, 10 * v / (1 + h / 1e4), 0, 0, 0, 50 / v, True))))
+    _check_figure(F.plot_sweep(SweepResult(np.array([2000.0, 8000.0]), np.array([100.0, 150.0, 200.0]), rows)))
+
+
+def test_plot_turbulence_speeds():
+    _check_figure(F.plot_turbulence_speeds([_fake_result(seed=1), _fake_result(seed=2)], [100, 150], window_s=(1, 3)))
+
+
+def test_plot_linear_steps():
+    t = np.linspace(0, 10, 50)
+    _check_figure(F.plot_linear_steps(t, np.random.default_rng(0).normal(size=(2, 2, 50))))
+
+
+def test_plot_pole_zero():
+    p = np.array([-0.1 + 1.5j, -0.1 - 1.5j])
+    z = np.array([-50.0 + 0j])
+    pz = {"full": {"lateral": (p, z), "vertical": (p, z)}, "2nd order": {"lateral": (p, z), "vertical": (p, z)}}
+    _check_figure(F.plot_pole_zero(pz, reference={"2nd order": pz["2nd order"]}))
+    _check_figure(F.plot_pole_zero({"full": {"lateral": (p, p[:0]), "vertical": (p, p[:0])}}))
+
+
+def test_plot_bode_compare():
+    w = np.logspace(-2, 2, 40)
+    g = {"full": {"lateral": 1 / (1j * w + 1), "vertical": 1 / (1j * w + 2)}}
+    _check_figure(F.plot_bode_compare(w, g, reference={"paper": g["full"]}))
+
+
+def test_plot_step_compare():
+    _check_figure(F.plot_step_compare(np.linspace(0, 5, 30), _curves(30, ["full", "2nd"]),
+                                      reference=_curves(30, ["paper 2nd"])))
+
+
+def test_plot_closed_loop_steps():
+    t = np.linspace(0, 5, 30)
+    rows = {"paper models": _curves(30, ["PID", "LQR"]), "ours": _curves(30, ["PID", "LQR"])}
+    _check_figure(F.plot_closed_loop_steps(t, rows, log_time=True))
+    _check_figure(F.plot_closed_loop_steps(t, {"ours": _curves(30, ["full", "6th"])},
+                                           reference_rows={"ours": _curves(30, ["paper 6th"])}))
+
+
+def test_plot_controller_on_off_and_forces():
+    off = _fake_result()
+    on = {"PID": _fake_result(on=True, seed=3), "LQR": _fake_result(on=True, seed=4)}
+    _check_figure(F.plot_controller_on_off(off, on, window_s=(1.0, 3.0)))
+    _check_figure(F.plot_control_forces(on, window_s=(1.0, 3.0)))
+
+
+def test_plot_hose_3d():
+    r = _fake_result()
+    _check_figure(F.plot_hose_3d([r.joints_m[0], r.joints_m[50]], ["equilibrium", "t = 1 s"]))
+
+
+def test_plot_convergence():
+    from hosedrogue.analysis.convergence import LinkStudy, StepStudy
+
+    steps = np.array([0.02, 0.01, 0.005])
+    studies = [StepStudy(c, steps, 1e-3 * (steps / 0.02) ** 4 * (k + 1), 0.000625, 10.0)
+               for k, c in enumerate(("swing", "turbulence"))]
+    links = np.array([10, 20, 40])
+    ls = LinkStudy(links, np.column_stack([-15 * np.ones(3), 0.4 * np.ones(3), [5.6, 5.53, 5.5]]),
+                   np.array([1.51, 1.53, 1.535]), np.array([2.01, 2.03, 2.032]))
+    _check_figure(F.plot_convergence(studies, ls))
+    _check_figure(F.plot_convergence(studies, {"off": ls, "moment": ls}))
+
+
+def test_animate_hose_writes_a_small_gif(tmp_path):
+    path = F.animate_hose(_fake_result(), _fake_result(on=True), tmp_path / "a.gif", fps=5, window_s=(0.0, 2.0))
+    data = Path(path).read_bytes()
+    assert data[:6] in (b"GIF87a", b"GIF89a")
+    from PIL import Image
+
+    with Image.open(path) as im:
+        assert im.n_frames == 11  # 0, 0.2, ..., 2.0 s
+    assert plt.get_fignums() == []
+
+
+def test_existing_figure_helpers_still_work(tmp_path):
+    fig = F.plot_displacement(_fake_result(), labels=["a", "b"], others=[_fake_result(seed=5)])
+    _check_figure(fig)
+    assert F.save_figure(fig, tmp_path / "d.png").is_file()
