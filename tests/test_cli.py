@@ -190,3 +190,32 @@ def test_linearize_table_and_bad_order(capsys):
     assert code == 0 and "lateral" in out and "s^6" in out
     code, _, err = run(capsys, "linearize", "--order", "zero")
     assert code == 2 and "--order" in err and len(err.strip().splitlines()) == 1
+
+
+def test_sweep_writes_csv_and_png(capsys, tmp_path):
+    out_dir = tmp_path / "sweep"
+    code, out, err = run(capsys, "sweep", "--altitudes", "2000", "8000", "--airspeeds", "100", "200",
+                         "--links", "8", "--out", str(out_dir))
+    assert code == 0, err
+    import pandas as pd
+
+    df = pd.read_csv(out_dir / "sweep.csv")
+    assert len(df) == 4 and df["converged"].all()
+    assert {"altitude_m", "airspeed_m_s", "drogue_drag_n", "balance_ratio"} <= set(df.columns)
+    assert (out_dir / "sweep.png").stat().st_size > 1000
+
+
+def test_sweep_bad_grid_leaves_no_output(capsys, tmp_path):
+    out_dir = tmp_path / "sweep"
+    try:
+        code = main(["sweep", "--airspeeds", "-5", "--out", str(out_dir)])
+    except SystemExit as exc:
+        code = exc.code
+    assert code == 2 and not out_dir.exists()
+
+
+def test_simulate_turbulence_writes_displacement_png(capsys, tmp_path):
+    out_dir = tmp_path / "t"
+    code, _, err = run(capsys, "simulate", "paper-turbulence", "--duration", "12", "--out", str(out_dir))
+    assert code == 0, err
+    assert (out_dir / "displacement.png").stat().st_size > 1000
