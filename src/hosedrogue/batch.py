@@ -21,8 +21,8 @@ from numba import njit
 from .analysis.equilibrium import Equilibrium, solve_equilibrium
 from .controllers.linear import LinearController
 from .environment.turbulence import generate_gusts
-from .model.integrate import applied_force, closed_loop_deriv, drogue_yz
-from .model.kernels import NONFINITE, OK, YAW_LIMIT, make_workspace_jit
+from .model.integrate import applied_force, drogue_yz, rk4_step, step_status
+from .model.kernels import OK, make_workspace_jit
 from .model.system import HoseModel
 from .params import ParameterError, Params
 from .simulation import Actuator
@@ -63,25 +63,10 @@ def _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, Ac, Bc, Cc, Dc, y_
         status = OK
         t = 0.0
         for step in range(1, nsteps + 1):
-            closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, k1, u)
-            for i in range(nz):
-                tmp[i] = z[i] + 0.5 * h * k1[i]
-            closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, k2, u)
-            for i in range(nz):
-                tmp[i] = z[i] + 0.5 * h * k2[i]
-            closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, k3, u)
-            for i in range(nz):
-                tmp[i] = z[i] + h * k3[i]
-            closed_loop_deriv(t + h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, k4, u)
-            for i in range(nz):
-                z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+                     ws, k1, k2, k3, k4, tmp, u)
             t = step * h
-            for i in range(nz):
-                if not math.isfinite(z[i]):
-                    status = NONFINITE
-            for k in range(n):
-                if abs(z[2 * k + 1]) > max_yaw:
-                    status = YAW_LIMIT
+            status = step_status(z, n, max_yaw)
             if status != OK:
                 break
             if t_w0 <= t < t_w1:

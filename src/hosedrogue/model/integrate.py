@@ -98,16 +98,51 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
 
 
 @njit(cache=True)
+def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+             k1, k2, k3, k4, tmp, u):
+    """One classical RK4 step of the closed loop from (t, z), in place."""
+    nz = z.shape[0]
+    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, k1, u)
+    for i in range(nz):
+        tmp[i] = z[i] + 0.5 * h * k1[i]
+    closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                      noise_dt, ws, k2, u)
+    for i in range(nz):
+        tmp[i] = z[i] + 0.5 * h * k2[i]
+    closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                      noise_dt, ws, k3, u)
+    for i in range(nz):
+        tmp[i] = z[i] + h * k3[i]
+    closed_loop_deriv(t + h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                      noise_dt, ws, k4, u)
+    for i in range(nz):
+        z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+@njit(cache=True)
+def step_status(z, n, max_yaw):
+    """OK, or why the state may not go on: non-finite, or a link yaw beyond max_yaw [rad]."""
+    for i in range(z.shape[0]):
+        if not math.isfinite(z[i]):
+            return NONFINITE
+    for k in range(n):
+        if abs(z[2 * k + 1]) > max_yaw:
+            return YAW_LIMIT
+    return OK
+
+
+@njit(cache=True)
 def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-            u_max, noise, noise_dt, max_yaw, ts, zs, us):
+            act, noise, noise_dt, max_yaw, ts, zs, us):
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
-    in ts, zs, us (the control force at that state). Returns (status, saved count, failure time).
+    in ts, zs, us (the force applied at that state). Returns (status, saved count, stop time).
 
     Stops early on a non-finite state (status NONFINITE) or a link yaw beyond ``max_yaw`` [rad]
     (status YAW_LIMIT); what was saved up to then stays valid.
     """
     n = l.shape[0]
     nz = z0.shape[0]
+    nx = 4 * n
     z = z0.copy()
     k1 = np.empty(nz)
     k2 = np.empty(nz)
@@ -118,44 +153,23 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     ws = make_workspace_jit(n)
     ts[0] = t0
     zs[0, :] = z
-    nx = 4 * n
-    applied_force(t0, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+    applied_force(t0, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
     us[0, 0] = u[0]
     us[0, 1] = u[1]
     saved = 1
-    t = t0
     for step in range(1, nsteps + 1):
-        closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max, noise,
-                          noise_dt, ws, k1, u)
-        for i in range(nz):
-            tmp[i] = z[i] + 0.5 * h * k1[i]
-        closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-                          u_max, noise, noise_dt, ws, k2, u)
-        for i in range(nz):
-            tmp[i] = z[i] + 0.5 * h * k2[i]
-        closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-                          u_max, noise, noise_dt, ws, k3, u)
-        for i in range(nz):
-            tmp[i] = z[i] + h * k3[i]
-        closed_loop_deriv(t + h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, u_max,
-                          noise, noise_dt, ws, k4, u)
-        for i in range(nz):
-            z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        t = t0 + (step - 1) * h
+        rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                 k1, k2, k3, k4, tmp, u)
         t = t0 + step * h
-        status = OK
-        for i in range(nz):
-            if not math.isfinite(z[i]):
-                status = NONFINITE
-        for k in range(n):
-            if abs(z[2 * k + 1]) > max_yaw:
-                status = YAW_LIMIT
+        status = step_status(z, n, max_yaw)
         if status != OK:
             return status, saved, t
         if step % save_every == 0:
             ts[saved] = t
             zs[saved, :] = z
-            applied_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+            applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
             us[saved, 0] = u[0]
             us[saved, 1] = u[1]
             saved += 1
-    return OK, saved, t
+    return OK, saved, t0 + nsteps * h

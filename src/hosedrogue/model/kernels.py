@@ -114,6 +114,18 @@ def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
 
 
 @njit(**JIT)
+def kink(e, k):
+    """Bend at joint k+1 between links k and k+1: (e_k x e_{k+1}) components, its length
+    sin(gamma), and the angle gamma (atan2, accurate near 0)."""
+    wx = e[k, 1] * e[k + 1, 2] - e[k, 2] * e[k + 1, 1]
+    wy = e[k, 2] * e[k + 1, 0] - e[k, 0] * e[k + 1, 2]
+    wz = e[k, 0] * e[k + 1, 1] - e[k, 1] * e[k + 1, 0]
+    sn = math.sqrt(wx * wx + wy * wy + wz * wz)
+    cn = e[k, 0] * e[k + 1, 0] + e[k, 1] * e[k + 1, 1] + e[k, 2] * e[k + 1, 2]
+    return wx, wy, wz, sn, math.atan2(sn, cn)
+
+
+@njit(**JIT)
 def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending."""
@@ -190,12 +202,7 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
                 F[k + 1, 2] += scale * dz
             else:
                 # restoring moment (E I / lbar) gamma about e_k x e_{k+1}: + on link k, - on k+1
-                wx = e[k, 1] * e[k + 1, 2] - e[k, 2] * e[k + 1, 1]
-                wy = e[k, 2] * e[k + 1, 0] - e[k, 0] * e[k + 1, 2]
-                wz = e[k, 0] * e[k + 1, 1] - e[k, 1] * e[k + 1, 0]
-                sn = math.sqrt(wx * wx + wy * wy + wz * wz)
-                cn = e[k, 0] * e[k + 1, 0] + e[k, 1] * e[k + 1, 1] + e[k, 2] * e[k + 1, 2]
-                gamma = math.atan2(sn, cn)
+                wx, wy, wz, sn, gamma = kink(e, k)
                 scale = EI / lbar
                 scale *= gamma / sn if sn > 1e-300 else 1.0
                 Mom[k, 0] += scale * wx
@@ -385,19 +392,26 @@ def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd
 
 
 @njit(**JIT)
-def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
-    """Accelerations (ws[15]) and outputs in the workspace: joint positions ws[4], velocities
-    ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
+def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
+    """Kinematics and loads of a state into the workspace: link frames ws[0:4], joint positions
+    ws[4] and velocities ws[5], velocity-product accelerations ws[6], joint forces ws[7], link
+    moments ws[8], rotational generalized forces ws[9], drogue drag ws[13]."""
     n = l.shape[0]
-    q = x[: 2 * n]
-    qd = x[2 * n:]
     e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
     link_frames(q, n, e, a, b, cs)
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
     rotational_terms(qd, J, n, cs, Mom, tau)
-    chain_forward_dynamics(l, M, J, ps[PS_JD], n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12],
-                           ws[15], ws[14])
+
+
+@njit(**JIT)
+def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
+    """Accelerations (ws[15]) and outputs in the workspace: joint positions ws[4], velocities
+    ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
+    n = l.shape[0]
+    loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
+    chain_forward_dynamics(l, M, J, ps[PS_JD], n, ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
+                           ws[10], ws[11], ws[12], ws[15], ws[14])
 
 
 @njit(**JIT)
@@ -424,18 +438,12 @@ def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
     recursion is tested against."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
-    q = x[: 2 * n]
-    qd = x[2 * n:]
-    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
-    link_frames(q, n, e, a, b, cs)
-    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
-    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
-    rotational_terms(qd, J, n, cs, Mom, tau)
+    loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
     G = np.empty((n + 1, 3))
     Q = np.empty(2 * n)
-    generalized_forces(l, M, n, a, b, c, F, tau, G, Q)
+    generalized_forces(l, M, n, ws[1], ws[2], ws[6], ws[7], ws[9], G, Q)
     H = np.empty((2 * n, 2 * n))
-    mass_matrix(l, S, J, ps, n, a, b, cs, H)
+    mass_matrix(l, S, J, ps, n, ws[1], ws[2], ws[3], H)
     return np.linalg.solve(H, Q)
 
 
@@ -444,15 +452,9 @@ def static_residual(q, l, M, J, ps, env, gust, t, Q):
     """Generalized forces at rest (qd = 0, u = 0) into Q (2n): zero exactly at an equilibrium."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
-    qd = np.zeros(2 * n)
-    u = np.zeros(2)
-    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
-    link_frames(q, n, e, a, b, cs)
-    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
-    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
-    rotational_terms(qd, J, n, cs, Mom, tau)
+    loads(t, q, np.zeros(2 * n), np.zeros(2), l, M, J, ps, env, gust, ws)
     G = np.empty((n + 1, 3))
-    generalized_forces(l, M, n, a, b, c, F, tau, G, Q)
+    generalized_forces(l, M, n, ws[1], ws[2], ws[6], ws[7], ws[9], G, Q)
 
 
 @njit(**JIT)
@@ -480,12 +482,7 @@ def energy(x, l, M, J, ps):
     T += 0.5 * ps[PS_JD] * (qd[2 * n - 2] ** 2 + qd[2 * n - 1] ** 2)
     if ps[PS_BENDING] == BENDING_MOMENT:
         for k in range(n - 1):
-            wx = e[k, 1] * e[k + 1, 2] - e[k, 2] * e[k + 1, 1]
-            wy = e[k, 2] * e[k + 1, 0] - e[k, 0] * e[k + 1, 2]
-            wz = e[k, 0] * e[k + 1, 1] - e[k, 1] * e[k + 1, 0]
-            sn = math.sqrt(wx * wx + wy * wy + wz * wz)
-            cn = e[k, 0] * e[k + 1, 0] + e[k, 1] * e[k + 1, 1] + e[k, 2] * e[k + 1, 2]
-            gamma = math.atan2(sn, cn)
+            gamma = kink(e, k)[4]
             U += 0.5 * ps[PS_EI] / (0.5 * (l[k] + l[k + 1])) * gamma * gamma
     return T, U
 
