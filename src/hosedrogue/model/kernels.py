@@ -36,9 +36,11 @@ from ..environment.turbulence import gust_at
 from ..environment.wake import wake_velocity
 
 #: Compilation options of every kernel. ``error_model="numpy"`` drops Python's zero-division
-#: checks from the inner loops; the fast-math flags allow contraction into fused multiply-adds
-#: and reassociation but *not* "no NaNs/infs", so divergence is still detected.
-JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})
+#: checks from the inner loops; the fast-math flags allow fused multiply-adds but neither
+#: reassociation (vectorized reductions whose order depends on array alignment would make
+#: results differ in the last bits between processes) nor "no NaNs/infs" (divergence must
+#: still be detected).
+JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
 
 # ps layout
 PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD = range(10)
