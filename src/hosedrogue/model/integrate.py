@@ -16,7 +16,16 @@ import math
 import numpy as np
 from numba import njit
 
-from .kernels import NONFINITE, OK, YAW_LIMIT, make_workspace_jit, rhs_ws
+from .kernels import (
+    NONFINITE,
+    OK,
+    YAW_LIMIT,
+    drogue_from_frames,
+    forward_dynamics_ws,
+    link_frames,
+    loads_given_frames,
+    make_workspace_jit,
+)
 
 
 @njit(cache=True)
@@ -47,6 +56,13 @@ def noise_at(t, noise, noise_dt):
 def control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
     """Commanded force u (2,) [N] at state z (saturated); returns the measured offsets."""
     y, zz = drogue_yz(z[:nx], l)
+    return control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
+
+
+@njit(cache=True)
+def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
+    """Commanded force u (2,) [N] for the drogue at lateral y, vertical zz [m] (saturated);
+    returns the measured offsets."""
     ny, nz = noise_at(t, noise, noise_dt)
     m0 = y - y_ref[0] + ny
     m1 = zz - y_ref[1] + nz
@@ -67,7 +83,14 @@ def control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
 def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u):
     """Force acting on the drogue (2,) [N] into u; returns the measured offsets and the
     commanded force (which differs from u only for a rate-limited actuator)."""
-    m0, m1 = control_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    y, zz = drogue_yz(z[:nx], l)
+    return applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
+
+
+@njit(cache=True)
+def applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u):
+    """:func:`applied_force` for a drogue at lateral y, vertical zz [m]."""
+    m0, m1 = control_law(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
     c0, c1 = u[0], u[1]
     na = nx + Cc.shape[1]
     if z.shape[0] > na:
@@ -80,9 +103,18 @@ def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u):
 def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
                       noise, noise_dt, ws, dz, u):
     """dz/dt of z = [x, xc, (ua)]; u receives the force applied to the drogue."""
-    nx = 4 * l.shape[0]
-    m0, m1, c0, c1 = applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
-    rhs_ws(t, z[:nx], u, l, M, S, J, ps, env, gust, ws, dz[:nx])
+    n = l.shape[0]
+    nx = 4 * n
+    # link frames first: the controller measures the drogue from them, the loads reuse them
+    link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
+    y, zz = drogue_from_frames(l, ws[0])
+    m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    loads_given_frames(t, z[: 2 * n], z[2 * n: nx], u, l, M, J, ps, env, gust, ws)
+    forward_dynamics_ws(l, M, J, ps, ws)
+    qdd = ws[15]
+    for i in range(2 * n):
+        dz[i] = z[2 * n + i]
+        dz[2 * n + i] = qdd[i]
     nc = Ac.shape[0]
     na = nx + nc
     if z.shape[0] > na:

@@ -398,9 +398,15 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """Kinematics and loads of a state into the workspace: link frames ws[0:4], joint positions
     ws[4] and velocities ws[5], velocity-product accelerations ws[6], joint forces ws[7], link
     moments ws[8], rotational generalized forces ws[9], drogue drag ws[13]."""
+    link_frames(q, l.shape[0], ws[0], ws[1], ws[2], ws[3])
+    loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws)
+
+
+@njit(**JIT)
+def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
+    """:func:`loads` when the link frames ws[0:4] already hold those of q."""
     n = l.shape[0]
     e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
-    link_frames(q, n, e, a, b, cs)
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
     rotational_terms(qd, J, n, cs, Mom, tau)
@@ -412,8 +418,25 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
     ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
     n = l.shape[0]
     loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
-    chain_forward_dynamics(l, M, J, ps[PS_JD], n, ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
+    forward_dynamics_ws(l, M, J, ps, ws)
+
+
+@njit(**JIT)
+def forward_dynamics_ws(l, M, J, ps, ws):
+    """qdd (ws[15]) and tow-point force (ws[14]) from the loads in the workspace."""
+    chain_forward_dynamics(l, M, J, ps[PS_JD], l.shape[0], ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
                            ws[10], ws[11], ws[12], ws[15], ws[14])
+
+
+@njit(**JIT)
+def drogue_from_frames(l, e):
+    """Drogue (joint n) lateral and vertical position [m] from the link directions e."""
+    y = 0.0
+    z = 0.0
+    for k in range(l.shape[0]):
+        y += l[k] * e[k, 1]
+        z += l[k] * e[k, 2]
+    return y, z
 
 
 @njit(**JIT)
