@@ -219,3 +219,11 @@ def test_simulate_turbulence_writes_displacement_png(capsys, tmp_path):
     code, _, err = run(capsys, "simulate", "paper-turbulence", "--duration", "12", "--out", str(out_dir))
     assert code == 0, err
     assert (out_dir / "displacement.png").stat().st_size > 1000
+
+
+def test_wake_false_shorthand_equals_no_wake(capsys, tmp_path):
+    cfg = tmp_path / "w.toml"
+    cfg.write_text("wake = false\n")
+    _, a, _ = run(capsys, "steady", "--json", "--config", str(cfg), "--links", "6")
+    _, b, _ = run(capsys, "steady", "--json", "--no-wake", "--links", "6")
+    assert json.loads(a)["drogue_position_m"] == json.loads(b)["drogue_position_m"]

@@ -291,7 +291,8 @@ TURBULENCE_PRESET_KEY = "intensity"
 def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
     """Override ``base`` with a nested mapping ``{section: {field: value}}``.
 
-    Unknown sections and fields are errors. ``turbulence.intensity`` may name a standard
+    Unknown sections and fields are errors. ``wake = false`` / ``turbulence = true`` are short for
+    ``[wake] enabled = false`` / ``[turbulence] enabled = true``. ``turbulence.intensity`` may name a standard
     intensity ("light", "moderate", "severe") that sets ``sigma_m_s`` from the altitude.
     """
     if not isinstance(data, Mapping):
@@ -300,6 +301,8 @@ def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
     for name, cls in SECTIONS.items():
         current = getattr(base, name)
         overrides = data.get(name, {})
+        if isinstance(overrides, bool) and name in ("wake", "turbulence"):
+            overrides = {"enabled": overrides}  # shorthand: `wake = false`
         if not isinstance(overrides, Mapping):
             raise ParameterError(f"{name} = {overrides!r}: must be a table of fields")
         overrides = dict(overrides)
