@@ -16,7 +16,8 @@ condition of the paper's linearization is not stated in the paper.
 
 from __future__ import annotations
 
-__all__ = ["TABLE2", "TABLE3", "CHANNELS", "table2_transfer_function"]
+__all__ = ["TABLE2", "TABLE3", "CHANNELS", "SEC33_DISPLACEMENT_M", "SEC33_PEAK_FORCE_N",
+           "DOCKING_REQUIREMENT_M", "table2_transfer_function"]
 
 #: Channel names, in the order of the plant's inputs and outputs.
 CHANNELS = ("lateral", "vertical")
@@ -51,6 +52,22 @@ TABLE3: dict[tuple[str, str], dict[str, float]] = {
     ("LQR", "lateral"): {"rise_time_s": 0.839, "settling_time_s": 1.49, "overshoot_pct": 2.24},
     ("LQR", "vertical"): {"rise_time_s": 0.671, "settling_time_s": 1.45, "overshoot_pct": 5.07},
 }
+
+
+#: Sec. 3.3 (Fig. 12): peak drogue displacement range [m] at 150 m/s, 8000 m in the turbulence
+#: case, without control ("off") and with either controller ("on").
+SEC33_DISPLACEMENT_M: dict[str, tuple[float, float]] = {"off": (0.5, 1.0), "on": (0.005, 0.01)}
+
+#: Sec. 3.3 (Fig. 13): approximate peak actuation force [N], keyed by (controller, channel).
+SEC33_PEAK_FORCE_N: dict[tuple[str, str], float] = {
+    ("PID", "lateral"): 20.0,
+    ("PID", "vertical"): 30.0,
+    ("LQR", "lateral"): 70.0,
+    ("LQR", "vertical"): 40.0,
+}
+
+#: Sec. 3.3: "the current design requirements of keeping drogue motion within 10 cm" [m].
+DOCKING_REQUIREMENT_M = 0.1
 
 
 def table2_transfer_function(channel: str, order: int):

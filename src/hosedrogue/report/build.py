@@ -32,7 +32,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .. import __version__
+from .. import __version__, paper
 from ..params import PAPER, SECTIONS, Params
 
 __all__ = ["ReportSettings", "FULL", "FAST", "build_report"]
@@ -1092,7 +1092,7 @@ def _stage_closed_loop(out: _Out, settings: ReportSettings, ctx: dict) -> None:
         return f"over {ns} realisations {scale * lo:.{digits}g}-{scale * hi:.{digits}g} {unit}"
 
     for j, (ax, col) in enumerate((("lateral", "peak_lateral_m"), ("vertical", "peak_vertical_m"))):
-        C.add("Fig. 12", f"peak {ax} displacement, controller off", "m", (0.5, 1.0), peaks["off"][j],
+        C.add("Fig. 12", f"peak {ax} displacement, controller off", "m", paper.SEC33_DISPLACEMENT_M["off"], peaks["off"][j],
               f"one realisation ({spread_txt('off', col)}); the paper's record cannot be regenerated")
     for k in ("PID", "LQR"):
         for j, (ax, col) in enumerate((("lateral", "peak_lateral_m"), ("vertical", "peak_vertical_m"))):
@@ -1103,8 +1103,8 @@ def _stage_closed_loop(out: _Out, settings: ReportSettings, ctx: dict) -> None:
                 note = ("the literal paper weights give a slow loop (slowest pole "
                         f"{out.headline['lqr']['slowest_pole_on_our_model_1_s']:.2f} 1/s, Table 3), which only "
                         f"partly rejects gusts near the pendulum frequency ({spread_txt(k, col)}); not adjusted")
-            C.add("Fig. 12", f"peak {ax} displacement, {k} on", "m", (0.005, 0.01), peaks[k][j], note)
-    paper_forces = {("PID", 0): 20.0, ("PID", 1): 30.0, ("LQR", 0): 70.0, ("LQR", 1): 40.0}
+            C.add("Fig. 12", f"peak {ax} displacement, {k} on", "m", paper.SEC33_DISPLACEMENT_M["on"], peaks[k][j], note)
+    paper_forces = {(k, j): paper.SEC33_PEAK_FORCE_N[(k, ch)] for k in ("PID", "LQR") for j, ch in enumerate(paper.CHANNELS)}
     for (k, j), pv in paper_forces.items():
         ax = ("lateral u_hor", "vertical u_ver")[j]
         col = ("peak_force_hor_n", "peak_force_ver_n")[j]
