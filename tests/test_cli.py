@@ -227,3 +227,16 @@ def test_wake_false_shorthand_equals_no_wake(capsys, tmp_path):
     _, a, _ = run(capsys, "steady", "--json", "--config", str(cfg), "--links", "6")
     _, b, _ = run(capsys, "steady", "--json", "--no-wake", "--links", "6")
     assert json.loads(a)["drogue_position_m"] == json.loads(b)["drogue_position_m"]
+
+
+def test_equilibrium_failure_is_one_line_exit_3(capsys, monkeypatch):
+    """If the balance position cannot be found the user gets the solver's reason, not a traceback."""
+    import hosedrogue.analysis.equilibrium as eqm
+
+    def failing(*args, **kwargs):
+        raise eqm.EquilibriumError("equilibrium not found: residual 0.3 of the weight moment")
+
+    monkeypatch.setattr(eqm, "solve_equilibrium", failing)
+    code, out, err = run(capsys, "steady")
+    assert code == 3 and out == ""
+    assert len(err.strip().splitlines()) == 1 and "equilibrium not found" in err

@@ -11,6 +11,7 @@ import shutil
 import sys
 from pathlib import Path
 
+from .analysis.equilibrium import EquilibriumError
 from .params import PAPER, ParameterError, Params, load_params
 
 EXIT_BAD_INPUT = 2
@@ -286,6 +287,9 @@ def main(argv: list[str] | None = None) -> int:
     except ParameterError as exc:
         print(f"hosedrogue: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except EquilibriumError as exc:
+        print(f"hosedrogue: {exc}", file=sys.stderr)
+        return EXIT_INCOMPLETE
     except KeyboardInterrupt:
         print("hosedrogue: interrupted", file=sys.stderr)
         return 130
