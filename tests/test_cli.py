@@ -240,3 +240,22 @@ def test_equilibrium_failure_is_one_line_exit_3(capsys, monkeypatch):
     code, out, err = run(capsys, "steady")
     assert code == 3 and out == ""
     assert len(err.strip().splitlines()) == 1 and "equilibrium not found" in err
+
+
+BAD_CONTROLLERS = [
+    ('type = "pid"\nlateral = [1.0, 2.0]\n', "controller.lateral"),
+    ('type = "pid"\nvertical = [1.0, 2.0, 3.0, 0.0]\n', "controller.vertical"),
+    ('type = "lqr"\nr_diag = [0.4, 0.0]\n', "controller.r_diag"),
+    ('type = "lqr"\nlateral = [1.0, 1.0, 1.0, 1.0]\n', "controller.lateral"),
+    ('type = "mpc"\n', "controller.type"),
+]
+
+
+@pytest.mark.parametrize("text,names", BAD_CONTROLLERS)
+def test_bad_controller_options(capsys, tmp_path, text, names):
+    sc = tmp_path / "c.toml"
+    sc.write_text("[scenario]\nduration_s = 1.0\n[controller]\n" + text)
+    out_dir = tmp_path / "o"
+    code, _, err = run(capsys, "simulate", str(sc), "--out", str(out_dir))
+    assert code == 2 and names in err and len(err.strip().splitlines()) == 1
+    assert not out_dir.exists()

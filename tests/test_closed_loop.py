@@ -63,3 +63,18 @@ def test_actuator_limits_and_sensor_noise():
     a, b = run_scenario(noisy), run_scenario(noisy)
     assert np.array_equal(a.control_n, b.control_n)
     assert not np.array_equal(a.control_n, run_scenario(sc).control_n)
+
+
+def test_controller_design_options_are_used(tmp_path):
+    """User PID gains and LQR weights from the scenario replace the paper's: a 100 x heavier LQR
+    output weight must hold the drogue closer than the paper's weights do."""
+    base = "[scenario]\nduration_s = 40.0\n[turbulence]\nenabled = true\n"
+    (tmp_path / "lqr.toml").write_text(base + '[controller]\ntype = "lqr"\nq_diag = [1.2e6, 8e5, 8e5, 1e6]\n')
+    (tmp_path / "pid.toml").write_text(base + '[controller]\ntype = "pid"\nlateral = [2000.0, 500.0, 300.0, 50.0]\n')
+    paper_lqr = run_scenario(load_scenario("paper-turbulence-lqr").with_overrides(duration_s=40.0))
+    heavy = run_scenario(load_scenario(str(tmp_path / "lqr.toml")))
+    assert np.all(peaks(heavy) < 0.5 * peaks(paper_lqr))
+    soft = run_scenario(load_scenario(str(tmp_path / "pid.toml")))
+    paper_pid = run_scenario(load_scenario("paper-turbulence-pid").with_overrides(duration_s=40.0))
+    assert peaks(soft)[0] > 2 * peaks(paper_pid)[0]  # weaker lateral gains, larger lateral motion
+    assert peaks(soft)[1] == pytest.approx(peaks(paper_pid)[1], rel=0.05)  # vertical: paper's gains

@@ -30,12 +30,18 @@ def build_controller(scenario: Scenario, model: HoseModel, eq: Equilibrium):
     """The scenario's controller as a LinearController (None for "none")."""
     if scenario.controller == "none":
         return None
-    from .controllers.design import paper_lqr_for, paper_pid
+    from .analysis.linearize import linearize
+    from .controllers.design import lqr_design_for
+    from .controllers.lqr import PAPER_LQR_Q, PAPER_LQR_R
+    from .controllers.pid import PAPER_PID, PIDGains, pid_controller
 
+    opts = scenario.controller_options
     if scenario.controller == "pid":
-        return paper_pid()
-
-    return paper_lqr_for(scenario.params, eq)
+        gains = {ch: PIDGains(*opts[ch]) if ch in opts else PAPER_PID[ch] for ch in ("lateral", "vertical")}
+        return pid_controller(gains["lateral"], gains["vertical"])
+    Q = np.diag(opts["q_diag"]) if "q_diag" in opts else PAPER_LQR_Q
+    R = np.diag(opts["r_diag"]) if "r_diag" in opts else PAPER_LQR_R
+    return lqr_design_for(linearize(scenario.params, eq, model), Q, R).controller
 
 
 def run_scenario(scenario: Scenario) -> SimulationResult:

@@ -37,6 +37,9 @@ class Scenario:
     initial_pitch_offset_deg: float = 0.0
     initial_yaw_offset_deg: float = 0.0
     controller: str = "none"
+    #: Design options of the controller: PID ``lateral``/``vertical`` = [K_P, K_I, K_D, N];
+    #: LQR ``q_diag`` (4) and ``r_diag`` (2). Missing entries take the paper's values.
+    controller_options: dict = field(default_factory=dict)
     actuator: dict = field(default_factory=dict)
     sensor: dict = field(default_factory=dict)
     source: str = ""
@@ -61,6 +64,36 @@ def _check_duration(value: Any, name: str) -> float:
     ):
         raise ParameterError(f"{name} = {value!r}: must be a finite number in (0, 86400] s")
     return float(value)
+
+
+#: Options each controller type accepts: name -> (length, lower bound, bound is exclusive).
+CONTROLLER_OPTIONS = {
+    "none": {},
+    "pid": {"lateral": (4, 0.0, False), "vertical": (4, 0.0, False)},
+    "lqr": {"q_diag": (4, 0.0, False), "r_diag": (2, 0.0, True)},
+}
+
+
+def _controller_options(ctype: str, given: dict) -> dict:
+    allowed = CONTROLLER_OPTIONS[ctype]
+    out = {}
+    for key, value in given.items():
+        if key not in allowed:
+            names = ", ".join(["type", *allowed])
+            raise ParameterError(f"controller.{key}: unknown field for type {ctype!r}; allowed: {names}")
+        size, lo, strict = allowed[key]
+        ok = (isinstance(value, list) and len(value) == size and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            and (v > lo if strict else v >= lo) for v in value))
+        if not ok:
+            rel = ">" if strict else ">="
+            raise ParameterError(f"controller.{key} = {value!r}: must be a list of {size} finite numbers {rel} {lo:g}")
+        out[key] = [float(v) for v in value]
+    if ctype == "pid":
+        for key in ("lateral", "vertical"):
+            if key in out and out[key][3] <= 0:
+                raise ParameterError(f"controller.{key} = {out[key]!r}: the derivative filter N (4th) must be > 0 rad/s")
+    return out
 
 
 def shipped_scenarios() -> list[str]:
@@ -109,12 +142,10 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
             raise ParameterError(f"scenario.{key} = {v!r}: must be a finite number in [-60, 60] deg")
         offsets[key] = float(v)
     ctrl = dict(data.get("controller", {}))
-    for key in ctrl:
-        if key != "type":
-            raise ParameterError(f"controller.{key}: unknown field; allowed: type")
-    ctype = ctrl.get("type", "none")
+    ctype = ctrl.pop("type", "none")
     if ctype not in CONTROLLER_TYPES:
         raise ParameterError(f"controller.type = {ctype!r}: must be one of {', '.join(map(repr, CONTROLLER_TYPES))}")
+    options = _controller_options(ctype, ctrl)
     actuator = dict(data.get("actuator", {}))
     for key in actuator:
         if key not in ("max_force_n", "max_rate_n_s", "time_constant_s"):
@@ -136,6 +167,7 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
         description=str(sc.get("description", "")),
         initial=initial,
         controller=ctype,
+        controller_options=options,
         actuator=actuator,
         sensor=sensor,
         source=source,
