@@ -30,7 +30,8 @@ def test_pid_cuts_peak_displacement_tenfold(runs):
     assert res.completed
     ratio = peaks(runs["paper-turbulence"]) / peaks(res)
     assert np.all(ratio >= 10.0), ratio
-    # settled again after the gusts stop (t > 30 s): back within 1 mm by the end
+    # settled again after the gusts stop at 30 s: the PID loop's slowest pole (-1.1 1/s) has
+    # had 25 time constants, so the drogue is back within 1 mm by t = 55 s
     assert np.max(np.abs(res.drogue_offset_m[res.t_s > 55.0, 1:])) < 1e-3
 
 
@@ -42,6 +43,8 @@ def test_lqr_with_paper_weights_is_stable_and_reduces_displacement(runs):
     assert res.completed
     ratio = peaks(runs["paper-turbulence"]) / peaks(res)
     assert np.all(ratio > 1.0), ratio
+    # the slow loop (slowest pole ~-0.2 1/s) has had ~5 time constants after the gusts stop:
+    # the 0.23 m peak has decayed below 5 cm
     assert np.max(np.abs(res.drogue_offset_m[res.t_s > 55.0, 1:])) < 0.05
 
 

@@ -34,7 +34,8 @@ def test_linear_matches_nonlinear_small_step(paper_linear, channel):
     y_nl = res.drogue_offset_m[:, 1 + channel]
     assert np.max(np.abs(y_lin)) > 1e-3  # the step really moves the drogue (mm)
     assert np.max(np.abs(y_nl - y_lin)) < 0.02 * np.max(np.abs(y_lin))
-    # the other channel is untouched at first order
+    # the other channel barely moves: only the wake's asymmetry couples the channels (~4 % of
+    # the direct response at this condition, see the report), so 5 % bounds it
     assert np.max(np.abs(res.drogue_offset_m[:, 2 - channel])) < 0.05 * np.max(np.abs(y_lin))
 
 
