@@ -21,7 +21,7 @@ from numba import njit
 from .analysis.equilibrium import Equilibrium, solve_equilibrium
 from .controllers.linear import LinearController
 from .environment.turbulence import generate_gusts
-from .model.integrate import applied_force, drogue_yz, rk4_step, step_status
+from .model.integrate import applied_force_at, drogue_yz, rk4_step, step_status
 from .model.kernels import OK, make_workspace_jit
 from .model.system import HoseModel
 from .params import ParameterError, Params
@@ -74,7 +74,7 @@ def _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, Ac, Bc, Cc, Dc, y_
                 dy = yy - y_ref[0]
                 dzz = zz - y_ref[1]
                 rr = math.sqrt(dy * dy + dzz * dzz)
-                applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
+                applied_force_at(t, z, nx, yy, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
                 peak_y = max(peak_y, abs(dy))
                 peak_z = max(peak_z, abs(dzz))
                 peak_r = max(peak_r, rr)

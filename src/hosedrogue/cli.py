@@ -104,14 +104,14 @@ def cmd_simulate(args) -> int:
     scenario = load_scenario(args.scenario).with_overrides(duration_s=args.duration, seed=args.seed)
     out = Path(args.out)
     _prepare_out(out)
+    result = run_scenario(scenario)
     created = not out.exists()
     try:
-        result = run_scenario(scenario)
-    except BaseException:
+        paths = write_run(result, out)
+    except BaseException:  # leave no half-written output folder behind
         if created and out.exists():
             shutil.rmtree(out, ignore_errors=True)
         raise
-    paths = write_run(result, out)
     for p in paths:
         print(f"wrote {p}")
     if not result.completed:
@@ -270,12 +270,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--fast", action="store_true", help="coarser grids and shorter runs (< 1 min); marked as such")
     s.set_defaults(func=cmd_reproduce)
 
-    try:
-        from .campaign import add_montecarlo_parser
-    except ImportError:  # pragma: no cover - the campaign module needs nothing optional to import
-        add_montecarlo_parser = None
-    if add_montecarlo_parser is not None:
-        add_montecarlo_parser(sub)
+    from .campaign import add_montecarlo_parser
+
+    add_montecarlo_parser(sub)
     return p
 
 

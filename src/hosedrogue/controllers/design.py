@@ -4,8 +4,8 @@ model.
 
 * :func:`reduced_channels` - lateral and vertical SISO models of a given order;
 * :func:`paper_pid` - the paper's PID gains (Eq. 33) as a controller;
-* :func:`paper_lqr_for` - LQR with integral action and Kalman observer (Eqs. 34-37, paper Q, R)
-  designed on the 2nd-order channels of *this* flight condition's linearization.
+* :func:`lqr_design_for` - LQR with integral action and Kalman observer (Eqs. 34-37; the paper's
+  Q, R by default) designed on the 2nd-order channels of *this* flight condition's linearization.
 """
 
 from __future__ import annotations
@@ -14,10 +14,8 @@ from dataclasses import dataclass
 
 import control
 
-from ..analysis.equilibrium import Equilibrium
-from ..analysis.linearize import LinearModel, linearize
+from ..analysis.linearize import LinearModel
 from ..analysis.reduction import balanced_truncation, split_channels
-from ..params import Params
 from .linear import LinearController
 from .lqr import PAPER_LQR_Q, PAPER_LQR_R, LQRDesign, lqr_integral_design, two_channel_plant
 from .pid import PAPER_PID, pid_controller
@@ -51,9 +49,3 @@ def lqr_design_for(lm: LinearModel, Q=PAPER_LQR_Q, R=PAPER_LQR_R) -> LQRDesign:
     """LQR with integral action on the 2nd-order channels of ``lm``."""
     ch = reduced_channels(lm, DESIGN_ORDER)
     return lqr_integral_design(two_channel_plant(ch.lateral, ch.vertical), Q, R)
-
-
-def paper_lqr_for(params: Params, equilibrium: Equilibrium | None = None) -> LinearController:
-    """The paper's LQR (Q, R of Eq. 37) designed for the flight condition of ``params``."""
-    lm = linearize(params, equilibrium)
-    return lqr_design_for(lm).controller

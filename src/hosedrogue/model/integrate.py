@@ -53,13 +53,6 @@ def noise_at(t, noise, noise_dt):
 
 
 @njit(cache=True)
-def control_force(t, z, nx, l, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
-    """Commanded force u (2,) [N] at state z (saturated); returns the measured offsets."""
-    y, zz = drogue_yz(z[:nx], l)
-    return control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u)
-
-
-@njit(cache=True)
 def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
     """Commanded force u (2,) [N] for the drogue at lateral y, vertical zz [m] (saturated);
     returns the measured offsets."""
