@@ -18,12 +18,9 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from .constants import H_MAX_ATMOSPHERE
+from .errors import ParameterError
 
 INF = math.inf
-
-
-class ParameterError(ValueError):
-    """Invalid input: the message is one line naming the field, the value and what is allowed."""
 
 
 def _num(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = False, unit: str = ""):

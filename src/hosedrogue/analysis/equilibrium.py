@@ -23,6 +23,7 @@ import numpy as np
 import scipy.optimize
 
 from ..constants import G0
+from ..errors import EquilibriumError
 from ..model import kernels as K
 from ..model.system import HoseModel
 from ..params import PAPER, Params
@@ -30,14 +31,6 @@ from ..params import PAPER, Params
 #: Converged when every generalized force is below this fraction of the hose's weight moment
 #: S_1 g l_1: 1e-10 of it moves the drogue by far less than a micrometre.
 RESIDUAL_TOLERANCE = 1e-10
-
-
-class EquilibriumError(RuntimeError):
-    """The balance position could not be found; ``.result`` holds the solver's result."""
-
-    def __init__(self, message: str, result=None):
-        super().__init__(message)
-        self.result = result
 
 
 @dataclass(frozen=True)
