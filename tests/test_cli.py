@@ -1,6 +1,7 @@
 """Command line: output contract and the error behaviour for bad input and diverging runs."""
 
 import json
+import re
 import subprocess
 import sys
 
@@ -162,13 +163,42 @@ def test_subprocess_no_traceback(tmp_path):
     assert "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1
 
 
-@pytest.mark.parametrize("cmd", [["--help"], ["steady", "--help"], ["simulate", "--help"]])
-def test_help_mentions_units(capsys, cmd):
+#: The unit each numeric option's help must state, per command (``[-]`` for counts).
+OPTION_UNITS = {
+    "steady": {"--altitude": "[m]", "--airspeed": "[m/s]", "--links": "[-]"},
+    "linearize": {"--altitude": "[m]", "--airspeed": "[m/s]", "--links": "[-]", "--order": "[-]"},
+    "simulate": {"--duration": "[s]", "--seed": "[-]"},
+    "sweep": {"--altitudes": "[m]", "--airspeeds": "[m/s]", "--links": "[-]"},
+    "montecarlo": {"--runs": "[-]", "--workers": "[-]", "--seed": "[-]", "--duration": "[s]",
+                   "--capture-radii": "[m]"},
+}
+
+
+def _option_help(text: str) -> dict[str, str]:
+    """Each option's help paragraph from ``--help`` output, keyed by its long name."""
+    blocks: dict[str, str] = {}
+    current = None
+    for line in text.splitlines():
+        m = re.match(r"^\s{2}(-\w, )?(--[\w-]+)", line)
+        if m:
+            current = m.group(2)
+            blocks[current] = line
+        elif current and line.startswith("    "):
+            blocks[current] += " " + line.strip()
+        else:
+            current = None
+    return blocks
+
+
+@pytest.mark.parametrize("command", sorted(OPTION_UNITS))
+def test_help_states_each_options_unit(capsys, command):
     with pytest.raises(SystemExit) as exc:
-        main(cmd)
+        main([command, "--help"])
     assert exc.value.code == 0
-    out = capsys.readouterr().out
-    assert "[m" in out or "m/s" in out or "SI" in out
+    blocks = _option_help(capsys.readouterr().out)
+    for option, unit in OPTION_UNITS[command].items():
+        assert option in blocks, f"{command} --help lists no {option}"
+        assert unit in " ".join(blocks[option].split()), f"{command} {option}: help does not state {unit}"
 
 
 def test_linearize_json_contract(capsys):

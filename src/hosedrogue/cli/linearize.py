@@ -1,0 +1,58 @@
+"""``hosedrogue linearize``: the linear model about the balance position, reduced per channel."""
+
+from __future__ import annotations
+
+import json
+
+from .options import add_flight_options, params_from_args, parse_order
+
+NAME = "linearize"
+
+
+def add_parser(sub) -> None:
+    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    s = sub.add_parser(NAME, help="linear model about the balance position, reduced transfer functions",
+                       description="Linearize about the balance position (inputs u_hor, u_ver [N] at the drogue; "
+                                   "outputs the drogue's lateral and vertical offset P_ny, P_nz [m]) and print each "
+                                   "channel's transfer function (descending powers of s, denominator monic) at the "
+                                   "requested order (balanced truncation) with its poles [rad/s].")
+    add_flight_options(s)
+    s.add_argument("--order", default="2", metavar="full|N",
+                   help="'full' or the reduced order per channel [-], >= 1 (default 2, as the paper's design model)")
+    s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    s.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Linearize, reduce and print (or print JSON)."""
+    import numpy as np
+
+    from ..analysis.linearize import linearize
+    from ..analysis.reduction import format_tf, table2_form
+    from ..controllers.design import reduced_channels
+
+    order = parse_order(args.order)
+    params = params_from_args(args)
+    lm = linearize(params)
+    ch = reduced_channels(lm, order)
+    data = {}
+    for name, sys_ in (("lateral", ch.lateral), ("vertical", ch.vertical)):
+        num, den = table2_form(sys_)
+        poles = np.sort_complex(sys_.poles())  # from the state matrix, not the polynomial
+        data[name] = {"num": num.tolist(), "den": den.tolist(),
+                      "poles": [[float(p.real), float(p.imag)] for p in poles]}
+    data["order"] = "full" if order is None else order
+    data["flight"] = {"altitude_m": params.flight.altitude_m, "airspeed_m_s": params.flight.airspeed_m_s,
+                      "wake": params.wake.enabled, "links": params.hose.links}
+    if args.json:
+        print(json.dumps(data))
+        return 0
+    print(f"Linear model about the balance position: {params.flight.airspeed_m_s:g} m/s at "
+          f"{params.flight.altitude_m:g} m, wake {'on' if params.wake.enabled else 'off'}, "
+          f"{params.hose.links} links; order {data['order']} per channel (balanced truncation)")
+    for name, label in (("lateral", "u_hor [N] -> P_ny [m]"), ("vertical", "u_ver [N] -> P_nz [m]")):
+        print(f"  {name} ({label}):")
+        print(f"    G(s) = {format_tf(np.array(data[name]['num']), np.array(data[name]['den']))}")
+        poles = ", ".join(f"{re:.4g}{im:+.4g}j" for re, im in data[name]["poles"])
+        print(f"    poles [rad/s]: {poles}")
+    return 0

@@ -1,0 +1,77 @@
+"""``hosedrogue montecarlo``: a campaign of many turbulence seeds on Dask."""
+
+from __future__ import annotations
+
+import sys
+
+from ..campaign import DEFAULT_CAPTURE_RADII_M, SYNCHRONOUS, capture_column, run_campaign
+from .options import EXIT_INCOMPLETE
+
+NAME = "montecarlo"
+
+
+def add_parser(sub) -> None:
+    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    s = sub.add_parser(
+        NAME, help="Monte Carlo campaign: many turbulence seeds of one scenario, in parallel",
+        description=(
+            "Run SCENARIO (a shipped name or a TOML path) RUNS times with turbulence seeds derived from "
+            "(--seed, run index), on a local dask cluster or a dask scheduler, and write DIR/runs.csv "
+            "(one row per run: peak and RMS lateral/vertical/radial drogue displacement [m] from the balance "
+            "position inside the turbulence window, time fraction inside each capture radius [-], peak control "
+            "forces [N]), DIR/summary.json and DIR/summary.csv (mean, std, 95 % confidence interval of the "
+            "mean, median, 5th/95th percentiles), DIR/histograms.png and DIR/cdf.png. Running again with the "
+            "same settings resumes an interrupted campaign; results do not depend on --workers."))
+    s.add_argument("scenario", metavar="SCENARIO", help="scenario name or TOML file")
+    s.add_argument("--runs", metavar="N", type=int, required=True, help="number of runs (seeds) [-], >= 1")
+    s.add_argument("--workers", metavar="K", type=int,
+                   help="worker processes of the local dask cluster [-], >= 1 (default min(2, CPU count))")
+    s.add_argument("--scheduler", metavar="ADDRESS",
+                   help="address of a running dask scheduler (tcp://host:8786) instead of a local cluster, "
+                        f"or '{SYNCHRONOUS}' to run in this process without dask")
+    s.add_argument("--out", metavar="DIR", default="out/montecarlo", help="output folder (default out/montecarlo)")
+    s.add_argument("--seed", metavar="S", type=int, default=0, help="campaign seed [-], >= 0 (default 0)")
+    s.add_argument("--duration", metavar="S", type=float, help="simulated time per run [s] (overrides the file)")
+    s.add_argument("--capture-radii", metavar="M", type=float, nargs="+", default=list(DEFAULT_CAPTURE_RADII_M),
+                   help="capture radii [m], each > 0, for the time-inside-radius statistics "
+                        "(default 0.1 0.305: the paper's positioning requirement and the basket radius)")
+    s.add_argument("--keep-timeseries", action="store_true",
+                   help="also write each run's time series (SI units) to DIR/runs/run_XXXXX.csv")
+    s.add_argument("--compare-controller", action="store_true",
+                   help="run every seed with the scenario's controller and with none (column 'controller')")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    s.set_defaults(func=run)
+
+
+def _fmt(x: float | None, unit: str) -> str:
+    return "n/a" if x is None else f"{x:.4g} {unit}".rstrip()
+
+
+def _percent(x: float | None) -> str:
+    return "n/a" if x is None else f"{100 * x:.1f} %"
+
+
+def run(args) -> int:
+    """Run the campaign; print a short summary and the files. Exit 3 if any run stopped early."""
+    summary = run_campaign(
+        args.scenario, args.runs, args.out, workers=args.workers, scheduler=args.scheduler, seed=args.seed,
+        capture_radii_m=args.capture_radii, keep_timeseries=args.keep_timeseries,
+        compare_controller=args.compare_controller, duration_s=args.duration, progress=not args.quiet,
+    )
+    radii = summary.settings["capture_radii_m"]
+    for c in summary.settings["controllers"]:
+        st = summary.statistics[c]
+        peak = st["peak_radial_m"]
+        lo, hi = peak["ci95_mean"]
+        print(f"controller {c}: {summary.completed_fraction[c]:.1%} of runs completed; peak radial displacement "
+              f"mean {_fmt(peak['mean'], 'm')} (95 % CI {_fmt(lo, 'm')} to {_fmt(hi, 'm')})")
+        inside = ", ".join(f"{r:g} m {_percent(st[capture_column(r)]['mean'])}" for r in radii)
+        print(f"  time inside capture radius (mean over runs): {inside}")
+    print(f"{summary.new_runs} runs simulated, {len(summary.runs) - summary.new_runs} resumed")
+    for p in (summary.out_dir / "runs.csv", summary.out_dir / "campaign.json", *summary.files):
+        print(f"wrote {p}")
+    incomplete = int((~summary.runs["completed"].astype(bool)).sum())
+    if incomplete:
+        print(f"hosedrogue: {incomplete} runs stopped early (completed = false in runs.csv)", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    return 0

@@ -1,0 +1,107 @@
+"""Options and helpers shared by the sub-commands: the one-line-error parser, validated number
+types, the flight-condition options and the parameter set they select, exit codes."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+from ..errors import ParameterError
+from ..params import PAPER, Params, load_params
+
+#: Exit status of bad input (one line on stderr, nothing written).
+EXIT_BAD_INPUT = 2
+#: Exit status of a run that stopped early (partial output written, marked incomplete) or of an
+#: equilibrium that could not be found.
+EXIT_INCOMPLETE = 3
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (no usage dump) and exit status 2."""
+
+    def error(self, message):  # noqa: D401 - argparse API
+        self.exit(EXIT_BAD_INPUT, f"hosedrogue: error: {message} (see '{self.prog} --help')\n")
+
+
+def finite_float(name: str, lo: float, hi: float, unit: str):
+    """An argparse type: a finite number in [lo, hi] [unit], else a one-line error naming ``name``."""
+
+    def parse(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be a number in [{lo:g}, {hi:g}] {unit}")
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be a number in [{lo:g}, {hi:g}] {unit}")
+        return v
+
+    return parse
+
+
+def bounded_int(name: str, lo: int, hi: int):
+    """An argparse type: an integer in [lo, hi], else a one-line error naming ``name``."""
+
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be an integer in [{lo}, {hi}]")
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be an integer in [{lo}, {hi}]")
+        return v
+
+    return parse
+
+
+def add_flight_options(sp: argparse.ArgumentParser, links: bool = True) -> None:
+    """--altitude, --airspeed, (--links), --config, --no-wake."""
+    sp.add_argument("--altitude", metavar="M", type=finite_float("--altitude", 0, 20000, "m"),
+                    help="flight altitude [m], 0-20000 (default: paper, 8000 m)")
+    sp.add_argument("--airspeed", metavar="M_PER_S", type=finite_float("--airspeed", 1e-9, 400, "m/s"),
+                    help="true airspeed [m/s], > 0 (default: paper, 150 m/s)")
+    if links:
+        sp.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
+                        help="number of rigid links of the hose [-], >= 1 (default 20)")
+    sp.add_argument("--config", metavar="FILE", help="TOML file of parameter overrides ([hose], [flight], ...)")
+    sp.add_argument("--no-wake", action="store_true", help="switch the tanker wake off (free stream only)")
+
+
+def flight_overrides(args) -> dict:
+    """Parameter overrides from --altitude, --airspeed, --links, --no-wake (validated later)."""
+    over: dict = {}
+    if getattr(args, "altitude", None) is not None:
+        over.setdefault("flight", {})["altitude_m"] = args.altitude
+    if getattr(args, "airspeed", None) is not None:
+        over.setdefault("flight", {})["airspeed_m_s"] = args.airspeed
+    if getattr(args, "links", None) is not None:
+        over.setdefault("hose", {})["links"] = args.links
+    if getattr(args, "no_wake", False):
+        over.setdefault("wake", {})["enabled"] = False
+    return over
+
+
+def params_from_args(args) -> Params:
+    """The parameter set selected by --config and the flight options (the paper's case by default)."""
+    base = load_params(args.config) if getattr(args, "config", None) else PAPER
+    over = flight_overrides(args)
+    return base.replace(**over) if over else base
+
+
+def prepare_out(out: Path) -> None:
+    """Refuse an output path that exists and is not a folder (before anything is computed)."""
+    if out.exists() and not out.is_dir():
+        raise ParameterError(f"--out = {str(out)!r}: exists and is not a directory")
+
+
+def parse_order(text: str) -> int | None:
+    """--order: 'full' (None) or an integer >= 1."""
+    if text == "full":
+        return None
+    try:
+        order = int(text)
+    except ValueError:
+        order = 0
+    if order < 1:
+        raise ParameterError(f"--order = {text!r}: must be 'full' or an integer >= 1")
+    return order

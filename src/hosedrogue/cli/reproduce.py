@@ -1,0 +1,30 @@
+"""``hosedrogue reproduce``: the paper's results as an HTML report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .options import prepare_out
+
+NAME = "reproduce"
+
+
+def add_parser(sub) -> None:
+    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    s = sub.add_parser(NAME, help="regenerate the paper's results as an HTML report",
+                       description="Regenerate every result of the paper's Sections 2.3 and 3 from this model and "
+                                   "write DIR/index.html with figures (PNG), data (CSV), report.json and an animation.")
+    s.add_argument("--out", metavar="DIR", default="out/report", help="output folder (default out/report)")
+    s.add_argument("--fast", action="store_true", help="coarser grids and shorter runs (< 1 min); marked as such")
+    s.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Build the report."""
+    from ..report import build_report
+
+    out = Path(args.out)
+    prepare_out(out)
+    build_report(out, fast=args.fast)
+    print(f"wrote {out / 'index.html'}")
+    return 0

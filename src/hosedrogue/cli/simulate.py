@@ -1,0 +1,50 @@
+"""``hosedrogue simulate``: run a scenario and write its time series."""
+
+from __future__ import annotations
+
+import shutil
+import sys
+from pathlib import Path
+
+from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
+
+NAME = "simulate"
+
+
+def add_parser(sub) -> None:
+    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    s = sub.add_parser(NAME, help="run a scenario file (time simulation)",
+                       description="Run SCENARIO (a shipped name such as 'swing-release' or "
+                                   "'paper-turbulence', or a TOML path) and write DIR/timeseries.csv "
+                                   "(SI units), DIR/run.json and DIR/displacement.png.")
+    s.add_argument("scenario", metavar="SCENARIO", help="scenario name or TOML file")
+    s.add_argument("--duration", metavar="S", type=finite_float("--duration", 1e-9, 86400, "s"),
+                   help="simulated time [s] (overrides the file)")
+    s.add_argument("--seed", metavar="N", type=bounded_int("--seed", 0, 2**63 - 1),
+                   help="turbulence seed [-] (overrides the file)")
+    s.add_argument("--out", metavar="DIR", default="out/simulate", help="output folder (default out/simulate)")
+    s.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Simulate, write the files; exit 3 if the run stopped early (what it computed is kept)."""
+    from ..runner import run_scenario, write_run
+    from ..scenarios import load_scenario
+
+    scenario = load_scenario(args.scenario).with_overrides(duration_s=args.duration, seed=args.seed)
+    out = Path(args.out)
+    prepare_out(out)
+    result = run_scenario(scenario)
+    created = not out.exists()
+    try:
+        paths = write_run(result, out)
+    except BaseException:  # leave no half-written output folder behind
+        if created and out.exists():
+            shutil.rmtree(out, ignore_errors=True)
+        raise
+    for p in paths:
+        print(f"wrote {p}")
+    if not result.completed:
+        print(f"hosedrogue: run incomplete: {result.message}", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    return 0

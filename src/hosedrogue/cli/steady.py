@@ -1,0 +1,40 @@
+"""``hosedrogue steady``: the balance position."""
+
+from __future__ import annotations
+
+import json
+
+from .options import add_flight_options, params_from_args
+
+NAME = "steady"
+
+
+def add_parser(sub) -> None:
+    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    s = sub.add_parser(NAME, help="balance position (equilibrium) of the hose and drogue",
+                       description="Print the balance position: drogue position [m] in S_p, drogue drag [N], "
+                                   "tow-point force [N] and D = V_D/L_H (drogue drop over hose length).")
+    add_flight_options(s)
+    s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    s.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Solve and print the balance position; exit status 0."""
+    from ..analysis.equilibrium import solve_equilibrium
+
+    params = params_from_args(args)
+    eq = solve_equilibrium(params)
+    if args.json:
+        print(json.dumps(eq.to_dict()))
+        return 0
+    x, y, z = eq.drogue_position_m
+    fx, fy, fz = eq.tow_force_n
+    print(f"Balance position: {params.hose.links} links, {params.hose.length_m:g} m hose, "
+          f"{params.flight.airspeed_m_s:g} m/s at {params.flight.altitude_m:g} m, "
+          f"wake {'on' if params.wake.enabled else 'off'}")
+    print(f"  drogue position (x fwd, y right, z down) [m]: {x:9.4f} {y:9.4f} {z:9.4f}")
+    print(f"  drogue drag [N]:                               {eq.drogue_drag_magnitude_n:9.2f}")
+    print(f"  tow-point force [N]:                           {fx:9.2f} {fy:9.2f} {fz:9.2f}")
+    print(f"  balance ratio D = V_D / L_H:                   {eq.balance_ratio:9.4f}")
+    return 0

@@ -1,0 +1,52 @@
+"""``hosedrogue sweep``: the balance position over a grid of flight conditions (paper Fig. 3)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from .options import EXIT_INCOMPLETE, bounded_int, finite_float, params_from_args, prepare_out
+
+NAME = "sweep"
+
+
+def add_parser(sub) -> None:
+    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    s = sub.add_parser(NAME, help="balance position over a grid of altitudes and airspeeds (paper Fig. 3)",
+                       description="Solve the balance position at every altitude [m] x airspeed [m/s] and write "
+                                   "DIR/sweep.csv (drogue position [m], drag [N], tow force [N], V_D/L_H) and "
+                                   "DIR/sweep.png (drogue drag and V_D/L_H against airspeed, one curve per altitude).")
+    s.add_argument("--altitudes", metavar="M", type=finite_float("--altitudes", 0, 20000, "m"), nargs="+",
+                   help="altitudes [m] (default 2000 4000 6000 8000 10000)")
+    s.add_argument("--airspeeds", metavar="M_PER_S", type=finite_float("--airspeeds", 1e-9, 400, "m/s"), nargs="+",
+                   help="airspeeds [m/s] (default 100 to 250 in steps of 10)")
+    s.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
+                   help="number of links [-] (default 20)")
+    s.add_argument("--config", metavar="FILE", help="TOML file of parameter overrides")
+    s.add_argument("--no-wake", action="store_true", help="switch the tanker wake off")
+    s.add_argument("--out", metavar="DIR", default="out/sweep", help="output folder (default out/sweep)")
+    s.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Solve the grid, write CSV and figure; exit 3 if a grid point did not converge."""
+    from ..analysis.sweep import DEFAULT_AIRSPEEDS_M_S, DEFAULT_ALTITUDES_M, steady_sweep
+    from ..plotting.figures import plot_sweep, save_figure
+    from ..progress import progress_bar
+
+    params = params_from_args(args)
+    alts = args.altitudes or DEFAULT_ALTITUDES_M
+    vels = args.airspeeds or DEFAULT_AIRSPEEDS_M_S
+    out = Path(args.out)
+    prepare_out(out)
+    with progress_bar(total=len(alts) * len(vels), desc="equilibria") as bar:
+        result = steady_sweep(params, alts, vels, progress=lambda: bar.update(1))
+    out.mkdir(parents=True, exist_ok=True)
+    result.to_csv(out / "sweep.csv")
+    save_figure(plot_sweep(result), out / "sweep.png")
+    failed = sum(not r["converged"] for r in result.rows)
+    print(f"wrote {out / 'sweep.csv'}\nwrote {out / 'sweep.png'}")
+    if failed:
+        print(f"hosedrogue: {failed} grid points did not converge (NaN in sweep.csv)", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    return 0
