@@ -1,5 +1,6 @@
-"""Figures of simulation results. Every function returns a matplotlib Figure (Agg backend, no
-``show()``); axes carry units. Import cost stays out of the model: matplotlib loads here only.
+"""Figures of simulation results. Every function returns a matplotlib Figure (no ``show()``);
+axes carry units. Nothing here selects a backend or touches pyplot, so importing the package
+leaves a user's interactive backend as it was; ``Figure.savefig`` renders files with Agg. Import cost stays out of the model: matplotlib loads here only.
 
 Figures are built on :func:`new_figure`, which creates figures outside pyplot's global state, so
 a long-running process (or a test suite) never accumulates pyplot figures. The functions take
@@ -22,12 +23,8 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-import matplotlib
 import matplotlib.ticker
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.figure import Figure
 
 CHANNELS = ("lateral", "vertical")
 _CHANNEL_TITLE = {"lateral": "lateral channel (u_hor -> P_ny)", "vertical": "vertical channel (u_ver -> P_nz)"}
