@@ -19,6 +19,7 @@ from typing import Any, Mapping
 
 from .constants import H_MAX_ATMOSPHERE
 from .errors import ParameterError
+from .standards import standard_intensity
 
 INF = math.inf
 
@@ -309,8 +310,6 @@ def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
                 raise ParameterError(
                     f"turbulence.intensity = {level!r}: give either intensity or sigma_m_s, not both"
                 )
-            from .environment.turbulence import standard_intensity
-
             altitude = data.get("flight", {}).get("altitude_m", base.flight.altitude_m)
             overrides["sigma_m_s"] = standard_intensity(level, altitude)
         known = {f.name for f in dataclasses.fields(cls)}
