@@ -4,10 +4,17 @@ with the spread of the peak values over turbulence realisations."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..paper import CHANNELS, SEC33_DISPLACEMENT_M, SEC33_PEAK_FORCE_N
 from .markup import figure_html, html_table
 from .runs import peak_forces_n, peak_offsets_m, rms_offsets_m, run_named_scenario, turbulence_window_s
+
+if TYPE_CHECKING:
+    from ..results import SimulationResult
+    from .controllers import ControllersResult
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["ClosedLoopResult", "build"]
 
@@ -28,8 +35,8 @@ class ClosedLoopResult:
         When the turbulence is on, ``(start, end)`` [s].
     """
 
-    runs: dict
-    window_s: tuple
+    runs: dict[str, SimulationResult]
+    window_s: tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -223,7 +230,7 @@ def _summary(params, st: _Stats) -> str:
             f"{f['LQR'][1]:.0f} N (paper {pc['lqr_n'][0]:g} / {pc['lqr_n'][1]:g} N).")
 
 
-def build(out, settings, *, controllers) -> ClosedLoopResult:
+def build(out: ReportFolder, settings: ReportSettings, *, controllers: ControllersResult) -> ClosedLoopResult:
     """Run the turbulence case with the controller off, PID and LQR (and further realisations);
     write Figs. 12-13, their data, the peak tables and the comparison rows of Sec. 3.3.
 

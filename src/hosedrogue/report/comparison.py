@@ -7,8 +7,13 @@ Sections add rows while they run (:meth:`Comparison.add`); :func:`build` writes 
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from .markup import esc, fmt, html_table, ratio
+
+if TYPE_CHECKING:
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["CLOSE", "Comparison", "agrees", "build"]
 
@@ -90,7 +95,7 @@ class Comparison:
         return pd.DataFrame(self.rows, columns=["section", "quantity", "unit", "paper", "ours", "ratio", "note"])
 
 
-def build(out, settings) -> None:
+def build(out: ReportFolder, settings: ReportSettings) -> None:
     """Write ``comparison.csv`` and the comparison section from every row added so far.
 
     Parameters

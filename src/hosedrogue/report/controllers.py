@@ -8,12 +8,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..paper import CHANNELS, TABLE2, TABLE3, table2_transfer_function
 from .comparison import agrees
 from .markup import figure_html, fmt, html_table, ratio
+
+if TYPE_CHECKING:
+    from .linear import LinearResult
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["ControllersResult", "build"]
 
@@ -268,7 +274,7 @@ def _figures_html() -> str:
     )
 
 
-def build(out, settings, *, linear) -> ControllersResult:
+def build(out: ReportFolder, settings: ReportSettings, *, linear: LinearResult) -> ControllersResult:
     """Step responses of the paper's PID and LQR on the linear models: Table 3, Figs. 10-11.
 
     Parameters

@@ -7,11 +7,17 @@ The studies themselves are library code (``hosedrogue.analysis.convergence``, im
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..params import PAPER
 from .markup import figure_html, html_table, slash_join
+
+if TYPE_CHECKING:
+    from .parameters import ParametersResult
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["ConvergenceResult", "build"]
 
@@ -171,7 +177,7 @@ def _html(settings, h0, worst, tables, link_prose) -> str:
     )
 
 
-def build(out, settings, *, parameters) -> ConvergenceResult:
+def build(out: ReportFolder, settings: ReportSettings, *, parameters: ParametersResult) -> ConvergenceResult:
     """Run both convergence studies; write their CSV files, figure and section.
 
     Parameters

@@ -3,8 +3,16 @@ used here and its effect."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ..params import PAPER
 from .markup import html_table, slash_join
+
+if TYPE_CHECKING:
+    from .convergence import ConvergenceResult
+    from .parameters import ParametersResult
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["build"]
 
@@ -60,7 +68,8 @@ def _rows(parameters, convergence) -> list[tuple[str, str, str, str]]:
     ]
 
 
-def build(out, settings, *, parameters, convergence) -> None:
+def build(out: ReportFolder, settings: ReportSettings, *, parameters: ParametersResult,
+          convergence: ConvergenceResult | None) -> None:
     """Write ``differences.csv`` and the differences section.
 
     Parameters

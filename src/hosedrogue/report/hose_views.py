@@ -3,10 +3,17 @@ the closed-loop section, controller off and PID on."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..params import PAPER
 from .markup import figure_html
+
+if TYPE_CHECKING:
+    from .closed_loop import ClosedLoopResult
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["build_3d", "build_animation"]
 
@@ -25,7 +32,7 @@ def _shapes(off, on, window) -> list[tuple[np.ndarray, str]]:
             (on.joints_m[min(k_lat, on.t_s.size - 1)], f"PID on, t = {t[k_lat]:.1f} s")]
 
 
-def build_3d(out, settings, *, closed_loop) -> None:
+def build_3d(out: ReportFolder, settings: ReportSettings, *, closed_loop: ClosedLoopResult) -> None:
     """Write the 3-D view of the hose (PNG, CSV) and its section.
 
     Parameters
@@ -78,7 +85,7 @@ def _frames(runs: dict, window, fps: int) -> list[dict]:
     return rows
 
 
-def build_animation(out, settings, *, closed_loop) -> None:
+def build_animation(out: ReportFolder, settings: ReportSettings, *, closed_loop: ClosedLoopResult) -> None:
     """Write the GIF of the hose in turbulence (controller off and PID on), its data and section.
 
     Parameters

@@ -10,13 +10,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..paper import CHANNELS, TABLE2
 from ..params import PAPER
-from .markup import fmt, html_table, ratio
 from .linear_responses import freq_response, responses_section
+from .markup import fmt, html_table, ratio
+
+if TYPE_CHECKING:
+    from ..analysis.linearize import LinearModel
+    from ..controllers.design import ReducedChannels
+    from .settings import ReportSettings
+    from .sweep import SteadyResult
+    from .writer import ReportFolder
 
 __all__ = ["LinearResult", "build", "second_order_characteristics"]
 
@@ -38,10 +46,10 @@ class LinearResult:
         Each channel at full (minimal) order, balanced-truncated to 6th and to 2nd order.
     """
 
-    model: object
-    full: object
-    sixth: object
-    second: object
+    model: LinearModel
+    full: ReducedChannels
+    sixth: ReducedChannels
+    second: ReducedChannels
 
 
 def second_order_characteristics(num, den) -> dict:
@@ -225,7 +233,7 @@ def _html(m: LinearResult, head: dict, best, w, tables: dict) -> str:
     )
 
 
-def build(out, settings, *, sweep) -> LinearResult:
+def build(out: ReportFolder, settings: ReportSettings, *, sweep: SteadyResult) -> LinearResult:
     """Linearize, reduce, compare with Table 2; write Table 2 and Figs. 5-8 with their data.
 
     Parameters

@@ -3,10 +3,16 @@ its reductions and the paper's Table 2 models (part of the linear-model section)
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..paper import CHANNELS, table2_transfer_function
 from .markup import figure_html
+
+if TYPE_CHECKING:
+    from .linear import LinearResult
+    from .writer import ReportFolder
 
 __all__ = ["freq_response", "step_response", "responses_section"]
 
@@ -167,7 +173,7 @@ def _html(m, coupling, max_real, slow, dc_err, dc_ratio) -> str:
     )
 
 
-def responses_section(out, m, w, table2_head: dict) -> dict:
+def responses_section(out: ReportFolder, m: LinearResult, w, table2_head: dict) -> dict:
     """Write Figs. 5-8 (CSV and PNG) and their section.
 
     Parameters

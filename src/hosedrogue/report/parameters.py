@@ -5,9 +5,14 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..params import PAPER, SECTIONS, Params
 from .markup import fmt, html_table
+
+if TYPE_CHECKING:
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["ParametersResult", "build", "parameter_sources"]
 
@@ -140,7 +145,7 @@ def _html(p: Params, rows: list[dict]) -> str:
     )
 
 
-def build(out, settings) -> ParametersResult:
+def build(out: ReportFolder, settings: ReportSettings) -> ParametersResult:
     """Write ``table1_parameters.csv`` and the Table 1 section.
 
     Parameters

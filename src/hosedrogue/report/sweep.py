@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..params import PAPER
 from .markup import figure_html
+
+if TYPE_CHECKING:
+    from ..analysis.equilibrium import Equilibrium
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["SteadyResult", "build"]
 
@@ -23,7 +29,7 @@ class SteadyResult:
         linear-model section).
     """
 
-    equilibrium: object
+    equilibrium: Equilibrium
 
 
 def _trends(sw) -> dict[str, bool]:
@@ -58,7 +64,7 @@ def _html(sw, n_conv: int, n_points: int, trends: dict, eq) -> str:
     )
 
 
-def build(out, settings) -> SteadyResult:
+def build(out: ReportFolder, settings: ReportSettings) -> SteadyResult:
     """Solve the balance position on the Fig. 3 grid and at the paper's case; write the section.
 
     Parameters

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 
 import numpy as np
@@ -9,6 +11,10 @@ import numpy as np
 from ..paper import FIG4_AIRSPEEDS_M_S
 from .markup import figure_html, html_table
 from .runs import peak_offsets_m, rms_offsets_m, run_named_scenario, turbulence_window_s
+
+if TYPE_CHECKING:
+    from .settings import ReportSettings
+    from .writer import ReportFolder
 
 __all__ = ["build"]
 
@@ -71,7 +77,7 @@ def _html(params, window, head: dict, radial, falls: bool) -> str:
     )
 
 
-def build(out, settings) -> None:
+def build(out: ReportFolder, settings: ReportSettings) -> None:
     """Run the paper's turbulence case at the Fig. 4 airspeeds; write CSV, figure and section.
 
     Parameters
