@@ -277,6 +277,8 @@ BAD_CONTROLLERS = [
     ('type = "pid"\nvertical = [1.0, 2.0, 3.0, 0.0]\n', "controller.vertical"),
     ('type = "lqr"\nr_diag = [0.4, 0.0]\n', "controller.r_diag"),
     ('type = "lqr"\nlateral = [1.0, 1.0, 1.0, 1.0]\n', "controller.lateral"),
+    ('type = "lqr"\ndesign = "servo"\n', "controller.design"),
+    ('type = "pid"\ndesign = "balanced"\n', "controller.design"),
     ('type = "mpc"\n', "controller.type"),
 ]
 
