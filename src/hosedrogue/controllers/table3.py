@@ -26,32 +26,43 @@ from ..analysis.linearize import LinearModel
 from ..analysis.reduction import split_channels
 from ..paper import CHANNELS, TABLE3, table2_transfer_function
 from .design import DESIGN_ORDER, reduced_channels
-from .lqr import lqr_integral_design, lqr_tracking_closed_loop, two_channel_plant
-from .lqr_balanced import lqr_balanced_design, lqr_balanced_reference_loop
+from .lqr import LQRDesign, lqr_integral_design, lqr_tracking_closed_loop, two_channel_plant
+from .lqr_balanced import BalancedLQRDesign, lqr_balanced_design, lqr_balanced_reference_loop
 from .pid import PAPER_PID
 from .stepinfo import StepMetrics, StepResponse, closed_loop_step, step_metrics
 
-__all__ = ["CONTROLLERS", "PLANTS", "default_time_grid", "channel_models", "step_responses",
-           "table3", "table3_rows"]
+__all__ = ["CONTROLLERS", "PLANTS", "time_grid_for", "channel_models", "pid_steps", "lqr_steps",
+           "step_responses", "table3", "table3_rows"]
 
 CONTROLLERS = ("PID", "LQR", "LQR-integral")
 PLANTS = ("paper", "model")
 
 
-def default_time_grid(controller: str) -> np.ndarray:
-    """Time grid [s] that resolves and settles each design's step (from 0, evenly spaced).
+def time_grid_for(poles, length_factor: float = 1.0) -> np.ndarray:
+    """Time grid [s] that resolves and settles a closed loop with the given poles [rad/s].
 
-    PID: 0.1 ms over 5 s (fastest closed-loop pole -282 rad/s, 3.5 ms; slowest -1.1 rad/s).
-    LQR: 1 ms over 10 s (fastest regulator pole -16.8 rad/s, 60 ms; slowest -1.57 rad/s on this
-    project's model: 15 time constants). LQR-integral: 1 ms over 60 s (slowest pole -0.21 rad/s).
+    Length 10 / |Re p|_min (10 time constants of the slowest pole: a residual below 5e-5 of the
+    step, far inside the 2 % band), at least 5 s; step 0.1 / |p|_max (10 samples per time
+    constant of the fastest pole; crossings are interpolated, so their error is ~1e-3 of that
+    time constant), at most 1 ms; at most 100 000 samples (the step grows for very stiff loops).
+
+    Parameters
+    ----------
+    poles : array_like
+        Closed-loop poles [rad/s], all with negative real part.
+    length_factor : float, optional
+        Multiplies the length [-] (e.g. 3 when a higher-order plant adds slower tails).
+
+    Returns
+    -------
+    numpy.ndarray
+        Evenly spaced times from 0 [s].
     """
-    if controller == "PID":
-        return np.linspace(0.0, 5.0, 50_001)
-    if controller == "LQR":
-        return np.linspace(0.0, 10.0, 10_001)
-    if controller == "LQR-integral":
-        return np.linspace(0.0, 60.0, 60_001)
-    raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
+    p = np.asarray(poles, dtype=complex)
+    t_end = length_factor * max(5.0, 10.0 / float(np.min(np.abs(p.real))))
+    h = min(1e-3, 0.1 / float(np.max(np.abs(p))))
+    n = min(100_000, int(np.ceil(t_end / h))) + 1
+    return np.linspace(0.0, t_end, n)
 
 
 def channel_models(plant: str, order, lm: LinearModel | None = None):
@@ -83,10 +94,40 @@ def channel_models(plant: str, order, lm: LinearModel | None = None):
     raise ValueError(f"plant must be one of {PLANTS}, got {plant!r}")
 
 
-def _mimo_steps(loop: control.StateSpace, t: np.ndarray) -> dict[str, StepResponse]:
-    """Per-channel unit steps of a loop with inputs [r_ny, r_nz], outputs [P_ny, P_nz, u_hor, u_ver]."""
-    if np.any(np.real(loop.poles()) >= 0.0):
-        raise ValueError(f"closed loop is unstable: poles {loop.poles()}")
+def _check_stable(loop) -> np.ndarray:
+    poles = loop.poles()
+    if np.any(np.real(poles) >= 0.0):
+        raise ValueError(f"closed loop is unstable: poles {poles}")
+    return poles
+
+
+def lqr_steps(design, plant=None, t=None) -> dict[str, StepResponse]:
+    """Unit reference steps of an LQR design, per channel.
+
+    Parameters
+    ----------
+    design : BalancedLQRDesign or LQRDesign
+        Balanced-state LQR (reference through the prefilter) or integral-action LQR (reference
+        into the integrator).
+    plant : control.StateSpace, optional
+        Strictly proper [u_hor, u_ver] [N] -> [P_ny, P_nz] [m] plant to close the loop around
+        (through the observer); default the design model.
+    t : array_like, optional
+        Time grid [s] from 0, evenly spaced; default `time_grid_for` the loop's poles.
+
+    Returns
+    -------
+    dict
+        ``{"lateral": StepResponse, "vertical": StepResponse}``, final value = the loop's DC gain.
+    """
+    if isinstance(design, BalancedLQRDesign):
+        loop = lqr_balanced_reference_loop(design, plant)
+    elif isinstance(design, LQRDesign):
+        loop = lqr_tracking_closed_loop(design, plant)
+    else:
+        raise TypeError(f"design must be a BalancedLQRDesign or LQRDesign, got {type(design).__name__}")
+    poles = _check_stable(loop)
+    t = time_grid_for(poles) if t is None else np.asarray(t, dtype=float)
     dc = np.real(control.dcgain(loop))
     out = {}
     for k, ch in enumerate(CHANNELS):
@@ -97,9 +138,36 @@ def _mimo_steps(loop: control.StateSpace, t: np.ndarray) -> dict[str, StepRespon
     return out
 
 
+def pid_steps(lateral, vertical, gains=None, t=None) -> dict[str, StepResponse]:
+    """Unit reference steps of per-channel PIDs under unity feedback.
+
+    Parameters
+    ----------
+    lateral, vertical : control.TransferFunction or control.StateSpace
+        Channel models, force [N] -> offset [m].
+    gains : dict, optional
+        ``{"lateral": PIDGains, "vertical": PIDGains}``; default the paper's (Eq. 33).
+    t : array_like, optional
+        Time grid [s]; default `time_grid_for` each loop's poles.
+
+    Returns
+    -------
+    dict
+        ``{"lateral": StepResponse, "vertical": StepResponse}``.
+    """
+    gains = PAPER_PID if gains is None else gains
+    out = {}
+    for ch, g in zip(CHANNELS, (lateral, vertical)):
+        c = gains[ch].transfer_function()
+        poles = _check_stable(control.feedback(control.series(c, g), 1))
+        tt = time_grid_for(poles) if t is None else np.asarray(t, dtype=float)
+        out[ch] = closed_loop_step(g, c, tt)
+    return out
+
+
 def step_responses(controller: str, plant: str, lm: LinearModel | None = None, *,
                    evaluate_on=DESIGN_ORDER, t=None) -> dict[str, StepResponse]:
-    """Unit reference steps of a design, per channel.
+    """Unit reference steps of one of the paper's designs, per channel.
 
     Parameters
     ----------
@@ -112,7 +180,7 @@ def step_responses(controller: str, plant: str, lm: LinearModel | None = None, *
     evaluate_on : int or "full", optional
         Order of the model the loop is closed around (default 2, the design model).
     t : array_like, optional
-        Time grid [s] from 0, evenly spaced; default `default_time_grid`.
+        Time grid [s] from 0, evenly spaced; default `time_grid_for` the loop's poles.
 
     Returns
     -------
@@ -120,22 +188,33 @@ def step_responses(controller: str, plant: str, lm: LinearModel | None = None, *
         ``{"lateral": StepResponse, "vertical": StepResponse}``: offset y [m] and force u [N] per
         metre of reference step, and the metrics.
     """
-    t = default_time_grid(controller) if t is None else np.asarray(t, dtype=float)
     lat, ver = channel_models(plant, evaluate_on, lm)
-    if controller == "PID":
-        return {ch: closed_loop_step(g, PAPER_PID[ch].transfer_function(), t)
-                for ch, g in zip(CHANNELS, (lat, ver))}
     d_lat, d_ver = channel_models(plant, DESIGN_ORDER, lm)
-    same = evaluate_on == DESIGN_ORDER
+    other = evaluate_on != DESIGN_ORDER
+    if controller == "PID":
+        if t is None and other:
+            # the grid of the design-model loops (a higher-order model's fast, barely excited
+            # poles would make it needlessly fine), three times as long for slower tails
+            poles = np.concatenate([control.feedback(PAPER_PID[ch].transfer_function() * g, 1).poles()
+                                    for ch, g in zip(CHANNELS, (d_lat, d_ver))])
+            t = time_grid_for(poles, 3.0)
+        return pid_steps(lat, ver, t=t)
     if controller == "LQR":
         design = lqr_balanced_design(d_lat, d_ver)
-        loop = lqr_balanced_reference_loop(design, None if same else two_channel_plant(lat, ver))
     elif controller == "LQR-integral":
         design = lqr_integral_design(two_channel_plant(d_lat, d_ver))
-        loop = lqr_tracking_closed_loop(design, None if same else two_channel_plant(lat, ver))
     else:
         raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
-    return _mimo_steps(loop, t)
+    if t is None and other:
+        t = time_grid_for(_design_loop_poles(design), 3.0)
+    return lqr_steps(design, two_channel_plant(lat, ver) if other else None, t)
+
+
+def _design_loop_poles(design) -> np.ndarray:
+    """Poles [rad/s] of an LQR design's reference loop on its design model."""
+    if isinstance(design, BalancedLQRDesign):
+        return lqr_balanced_reference_loop(design).poles()
+    return lqr_tracking_closed_loop(design).poles()
 
 
 def table3(lm: LinearModel | None = None) -> dict[tuple[str, str, str], StepMetrics]:
