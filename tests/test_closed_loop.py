@@ -89,6 +89,21 @@ def test_actuator_limits_and_sensor_noise():
     assert not np.array_equal(a.control_n, run_scenario(sc).control_n)
 
 
+def test_paper_lqr_with_actuator_limits_and_sensor_noise(runs):
+    """The observer-based LQR with a 40 N / 500 N/s actuator and 2 mm sensor noise: stable, the
+    force limit holds, and the peak displacement is still cut (measured 5.6 x / 4.9 x: the 40 N
+    limit is below the unlimited loop's 55 / 67 N peaks, so the 20 x / 12 x of the unlimited
+    loop cannot be kept; asserted > 3 x)."""
+    import dataclasses
+
+    sc = load_scenario("paper-turbulence-lqr")
+    res = run_scenario(dataclasses.replace(sc, actuator={"max_force_n": 40.0, "max_rate_n_s": 500.0},
+                                           sensor={"noise_std_m": 0.002}))
+    assert res.completed
+    assert np.max(np.abs(res.control_n)) <= 40.0 + 1e-9
+    assert np.all(peaks(runs["paper-turbulence"]) / peaks(res) > 3.0)
+
+
 def test_controller_design_options_are_used(tmp_path):
     """User PID gains and LQR weights from the scenario replace the paper's: a 100 x heavier LQR
     state weight must hold the drogue closer than the paper's weights do."""
