@@ -130,6 +130,9 @@ def test_gain_does_not_depend_on_balanced_state_signs(paper_design):
             np.testing.assert_allclose(a.gain_original, b.gain_original, rtol=1e-9)
             assert a.prefilter == pytest.approx(b.prefilter, rel=1e-9)
             np.testing.assert_allclose(np.sort_complex(a.observer_poles), np.sort_complex(b.observer_poles), rtol=1e-9)
+        # Frequency responses of two 4-state realizations of one controller: 1e-8 relative
+        # (round-off of the Riccati solutions, amplified by evaluating (jwI - A)^-1); atol
+        # 1e-12 N/m for the exactly-zero cross-channel entries.
         np.testing.assert_allclose(d.controller.as_statespace()(1j * w), ref_frd, rtol=1e-8, atol=1e-12)
 
 
@@ -141,6 +144,7 @@ def test_design_on_a_non_balanced_realization_is_the_same(paper_design):
     g2 = control.ss(S @ g.A @ np.linalg.inv(S), S @ g.B, g.C @ np.linalg.inv(S), 0)
     d = lqr_balanced_design(g2, table2_transfer_function("vertical", 2))
     w = np.logspace(-2, 3, 60)
+    # same tolerances as the sign test: round-off of two Riccati solutions
     np.testing.assert_allclose(d.controller.as_statespace()(1j * w),
                                paper_design.controller.as_statespace()(1j * w), rtol=1e-8, atol=1e-12)
 

@@ -95,8 +95,9 @@ def run(args) -> int:
     import numpy as np
 
     from ..analysis.reduction import format_tf, table2_form
-    from ..controllers.lqr import PAPER_LQR_Q, PAPER_LQR_R, lqr_integral_design, two_channel_plant
-    from ..controllers.lqr_balanced import POSITION_NOISE_PSD, TURBULENCE_FORCE_PSD, lqr_balanced_design
+    from ..controllers.lqr import (PAPER_LQR_Q, PAPER_LQR_R, POSITION_NOISE_PSD, lqr_integral_design,
+                                   two_channel_plant)
+    from ..controllers.lqr_balanced import TURBULENCE_FORCE_PSD, lqr_balanced_design
     from ..controllers.pid import PAPER_PID
     from ..controllers.table3 import channel_models, lqr_steps, pid_steps
     from ..paper import CHANNELS, TABLE3

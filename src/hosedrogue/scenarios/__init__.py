@@ -75,9 +75,6 @@ CONTROLLER_OPTIONS = {
     "lqr": {"design": None, "q_diag": (4, 0.0, False), "r_diag": (2, 0.0, True)},
 }
 
-#: Values of ``[controller] design`` for type "lqr" (see hosedrogue.controllers.design).
-LQR_DESIGNS = ("balanced", "integral")
-
 
 def _controller_options(ctype: str, given: dict) -> dict:
     allowed = CONTROLLER_OPTIONS[ctype]
@@ -87,6 +84,8 @@ def _controller_options(ctype: str, given: dict) -> dict:
             names = ", ".join(["type", *allowed])
             raise ParameterError(f"controller.{key}: unknown field for type {ctype!r}; allowed: {names}")
         if key == "design":
+            from ..controllers.design import LQR_DESIGNS  # one definition, next to the designs
+
             if value not in LQR_DESIGNS:
                 raise ParameterError(
                     f"controller.design = {value!r}: must be one of {', '.join(map(repr, LQR_DESIGNS))}")
