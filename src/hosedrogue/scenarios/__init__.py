@@ -38,7 +38,9 @@ class Scenario:
     initial_yaw_offset_deg: float = 0.0
     controller: str = "none"
     #: Design options of the controller: PID ``lateral``/``vertical`` = [K_P, K_I, K_D, N];
-    #: LQR ``q_diag`` (4) and ``r_diag`` (2). Missing entries take the paper's values.
+    #: LQR ``design`` ("balanced", the paper's reading, default; or "integral"), ``q_diag`` (4:
+    #: the balanced states, lateral then vertical [1/(m N)]; integral: [P_ny, P_nz, z_ny, z_nz])
+    #: and ``r_diag`` (2) [1/N^2]. Missing entries take the paper's values.
     controller_options: dict = field(default_factory=dict)
     actuator: dict = field(default_factory=dict)
     sensor: dict = field(default_factory=dict)
@@ -70,7 +72,7 @@ def _check_duration(value: Any, name: str) -> float:
 CONTROLLER_OPTIONS = {
     "none": {},
     "pid": {"lateral": (4, 0.0, False), "vertical": (4, 0.0, False)},
-    "lqr": {"q_diag": (4, 0.0, False), "r_diag": (2, 0.0, True)},
+    "lqr": {"design": None, "q_diag": (4, 0.0, False), "r_diag": (2, 0.0, True)},
 }
 
 
@@ -81,6 +83,14 @@ def _controller_options(ctype: str, given: dict) -> dict:
         if key not in allowed:
             names = ", ".join(["type", *allowed])
             raise ParameterError(f"controller.{key}: unknown field for type {ctype!r}; allowed: {names}")
+        if key == "design":
+            from ..controllers.design import LQR_DESIGNS  # one definition, next to the designs
+
+            if value not in LQR_DESIGNS:
+                raise ParameterError(
+                    f"controller.design = {value!r}: must be one of {', '.join(map(repr, LQR_DESIGNS))}")
+            out[key] = value
+            continue
         size, lo, strict = allowed[key]
         ok = (isinstance(value, list) and len(value) == size and all(
             isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
