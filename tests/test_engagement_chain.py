@@ -127,7 +127,7 @@ def test_fixed_length_limit_matches_paper_kernels(rng):
     ws, ws2 = K.make_workspace(chain.n), K.make_workspace(chain.n)
     out = np.empty(EK.O_SIZE)
     EK.eng_evaluate(0.0, z, chain.n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
-                    model.gust_values, ep, ws, ws2, np.empty(2), out)
+                    model.gust_values, ep, chain.chart, ws, ws2, np.empty(2), out)
     assert np.max(np.abs(ws[15] - ref)) < 1e-9 * np.max(np.abs(ref))
 
 

@@ -37,13 +37,15 @@ class Chain:
     M: np.ndarray
     J: np.ndarray
     l_nom: float
+    chart: np.ndarray  #: (n,) 0: standard angles, 1: the alternative chart (engagement_kernels.apply_charts)
 
     @property
     def n(self) -> int:
         return self.l.size
 
 
-def chain_arrays(params: Params, lengths: np.ndarray, lumping: str, l_nom: float) -> Chain:
+def chain_arrays(params: Params, lengths: np.ndarray, lumping: str, l_nom: float,
+                 chart: np.ndarray | None = None) -> Chain:
     """Masses and inertias for link lengths ``lengths`` (lengths[0] is the exit link's current
     length; it is recomputed from L in the kernels)."""
     if lumping not in LUMPINGS:
@@ -61,7 +63,8 @@ def chain_arrays(params: Params, lengths: np.ndarray, lumping: str, l_nom: float
         M[:] = mu * l
     M[n - 1] += params.drogue.mass_kg
     J = mu * l**3 / 12.0 if hose.link_inertia == "rod" else np.full(n, hose.link_inertia_kg_m2)
-    return Chain(l, M, J, l_nom)
+    chart = np.zeros(n) if chart is None else np.ascontiguousarray(chart, dtype=np.float64).copy()
+    return Chain(l, M, J, l_nom, chart)
 
 
 def initial_chain(params: Params, lumping: str) -> Chain:
@@ -78,11 +81,65 @@ def hose_mass_in_air(chain: Chain, params: Params, lumping: str) -> float:
     return m
 
 
-def _angles(e: np.ndarray) -> tuple[float, float]:
-    """(pitch, yaw) of a unit vector e = [-c1 c2, -s2, s1 c2]."""
+#: A link whose yaw passes this in its chart is moved to the other chart (the angle coordinates
+#: are singular at 90 deg); after the switch its yaw is at most 90 - 60 = 30 deg in the new chart.
+SWITCH_YAW_DEG = 60.0
+
+
+def _rot(v: np.ndarray, chart: float, inverse: bool = False) -> np.ndarray:
+    """R v (or R^T v) for the alternative chart, identity for the standard one."""
+    if chart == 0.0:
+        return v.copy()
+    x, y, z = v
+    return np.array([x, z, -y]) if inverse else np.array([x, -z, y])
+
+
+def frame(th1: float, th2: float, chart: float = 0.0):
+    """(e, a, b) of a link in S_p."""
+    c1, s1, c2, s2 = math.cos(th1), math.sin(th1), math.cos(th2), math.sin(th2)
+    e = np.array([-c1 * c2, -s2, s1 * c2])
+    a = np.array([s1 * c2, 0.0, c1 * c2])
+    b = np.array([c1 * s2, -c2, -s1 * s2])
+    return _rot(e, chart), _rot(a, chart), _rot(b, chart)
+
+
+def _angles(e: np.ndarray, chart: float = 0.0) -> tuple[float, float]:
+    """(pitch, yaw) in the given chart of a unit vector e (S_p)."""
+    e = _rot(e, chart, inverse=True)
     th2 = math.asin(max(-1.0, min(1.0, -e[1])))
     th1 = math.atan2(e[2], -e[0])
     return th1, th2
+
+
+def best_chart(e: np.ndarray) -> float:
+    """The chart in which direction e has the smaller |yaw|."""
+    return 0.0 if abs(e[1]) <= abs(e[2]) else 1.0
+
+
+def coordinates(e: np.ndarray, edot: np.ndarray, chart: float) -> tuple[float, float, float, float]:
+    """(th1, th2, thd1, thd2) of a link with direction e and rate edot in a chart."""
+    th1, th2 = _angles(e, chart)
+    _, a, b = frame(th1, th2, chart)
+    c2 = math.cos(th2)
+    return th1, th2, float(edot @ a) / (c2 * c2), float(edot @ b)
+
+
+def switch_charts(z: np.ndarray, chain: Chain, switch_yaw: float) -> tuple[np.ndarray, Chain, list[int]]:
+    """Move every link whose |yaw| exceeds switch_yaw [rad] to the other chart (exact remap);
+    returns the new state, a new Chain and the links moved."""
+    n = chain.n
+    z = z.copy()
+    chain = Chain(chain.l.copy(), chain.M.copy(), chain.J.copy(), chain.l_nom, chain.chart.copy())
+    moved = []
+    for k in range(n):
+        if abs(z[2 * k + 1]) > switch_yaw:
+            e, a, b = frame(z[2 * k], z[2 * k + 1], chain.chart[k])
+            edot = a * z[2 * n + 2 * k] + b * z[2 * n + 2 * k + 1]
+            new = 1.0 - chain.chart[k]
+            z[2 * k], z[2 * k + 1], z[2 * n + 2 * k], z[2 * n + 2 * k + 1] = coordinates(e, edot, new)
+            chain.chart[k] = new
+            moved.append(k)
+    return z, chain, moved
 
 
 def split(z: np.ndarray, chain: Chain, params: Params, lumping: str) -> tuple[np.ndarray, Chain]:
@@ -92,7 +149,7 @@ def split(z: np.ndarray, chain: Chain, params: Params, lumping: str) -> tuple[np
     q2 = np.concatenate([q[:2], q])
     qd2 = np.concatenate([qd[:2], qd])
     lengths = np.concatenate([[chain.l[0] - chain.l_nom, chain.l_nom], chain.l[1:]])
-    new = chain_arrays(params, lengths, lumping, chain.l_nom)
+    new = chain_arrays(params, lengths, lumping, chain.l_nom, np.r_[chain.chart[0], chain.chart])
     return np.concatenate([q2, qd2, tail]), new
 
 
@@ -106,32 +163,23 @@ def merge(z: np.ndarray, chain: Chain, params: Params, lumping: str) -> tuple[np
     l0 = L - float(np.sum(chain.l[1:]))
     l1 = chain.l[1]
 
-    def frame(th1, th2):
-        c1, s1, c2, s2 = math.cos(th1), math.sin(th1), math.cos(th2), math.sin(th2)
-        e = np.array([-c1 * c2, -s2, s1 * c2])
-        a = np.array([s1 * c2, 0.0, c1 * c2])
-        b = np.array([c1 * s2, -c2, -s1 * s2])
-        return e, a, b
-
-    e0, a0, b0 = frame(q[0], q[1])
-    e1, a1, b1 = frame(q[2], q[3])
+    e0, a0, b0 = frame(q[0], q[1], chain.chart[0])
+    e1, a1, b1 = frame(q[2], q[3], chain.chart[1])
     r2 = l0 * e0 + l1 * e1
     V2 = Ld * e0 + l0 * (a0 * qd[0] + b0 * qd[1]) + l1 * (a1 * qd[2] + b1 * qd[3])
     lam = float(np.linalg.norm(r2))
     e = r2 / lam
-    th1, th2 = _angles(e)
-    _, a, b = frame(th1, th2)
     Ld_new = float(V2 @ e)
     edot = (V2 - Ld_new * e) / lam
-    c2 = math.cos(th2)
-    rates = np.array([edot @ a / (c2 * c2), edot @ b])
+    ch = best_chart(e)
+    th1, th2, d1, d2 = coordinates(e, edot, ch)
     q2 = np.concatenate([[th1, th2], q[4:]])
-    qd2 = np.concatenate([rates, qd[4:]])
+    qd2 = np.concatenate([[d1, d2], qd[4:]])
     delta = l0 + l1 - lam
     tail[EK.Z_L] = L - delta
     tail[EK.Z_LD] = Ld_new
     lengths = np.concatenate([[lam], chain.l[2:]])
-    new = chain_arrays(params, lengths, lumping, chain.l_nom)
+    new = chain_arrays(params, lengths, lumping, chain.l_nom, np.r_[ch, chain.chart[2:]])
     return np.concatenate([q2, qd2, tail]), new, delta
 
 

@@ -17,7 +17,8 @@ import numpy as np
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..params import ParameterError, Params
-from .chain import MERGE_RATIO, SPLIT_RATIO, Chain, chain_equilibrium, hose_mass_in_air, initial_chain, merge, split
+from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, initial_chain, merge, split,
+                    switch_charts)
 from .spec import Probe, Reel
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
@@ -154,7 +155,7 @@ def _outputs(ts, zs, chain: Chain, model, ep):
     tow = np.empty((N, 3))
     tdrog = np.empty(N)
     EK.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
-                   chain.J.copy(), model.ps, model.env, model.gust_values, ep, joints, jvel, scal, tow, tdrog)
+                   chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, joints, jvel, scal, tow, tdrog)
     return joints, jvel, scal, tow, tdrog
 
 
@@ -162,7 +163,7 @@ def _energies(zs, chain: Chain, model, ep):
     out = np.empty((zs.shape[0], 3))
     for i, z in enumerate(zs):
         out[i] = EK.eng_energy(np.ascontiguousarray(z), chain.n, chain.l.copy(), chain.M.copy(),
-                               chain.J.copy(), model.ps, ep)
+                               chain.J.copy(), model.ps, ep, chain.chart)
     return out
 
 
@@ -251,7 +252,7 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
         Jw = chain.J.copy()
         code, done, saved = EK.eng_segment(
             z, t, step, h, remaining, every, chain.n, lw, Mw, Jw, model.ps, model.env, model.gust_values,
-            ep, max_yaw, SPLIT_RATIO * chain.l_nom, MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs)
+            ep, chain.chart, max_yaw, math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom, MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs)
         step += done
         t = step * h
         if saved:
@@ -260,6 +261,14 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
             status = code
             message = f"stopped at t = {t:.4f} s: {_STATUS[code]}"
             break
+        if code == EK.CHART:
+            before = _outputs(np.array([t]), z[None, :], chain, model, ep)
+            z, chain, moved = switch_charts(z, chain, math.radians(SWITCH_YAW_DEG))
+            after = _outputs(np.array([t]), z[None, :], chain, model, ep)
+            events.append({"kind": "chart", "t_s": t, "links": moved,
+                           "position_jump_m": float(np.max(np.abs(after[0] - before[0]))),
+                           "velocity_jump_m_s": float(np.max(np.abs(after[1] - before[1])))})
+            continue
         if code in (EK.SPLIT, EK.MERGE):
             before = _outputs(np.array([t]), z[None, :], chain, model, ep)
             e_before = _energies(z[None, :], chain, model, ep)[0]

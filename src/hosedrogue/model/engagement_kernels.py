@@ -71,7 +71,34 @@ Z_TAIL = 7
 O_SIZE = 18
 
 # segment stop codes (besides kernels.OK / NONFINITE / YAW_LIMIT)
-SPLIT, MERGE, PLANE = 10, 11, 12
+SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13
+
+
+@njit(**JIT)
+def apply_charts(n, chart, e, a, b):
+    """Links in the alternative chart have e = R e_std(theta), R the rotation by +90 deg about x
+    ((x, y, z) -> (x, -z, y)): its singular directions are +-z instead of +-y, so a link whose yaw
+    nears +-90 deg in one chart is far from singular in the other (docs/engagement.md)."""
+    for k in range(n):
+        if chart[k] != 0.0:
+            for arr in (e, a, b):
+                y = arr[k, 1]
+                arr[k, 1] = -arr[k, 2]
+                arr[k, 2] = y
+
+
+@njit(**JIT)
+def rotate_rows(n, chart, c, inverse):
+    """Rotate rows of c (n,3) of the alternative-chart links by R (or R^T if inverse)."""
+    for k in range(n):
+        if chart[k] != 0.0:
+            y = c[k, 1]
+            if inverse:
+                c[k, 1] = c[k, 2]
+                c[k, 2] = -y
+            else:
+                c[k, 1] = -c[k, 2]
+                c[k, 2] = y
 
 
 @njit(**JIT)
@@ -212,8 +239,9 @@ def motor_torque(Ld, slack, ep):
 
 
 @njit(**JIT)
-def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out):
-    """Accelerations (ws[15] holds qdd, out[O_LDD] holds L'') and the outputs of state z."""
+def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
+    """Accelerations (ws[15] holds qdd, out[O_LDD] holds L'') and the outputs of state z; chart
+    (n,) selects each link's angle chart (:func:`apply_charts`)."""
     L = z[4 * n + Z_L]
     Ld = z[4 * n + Z_LD]
     set_variable_link(L, n, l, M, J, ep)
@@ -221,7 +249,9 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out):
     qd = z[2 * n: 4 * n]
     e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
     link_frames(q, n, e, a, b, cs)
+    apply_charts(n, chart, e, a, b)
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    rotate_rows(n, chart, c, False)  # joint_kinematics writes l d2e/dt2 in the standard chart
     patch_kinematics(Ld, n, e, a, b, qd, v, c)
     u0 = ws2[13][:2]  # no control force (the probe acts on the drogue below)
     u0[0] = 0.0
@@ -239,6 +269,7 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out):
         F[n, 0] += fx
         F[n, 1] += fy
         F[n, 2] += fz
+    rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
     rotational_terms(qd, J, n, cs, Mom, tau)
     qdd = ws[15]
     chain_forward_dynamics(l, M, J, ps[PS_JD], n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12], qdd, ws[14])
@@ -310,9 +341,9 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out):
 
 
 @njit(**JIT)
-def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out, dz):
+def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, dz):
     """dz/dt of the engagement state z."""
-    eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out)
+    eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
     qdd = ws[15]
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
@@ -340,7 +371,7 @@ def plane_distance(z, n, l, ws, t, ep):
 
 
 @njit(**JIT)
-def eng_energy(z, n, l, M, J, ps, ep):
+def eng_energy(z, n, l, M, J, ps, ep, chart):
     """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z."""
     L = z[4 * n + Z_L]
     Ld = z[4 * n + Z_LD]
@@ -350,6 +381,7 @@ def eng_energy(z, n, l, M, J, ps, ep):
     qd = z[2 * n: 4 * n]
     e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
     link_frames(q, n, e, a, b, cs)
+    apply_charts(n, chart, e, a, b)
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     patch_kinematics(Ld, n, e, a, b, qd, v, c)
     T = 0.0
@@ -381,8 +413,8 @@ def eng_status(z, n, max_yaw):
 
 
 @njit(**JIT)
-def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, max_yaw,
-                split_at, merge_at, allow_merge, zprev, ts, zs):
+def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, max_yaw,
+                switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs):
     """RK4 from (t0, z) (global step index step0) for at most ``nsteps`` steps, in place.
 
     Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
@@ -404,22 +436,22 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
     d_before = 0.0
     if probing:
-        eng_evaluate(t0, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out)
+        eng_evaluate(t0, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
         d_before = plane_distance(z, n, l, ws, t0, ep)
     for s in range(1, nsteps + 1):
         t = t0 + (s - 1) * h
         for i in range(nz):
             zprev[i] = z[i]
-        eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out, k1)
+        eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k1)
         for i in range(nz):
             tmp[i] = z[i] + 0.5 * h * k1[i]
-        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out, k2)
+        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k2)
         for i in range(nz):
             tmp[i] = z[i] + 0.5 * h * k2[i]
-        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out, k3)
+        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k3)
         for i in range(nz):
             tmp[i] = z[i] + h * k3[i]
-        eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out, k4)
+        eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k4)
         for i in range(nz):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t = t0 + s * h
@@ -430,13 +462,16 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
             ts[saved] = t
             zs[saved, :] = z
             saved += 1
+        for k in range(n):
+            if abs(z[2 * k + 1]) > switch_yaw:
+                return CHART, s, saved
         set_variable_link(z[4 * n + Z_L], n, l, M, J, ep)
         if l[0] > split_at:
             return SPLIT, s, saved
         if allow_merge and l[0] < merge_at:
             return MERGE, s, saved
         if probing:
-            eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out)
+            eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
             d = plane_distance(z, n, l, ws, t, ep)
             if d_before > 0.0 and d <= 0.0:
                 return PLANE, s, saved
@@ -445,7 +480,7 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
 
 
 @njit(**JIT)
-def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, joints, jvel, scal, tow, tension_drogue):
+def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, joints, jvel, scal, tow, tension_drogue):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
     (N, O_SIZE), tow-point force (N, 3) and the tension in the last link [N] (N,)."""
     ws = make_workspace_jit(n)
@@ -453,7 +488,7 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, joints, jvel, scal, tow, 
     dM = np.empty(2)
     out = np.empty(O_SIZE)
     for i in range(ts.shape[0]):
-        eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, ws, ws2, dM, out)
+        eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
         joints[i] = ws[4]
         jvel[i] = ws[5]
         scal[i] = out
