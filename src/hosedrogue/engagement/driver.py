@@ -45,6 +45,7 @@ class EngagementResult:
     motor_torque_n_m: np.ndarray
     miss_distance_series_m: np.ndarray  #: radial probe-to-coupler distance in the coupler plane
     plane_distance_m: np.ndarray  #: probe tip aft of the coupler plane (positive before contact)
+    closure_speed_series_m_s: np.ndarray  #: probe speed toward the coupler plane relative to the drogue
     links: np.ndarray  #: (N,) number of links
     hose_mass_kg: np.ndarray  #: hose mass in the air from the lumped masses
     joints_m: list  #: per output time, (n+1, 3) joint positions
@@ -79,6 +80,8 @@ class EngagementResult:
             "probe_x_m": self.probe_position_m[:, 0], "probe_y_m": self.probe_position_m[:, 1],
             "probe_z_m": self.probe_position_m[:, 2],
             "miss_distance_m": self.miss_distance_series_m,
+            "probe_plane_distance_m": self.plane_distance_m,
+            "closure_speed_m_s": self.closure_speed_series_m_s,
             "slack_m": self.slack_m,
             "motor_torque_n_m": self.motor_torque_n_m,
             "links": self.links,
@@ -348,7 +351,7 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
 def _assemble(params, segments, events, outcome, model, drogue_eq, lumping, energy, completed, message,
               delta_total, t_set, reel, probe) -> EngagementResult:
     cols = {k: [] for k in ("t", "L", "Ld", "T0", "Td", "fp", "pp", "cp", "slack", "rd", "vd", "tow", "tau",
-                            "miss", "dplane", "links", "mass", "E")}
+                            "miss", "dplane", "vclose", "links", "mass", "E")}
     joints_all, jvel_all = [], []
     for chain, ep, ts, zs in segments:
         n = chain.n
@@ -373,6 +376,8 @@ def _assemble(params, segments, events, outcome, model, drogue_eq, lumping, ener
         dpl = np.einsum("ij,ij->i", rel, e_last)
         cols["dplane"].append(dpl)
         cols["miss"].append(np.linalg.norm(rel - dpl[:, None] * e_last, axis=1))
+        vp = scal[:, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]]
+        cols["vclose"].append(-np.einsum("ij,ij->i", vp - jvel[:, -1, :], e_last))
         cols["links"].append(np.full(ts.size, n))
         masses = []
         lw, Mw, Jw = chain.l.copy(), chain.M.copy(), chain.J.copy()
@@ -422,6 +427,7 @@ def _assemble(params, segments, events, outcome, model, drogue_eq, lumping, ener
         drogue_tension_n=cat["Td"], probe_force_n=fp, probe_position_m=cat["pp"], coupled=coupled,
         slack_m=cat["slack"], drogue_position_m=drogue, drogue_velocity_m_s=cat["vd"], tow_force_n=cat["tow"],
         motor_torque_n_m=cat["tau"], miss_distance_series_m=cat["miss"], plane_distance_m=cat["dplane"],
+        closure_speed_series_m_s=cat["vclose"],
         links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
         energy=en_dict, events=events, outcome=outcome, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
         completed=completed, message=message, meta=meta)
