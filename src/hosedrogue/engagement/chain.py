@@ -21,6 +21,7 @@ import numpy as np
 
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..model import engagement_kernels as EK
+from ..model import kernels as K
 from ..model.system import HoseModel
 from ..params import Params
 
@@ -63,6 +64,8 @@ def chain_arrays(params: Params, lengths: np.ndarray, lumping: str, l_nom: float
         M[:] = mu * l
     M[n - 1] += params.drogue.mass_kg
     J = mu * l**3 / 12.0 if hose.link_inertia == "rod" else np.full(n, hose.link_inertia_kg_m2)
+    # the drogue's inertia as transverse inertia of the last link (engagement_kernels docstring)
+    J[n - 1] += params.drogue.inertia_kg_m2
     chart = np.zeros(n) if chart is None else np.ascontiguousarray(chart, dtype=np.float64).copy()
     return Chain(l, M, J, l_nom, chart)
 
@@ -195,6 +198,7 @@ class ChainModel(HoseModel):
         self.M = chain.M.copy()
         self.S = np.cumsum(self.M[::-1])[::-1].copy()
         self.J = chain.J.copy()
+        self.ps[K.PS_JD] = 0.0  # the drogue's inertia is in J[n-1] (transverse only)
 
 
 def chain_equilibrium(params: Params, chain: Chain) -> tuple[Equilibrium, ChainModel]:

@@ -105,6 +105,7 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
     ep[EK.EP_MD] = params.drogue.mass_kg
     ep[EK.EP_SPLIT] = 1.0 if lumping == "split" else 0.0
     ep[EK.EP_JLINK] = -1.0 if hose.link_inertia == "rod" else hose.link_inertia_kg_m2
+    ep[EK.EP_JD] = params.drogue.inertia_kg_m2
     ep[EK.EP_L0] = chain.l_nom
     ep[EK.EP_LAW] = LAW_CODES[reel.law]
     ep[EK.EP_RD] = reel.drum_radius_m
@@ -266,9 +267,11 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
             break
         if code == EK.CHART:
             before = _outputs(np.array([t]), z[None, :], chain, model, ep)
+            e_before = _energies(z[None, :], chain, model, ep)[0]
             z, chain, moved = switch_charts(z, chain, math.radians(SWITCH_YAW_DEG))
             after = _outputs(np.array([t]), z[None, :], chain, model, ep)
-            events.append({"kind": "chart", "t_s": t, "links": moved,
+            e_jump = float(np.sum(_energies(z[None, :], chain, model, ep)[0]) - np.sum(e_before))
+            events.append({"kind": "chart", "t_s": t, "links": moved, "energy_jump_j": e_jump,
                            "position_jump_m": float(np.max(np.abs(after[0] - before[0]))),
                            "velocity_jump_m_s": float(np.max(np.abs(after[1] - before[1])))})
             continue

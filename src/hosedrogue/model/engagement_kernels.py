@@ -39,7 +39,6 @@ from .kernels import (
     OK,
     PS_BENDING,
     PS_EI,
-    PS_JD,
     YAW_LIMIT,
     chain_forward_dynamics,
     joint_forces,
@@ -56,8 +55,8 @@ from .kernels import (
  EP_KS, EP_DB, EP_KV,
  EP_PAY_T0, EP_PAY_DIST, EP_PAY_V, EP_PAY_A,
  EP_PROBE, EP_P0X, EP_P0Y, EP_P0Z, EP_VC, EP_PUSH, EP_T_STOP, EP_KP, EP_CP, EP_COUPLED, EP_T_CAP,
- EP_S_CAP) = range(33)
-EP_SIZE = 33
+ EP_S_CAP, EP_JD) = range(34)
+EP_SIZE = 34
 
 LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE = 0, 1, 2
 
@@ -123,7 +122,7 @@ def set_variable_link(L, n, l, M, J, ep):
     else:
         M[0] = mu * l[0] + (ep[EP_MD] if n == 1 else 0.0)
     if ep[EP_JLINK] < 0.0:
-        J[0] = mu * l[0] ** 3 / 12.0
+        J[0] = mu * l[0] ** 3 / 12.0 + (ep[EP_JD] if n == 1 else 0.0)
 
 
 @njit(**JIT)
@@ -272,7 +271,7 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
     rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
     rotational_terms(qd, J, n, cs, Mom, tau)
     qdd = ws[15]
-    chain_forward_dynamics(l, M, J, ps[PS_JD], n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12], qdd, ws[14])
+    chain_forward_dynamics(l, M, J, 0.0, n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12], qdd, ws[14])
     # response to a unit L'': d'Alembert force -M_k e_0 on joints 1..n, nothing else
     F2, c2, tau2, qdde = ws2[7], ws2[6], ws2[9], ws2[15]
     for i in range(3):
@@ -283,7 +282,7 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
             c2[k, i] = 0.0
         tau2[k, 0] = 0.0
         tau2[k, 1] = 0.0
-    chain_forward_dynamics(l, M, J, ps[PS_JD], n, a, b, cs, c2, F2, tau2, ws2[10], ws2[11], ws2[12], qdde, ws2[14])
+    chain_forward_dynamics(l, M, J, 0.0, n, a, b, cs, c2, F2, tau2, ws2[10], ws2[11], ws2[12], qdde, ws2[14])
     # exit tension at L'' = 0 and the effective mass the hose adds to the reel
     T00 = 0.0
     me = 0.0
@@ -389,7 +388,6 @@ def eng_energy(z, n, l, M, J, ps, ep, chart):
         T += 0.5 * M[k] * (v[k + 1, 0] ** 2 + v[k + 1, 1] ** 2 + v[k + 1, 2] ** 2)
         c2 = cs[k, 2]
         T += 0.5 * J[k] * (c2 * c2 * qd[2 * k] ** 2 + qd[2 * k + 1] ** 2)
-    T += 0.5 * ps[PS_JD] * (qd[2 * n - 2] ** 2 + qd[2 * n - 1] ** 2)
     U = 0.0
     if ps[PS_BENDING] == BENDING_MOMENT:
         for k in range(n - 1):
