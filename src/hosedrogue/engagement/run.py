@@ -11,7 +11,7 @@ import numpy as np
 
 from .. import __version__
 from .driver import EngagementResult, simulate_engagement
-from .spec import Probe, Reel
+from .spec import Reel
 
 #: Keys of run.json's "engagement" object (ENGAGEMENT.md 4).
 SUMMARY_KEYS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",

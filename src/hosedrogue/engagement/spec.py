@@ -8,7 +8,6 @@ unit in every field name. Defaults and their reasons are in ``docs/engagement.md
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
@@ -104,6 +103,3 @@ def validate_sections(data: Mapping[str, Any]) -> dict:
 
 def plain(obj) -> dict:
     return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
-
-
-
