@@ -45,6 +45,8 @@ class Scenario:
     actuator: dict = field(default_factory=dict)
     sensor: dict = field(default_factory=dict)
     source: str = ""
+    #: Sections validated outside the core (``[reel]``, ``[probe]``): name -> validated object.
+    extra: dict = field(default_factory=dict)
 
     def with_overrides(self, duration_s: float | None = None, seed: int | None = None) -> "Scenario":
         import dataclasses
@@ -131,7 +133,9 @@ def resolve(name_or_path: str) -> tuple[str, dict]:
 def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     """Load and validate a scenario file (see the module docstring)."""
     source, data = resolve(name_or_path)
-    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor"}
+    from ..engagement.spec import ENGAGEMENT_SECTIONS, validate_sections  # hook: non-core sections
+
+    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor"} | set(ENGAGEMENT_SECTIONS)
     for key in data:
         if key not in known:
             raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(known))}")
@@ -170,6 +174,7 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     Actuator(**actuator)
     Sensor(**sensor)
     params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=base)
+    extra = validate_sections(data)
     return Scenario(
         name=str(sc.get("name", Path(source).stem)),
         params=params,
@@ -181,5 +186,6 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
         actuator=actuator,
         sensor=sensor,
         source=source,
+        extra=extra,
         **offsets,
     )
