@@ -140,6 +140,10 @@ class Hose(_Section):
     link_inertia: str = field(default="paper", metadata=_choice("paper", "rod"))
     #: "paper": Eq. 20 equivalent joint force; "moment": conservative restoring moment; "off".
     bending: str = field(default="paper", metadata=_choice("paper", "moment", "off"))
+    #: Where each link's mass sits (MODEL.md 2): "aft": all at its aft joint (the paper's
+    #: lumping, first order in 1/links); "split": half at each end joint (the half at the tow
+    #: point is carried by the tanker), second order in 1/links (docs/convergence.md).
+    mass_lumping: str = field(default="aft", metadata=_choice("aft", "split"))
     normal_drag_coefficient: float = field(default=0.28, metadata=_num(0.0, lo_open=False))
     tangential_drag_coefficient: float = field(default=0.001, metadata=_num(0.0, lo_open=False))
 

@@ -7,7 +7,9 @@ Everything here is a pure function of float64 arrays; no Python objects, no I/O,
   link ``k`` (0-based here) has pitch ``q[2k]`` and yaw ``q[2k+1]``;
 * ``e_k = [-c1 c2, -s2, s1 c2]`` points aft along link k; ``a_k = de/dth1``, ``b_k = de/dth2``;
 * joint 0 is the tow point (origin of S_p); joint k+1 is the aft end of link k and carries the
-  lumped mass ``M[k]`` (the drogue's mass is included in ``M[n-1]``).
+  lumped mass ``M[k]`` (the drogue's mass is included in ``M[n-1]``). Which share of each link's
+  mass a joint carries (``aft`` or ``split`` lumping) is decided in ``model/system.py``; the
+  kernels only see the joint masses.
 
 Kane's equations give ``H(q) qdd = Q(q, qd, t, u)``. With masses lumped at joints and
 ``dV_i/dqd_{j}`` zero for ``j > i`` every generalized force is a dot product of a link's partial
@@ -20,7 +22,7 @@ reference the recursion is tested against.
 Layout of the scalar arrays (indices are the module constants below):
 
 ``ps`` (model): gravity, density, airspeed, outer diameter, c_t, c_n, drogue area x c_d, E I,
-bending mode (0 off, 1 paper, 2 moment), drogue inertia.
+bending mode (0 off, 1 paper, 2 moment), drogue inertia, mass lumped at the tow point.
 ``env`` (air): airspeed, frozen flag, gust window on/off, gust record t0/dt, then the 6 wake
 scalars of :func:`hosedrogue.environment.wake.wake_scalars`.
 """
@@ -44,7 +46,10 @@ JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
 
 # ps layout
 PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD = range(10)
-PS_SIZE = 10
+#: mass lumped at the tow point (joint 0) [kg]: carried by the tanker, it never moves, so it
+#: enters only the tow-point force (its weight); nonzero for the ``split`` lumping
+PS_M_TOW = 10
+PS_SIZE = 11
 BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
 
 # env layout
@@ -426,6 +431,8 @@ def forward_dynamics_ws(l, M, J, ps, ws):
     """qdd (ws[15]) and tow-point force (ws[14]) from the loads in the workspace."""
     chain_forward_dynamics(l, M, J, ps[PS_JD], l.shape[0], ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
                            ws[10], ws[11], ws[12], ws[15], ws[14])
+    # the mass lumped at the (fixed) tow point adds only its weight to the tow-point force
+    ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
 
 
 @njit(**JIT)
