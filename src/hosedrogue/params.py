@@ -216,6 +216,10 @@ class Turbulence(_Section):
     distribution: str = field(default="uniform", metadata=_choice("uniform", "frozen"))
     #: Sample interval of the gust record [s]; independent of the integration step.
     sample_time_s: float = field(default=0.005, metadata=_num(0.0, 1.0, unit="s"))
+    #: Reading the record between samples: "linear" (the paper's reproduction; kinks at every
+    #: sample) or "cubic" (Catmull-Rom, continuous slope; with ``smoothing_s`` it lets RK4 take
+    #: steps longer than the sample interval, docs/convergence.md).
+    interpolation: str = field(default="linear", metadata=_choice("linear", "cubic"))
     seed: int = field(default=2018, metadata=_int(0, 2**63 - 1))
 
     #: Largest gust record [samples]: 1e7 x 3 axes x 8 bytes = 240 MB.

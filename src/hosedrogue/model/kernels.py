@@ -24,7 +24,7 @@ Layout of the scalar arrays (indices are the module constants below):
 ``ps`` (model): gravity, density, airspeed, outer diameter, c_t, c_n, drogue area x c_d, E I,
 bending mode (0 off, 1 paper, 2 moment), drogue inertia, mass lumped at the tow point.
 ``env`` (air): airspeed, frozen flag, gust window on/off, gust record t0/dt, then the 6 wake
-scalars of :func:`hosedrogue.environment.wake.wake_scalars`.
+scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag.
 """
 
 from __future__ import annotations
@@ -55,7 +55,9 @@ BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
 # env layout
 ENV_V, ENV_FROZEN, ENV_T_ON, ENV_T_OFF, ENV_G_T0, ENV_G_DT = range(6)
 ENV_WAKE = 6
-ENV_SIZE = 12
+#: 1.0: read the gust record with the cubic interpolant, 0.0: linearly
+ENV_G_CUBIC = 12
+ENV_SIZE = 13
 
 # status codes of the integrators
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
@@ -70,7 +72,8 @@ def air_velocity(px, py, pz, t, env, gust):
     if env[ENV_FROZEN] != 0.0:
         # a point a distance -px behind the tow point meets the frozen gust field -px/V later
         t_eff = t + px / V
-    gu, gv, gw = gust_at(t_eff, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF])
+    gu, gv, gw = gust_at(t_eff, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
+                         env[ENV_G_CUBIC] != 0.0)
     return -V + gu, wy + gv, wz + gw
 
 

@@ -104,6 +104,7 @@ class HoseModel:
             env[K.ENV_T_OFF] = gusts.t_off_s
             env[K.ENV_G_T0] = gusts.t0_s
             env[K.ENV_G_DT] = gusts.dt_s
+            env[K.ENV_G_CUBIC] = 1.0 if gusts.interpolation == "cubic" else 0.0
         return env
 
     @property
