@@ -444,3 +444,21 @@ def test_cubic_gust_interpolation():
     assert np.abs(left - right).max() < 1e-4 * scale
     t_any = np.random.default_rng(4).uniform(9.0, 31.0, 300)
     np.testing.assert_array_equal(rec.at(t_any), np.array([gust_at(t, *args) for t in t_any]))
+
+
+def test_smoothed_record_keeps_the_impulse_and_vanishes_outside():
+    """The averaged, windowed record is zero at both ends of its support, and its integral equals
+    the windowed gust's (the linear reading's trapezoid sum of the edge-halved samples): a
+    symmetric kernel of unit sum conserves it to round-off (1e-12 m of gust displacement)."""
+    from hosedrogue.environment.turbulence import smoothed_record
+
+    rec = generate_gusts(_short(), V, 20.0)
+    sm = smoothed_record(rec, 0.02)
+    assert not sm.values[:2].any() and not sm.values[-2:].any()
+    k_off = int(round((rec.t_off_s - rec.t0_s) / rec.dt_s))
+    windowed = rec.values[: k_off + 1].copy()
+    windowed[0] *= 0.5
+    windowed[-1] *= 0.5
+    np.testing.assert_allclose(sm.values.sum(axis=0) * sm.dt_s, windowed.sum(axis=0) * rec.dt_s,
+                               rtol=0, atol=1e-12)
+    assert sm.t_on_s < rec.t_on_s and sm.t_off_s > rec.t_off_s

@@ -220,6 +220,11 @@ class Turbulence(_Section):
     #: sample) or "cubic" (Catmull-Rom, continuous slope; with ``smoothing_s`` it lets RK4 take
     #: steps longer than the sample interval, docs/convergence.md).
     interpolation: str = field(default="linear", metadata=_choice("linear", "cubic"))
+    #: Width [s] of a symmetric (triangular) averaging of the gust record, window edges included;
+    #: 0 = none (the paper's reproduction). Physically the hose and drogue average gusts over
+    #: their size (0.02 s is 3 m of air at 150 m/s); numerically it makes the forcing smooth at
+    #: the integration step, so RK4 keeps its order at steps beyond the sample interval.
+    smoothing_s: float = field(default=0.0, metadata=_num(0.0, 10.0, lo_open=False, unit="s"))
     seed: int = field(default=2018, metadata=_int(0, 2**63 - 1))
 
     #: Largest gust record [samples]: 1e7 x 3 axes x 8 bytes = 240 MB.

@@ -452,7 +452,45 @@ def generate_gusts(
             np.ascontiguousarray(Phi), np.ascontiguousarray(lq), np.ascontiguousarray(C[0]), x0, noise, column
         )
         values[:, j] = column
+    if turbulence.smoothing_s > 0.0:
+        return smoothed_record(GustRecord(t_on, dt, values, t_on, t_off, turbulence.interpolation),
+                               turbulence.smoothing_s)
     return GustRecord(t_on, dt, values, t_on, t_off, turbulence.interpolation)
+
+
+def smoothed_record(record: GustRecord, width_s: float) -> GustRecord:
+    """The windowed gust ``g(t) 1[t_on <= t < t_off]`` averaged by a symmetric triangular kernel
+    (a box of ``width_s`` applied twice), as a record that is zero at both of its ends.
+
+    The window's edges become ramps centred on ``t_on`` and ``t_off`` (the edge samples are
+    halved, so the linear reading of the windowed samples already ramps symmetrically about each
+    edge): a symmetric average keeps the forcing's impulse about every instant, so the response
+    changes only at second order in ``width_s`` (docs/convergence.md gives the numbers). The
+    returned record's window is its whole support.
+    """
+    dt = record.dt_s
+    m = max(1, int(round(width_s / dt)))
+    box = np.full(m, 1.0 / m)
+    kernel = np.convolve(box, box)  # symmetric, sums to 1, length 2m - 1
+    half = kernel.size // 2
+    v = record.values.copy()
+    k_on = int(round((record.t_on_s - record.t0_s) / dt))
+    k_off = int(round((record.t_off_s - record.t0_s) / dt))
+    v[:max(k_on, 0)] = 0.0
+    if 0 <= k_on < v.shape[0]:
+        v[k_on] *= 0.5
+    if 0 <= k_off < v.shape[0]:
+        v[k_off] *= 0.5
+    v[k_off + 1:] = 0.0
+    pad = half + 2
+    padded = np.zeros((v.shape[0] + 2 * pad, 3))
+    padded[pad:pad + v.shape[0]] = v
+    out = np.empty_like(padded)
+    for j in range(3):
+        out[:, j] = np.convolve(padded[:, j], kernel, mode="same")
+    t0 = record.t0_s - pad * dt
+    t_end = t0 + (out.shape[0] - 1) * dt
+    return GustRecord(t0, dt, out, t0, t_end, record.interpolation)
 
 
 # ----------------------------------------------------------------------------------------------
