@@ -57,7 +57,11 @@ ENV_V, ENV_FROZEN, ENV_T_ON, ENV_T_OFF, ENV_G_T0, ENV_G_DT = range(6)
 ENV_WAKE = 6
 #: 1.0: read the gust record with the cubic interpolant, 0.0: linearly
 ENV_G_CUBIC = 12
-ENV_SIZE = 13
+#: per-evaluation scratch (in the workspace's copy of env, never in the model's): flag 1.0 when
+#: ENV_GU..ENV_GW hold the gust at the evaluation's time (the "uniform" distribution: one lookup
+#: per evaluation instead of one per link; the same arithmetic, so the same bits)
+ENV_G_NOW, ENV_GU, ENV_GV, ENV_GW = 13, 14, 15, 16
+ENV_SIZE = 17
 
 # status codes of the integrators
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
@@ -68,6 +72,8 @@ def air_velocity(px, py, pz, t, env, gust):
     """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]."""
     V = env[ENV_V]
     wy, wz = wake_velocity(py, pz, env[ENV_WAKE:ENV_WAKE + 6])
+    if env[ENV_G_NOW] != 0.0:
+        return -V + env[ENV_GU], wy + env[ENV_GV], wz + env[ENV_GW]
     t_eff = t
     if env[ENV_FROZEN] != 0.0:
         # a point a distance -px behind the tow point meets the frozen gust field -px/V later
@@ -304,6 +310,7 @@ def make_workspace(n):
         np.empty(3),  # 13 drogue drag
         np.empty(3),  # 14 tow force
         np.empty(2 * n),  # 15 qdd
+        np.empty(ENV_SIZE),  # 16 this evaluation's copy of env (with the gust at its time)
     )
 
 
@@ -411,12 +418,29 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
 
 
 @njit(**JIT)
+def env_at(t, env, gust, scratch):
+    """``env`` copied into ``scratch`` with, when every point sees the same gust (``uniform``),
+    the gust at time t looked up once (air_velocity then reads it instead of the record)."""
+    for i in range(ENV_G_NOW):
+        scratch[i] = env[i]
+    scratch[ENV_G_NOW] = 0.0
+    if env[ENV_FROZEN] == 0.0:
+        gu, gv, gw = gust_at(t, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
+                             env[ENV_G_CUBIC] != 0.0)
+        scratch[ENV_GU] = gu
+        scratch[ENV_GV] = gv
+        scratch[ENV_GW] = gw
+        scratch[ENV_G_NOW] = 1.0
+    return scratch
+
+
+@njit(**JIT)
 def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """:func:`loads` when the link frames ws[0:4] already hold those of q."""
     n = l.shape[0]
     e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
-    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
+    joint_forces(t, u, l, M, ps, env_at(t, env, gust, ws[16]), gust, n, e, r, v, F, Mom, ws[13])
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 
