@@ -89,15 +89,16 @@ def test_split_frequencies_converge_at_second_order():
 
 
 def _converged_preset():
-    """The shipped ``converged`` preset (added by another change), or None while it is missing."""
-    try:
-        from hosedrogue.presets import load_preset  # type: ignore[import-not-found]
-    except ImportError:
+    """The shipped ``converged`` preset (``hosedrogue/presets/converged.toml``, added by another
+    change) as Params, or None while it is missing."""
+    from importlib.resources import files
+
+    from hosedrogue.params import load_params
+
+    path = files("hosedrogue").joinpath("presets", "converged.toml")
+    if not path.is_file():
         return None
-    try:
-        return load_preset("converged")
-    except Exception:  # noqa: BLE001 - not shipped yet
-        return None
+    return load_params(str(path))
 
 
 def test_converged_preset_frequencies_converge_at_second_order():
