@@ -235,3 +235,43 @@ def links_for_tolerance(study: LumpingStudy, tolerance_m: float) -> float:
     p = math.log(e[-2] / e[-1]) / math.log(n[-1] / n[-2])
     c = e[-1] * n[-1] ** p
     return (c / tolerance_m) ** (1.0 / p)
+
+
+@dataclass(frozen=True)
+class ScenarioStepStudy:
+    """Step error of a turbulence scenario's gust reading, and how far its converged run is from
+    the paper's reading (linear, hard window) converged; SI units."""
+
+    steps_s: np.ndarray  #: (k,) RK4 steps [s]
+    max_error_m: np.ndarray  #: (k,) max over the run of |drogue - drogue at reference_step_s| [m]
+    reference_step_s: float
+    reading_change_m: float  #: max |drogue(scenario reading) - drogue(paper's reading)|, both at the reference step [m]
+    duration_s: float
+
+
+def scenario_step_study(scenario: str = "paper-turbulence", steps_s=(0.01, 0.02, 0.025),
+                        reference_step_s: float = 0.000625) -> ScenarioStepStudy:
+    """The numbers behind the shipped ``paper-turbulence`` step (docs/convergence.md): RK4 at
+    ``steps_s`` with the scenario's gust reading against ``reference_step_s``, and the scenario's
+    reading against the paper's (``interpolation = "linear"``, ``smoothing_s = 0``). Every step
+    must divide 0.1 s (the common output interval)."""
+    from ..scenarios import load_scenario
+    from ..simulation import simulate
+
+    sc = load_scenario(scenario)
+    p = sc.params
+    eq = solve_equilibrium(p)
+    out_dt = 0.1
+
+    def path(params, h):
+        pp = params.replace(numerics={"step_s": h, "output_every": int(round(out_dt / h))})
+        res = simulate(pp, sc.duration_s, equilibrium=eq)
+        if not res.completed:
+            raise RuntimeError(f"{scenario} at step {h} s: {res.message}")
+        return res.drogue_position_m
+
+    ref = path(p, reference_step_s)
+    errs = np.array([np.max(np.abs(path(p, h) - ref)) for h in steps_s])
+    paper = p.replace(turbulence={"interpolation": "linear", "smoothing_s": 0.0})
+    change = float(np.max(np.abs(path(paper, reference_step_s) - ref)))
+    return ScenarioStepStudy(np.asarray(steps_s, float), errs, reference_step_s, change, sc.duration_s)
