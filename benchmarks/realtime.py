@@ -82,7 +82,7 @@ def main():
         print(f"  n = {n:4d}: {per * 1e6:8.2f} us/step, real-time factor {dur / wall_n:10,.0f}{growth}")
         prev = (n, per)
 
-    from hosedrogue.batch import simulate_batch
+    from hosedrogue.simulation import simulate_batch
     from hosedrogue.simulation import simulate
 
     seeds = list(range(16))

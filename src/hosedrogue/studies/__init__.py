@@ -1,0 +1,7 @@
+"""Studies: many simulations driven towards one question.
+
+* :mod:`.campaign` - Monte Carlo campaigns over turbulence seeds (:func:`run_campaign`), with
+  :mod:`.seeds` (run seeds), :mod:`.store` (the campaign's files), :mod:`.executor` (dask or this
+  process) and :mod:`.statistics` (the summary over runs);
+* :mod:`.convergence` - integration step and link count convergence.
+"""
