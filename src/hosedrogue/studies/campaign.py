@@ -10,8 +10,8 @@ Files in the output folder ``DIR``
 ``campaign.json``
     The settings. Resuming with different settings is an error.
 ``runs.csv``
-    One row per finished run (:func:`hosedrogue.studies.store.run_columns`), appended and flushed as runs finish, so an
-    interrupted campaign loses at most the runs in flight and at most one partial last line,
+    One row per finished run (:func:`hosedrogue.studies.store.run_columns`), appended and
+    flushed as runs finish, so an interrupted campaign loses at most the runs in flight and at most one partial last line,
     which resuming detects and drops. Wall-clock times are kept out of it (they would make
     identical campaigns differ); they go to ``timings.csv``, a log.
 ``summary.json``, ``summary.csv``
@@ -34,9 +34,9 @@ when turbulence is off), with the window rule written down there.
 Bounded memory
 --------------
 Tasks are generated lazily and at most ``4 K`` runs (K worker threads) are submitted at a time
-(:func:`hosedrogue.studies.executor.execute_dask`); each worker returns one small dict per run (the time series stays on the
-worker and is discarded, or written to disk there), which the client appends to runs.csv at once
-and forgets. A campaign of 10 000 runs therefore needs the memory of a few dozen runs; only the
+(:func:`hosedrogue.studies.executor.execute_dask`); each worker returns one small dict per run
+(the time series stays on the worker and is discarded, or written to disk there), which the
+client appends to runs.csv at once and forgets. A campaign of 10 000 runs therefore needs the memory of a few dozen runs; only the
 final summary reads all rows back (about 200 bytes each).
 """
 
