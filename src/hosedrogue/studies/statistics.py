@@ -34,12 +34,12 @@ class CampaignSummary:
     deviation of one run); ``completed_fraction[controller]`` the fraction of runs that completed.
     """
 
-    out_dir: Path
-    settings: dict
+    out_dir: Path  #: the campaign folder
+    settings: dict  #: content of campaign.json
     runs: Any  #: pandas.DataFrame of runs.csv sorted by (controller, run)
-    statistics: dict
-    completed_fraction: dict
-    files: tuple
+    statistics: dict  #: controller -> column -> statistics (see above), in the column's unit
+    completed_fraction: dict  #: controller -> fraction of its runs that completed [-]
+    files: tuple  #: the files written (summary.json, summary.csv, figures)
     new_runs: int  #: runs executed by this call (the rest were resumed from runs.csv)
 
     def to_dict(self) -> dict:
@@ -55,7 +55,6 @@ class CampaignSummary:
                 for c in self.settings["controllers"]
             },
         }
-
 
 
 def describe(values: np.ndarray, confidence: float = 0.95) -> dict:
