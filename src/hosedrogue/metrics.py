@@ -143,7 +143,19 @@ def in_window(t_s: np.ndarray, window_s: tuple[float, float]) -> np.ndarray:
 
 @njit(cache=True)
 def in_window_at(t, start_s, end_s):
-    """Compiled :func:`in_window` for one time ``t`` [s] and the window [start_s, end_s) [s]."""
+    """Compiled :func:`in_window` for one sample.
+
+    Parameters
+    ----------
+    t : float
+        Sample time [s].
+    start_s, end_s : float
+        Window start and end [s] (end may be inf).
+
+    Returns
+    -------
+    bool
+    """
     return t >= start_s - WINDOW_EPS_S and t < end_s - WINDOW_EPS_S
 
 
@@ -212,7 +224,13 @@ def new_accumulator(n_radii: int) -> np.ndarray:
 
 @njit(cache=True)
 def reset(acc):
-    """Empty the accumulator ``acc`` in place (compiled)."""
+    """Empty an accumulator in place (compiled).
+
+    Parameters
+    ----------
+    acc : array
+        Accumulator of :func:`new_accumulator`.
+    """
     acc[:] = 0.0
 
 

@@ -115,7 +115,18 @@ CONNECT_TIMEOUT_S = 10.0
 
 
 def local_cluster(workers: int):
-    """A LocalCluster of ``workers`` single-threaded worker processes, and its client."""
+    """A LocalCluster of single-threaded worker processes (environment :data:`WORKER_ENVIRON`).
+
+    Parameters
+    ----------
+    workers : int
+        Number of worker processes, >= 1.
+
+    Returns
+    -------
+    (distributed.LocalCluster, distributed.Client)
+        The cluster and a client of it; the caller closes both.
+    """
     import logging
 
     from distributed import Client, LocalCluster
@@ -126,7 +137,18 @@ def local_cluster(workers: int):
 
 
 def connect(scheduler: str):
-    """A client of the dask scheduler at ``scheduler`` (waits at most CONNECT_TIMEOUT_S [s])."""
+    """A client of a running dask scheduler.
+
+    Parameters
+    ----------
+    scheduler : str
+        Its address, e.g. ``tcp://host:8786``; waits at most :data:`CONNECT_TIMEOUT_S` [s].
+
+    Returns
+    -------
+    distributed.Client
+        ParameterError when the scheduler cannot be reached.
+    """
     from distributed import Client
 
     try:
@@ -136,7 +158,18 @@ def connect(scheduler: str):
 
 
 def total_threads(client) -> int:
-    """Worker threads of a dask client's cluster (at least 1)."""
+    """Worker threads of a dask client's cluster.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The client.
+
+    Returns
+    -------
+    int
+        Total threads over the workers, at least 1.
+    """
     return max(1, sum(client.nthreads().values()))
 
 
