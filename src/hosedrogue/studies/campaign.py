@@ -248,21 +248,12 @@ def run_campaign(
     workers = _check_execution(workers, scheduler, client)
     scenario = load_scenario(scenario_name_or_path).with_overrides(duration_s=duration_s)
     window = statistics_window(scenario)
-    if compare_controller and scenario.controller == "none":
-        raise ParameterError(
-            f"--compare-controller: scenario {scenario.name!r} has no controller (controller.type = 'none'); "
-            "nothing to compare"
-        )
-    controllers = (scenario.controller, "none") if compare_controller else (scenario.controller,)
+    controllers = _controllers(scenario, compare_controller)
     use_dask = _use_dask(workers, scheduler, client)
 
     out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise ParameterError(f"--out = {str(out)!r}: exists and is not a directory")
     settings = make_settings(scenario, runs, seed, radii, compare_controller, controllers, window)
-    old = read_settings(out) if out.is_dir() else None
-    if old is not None:
-        check_same_settings(out, old, settings)
+    old = _previous_settings(out, settings)
 
     pending = todo(read_runs(out / "runs.csv", radii) if old is not None else [], runs, controllers)
     with executor.dask_client(client, workers, scheduler, use_dask and bool(pending)) as dask_client:
@@ -282,6 +273,27 @@ def run_campaign(
         finally:
             log.close()
     return summarize_campaign(out, settings, new_runs=len(remaining))
+
+
+def _controllers(scenario, compare_controller: bool) -> tuple[str, ...]:
+    """The controllers run for every seed: the scenario's, and "none" with ``compare_controller``."""
+    if compare_controller and scenario.controller == "none":
+        raise ParameterError(
+            f"--compare-controller: scenario {scenario.name!r} has no controller (controller.type = 'none'); "
+            "nothing to compare"
+        )
+    return (scenario.controller, "none") if compare_controller else (scenario.controller,)
+
+
+def _previous_settings(out: Path, settings: dict) -> dict | None:
+    """The settings of a campaign already in ``out`` (None if there is none); ParameterError when
+    ``out`` is not a folder or holds a campaign with other settings."""
+    if out.exists() and not out.is_dir():
+        raise ParameterError(f"--out = {str(out)!r}: exists and is not a directory")
+    old = read_settings(out) if out.is_dir() else None
+    if old is not None:
+        check_same_settings(out, old, settings)
+    return old
 
 
 def _check_execution(workers: int | None, scheduler: str | None, client) -> int | None:
