@@ -127,7 +127,8 @@ from hosedrogue.controllers.linear import LinearController  # noqa: E402
 from hosedrogue.environment.atmosphere import density  # noqa: E402
 from hosedrogue.model.integrate import rk4_run  # noqa: E402
 from hosedrogue.model.system import HoseModel  # noqa: E402
-from hosedrogue.params import PAPER  # noqa: E402
+from hosedrogue.params import PAPER, Actuator  # noqa: E402
+from hosedrogue.simulation.simulate import loop_arrays  # noqa: E402
 
 #: The compared case: the paper's hose without bending, wake and turbulence.
 CASE = PAPER.replace(hose={"bending": "off"}, wake={"enabled": False}, turbulence={"enabled": False})
@@ -478,9 +479,9 @@ def hose_rk4_wall(model: HoseModel, x0: np.ndarray, duration_s: float, repeats: 
     nsteps = int(round(duration_s / h))
     ctrl = LinearController.static_zero()
     ts, zs, us = np.empty(2), np.empty((2, x0.size)), np.empty((2, 2))
-    args = (x0, 0.0, h, nsteps, nsteps, model.l, model.M, model.S, model.J, model.ps, model.env,
-            model.gust_values, ctrl.A, ctrl.B, ctrl.C, ctrl.D, np.zeros(2), np.full(2, np.inf),
-            np.zeros((1, 2)), 1.0, math.radians(model.params.numerics.max_yaw_deg), ts, zs, us)
+    loop = loop_arrays(ctrl, np.zeros(2), Actuator(), np.zeros((1, 2)), 1.0)
+    args = (x0, 0.0, h, nsteps, nsteps, *model.kernel_args(), *loop,
+            math.radians(model.params.numerics.max_yaw_deg), ts, zs, us)
     best = math.inf
     for _ in range(repeats):
         t0 = time.perf_counter()

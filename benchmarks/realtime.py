@@ -33,8 +33,8 @@ from hosedrogue.analysis.equilibrium import solve_equilibrium  # noqa: E402
 from hosedrogue.controllers.linear import LinearController  # noqa: E402
 from hosedrogue.model.integrate import rk4_run  # noqa: E402
 from hosedrogue.model.system import HoseModel  # noqa: E402
-from hosedrogue.params import PAPER  # noqa: E402
-from hosedrogue.simulation import Actuator  # noqa: E402
+from hosedrogue.params import PAPER, Actuator  # noqa: E402
+from hosedrogue.simulation.simulate import loop_arrays  # noqa: E402
 
 TURBULENCE = {"enabled": True, "start_s": 0.0, "duration_s": 100.0}
 
@@ -76,9 +76,8 @@ def rk4_wall_time(model, x0, duration_s, repeats=3):
     ts = np.empty(2)
     zs = np.empty((2, x0.size))
     us = np.empty((2, 2))
-    args = (x0, 0.0, h, nsteps, every, model.l, model.M, model.S, model.J, model.ps, model.env,
-            model.gust_values, ctrl.A, ctrl.B, ctrl.C, ctrl.D, np.zeros(2), Actuator().as_array(),
-            np.zeros((1, 2)), 1.0, math.radians(85.0), ts, zs, us)
+    loop = loop_arrays(ctrl, np.zeros(2), Actuator(), np.zeros((1, 2)), 1.0)
+    args = (x0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, math.radians(85.0), ts, zs, us)
     best = math.inf
     for _ in range(repeats):
         t0 = time.perf_counter()
@@ -118,7 +117,7 @@ def main():
         print(f"  n = {n:4d}: {per * 1e6:8.2f} us/step, real-time factor {dur / wall_n:10,.0f}{growth}{target}")
         prev = (n, per)
 
-    from hosedrogue.batch import simulate_batch
+    from hosedrogue.simulation import simulate_batch
     from hosedrogue.simulation import simulate
 
     seeds = list(range(16))

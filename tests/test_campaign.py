@@ -23,8 +23,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hosedrogue import campaign
-from hosedrogue.campaign import run_campaign, run_seed
+from hosedrogue import metrics
+from hosedrogue.studies import executor, store
+from hosedrogue.studies.campaign import run_campaign
+from hosedrogue.studies.seeds import run_seed
 from hosedrogue.params import ParameterError
 
 #: 6 links, 3 s, turbulence on from 0.5 s for 2 s: a run takes ~25 ms once compiled.
@@ -69,7 +71,7 @@ def reference(tiny, tmp_path_factory):
 def dask_cluster():
     """campaign's own 1-process LocalCluster, shared by the module (starting one costs seconds)."""
     pytest.importorskip("distributed")
-    cluster, client = campaign._local_cluster(1)
+    cluster, client = executor.local_cluster(1)
     yield cluster, client
     client.close()
     cluster.close()
@@ -153,7 +155,7 @@ def test_bad_input_is_rejected_before_any_output(tiny, tmp_path, kwargs, names):
 @pytest.mark.dask
 def test_unreachable_scheduler_leaves_no_output(tiny, tmp_path, monkeypatch):
     pytest.importorskip("distributed")
-    monkeypatch.setattr(campaign, "CONNECT_TIMEOUT_S", 1.0)
+    monkeypatch.setattr(executor, "CONNECT_TIMEOUT_S", 1.0)
     out = tmp_path / "out"
     with pytest.raises(ParameterError, match="--scheduler"):
         run_campaign(tiny, 2, out, scheduler="tcp://127.0.0.1:9", progress=False)
@@ -209,7 +211,7 @@ def test_a_killed_campaign_resumes_to_the_same_result(tiny, tmp_path):
     ref = tmp_path / "ref"
     run_campaign(tiny, runs, ref, scheduler="synchronous", progress=False)
     out = tmp_path / "killed"
-    code = (f"from hosedrogue.campaign import run_campaign; "
+    code = (f"from hosedrogue.studies.campaign import run_campaign; "
             f"run_campaign({tiny!r}, {runs}, {str(out)!r}, scheduler='synchronous', progress=False)")
     proc = subprocess.Popen([sys.executable, "-c", code], stderr=subprocess.DEVNULL)
     try:
@@ -256,7 +258,7 @@ def test_results_do_not_depend_on_workers_or_interruption(reference, dask_cluste
 @pytest.mark.dask
 def test_work_in_flight_is_bounded(dask_cluster):
     results = []
-    peak = campaign.execute_dask(dask_cluster[1], iter(range(40)), operator.neg, 3, results.append)
+    peak = executor.execute_dask(dask_cluster[1], iter(range(40)), operator.neg, 3, results.append)
     assert peak == 3
     assert sorted(results) == sorted(-i for i in range(40))
 
@@ -272,7 +274,7 @@ def test_campaign_seed_changes_results_and_summary_is_complete(reference, tiny, 
     assert data["campaign"]["runs"] == 8 and data["campaign"]["seed"] == 0
     block = data["controllers"]["none"]
     assert block["runs"] == 8 and block["completed_fraction"] == 1.0
-    expected = campaign.statistic_units((0.1, 0.305))
+    expected = metrics.statistic_units((0.1, 0.305))
     assert set(block["statistics"]) == set(expected)
     for name, st in block["statistics"].items():
         assert st["count"] == 8 and st["unit"] == expected[name]
@@ -290,7 +292,7 @@ def test_campaign_seed_changes_results_and_summary_is_complete(reference, tiny, 
 
 def test_statistics_inside_the_turbulence_window(reference, tiny):
     """Recompute one row from a fresh run of the same seed, independently of summarize_run."""
-    from hosedrogue.runner import run_scenario
+    from hosedrogue.scenarios.runner import run_scenario
     from hosedrogue.scenarios import load_scenario
 
     _, summary = reference
@@ -351,15 +353,15 @@ def test_cli_main_runs_montecarlo(tiny, tmp_path):
 
 
 def test_columns_read_like_the_batch_module():
-    from hosedrogue import batch
+    from hosedrogue.simulation import batch
 
     radii = (0.1, 0.305)
-    expected = [*batch.SUMMARY_COLUMNS, *(batch.radius_column(r) for r in radii)]
-    assert campaign.run_columns(radii)[3:-1] == expected
+    expected = [*batch.SUMMARY_COLUMNS, *(batch.capture_column(r) for r in radii)]
+    assert store.run_columns(radii)[3:-1] == expected
 
 
 def test_without_dask_the_default_runs_here_and_workers_are_refused(reference, tiny, tmp_path, monkeypatch):
-    monkeypatch.setattr(campaign, "_dask_available", lambda: False)
+    monkeypatch.setattr(executor, "dask_available", lambda: False)
     with pytest.raises(ParameterError, match="--workers = 2: needs dask"):
         run_campaign(tiny, 8, tmp_path / "two", workers=2, progress=False)
     assert not (tmp_path / "two").exists()

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from hosedrogue.runner import run_scenario
+from hosedrogue.scenarios.runner import run_scenario
 from hosedrogue.scenarios import load_scenario
 
 

@@ -24,3 +24,13 @@ def test_importing_every_module_keeps_the_users_matplotlib_backend():
     r = subprocess.run([sys.executable, "-c", IMPORT_ALL], capture_output=True, text=True, env=env, timeout=300)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == "svg []"
+
+
+def test_one_dependency_direction():
+    # the import-linter layers contract in pyproject.toml (docs/develop.md, "Layers"): a module may
+    # import only from layers below its own, function-level imports included
+    from pathlib import Path
+
+    from importlinter.cli import lint_imports
+
+    assert lint_imports(config_filename=str(Path(__file__).parents[1] / "pyproject.toml")) == 0

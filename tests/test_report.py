@@ -289,7 +289,7 @@ def test_plot_hose_3d():
 
 
 def test_plot_convergence():
-    from hosedrogue.analysis.convergence import LinkStudy, StepStudy
+    from hosedrogue.studies.convergence import LinkStudy, StepStudy
 
     steps = np.array([0.02, 0.01, 0.005])
     studies = [StepStudy(c, steps, 1e-3 * (steps / 0.02) ** 4 * (k + 1), 0.000625, 10.0)

@@ -7,7 +7,7 @@ import pytest
 
 from hosedrogue.analysis.equilibrium import solve_equilibrium
 from hosedrogue.analysis.sweep import steady_sweep
-from hosedrogue.runner import run_scenario
+from hosedrogue.scenarios.runner import run_scenario
 from hosedrogue.scenarios import load_scenario, shipped_scenarios
 
 

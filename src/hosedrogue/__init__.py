@@ -9,13 +9,7 @@ Quick start::
     res = simulate(PAPER, duration_s=5.0)
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("hosedrogue")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree
-    __version__ = "0.0.0+unknown"
-
+from .version import __version__
 from .params import PAPER, Params, ParameterError, load_params  # noqa: E402
 
 __all__ = ["PAPER", "Params", "ParameterError", "load_params", "solve_equilibrium", "simulate", "__version__"]

@@ -359,3 +359,67 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 def load_params(path: str | Path, base: Params = PAPER) -> Params:
     """Parameters from a TOML file of ``[section]`` tables overriding ``base``."""
     return params_from_dict(read_toml(path), base=base)
+
+
+# --- control hardware: actuator and sensor --------------------------------------------------------
+@dataclass(frozen=True)
+class Actuator:
+    """Limits on the control force applied to the drogue.
+
+    With a finite rate the applied force follows the command through a first-order lag of
+    ``time_constant_s`` whose slope is clipped to the rate limit.
+
+    Parameters
+    ----------
+    max_force_n : float
+        Largest force magnitude per axis [N] (inf: no limit).
+    max_rate_n_s : float
+        Largest rate of change of the applied force [N/s] (inf: no limit, no lag).
+    time_constant_s : float
+        Time constant of the lag of a rate-limited actuator [s].
+    """
+
+    max_force_n: float = math.inf
+    max_rate_n_s: float = math.inf
+    time_constant_s: float = 0.01
+
+    def __post_init__(self):
+        for name in ("max_force_n", "max_rate_n_s", "time_constant_s"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0 or math.isnan(v):
+                raise ParameterError(f"actuator.{name} = {v!r}: must be a number > 0 (inf for no limit)")
+        if not math.isfinite(self.time_constant_s):
+            raise ParameterError(f"actuator.time_constant_s = {self.time_constant_s!r}: must be finite")
+
+    @property
+    def rate_limited(self) -> bool:
+        """True when the rate limit is finite (the applied force is then part of the state)."""
+        return math.isfinite(self.max_rate_n_s)
+
+    def as_array(self):
+        """``[max_hor_n, max_ver_n, max_rate_n_s, time_constant_s]`` [N, N, N/s, s] for the kernels."""
+        import numpy as np
+
+        return np.array([self.max_force_n, self.max_force_n, self.max_rate_n_s, self.time_constant_s])
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """White position noise on the measured drogue offset.
+
+    Parameters
+    ----------
+    noise_std_m : float
+        Standard deviation of the noise per sample [m], >= 0.
+    sample_time_s : float
+        Time each noise sample is held [s], > 0.
+    """
+
+    noise_std_m: float = 0.0
+    sample_time_s: float = 0.01
+
+    def __post_init__(self):
+        if not (self.noise_std_m >= 0 and math.isfinite(self.noise_std_m)):
+            raise ParameterError(f"sensor.noise_std_m = {self.noise_std_m!r}: must be a finite number >= 0 m")
+        if not (self.sample_time_s > 0 and math.isfinite(self.sample_time_s)):
+            raise ParameterError(f"sensor.sample_time_s = {self.sample_time_s!r}: must be a finite number > 0 s")

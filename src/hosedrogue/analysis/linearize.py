@@ -48,19 +48,20 @@ class LinearModel:
 
 
 def _steady_derivative(model: HoseModel):
-    gust = model.gust_values
-    env = model.steady_env
+    args = model.kernel_args(steady=True)
 
     def f(x, u):
         dx = np.empty_like(x)
-        K.rhs(0.0, x, u, model.l, model.M, model.S, model.J, model.ps, env, gust, dx)
+        K.rhs(0.0, x, u, *args, dx)
         return dx
 
     return f
 
 
-def drogue_yz(model: HoseModel, x: np.ndarray) -> np.ndarray:
-    """Drogue lateral and vertical position [m] at state x."""
+def _drogue_yz(model: HoseModel, x: np.ndarray) -> np.ndarray:
+    """Drogue lateral and vertical position [m] at state x: the last row of
+    :meth:`HoseModel.joint_positions` (numpy; the compiled ``kernels.drogue_from_frames`` rounds
+    differently, ~1e-16 m, which the finite differences would turn into ~5e-10 changes of C)."""
     return model.joint_positions(x[: 2 * model.n])[-1, 1:]
 
 
@@ -80,7 +81,7 @@ def linearize(params: Params = PAPER, equilibrium: Equilibrium | None = None,
         xp[i] += FD_STEP
         xm[i] -= FD_STEP
         A[:, i] = (f(xp, u0) - f(xm, u0)) / (2 * FD_STEP)
-        C[:, i] = (drogue_yz(model, xp) - drogue_yz(model, xm)) / (2 * FD_STEP)
+        C[:, i] = (_drogue_yz(model, xp) - _drogue_yz(model, xm)) / (2 * FD_STEP)
     B = np.empty((nx, 2))
     for j in range(2):
         up, um = u0.copy(), u0.copy()

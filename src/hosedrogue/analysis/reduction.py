@@ -174,6 +174,20 @@ def truncation_error_bound(hsv, order: int) -> float:
     return float(2.0 * np.sum(hsv[order:]))
 
 
+def require_siso(name: str, sys) -> None:
+    """Raise ValueError unless ``sys`` has one input and one output (the one SISO check).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    sys : control.StateSpace or control.TransferFunction
+        The system.
+    """
+    if sys.ninputs != 1 or sys.noutputs != 1:
+        raise ValueError(f"{name} must be SISO, got {sys.noutputs} outputs x {sys.ninputs} inputs")
+
+
 def table2_form(sys_siso) -> tuple[np.ndarray, np.ndarray]:
     """Numerator and monic denominator of a SISO system, as printed in the paper's Table 2.
 
@@ -196,10 +210,7 @@ def table2_form(sys_siso) -> tuple[np.ndarray, np.ndarray]:
     ValueError
         If the system is not SISO or its denominator's leading coefficient is zero.
     """
-    if sys_siso.ninputs != 1 or sys_siso.noutputs != 1:
-        raise ValueError(
-            f"table2_form needs a SISO system, got {sys_siso.noutputs} outputs x {sys_siso.ninputs} inputs"
-        )
+    require_siso("sys_siso", sys_siso)
     tf = control.ss2tf(sys_siso) if isinstance(sys_siso, control.StateSpace) else sys_siso
     num = np.atleast_1d(np.asarray(tf.num[0][0], dtype=float))
     den = np.atleast_1d(np.asarray(tf.den[0][0], dtype=float))

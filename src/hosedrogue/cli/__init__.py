@@ -23,7 +23,7 @@ __all__ = ["main", "build_parser", "COMMANDS", "EXIT_BAD_INPUT", "EXIT_INCOMPLET
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``hosedrogue`` argument parser with every sub-command of :data:`COMMANDS`."""
-    from .. import __version__
+    from ..version import __version__
 
     p = Parser(prog="hosedrogue", description=(
         "Probe-and-drogue aerial refuelling hose: Kane-equation rigid-link model (Wu et al., 2018). "

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ..campaign import DEFAULT_CAPTURE_RADII_M, SYNCHRONOUS, capture_column, run_campaign
+from ..studies.executor import SYNCHRONOUS
 from .options import EXIT_INCOMPLETE
 
 NAME = "montecarlo"
@@ -32,7 +32,7 @@ def add_parser(sub) -> None:
     s.add_argument("--out", metavar="DIR", default="out/montecarlo", help="output folder (default out/montecarlo)")
     s.add_argument("--seed", metavar="S", type=int, default=0, help="campaign seed [-], >= 0 (default 0)")
     s.add_argument("--duration", metavar="S", type=float, help="simulated time per run [s] (overrides the file)")
-    s.add_argument("--capture-radii", metavar="M", type=float, nargs="+", default=list(DEFAULT_CAPTURE_RADII_M),
+    s.add_argument("--capture-radii", metavar="M", type=float, nargs="+",
                    help="capture radii [m], each > 0, for the time-inside-radius statistics "
                         "(default 0.1 0.305: the paper's positioning requirement and the basket radius)")
     s.add_argument("--keep-timeseries", action="store_true",
@@ -53,9 +53,14 @@ def _percent(x: float | None) -> str:
 
 def run(args) -> int:
     """Run the campaign; print a short summary and the files. Exit 3 if any run stopped early."""
+    # here, not at the top: the model's modules (numba) load only when a campaign runs
+    from ..metrics import DEFAULT_CAPTURE_RADII_M, capture_column
+    from ..studies.campaign import run_campaign
+
+    radii = DEFAULT_CAPTURE_RADII_M if args.capture_radii is None else args.capture_radii
     summary = run_campaign(
         args.scenario, args.runs, args.out, workers=args.workers, scheduler=args.scheduler, seed=args.seed,
-        capture_radii_m=args.capture_radii, keep_timeseries=args.keep_timeseries,
+        capture_radii_m=radii, keep_timeseries=args.keep_timeseries,
         compare_controller=args.compare_controller, duration_s=args.duration, progress=not args.quiet,
     )
     radii = summary.settings["capture_radii_m"]

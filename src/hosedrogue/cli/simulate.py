@@ -28,8 +28,8 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     """Simulate, write the files; exit 3 if the run stopped early (what it computed is kept)."""
-    from ..runner import run_scenario, write_run
     from ..scenarios import load_scenario
+    from ..scenarios.runner import run_scenario, write_run
 
     scenario = load_scenario(args.scenario).with_overrides(duration_s=args.duration, seed=args.seed)
     if scenario.extra.keys() & {"reel", "probe"}:  # an engagement scenario: its own driver and files

@@ -74,6 +74,7 @@ from dataclasses import dataclass
 import numpy as np
 import control
 
+from ..analysis.reduction import require_siso
 from .linear import LinearController, N_FORCES, N_MEASUREMENTS
 
 __all__ = [
@@ -122,8 +123,7 @@ def two_channel_plant(lateral_siso, vertical_siso) -> control.StateSpace:
         Inputs [u_hor, u_ver], outputs [P_ny, P_nz]; states: lateral then vertical.
     """
     for name, sys in (("lateral_siso", lateral_siso), ("vertical_siso", vertical_siso)):
-        if sys.ninputs != 1 or sys.noutputs != 1:
-            raise ValueError(f"{name} must be SISO, got {sys.noutputs} outputs x {sys.ninputs} inputs")
+        require_siso(name, sys)
     lat = control.ss(lateral_siso)
     ver = control.ss(vertical_siso)
     plant = control.append(lat, ver)

@@ -27,6 +27,7 @@ import numpy as np
 import control
 from scipy.optimize import brentq, minimize_scalar
 
+from ..analysis.reduction import require_siso
 from .linear import LinearController
 
 __all__ = ["PIDGains", "PAPER_PID", "pid_controller", "tune_pid"]
@@ -210,8 +211,7 @@ def tune_pid(
         is outside what this PID shape can give on the chosen branch at w_c (the message
         states the achievable range), or the resulting closed loop is unstable.
     """
-    if plant_siso.ninputs != 1 or plant_siso.noutputs != 1:
-        raise ValueError(f"plant_siso must be SISO, got {plant_siso.noutputs} outputs x {plant_siso.ninputs} inputs")
+    require_siso("plant_siso", plant_siso)
     if not (math.isfinite(crossover_rad_s) and crossover_rad_s > 0.0):
         raise ValueError(f"crossover_rad_s must be finite and > 0, got {crossover_rad_s}")
     if not 0.0 < phase_margin_deg < 180.0:

@@ -22,6 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 import control
 
+from ..analysis.reduction import require_siso
+
 __all__ = ["StepMetrics", "StepResponse", "step_metrics", "closed_loop_step"]
 
 
@@ -192,8 +194,7 @@ def closed_loop_step(plant_siso, controller_tf, t) -> StepResponse:
         If plant or controller is not SISO, or the closed loop is unstable.
     """
     for name, sys in (("plant_siso", plant_siso), ("controller_tf", controller_tf)):
-        if sys.ninputs != 1 or sys.noutputs != 1:
-            raise ValueError(f"{name} must be SISO, got {sys.noutputs} outputs x {sys.ninputs} inputs")
+        require_siso(name, sys)
     g = control.ss(plant_siso)
     c = control.ss(controller_tf)
     # Outputs [y, u] of the loop r -> (e = r - y) -> C -> u -> G -> y.

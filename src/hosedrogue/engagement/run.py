@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
+from ..version import __version__
 from .driver import EngagementResult, simulate_engagement
 from .spec import Reel
 

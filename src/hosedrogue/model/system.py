@@ -111,6 +111,24 @@ class HoseModel:
     def gust_values(self) -> np.ndarray:
         return np.ascontiguousarray(self.gusts.values, dtype=np.float64)
 
+    def kernel_args(self, steady: bool = False) -> tuple:
+        """The model's arrays in the order every kernel takes them: ``(l, M, S, J, ps, env, gust)``.
+
+        Parameters
+        ----------
+        steady : bool
+            Steady air (no gusts; the wake as configured) instead of the model's turbulence.
+
+        Returns
+        -------
+        tuple
+            Link lengths ``l`` [m], joint masses ``M`` [kg], suffix masses ``S`` [kg], link
+            inertias ``J`` [kg m^2], the ``ps`` and ``env`` scalar arrays and the gust record
+            values [m/s]; e.g. ``kernels.rhs(t, x, u, *model.kernel_args(), dx)``.
+        """
+        env = self.steady_env if steady else self.env
+        return (self.l, self.M, self.S, self.J, self.ps, env, self.gust_values)
+
     # --- state-level entry points -------------------------------------------------------------
     def _check_state(self, x: np.ndarray) -> np.ndarray:
         x = np.ascontiguousarray(x, dtype=np.float64)

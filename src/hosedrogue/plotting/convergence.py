@@ -27,7 +27,7 @@ def plot_convergence(step_studies: Sequence, link_study) -> Figure:
 
     Parameters
     ----------
-    step_studies : sequence of hosedrogue.analysis.convergence.StepStudy
+    step_studies : sequence of hosedrogue.studies.convergence.StepStudy
         (a) max drogue-position error [m] against the step [s], log-log, with a 4th-order
         guide line.
     link_study : LinkStudy or mapping ``{label: LinkStudy}``

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from .. import __version__
+from ..version import __version__
 from . import (closed_loop, comparison, controllers, convergence, differences, hose_views, linear, parameters,
                sweep, turbulence_speeds)
 from .page import render_page

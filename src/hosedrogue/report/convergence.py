@@ -1,6 +1,6 @@
 """Report section "Convergence": the RK4 step and the number of links.
 
-The studies themselves are library code (``hosedrogue.analysis.convergence``, imported in
+The studies themselves are library code (``hosedrogue.studies.convergence``, imported in
 :func:`_studies` only); this module derives the report's findings from them.
 """
 
@@ -61,7 +61,7 @@ class ConvergenceResult:
 
 def _studies(settings):
     """Run the step study (three cases) and the link study (three bending models)."""
-    from ..analysis.convergence import STEP_CASES, link_convergence, step_convergence
+    from ..studies.convergence import STEP_CASES, link_convergence, step_convergence
 
     studies = [step_convergence(c, settings.steps_s, settings.reference_step_s) for c in STEP_CASES]
     link_studies = {

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import datetime as _dt
 
-from .. import __version__
+from ..version import __version__
 from .markup import esc
 
 __all__ = ["CSS", "FRONT", "render_page"]

@@ -1,13 +1,12 @@
 """Nonlinear runs of the report and the statistics of the drogue offset in them.
 
 The window statistics (:func:`peak_offsets_m`, :func:`rms_offsets_m`, :func:`peak_forces_n`)
-are defined here only, so that a shared metrics module can replace them in one place.
+read a run's arrays into the one definition in :mod:`hosedrogue.metrics`.
 """
 
 from __future__ import annotations
 
-import numpy as np
-
+from .. import metrics
 from ..params import Params
 
 __all__ = ["run_named_scenario", "turbulence_window_s", "peak_offsets_m", "rms_offsets_m", "peak_forces_n"]
@@ -30,7 +29,7 @@ def run_named_scenario(name: str, duration_s: float | None = None, seed: int | N
     tuple
         ``(scenario, result)``: the scenario as run and its ``SimulationResult``.
     """
-    from ..runner import run_scenario
+    from ..scenarios.runner import run_scenario
     from ..scenarios import load_scenario
 
     sc = load_scenario(name)
@@ -40,7 +39,7 @@ def run_named_scenario(name: str, duration_s: float | None = None, seed: int | N
 
 
 def turbulence_window_s(params: Params) -> tuple[float, float]:
-    """When the turbulence is on.
+    """When the turbulence is on (the window rule of :mod:`hosedrogue.metrics`).
 
     Parameters
     ----------
@@ -52,8 +51,7 @@ def turbulence_window_s(params: Params) -> tuple[float, float]:
     tuple of float
         ``(start, end)`` [s].
     """
-    tb = params.turbulence
-    return (tb.start_s, tb.start_s + tb.duration_s)
+    return metrics.turbulence_window(params.turbulence)
 
 
 def peak_offsets_m(res) -> tuple[float, float]:
@@ -69,8 +67,7 @@ def peak_offsets_m(res) -> tuple[float, float]:
     tuple of float
         Lateral and vertical peak [m].
     """
-    off = res.drogue_offset_m
-    return float(np.max(np.abs(off[:, 1]))), float(np.max(np.abs(off[:, 2])))
+    return metrics.peaks(res.drogue_offset_m)
 
 
 def rms_offsets_m(res, window_s) -> tuple[float, float]:
@@ -88,9 +85,7 @@ def rms_offsets_m(res, window_s) -> tuple[float, float]:
     tuple of float
         Lateral and vertical RMS [m].
     """
-    m = (res.t_s >= window_s[0]) & (res.t_s < window_s[1])
-    off = res.drogue_offset_m[m]
-    return float(np.sqrt(np.mean(off[:, 1] ** 2))), float(np.sqrt(np.mean(off[:, 2] ** 2)))
+    return metrics.rms_in_window(res.t_s, res.drogue_offset_m, window_s)
 
 
 def peak_forces_n(res) -> tuple[float, float]:
@@ -106,4 +101,4 @@ def peak_forces_n(res) -> tuple[float, float]:
     tuple of float
         Lateral and vertical peak [N].
     """
-    return float(np.max(np.abs(res.control_n[:, 0]))), float(np.max(np.abs(res.control_n[:, 1])))
+    return metrics.force_peaks(res.control_n)

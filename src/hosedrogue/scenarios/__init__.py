@@ -169,7 +169,7 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     for key in sensor:
         if key not in ("noise_std_m", "sample_time_s"):
             raise ParameterError(f"sensor.{key}: unknown field; allowed: noise_std_m, sample_time_s")
-    from ..simulation import Actuator, Sensor  # validates values now, before any run or output
+    from ..params import Actuator, Sensor  # validates values now, before any run or output
 
     Actuator(**actuator)
     Sensor(**sensor)

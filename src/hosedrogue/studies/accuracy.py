@@ -91,13 +91,13 @@ class FrequencyStudy:
 def frequency_convergence(base: Params = STUDY_BASE, links=LINKS) -> FrequencyStudy:
     """Lowest lateral and vertical frequencies of ``base`` (any preset, e.g. ``converged``) at
     each link count; its orders say whether the preset converges (the brief asks >= 1.8)."""
-    from ..analysis.convergence import _lowest_modes
+    from .convergence import lowest_modes
     from ..analysis.linearize import linearize
 
     lat, ver = [], []
     for n in links:
         lm = linearize(base.replace(hose={"links": int(n)}))
-        w_lat, w_ver = _lowest_modes(lm)
+        w_lat, w_ver = lowest_modes(lm)
         lat.append(w_lat)
         ver.append(w_ver)
     return FrequencyStudy(np.asarray(links), np.array(lat), np.array(ver))

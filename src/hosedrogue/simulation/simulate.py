@@ -1,24 +1,27 @@
 """Time simulation of the nonlinear model: fixed-step RK4 (the paper's method) or an adaptive
 Runge-Kutta (DOP853) for cross-checks, open loop, with a linear controller in the loop, or with
 any Python control-force function ``u(t, x)``.
+
+The compiled paths hand the kernels the model's arrays (:meth:`HoseModel.kernel_args`) and the
+closed loop's (:func:`loop_arrays`); the Python-control path is the only Python RK4
+(:func:`rk4_step_python`, the formula of the compiled step).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 import scipy.integrate
 
-from .analysis.equilibrium import Equilibrium, solve_equilibrium
-from .controllers.linear import LinearController
-from .model import kernels as K
-from .model.integrate import rk4_run
-from .model.system import HoseModel
-from .params import PAPER, ParameterError, Params
-from .results import SimulationResult
+from ..analysis.equilibrium import Equilibrium, solve_equilibrium
+from ..controllers.linear import LinearController
+from ..model import kernels as K
+from ..model.integrate import LoopArrays, applied_force, closed_loop_deriv, rk4_run
+from ..model.system import HoseModel
+from ..params import PAPER, Actuator, ParameterError, Params, Sensor
+from ..results import SimulationResult
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
 
@@ -27,48 +30,6 @@ _STATUS_TEXT = {
     K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
     K.STEP_LIMIT: "the adaptive integrator could not meet its tolerance (step size limit)",
 }
-
-
-@dataclass(frozen=True)
-class Actuator:
-    """Limits on the control force: magnitude per axis [N] and rate [N/s] (inf: none).
-
-    With a finite rate the applied force follows the command through a first-order lag of
-    ``time_constant_s`` whose slope is clipped to the rate limit.
-    """
-
-    max_force_n: float = math.inf
-    max_rate_n_s: float = math.inf
-    time_constant_s: float = 0.01
-
-    def __post_init__(self):
-        for name in ("max_force_n", "max_rate_n_s", "time_constant_s"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0 or math.isnan(v):
-                raise ParameterError(f"actuator.{name} = {v!r}: must be a number > 0 (inf for no limit)")
-        if not math.isfinite(self.time_constant_s):
-            raise ParameterError(f"actuator.time_constant_s = {self.time_constant_s!r}: must be finite")
-
-    @property
-    def rate_limited(self) -> bool:
-        return math.isfinite(self.max_rate_n_s)
-
-    def as_array(self) -> np.ndarray:
-        return np.array([self.max_force_n, self.max_force_n, self.max_rate_n_s, self.time_constant_s])
-
-
-@dataclass(frozen=True)
-class Sensor:
-    """White position noise on the measured drogue offset: std [m] per sample of ``sample_time_s``."""
-
-    noise_std_m: float = 0.0
-    sample_time_s: float = 0.01
-
-    def __post_init__(self):
-        if not (self.noise_std_m >= 0 and math.isfinite(self.noise_std_m)):
-            raise ParameterError(f"sensor.noise_std_m = {self.noise_std_m!r}: must be a finite number >= 0 m")
-        if not (self.sample_time_s > 0 and math.isfinite(self.sample_time_s)):
-            raise ParameterError(f"sensor.sample_time_s = {self.sample_time_s!r}: must be a finite number > 0 s")
 
 
 def simulate(
@@ -87,18 +48,30 @@ def simulate(
     Parameters
     ----------
     params : Params
-        Model, environment and numerics (``params.numerics.integrator``, ``step_s``).
+        Model, environment and numerics (``params.numerics.integrator``, ``step_s`` [s]).
     duration_s : float
         Simulated time [s].
     x0 : array (4n,), optional
-        Initial state [q, qd]; default the balance position at rest.
+        Initial state [q, qd] [rad, rad/s]; default the balance position at rest.
     control : LinearController or callable, optional
-        A :class:`LinearController` acting on the drogue's offset from its balance position
-        (compiled, fast), or ``u(t, x) -> (u_hor, u_ver)`` [N] (Python, slower).
+        A :class:`LinearController` acting on the drogue's offset [m] from its balance position
+        (compiled, fast), or ``u(t, x) -> (u_hor, u_ver)`` [N] of time [s] and state (Python,
+        slower; fixed-step RK4 only, no actuator or sensor model).
     equilibrium : Equilibrium, optional
         Reuse a solved balance position.
+    actuator : Actuator
+        Force [N] and rate [N/s] limits of the control force.
+    sensor : Sensor
+        Noise [m] on the measured drogue offset.
     seed : int, optional
         Overrides ``params.turbulence.seed`` (and seeds the sensor noise).
+    model : HoseModel, optional
+        Reuse a model built from ``params`` (ignored parameters otherwise).
+
+    Returns
+    -------
+    SimulationResult
+        The saved time series; ``completed`` is False when the run stopped early.
     """
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
         raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
@@ -113,18 +86,16 @@ def simulate(
     if x0.shape != (4 * n,) or not np.all(np.isfinite(x0)):
         raise ParameterError(f"x0: must be a finite array of shape ({4 * n},), got shape {x0.shape}")
     y_ref = equilibrium.drogue_position_m[1:].copy()
-    num = params.numerics
 
     if callable(control) and not isinstance(control, LinearController):
         ts, xs, us, status, t_stop = _run_python_control(model, params, x0, duration_s, control)
     else:
         ctrl = control if control is not None else LinearController.static_zero()
         noise = _sensor_noise(sensor, duration_s, params.turbulence.seed)
-        z0 = np.concatenate([x0, np.zeros(ctrl.n_states + (2 if actuator.rate_limited else 0))])
-        if num.integrator == "rk4":
-            ts, zs, us, status, t_stop = _run_rk4(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor)
-        else:
-            ts, zs, us, status, t_stop = _run_adaptive(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor)
+        loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s)
+        z0 = closed_loop_state(x0, ctrl, actuator)
+        run = _run_rk4 if params.numerics.integrator == "rk4" else _run_adaptive
+        ts, zs, us, status, t_stop = run(model, z0, duration_s, loop)
         xs = zs[:, : 4 * n]
 
     outs = _derived_outputs(model, ts, xs, us)
@@ -145,6 +116,49 @@ def simulate(
     )
 
 
+def loop_arrays(ctrl: LinearController, y_ref: np.ndarray, actuator: Actuator, noise: np.ndarray,
+                noise_dt_s: float) -> LoopArrays:
+    """The closed loop's controller, actuator and sensor arrays for the kernels.
+
+    Parameters
+    ----------
+    ctrl : LinearController
+        Controller from drogue offset [m] to force [N].
+    y_ref : array (2,)
+        Drogue balance position [y, z] [m].
+    actuator : Actuator
+        Force [N] and rate [N/s] limits.
+    noise : array (k, 2)
+        Sensor noise samples [m] (``(1, 2)`` zeros for none).
+    noise_dt_s : float
+        Time each noise sample is held [s].
+
+    Returns
+    -------
+    LoopArrays
+    """
+    return LoopArrays(ctrl.A, ctrl.B, ctrl.C, ctrl.D, y_ref, actuator.as_array(), noise, float(noise_dt_s))
+
+
+def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator) -> np.ndarray:
+    """The closed-loop initial state ``[x0, xc = 0, (ua = 0)]``.
+
+    Parameters
+    ----------
+    x0 : array (4n,)
+        Hose state [q, qd] [rad, rad/s].
+    ctrl : LinearController
+        Controller (its states start at zero).
+    actuator : Actuator
+        A rate-limited actuator adds the applied force [N] (starting at zero) to the state.
+
+    Returns
+    -------
+    array
+    """
+    return np.concatenate([x0, np.zeros(ctrl.n_states + (2 if actuator.rate_limited else 0))])
+
+
 def _sensor_noise(sensor: Sensor, duration_s: float, seed: int) -> np.ndarray:
     count = int(math.ceil(duration_s / sensor.sample_time_s)) + 2
     if sensor.noise_std_m == 0.0:
@@ -154,42 +168,47 @@ def _sensor_noise(sensor: Sensor, duration_s: float, seed: int) -> np.ndarray:
     return sensor.noise_std_m * rng.standard_normal((count, 2))
 
 
-def _steps(params: Params, duration_s: float) -> tuple[float, int, int]:
+def fixed_steps(params: Params, duration_s: float) -> tuple[float, int]:
+    """The RK4 step [s] and the number of steps covering ``duration_s`` [s].
+
+    Parameters
+    ----------
+    params : Params
+        ``params.numerics.step_s`` [s] is the step.
+    duration_s : float
+        Simulated time [s].
+
+    Returns
+    -------
+    (float, int)
+        Step [s] and step count (``round(duration_s / step_s)``, >= 1).
+    """
     h = params.numerics.step_s
     nsteps = int(round(duration_s / h))
     if nsteps < 1:
         raise ParameterError(f"duration_s = {duration_s!r}: shorter than one step ({h} s)")
-    return h, nsteps, params.numerics.output_every
+    return h, nsteps
 
 
-def _run_rk4(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
-    h, nsteps, every = _steps(model.params, duration_s)
+def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
+    h, nsteps = fixed_steps(model.params, duration_s)
+    every = model.params.numerics.output_every
     nsave = nsteps // every + 1
     ts = np.empty(nsave)
     zs = np.empty((nsave, z0.size))
     us = np.empty((nsave, 2))
-    u_max = actuator.as_array()
     max_yaw = math.radians(model.params.numerics.max_yaw_deg)
-    status, saved, t_stop = rk4_run(
-        z0, 0.0, h, nsteps, every, model.l, model.M, model.S, model.J, model.ps, model.env,
-        model.gust_values, ctrl.A, ctrl.B, ctrl.C, ctrl.D, y_ref, u_max, noise,
-        sensor.sample_time_s, max_yaw, ts, zs, us,
-    )
+    status, saved, t_stop = rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw, ts, zs, us)
     return ts[:saved], zs[:saved], us[:saved], status, t_stop
 
 
-def _run_adaptive(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
-    from .model.integrate import applied_force, closed_loop_deriv
-
+def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
     num = model.params.numerics
     h_out = num.step_s * num.output_every
     t_eval = np.arange(0.0, duration_s + 0.5 * h_out, h_out)
     t_eval = t_eval[t_eval <= duration_s + 1e-12]
-    u_max = actuator.as_array()
     u = np.empty(2)
-    args = (model.l, model.M, model.S, model.J, model.ps, model.env, model.gust_values,
-            ctrl.A, ctrl.B, ctrl.C, ctrl.D, y_ref, u_max, noise, sensor.sample_time_s,
-            K.make_workspace(model.n))
+    args = (*model.kernel_args(), *loop, K.make_workspace(model.n))
     max_yaw = math.radians(num.max_yaw_deg)
     n = model.n
 
@@ -208,8 +227,8 @@ def _run_adaptive(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
     ts = sol.t.copy()
     us = np.empty((ts.size, 2))
     for i in range(ts.size):
-        applied_force(ts[i], zs[i], 4 * n, model.l, ctrl.C, ctrl.D, y_ref, u_max, noise,
-                      sensor.sample_time_s, u)
+        applied_force(ts[i], zs[i], 4 * n, model.l, loop.Cc, loop.Dc, loop.y_ref, loop.act, loop.noise,
+                      loop.noise_dt, u)
         us[i] = u
     if sol.status == 1:
         return ts, zs, us, K.YAW_LIMIT, float(sol.t_events[0][0])
@@ -220,29 +239,53 @@ def _run_adaptive(model, z0, duration_s, ctrl, y_ref, actuator, noise, sensor):
     return ts, zs, us, K.OK, duration_s
 
 
+def rk4_step_python(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float) -> np.ndarray:
+    """One classical RK4 step of ``x' = f(t, x)`` in Python.
+
+    The only Python RK4: the same formula as the compiled
+    :func:`hosedrogue.model.integrate.rk4_step`, for right-hand sides that call Python code.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(t, x)`` -> dx/dt, with t [s].
+    t : float
+        Time at the start of the step [s].
+    x : array
+        State at t.
+    h : float
+        Step [s].
+
+    Returns
+    -------
+    array
+        State at ``t + h``.
+    """
+    k1 = f(t, x)
+    k2 = f(t + h / 2, x + h / 2 * k1)
+    k3 = f(t + h / 2, x + h / 2 * k2)
+    k4 = f(t + h, x + h * k3)
+    return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
 def _run_python_control(model, params, x0, duration_s, control):
     """RK4 with a Python control function: the right-hand side stays compiled."""
-    h, nsteps, every = _steps(params, duration_s)
+    h, nsteps = fixed_steps(params, duration_s)
+    every = params.numerics.output_every
     max_yaw = math.radians(params.numerics.max_yaw_deg)
     n = model.n
     x = x0.copy()
     ts, xs, us = [0.0], [x.copy()], []
 
     def u_of(t, state):
-        u = np.asarray(control(t, state), dtype=np.float64).reshape(2)
-        return u
+        return np.asarray(control(t, state), dtype=np.float64).reshape(2)
 
     def f(t, state):
         return model.derivative(t, state, u_of(t, state))
 
     us.append(u_of(0.0, x))
     for step in range(1, nsteps + 1):
-        t = (step - 1) * h
-        k1 = f(t, x)
-        k2 = f(t + h / 2, x + h / 2 * k1)
-        k3 = f(t + h / 2, x + h / 2 * k2)
-        k4 = f(t + h, x + h * k3)
-        x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        x = rk4_step_python(f, (step - 1) * h, x, h)
         t = step * h
         if not np.all(np.isfinite(x)):
             return np.array(ts), np.array(xs), np.array(us), K.NONFINITE, t
@@ -263,6 +306,5 @@ def _derived_outputs(model: HoseModel, ts, xs, us):
     drag = np.empty((N, 3))
     tow = np.empty((N, 3))
     K.outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
-                     model.l, model.M, model.S, model.J, model.ps, model.env, model.gust_values,
-                     joints, vel, drag, tow)
+                     *model.kernel_args(), joints, vel, drag, tow)
     return joints, vel, drag, tow

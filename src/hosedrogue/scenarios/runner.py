@@ -8,12 +8,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
-from .analysis.equilibrium import Equilibrium, solve_equilibrium
-from .model.system import HoseModel
-from .results import SimulationResult
-from .scenarios import Scenario
-from .simulation import Actuator, Sensor, simulate
+from ..version import __version__
+from ..analysis.equilibrium import Equilibrium, solve_equilibrium
+from ..model.system import HoseModel
+from ..params import Actuator, Sensor
+from ..results import SimulationResult
+from ..simulation import simulate
+from . import Scenario
 
 
 def initial_state(scenario: Scenario, eq: Equilibrium) -> np.ndarray:
@@ -36,9 +37,9 @@ def build_controller(scenario: Scenario, model: HoseModel, eq: Equilibrium):
     """
     if scenario.controller == "none":
         return None
-    from .analysis.linearize import linearize
-    from .controllers.design import lqr_controller_for
-    from .controllers.pid import PAPER_PID, PIDGains, pid_controller
+    from ..analysis.linearize import linearize
+    from ..controllers.design import lqr_controller_for
+    from ..controllers.pid import PAPER_PID, PIDGains, pid_controller
 
     opts = scenario.controller_options
     if scenario.controller == "pid":
@@ -93,7 +94,7 @@ def write_run(result: SimulationResult, out_dir: Path, plot: bool = True) -> lis
     (out_dir / "run.json").write_text(json.dumps(meta, indent=2) + "\n")
     paths.append(out_dir / "run.json")
     if plot and result.t_s.size > 1:
-        from .plotting.figures import plot_displacement, save_figure
+        from ..plotting.figures import plot_displacement, save_figure
 
         paths.append(save_figure(plot_displacement(result), out_dir / "displacement.png"))
     return paths

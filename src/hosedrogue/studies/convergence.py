@@ -14,8 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analysis.equilibrium import solve_equilibrium
+from ..analysis.linearize import linearize
+from ..controllers.pid import PAPER_PID, pid_controller
 from ..params import PAPER, Params
-from .equilibrium import solve_equilibrium
+from ..simulation import simulate
 
 #: The cases of the step study: a strong free swing, the paper's turbulence case, and the same
 #: with the paper's PID in the loop (the stiffest: the derivative filter pole is at ~106 rad/s).
@@ -38,8 +41,6 @@ class StepStudy:
 
 
 def _case_setup(case: str, params: Params):
-    from ..controllers.pid import PAPER_PID, pid_controller
-
     n = params.hose.links
     if case == "swing":
         p = params.replace(turbulence={"enabled": False})
@@ -57,8 +58,6 @@ def _case_setup(case: str, params: Params):
 def step_convergence(case: str = "swing", steps_s=(0.02, 0.01, 0.005, 0.0025),
                      reference_step_s: float = 0.000625, params: Params = PAPER) -> StepStudy:
     """Drogue-position error of RK4 at ``steps_s`` against a run at ``reference_step_s``."""
-    from ..simulation import simulate
-
     if case not in STEP_CASES:
         raise ValueError(f"case = {case!r}: must be one of {', '.join(STEP_CASES)}")
     p, eq, x0, ctrl, duration = _case_setup(case, params)
@@ -86,22 +85,32 @@ class LinkStudy:
 
 def link_convergence(links=(5, 10, 20, 40, 80), params: Params = PAPER) -> LinkStudy:
     """Balance position and lowest lightly damped mode frequencies against the link count."""
-    from .linearize import linearize
-
     pos, lat, ver = [], [], []
     for n in links:
         p = params.replace(hose={"links": int(n)})
         lm = linearize(p)
         pos.append(lm.equilibrium.drogue_position_m)
-        w_lat, w_ver = _lowest_modes(lm)
+        w_lat, w_ver = lowest_modes(lm)
         lat.append(w_lat)
         ver.append(w_ver)
     return LinkStudy(np.asarray(links), np.array(pos), np.array(lat), np.array(ver))
 
 
-def _lowest_modes(lm) -> tuple[float, float]:
-    """Imaginary part of the lowest-frequency pole visible in each output (modal residue > 1 %
-    of the largest), which is the pendulum mode of the lateral and vertical channels."""
+def lowest_modes(lm) -> tuple[float, float]:
+    """Lowest mode frequency [rad/s] visible in each output: the imaginary part of the
+    lowest-frequency pole whose modal residue exceeds 1 % of the largest (the pendulum mode of
+    the lateral and vertical channels).
+
+    Parameters
+    ----------
+    lm : LinearModel
+        Linear model with ``A``, ``B``, ``C`` (:func:`hosedrogue.analysis.linearize.linearize`).
+
+    Returns
+    -------
+    (float, float)
+        Lateral and vertical frequency [rad/s]; NaN where no mode is visible.
+    """
     lam, vec = np.linalg.eig(lm.A)
     left = np.linalg.inv(vec)
     out = []

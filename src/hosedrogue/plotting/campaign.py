@@ -1,0 +1,103 @@
+"""Figures of a Monte Carlo campaign: distributions of the per-run statistics over runs.
+
+``table`` is a campaign's runs table (a pandas DataFrame with ``run``, ``controller``,
+``completed`` and the statistic columns of :mod:`hosedrogue.metrics`; the capture-radius columns
+``inside_*`` in the order of the capture radii).
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from .base import new_figure
+
+_LABELS = {
+    "peak_radial_m": "peak radial displacement [m]",
+    "rms_radial_m": "RMS radial displacement [m]",
+    "peak_dy_m": "peak lateral displacement |dy| [m]",
+    "peak_dz_m": "peak vertical displacement |dz| [m]",
+    "peak_u_n": "peak control force [N]",
+}
+
+
+def _completed_values(table, controller: str, column: str) -> np.ndarray:
+    sub = table[(table["controller"] == controller) & table["completed"].astype(bool)]
+    x = sub[column].to_numpy(dtype=np.float64)
+    return x[np.isfinite(x)]
+
+
+def _capture_columns(table) -> list[str]:
+    """The capture-radius columns of the table, in the order of the capture radii."""
+    return [c for c in table.columns if c.startswith("inside_")]
+
+
+def plot_histograms(table, controllers: Sequence[str], capture_radii_m: Sequence[float]):
+    """Histograms of the per-run statistics of completed runs, one colour per controller.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The campaign's runs (module docstring).
+    controllers : sequence of str
+        Controllers to show, in legend order.
+    capture_radii_m : sequence of float
+        The campaign's capture radii [m]; the first two get a panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    panels = ["peak_radial_m", "rms_radial_m", "peak_dy_m", "peak_dz_m"]
+    labels = dict(_LABELS)
+    for r, column in list(zip(capture_radii_m, _capture_columns(table)))[:2]:
+        panels.append(column)
+        labels[column] = f"time fraction within {r:g} m [-]"
+    if any(c != "none" for c in controllers) or len(panels) < 6:
+        panels = panels[:5] + ["peak_u_n"]  # without a controller the force is zero: not worth a panel
+    fig, axes = new_figure(2, 3, size=(11.0, 6.0))
+    for ax, col in zip(axes.flat, panels):
+        data = [_completed_values(table, c, col) for c in controllers]
+        allx = np.concatenate(data) if data else np.empty(0)
+        bins = np.histogram_bin_edges(allx, bins="auto") if allx.size else 10
+        for c, x in zip(controllers, data):
+            ax.hist(x, bins=bins, alpha=0.6 if len(controllers) > 1 else 0.9, label=f"controller {c}")
+        ax.set_xlabel(labels[col])
+        ax.set_ylabel("runs [-]")
+    axes.flat[0].legend(loc="upper right", fontsize="small")
+    seeds = table["run"].nunique()
+    fig.suptitle(f"Monte Carlo campaign: {seeds} turbulence seeds, controller " + " vs ".join(controllers))
+    return fig
+
+
+def plot_cdf(table, controllers: Sequence[str], capture_radii_m: Sequence[float]):
+    """Empirical CDFs of peak and RMS radial displacement of completed runs, capture radii marked.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The campaign's runs (module docstring).
+    controllers : sequence of str
+        Controllers to show, in legend order.
+    capture_radii_m : sequence of float
+        Capture radii [m], drawn as dashed lines.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, axes = new_figure(1, 2, size=(10.0, 4.0), sharey=True)
+    for ax, col in zip(axes, ("peak_radial_m", "rms_radial_m")):
+        for c in controllers:
+            x = np.sort(_completed_values(table, c, col))
+            if x.size:
+                fraction = np.arange(0, x.size + 1) / x.size
+                ax.step(np.r_[x[0], x], fraction, where="post", label=f"controller {c}")
+        for r in capture_radii_m:
+            ax.axvline(r, color="0.4", linestyle="--", linewidth=0.8)
+        ax.set_xlabel(_LABELS[col])
+    fig.suptitle("Empirical CDF over runs; dashed: capture radii " + ", ".join(f"{r:g} m" for r in capture_radii_m))
+    axes[0].set_ylabel("fraction of runs [-]")
+    axes[0].legend(loc="lower right", fontsize="small")
+    return fig

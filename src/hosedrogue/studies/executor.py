@@ -1,0 +1,210 @@
+"""Where a campaign's runs execute: a dask cluster (local or remote) or this process.
+
+Work is submitted lazily with a bound on the tasks in flight (:func:`execute_dask`), so a campaign
+of any length needs the memory of a few dozen runs: each task returns one small result, passed to
+``on_result`` at once and forgotten.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from typing import Callable, Iterator
+
+from ..errors import ParameterError
+
+#: The scheduler value that runs every simulation in this process, without dask.
+SYNCHRONOUS = "synchronous"
+
+#: Tasks in flight per worker thread: enough to keep workers busy while the client writes results.
+IN_FLIGHT_PER_WORKER = 4
+
+
+def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_result: Callable) -> int:
+    """Run ``fn(task)`` for every task on a dask client, at most ``max_in_flight`` at a time, calling
+    ``on_result(result)`` in completion order.
+
+    On any error (including KeyboardInterrupt) the outstanding tasks are cancelled and the error
+    propagates; results already passed to ``on_result`` stay.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        Where the tasks run.
+    tasks : iterator
+        The tasks, consumed lazily.
+    fn : callable
+        ``fn(task) -> result``, picklable.
+    max_in_flight : int
+        Largest number of submitted, unfinished tasks.
+    on_result : callable
+        Called with each result in this process.
+
+    Returns
+    -------
+    int
+        The largest number of tasks that were in flight at once.
+    """
+    from distributed import as_completed
+
+    pending = iter(tasks)
+    outstanding: set = set()
+    queue = as_completed()
+    peak = 0
+
+    def submit_next() -> None:
+        nonlocal peak
+        task = next(pending, None)
+        if task is not None:
+            future = client.submit(fn, task, pure=False)
+            outstanding.add(future)
+            queue.add(future)
+            peak = max(peak, len(outstanding))
+
+    for _ in range(max_in_flight):
+        submit_next()
+    try:
+        for future in queue:
+            outstanding.discard(future)
+            result = future.result()
+            future.release()
+            on_result(result)
+            submit_next()
+    except BaseException:
+        client.cancel(list(outstanding))
+        raise
+    return peak
+
+
+def execute_synchronous(tasks: Iterator, fn: Callable, on_result: Callable) -> None:
+    """Run ``fn(task)`` for every task in this process, calling ``on_result(result)`` in order.
+
+    Parameters
+    ----------
+    tasks : iterator
+        The tasks.
+    fn : callable
+        ``fn(task) -> result``.
+    on_result : callable
+        Called with each result.
+    """
+    for task in tasks:
+        on_result(fn(task))
+
+
+def dask_available() -> bool:
+    """Whether dask.distributed can be imported."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+#: No dashboard, and the scheduler's HTTP endpoints on a free port (by default they take 8787, and a
+#: second cluster on the machine would warn).
+_NO_DASHBOARD = {"dashboard_address": None, "scheduler_kwargs": {"dashboard": False, "dashboard_address": ":0"}}
+
+#: Environment of LocalCluster worker processes (set in the child only, before it imports numba): one
+#: thread per process and no thread pools inside it, since the model's kernels are serial.
+WORKER_ENVIRON = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+                  "OPENBLAS_NUM_THREADS": "1"}
+
+#: How long to try to reach a --scheduler address.
+CONNECT_TIMEOUT_S = 10.0
+
+
+def local_cluster(workers: int):
+    """A LocalCluster of single-threaded worker processes (environment :data:`WORKER_ENVIRON`).
+
+    Parameters
+    ----------
+    workers : int
+        Number of worker processes, >= 1.
+
+    Returns
+    -------
+    (distributed.LocalCluster, distributed.Client)
+        The cluster and a client of it; the caller closes both.
+    """
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                           silence_logs=logging.ERROR, env=dict(WORKER_ENVIRON), **_NO_DASHBOARD)
+    return cluster, Client(cluster)
+
+
+def connect(scheduler: str):
+    """A client of a running dask scheduler.
+
+    Parameters
+    ----------
+    scheduler : str
+        Its address, e.g. ``tcp://host:8786``; waits at most :data:`CONNECT_TIMEOUT_S` [s].
+
+    Returns
+    -------
+    distributed.Client
+        ParameterError when the scheduler cannot be reached.
+    """
+    from distributed import Client
+
+    try:
+        return Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise ParameterError(f"--scheduler = {scheduler!r}: cannot connect ({exc})") from None
+
+
+def total_threads(client) -> int:
+    """Worker threads of a dask client's cluster.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The client.
+
+    Returns
+    -------
+    int
+        Total threads over the workers, at least 1.
+    """
+    return max(1, sum(client.nthreads().values()))
+
+
+@contextlib.contextmanager
+def dask_client(client, workers: int | None, scheduler: str | None, needed: bool):
+    """Context manager giving the dask client to run on.
+
+    Parameters
+    ----------
+    client : distributed.Client or None
+        A client to use as is (not closed here).
+    workers : int, optional
+        Worker processes of a new LocalCluster (default ``min(2, os.cpu_count())``).
+    scheduler : str, optional
+        Address of a running scheduler to connect to instead.
+    needed : bool
+        False: yield None (nothing to run on dask).
+
+    Yields
+    ------
+    distributed.Client or None
+        ``client``; else a new client (closed, with its cluster, on exit); None when not needed.
+    """
+    if not needed or client is not None:
+        yield client
+        return
+    if scheduler is not None:
+        owned = [connect(scheduler)]
+    else:
+        cluster, new_client = local_cluster(workers or min(2, os.cpu_count() or 1))
+        owned = [new_client, cluster]
+    try:
+        yield owned[0]
+    finally:
+        for thing in owned:
+            thing.close()
+
+

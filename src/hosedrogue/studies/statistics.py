@@ -1,0 +1,168 @@
+"""Statistics over a campaign's runs: ``summary.json``, ``summary.csv`` and the figures.
+
+Per controller and statistic: mean, standard deviation, 95 % confidence interval of the mean
+(Student t), median, 5th and 95th percentiles, count; and the fraction of runs that completed.
+Statistics are over completed runs only (a run that stopped early has no displacement record for
+the rest of its window); ``count`` says how many. Rows are sorted by controller order and run
+index first, so the statistics do not depend on the order in which runs finished.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..metrics import statistic_units
+from ..plotting.campaign import plot_cdf, plot_histograms
+from ..plotting.figures import save_figure
+from .store import csv_line, read_runs, read_settings, run_columns, write_atomic
+
+
+@dataclass(frozen=True)
+class CampaignSummary:
+    """What a campaign produced.
+
+    ``statistics[controller][column]`` holds ``mean``, ``std``, ``ci95_mean`` (low, high),
+    ``median``, ``p05``, ``p95``, ``count`` and ``unit`` (None where undefined, e.g. the standard
+    deviation of one run); ``completed_fraction[controller]`` the fraction of runs that completed.
+    """
+
+    out_dir: Path  #: the campaign folder
+    settings: dict  #: content of campaign.json
+    runs: Any  #: pandas.DataFrame of runs.csv sorted by (controller, run)
+    statistics: dict  #: controller -> column -> statistics (see above), in the column's unit
+    completed_fraction: dict  #: controller -> fraction of its runs that completed [-]
+    files: tuple  #: the files written (summary.json, summary.csv, figures)
+    new_runs: int  #: runs executed by this call (the rest were resumed from runs.csv)
+
+    def to_dict(self) -> dict:
+        """The content of summary.json."""
+        return {
+            "campaign": self.settings,
+            "controllers": {
+                c: {
+                    "runs": int((self.runs["controller"] == c).sum()),
+                    "completed_fraction": self.completed_fraction[c],
+                    "statistics": self.statistics[c],
+                }
+                for c in self.settings["controllers"]
+            },
+        }
+
+
+def describe(values: np.ndarray, confidence: float = 0.95) -> dict:
+    """Mean, sample standard deviation, Student-t confidence interval of the mean, median, 5th and
+    95th percentiles and count of the finite values (None where undefined).
+
+    Parameters
+    ----------
+    values : array
+        Sample, in any unit; non-finite values are ignored.
+    confidence : float
+        Confidence level of the interval [-].
+
+    Returns
+    -------
+    dict
+        ``count``, ``mean``, ``std``, ``ci95_mean`` ([low, high]), ``median``, ``p05``, ``p95``,
+        in the unit of ``values``.
+    """
+    from scipy import stats
+
+    x = np.asarray(values, dtype=np.float64)
+    x = x[np.isfinite(x)]
+    n = int(x.size)
+    out: dict[str, Any] = {"count": n, "mean": None, "std": None, "ci95_mean": [None, None],
+                           "median": None, "p05": None, "p95": None}
+    if n == 0:
+        return out
+    mean = float(np.mean(x))
+    out.update(mean=mean, median=float(np.median(x)), p05=float(np.percentile(x, 5)),
+               p95=float(np.percentile(x, 95)))
+    if n >= 2:
+        std = float(np.std(x, ddof=1))
+        half = float(stats.t.ppf(0.5 + confidence / 2, n - 1)) * std / math.sqrt(n)
+        out.update(std=std, ci95_mean=[mean - half, mean + half])
+    return out
+
+
+def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_runs: int = 0,
+                       plots: bool = True) -> CampaignSummary:
+    """Compute the statistics from ``out_dir/runs.csv`` and write summary.json, summary.csv and the
+    figures (histograms.png, cdf.png).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        The campaign folder.
+    settings : dict, optional
+        The campaign's settings (default: read campaign.json).
+    new_runs : int
+        Runs executed by the calling campaign (recorded in the summary).
+    plots : bool
+        Also write the figures.
+
+    Returns
+    -------
+    CampaignSummary
+    """
+    import pandas as pd
+
+    out = Path(out_dir)
+    settings = settings if settings is not None else read_settings(out)
+    if settings is None:
+        raise ParameterError(f"--out = {str(out)!r}: no campaign.json; not a campaign folder")
+    radii = settings["capture_radii_m"]
+    controllers = settings["controllers"]
+    units = statistic_units(radii)
+    rows = read_runs(out / "runs.csv", radii)
+    order = {c: k for k, c in enumerate(controllers)}
+    rows.sort(key=lambda r: (order.get(r["controller"], len(order)), r["run"]))
+    rows = _first_row_per_run(rows)
+    table = pd.DataFrame(rows, columns=run_columns(radii))
+
+    statistics, completed = {}, {}
+    csv_rows = []
+    for c in controllers:
+        sub = table[table["controller"] == c]
+        ok = sub[sub["completed"].astype(bool)]
+        completed[c] = float(len(ok) / len(sub)) if len(sub) else None
+        statistics[c] = {}
+        for col, unit in units.items():
+            d = {"unit": unit, **describe(ok[col].to_numpy(dtype=np.float64))}
+            statistics[c][col] = d
+            csv_rows.append({"controller": c, "statistic": col, "unit": unit, "count": d["count"],
+                             "mean": d["mean"], "std": d["std"], "ci95_low": d["ci95_mean"][0],
+                             "ci95_high": d["ci95_mean"][1], "median": d["median"], "p05": d["p05"],
+                             "p95": d["p95"], "completed_fraction": completed[c]})
+    files = []
+    summary = CampaignSummary(out, settings, table, statistics, completed, (), new_runs)
+    write_atomic(out / "summary.json", json.dumps(summary.to_dict(), indent=2) + "\n")
+    files.append(out / "summary.json")
+    columns = list(csv_rows[0]) if csv_rows else []
+    text = csv_line(columns) + "".join(
+        csv_line("" if r[k] is None else r[k] for k in columns) for r in csv_rows)
+    write_atomic(out / "summary.csv", text)
+    files.append(out / "summary.csv")
+    if plots and len(table):
+        files.append(save_figure(plot_histograms(table, controllers, radii), out / "histograms.png"))
+        files.append(save_figure(plot_cdf(table, controllers, radii), out / "cdf.png"))
+    return dataclasses.replace(summary, files=tuple(files))
+
+
+def _first_row_per_run(rows: list[dict]) -> list[dict]:
+    """Drop repeated (run, controller) rows, which only copying files by hand could create."""
+    seen, unique = set(), []
+    for r in rows:
+        key = (r["run"], r["controller"])
+        if key not in seen:
+            seen.add(key)
+            unique.append(r)
+    return unique

@@ -1,0 +1,332 @@
+"""A campaign's files: ``campaign.json`` (the settings) and ``runs.csv`` (one row per finished run).
+
+``runs.csv`` is appended one flushed line per finished run (:class:`AppendLog`), under an
+exclusive lock against a second writer, so an interrupted campaign loses at most the runs in
+flight and at most one partial last line, which reopening drops; :func:`read_runs` reads the rows
+back, :func:`todo` lists what a resumed campaign still has to run. Summary files are replaced
+atomically (:func:`write_atomic`). Floats are written as the shortest string that reads back to
+the same double.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import io
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+from ..version import __version__
+from ..errors import ParameterError
+from ..metrics import DEFAULT_CAPTURE_RADII_M, statistic_units
+from .seeds import SEED_RULE
+
+#: Format tag of campaign.json.
+FORMAT = "hosedrogue-montecarlo/1"
+
+#: Settings that must agree when a campaign is resumed (see campaign.json).
+COMPARED_SETTINGS = ("scenario", "runs", "seed", "capture_radii_m", "compare_controller",
+                     "controllers", "duration_s")
+
+_KEY_COLUMNS = ("run", "controller", "seed", "completed", "t_end_s")
+
+
+def run_columns(capture_radii_m: Sequence[float]) -> list[str]:
+    """The columns of ``runs.csv``.
+
+    Parameters
+    ----------
+    capture_radii_m : sequence of float
+        Capture radii [m].
+
+    Returns
+    -------
+    list of str
+        Run index, controller, seed, completed, stop time [s], the statistics of
+        :func:`hosedrogue.metrics.statistic_units`, message.
+    """
+    return [*_KEY_COLUMNS, *statistic_units(capture_radii_m), "message"]
+
+
+# --- campaign.json -------------------------------------------------------------------------------
+def _json_normal(value: Any) -> Any:
+    """The value as it reads back from JSON (tuples become lists), for comparisons."""
+    return json.loads(json.dumps(value))
+
+
+def _scenario_content(scenario) -> dict:
+    """Everything that determines the runs (the file path and description do not)."""
+    data = dataclasses.asdict(scenario)
+    for key in ("source", "description"):
+        data.pop(key, None)
+    return _json_normal(data)
+
+
+def _first_difference(a: Any, b: Any, path: str) -> str | None:
+    if isinstance(a, dict) and isinstance(b, dict):
+        for key in sorted(set(a) | set(b)):
+            found = _first_difference(a.get(key), b.get(key), f"{path}.{key}")
+            if found:
+                return found
+        return None
+    return None if a == b else path
+
+
+def make_settings(scenario, runs: int, seed: int, radii: Sequence[float], compare_controller: bool,
+                  controllers: Sequence[str], window: tuple[float, float]) -> dict:
+    """The content of campaign.json, as it reads back from JSON.
+
+    Parameters
+    ----------
+    scenario : hosedrogue.scenarios.Scenario
+        The scenario with the campaign's duration.
+    runs : int
+        Number of runs (seeds).
+    seed : int
+        Campaign seed.
+    radii : sequence of float
+        Capture radii [m].
+    compare_controller : bool
+        Whether every seed also runs without a controller.
+    controllers : sequence of str
+        Controllers run for every seed.
+    window : (float, float)
+        Statistics window [s]; the end may be inf (written as null).
+
+    Returns
+    -------
+    dict
+    """
+    return _json_normal({
+        "format": FORMAT,
+        "scenario_name": scenario.name,
+        "scenario_source": scenario.source,
+        "scenario": _scenario_content(scenario),
+        "runs": runs,
+        "seed": seed,
+        "seed_rule": SEED_RULE,
+        "capture_radii_m": list(radii),
+        "compare_controller": compare_controller,
+        "controllers": list(controllers),
+        "duration_s": scenario.duration_s,
+        "statistics_window_s": [window[0], None if math.isinf(window[1]) else window[1]],
+        "hosedrogue_version": __version__,
+    })
+
+
+def check_same_settings(out: Path, old: dict, new: dict) -> None:
+    """Raise ParameterError when ``old`` and ``new`` settings differ in :data:`COMPARED_SETTINGS`.
+
+    Parameters
+    ----------
+    out : Path
+        The campaign folder (for the message).
+    old, new : dict
+        Settings read from campaign.json and those of this call (:func:`make_settings`).
+    """
+    for key in COMPARED_SETTINGS:
+        where = _first_difference(old.get(key), new.get(key), key)
+        if where:
+            raise ParameterError(
+                f"--out = {str(out)!r}: holds a campaign with different settings ({where} differs; "
+                f"see {out / 'campaign.json'}); use another --out or the same settings to resume"
+            )
+
+
+def read_settings(out: Path) -> dict | None:
+    """The settings in ``out/campaign.json``, or None when there is none.
+
+    Parameters
+    ----------
+    out : Path
+        The campaign folder.
+
+    Returns
+    -------
+    dict or None
+    """
+    path = out / "campaign.json"
+    if not path.exists():
+        if (out / "runs.csv").exists():
+            raise ParameterError(f"--out = {str(out)!r}: holds runs.csv but no campaign.json; use another --out")
+        return None
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError) as exc:
+        raise ParameterError(f"--out = {str(out)!r}: campaign.json is not readable JSON ({exc})") from None
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Replace ``path`` by ``text`` atomically (write a temporary file, then rename).
+
+    Parameters
+    ----------
+    path : Path
+        File to write.
+    text : str
+        Its new content.
+    """
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+# --- runs.csv ------------------------------------------------------------------------------------
+def _format_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float):
+        return repr(v)  # shortest string that reads back to the same double
+    return str(v).replace("\n", " ").replace("\r", " ")
+
+
+def csv_line(values: Iterable[Any]) -> str:
+    """One CSV line (with newline) of ``values``: booleans as true/false, floats as ``repr``.
+
+    Parameters
+    ----------
+    values : iterable
+        The fields.
+
+    Returns
+    -------
+    str
+    """
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow([_format_value(v) for v in values])
+    return buf.getvalue()
+
+
+def _drop_partial_line(path: Path) -> int:
+    """Cut a last line without newline (a write interrupted by a kill); return bytes dropped."""
+    if not path.exists():
+        return 0
+    data = path.read_bytes()
+    if not data or data.endswith(b"\n"):
+        return 0
+    keep = data.rfind(b"\n") + 1
+    with path.open("r+b") as fh:
+        fh.truncate(keep)
+    return len(data) - keep
+
+
+def _parse_value(column: str, text: str) -> Any:
+    if column in ("run", "seed"):
+        return int(text)
+    if column == "completed":
+        if text not in ("true", "false"):
+            raise ValueError(f"completed = {text!r}")
+        return text == "true"
+    if column in ("controller", "message"):
+        return text
+    return float(text)
+
+
+def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTURE_RADII_M) -> list[dict]:
+    """Rows of a ``runs.csv`` as typed dicts, in file order; a partial last line is ignored.
+
+    Parameters
+    ----------
+    path : str or Path
+        The runs.csv file (missing: no rows).
+    capture_radii_m : sequence of float
+        The campaign's capture radii [m] (they name columns).
+
+    Returns
+    -------
+    list of dict
+        Column -> value (int, bool, str or float).
+    """
+    path = Path(path)
+    columns = run_columns(capture_radii_m)
+    data = path.read_text() if path.exists() else ""
+    if data and not data.endswith("\n"):
+        data = data[: data.rfind("\n") + 1]
+    lines = list(csv.reader(io.StringIO(data)))
+    if not lines:
+        return []
+    if lines[0] != columns:
+        raise ParameterError(f"{path}: header {lines[0]!r} does not match the campaign's columns {columns!r}")
+    rows = []
+    for number, fields in enumerate(lines[1:], start=2):
+        try:
+            if len(fields) != len(columns):
+                raise ValueError(f"{len(fields)} fields, expected {len(columns)}")
+            rows.append({c: _parse_value(c, f) for c, f in zip(columns, fields)})
+        except ValueError as exc:
+            raise ParameterError(f"{path}, line {number}: not a valid run row ({exc})") from None
+    return rows
+
+
+class AppendLog:
+    """A CSV file appended one flushed line at a time, header once, locked against a second writer.
+
+    Opening drops a partial last line (a write interrupted by a kill).
+
+    Parameters
+    ----------
+    path : Path
+        The CSV file (created if missing).
+    columns : sequence of str
+        Its columns; :meth:`append` writes a row's values in this order.
+    lock : bool
+        Take an exclusive lock (ParameterError if another process holds it).
+    """
+
+    def __init__(self, path: Path, columns: Sequence[str], lock: bool = False):
+        self.columns = list(columns)
+        self.fh = path.open("a", newline="")
+        if lock:
+            _lock_or_fail(self.fh, path)
+        _drop_partial_line(path)  # O_APPEND: the next write goes to the new end
+        if path.stat().st_size == 0:
+            self._write(self.columns)
+
+    def _write(self, values: Iterable[Any]) -> None:
+        self.fh.write(csv_line(values))  # one write of a whole line: a kill leaves a partial line at most
+        self.fh.flush()
+
+    def append(self, row: dict) -> None:
+        """Write one row (column -> value) and flush."""
+        self._write(row[c] for c in self.columns)
+
+    def close(self) -> None:
+        """Close the file (and release the lock)."""
+        self.fh.close()
+
+
+def _lock_or_fail(fh, path: Path) -> None:
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX: no protection against two writers
+        return
+    try:
+        fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        fh.close()
+        raise ParameterError(f"--out = {str(path.parent)!r}: another campaign is writing to it") from None
+
+
+def todo(done_rows: list[dict], runs: int, controllers: Sequence[str]) -> list[tuple[int, str]]:
+    """The (run index, controller) pairs without a row yet, in run order.
+
+    Parameters
+    ----------
+    done_rows : list of dict
+        Rows already in runs.csv.
+    runs : int
+        Number of runs of the campaign.
+    controllers : sequence of str
+        Controllers run for every seed.
+
+    Returns
+    -------
+    list of (int, str)
+    """
+    done = {(r["run"], r["controller"]) for r in done_rows}
+    return [(i, c) for i in range(runs) for c in controllers if (i, c) not in done]
+
+
