@@ -145,6 +145,15 @@ class Hose(_Section):
     bending: str = field(default="paper", metadata=_choice("paper", "moment", "off"))
     normal_drag_coefficient: float = field(default=0.28, metadata=_num(0.0, lo_open=False))
     tangential_drag_coefficient: float = field(default=0.001, metadata=_num(0.0, lo_open=False))
+    #: Link drag along the link: "midpoint" (the paper: one evaluation at the link's midpoint,
+    #: blind to a link turning about its midpoint) or "gauss2" (two-point Gauss quadrature of the
+    #: distributed drag; docs/model.md, docs/long-runs.md).
+    drag_quadrature: str = field(default="midpoint", metadata=_choice("midpoint", "gauss2"))
+    #: Structural (Kelvin-Voigt) bending damping of the hose wall [N m^2 s]: bending moment
+    #: c_b dkappa/dt, lumped at each inner joint as c_b / lbar (omega_k+1 - omega_k) on link k and
+    #: the opposite on link k+1 (0 in the paper's case; the ``converged`` preset's value,
+    #: eta E I / omega_ref, is derived in docs/long-runs.md).
+    bending_damping_n_m2_s: float = field(default=0.0, metadata=_num(0.0, 1e6, lo_open=False, unit="N m^2 s"))
 
     def _check_consistency(self) -> None:
         if self.inner_diameter_m >= self.outer_diameter_m:
