@@ -1,6 +1,8 @@
 """Scenario files: a TOML file with a ``[scenario]`` table (run settings), optional
 ``[controller]``, ``[actuator]`` and ``[sensor]`` tables, and any parameter sections of
 :mod:`hosedrogue.params` (``[flight]``, ``[turbulence]``, ...) overriding the paper's case.
+``[model] preset = "converged"`` starts from a shipped model preset (:mod:`hosedrogue.config`)
+instead; the file's parameter sections then override the preset.
 
 Scenarios shipped with the package are found by name (``paper-turbulence``) or file name
 (``scenarios/paper-turbulence.toml``); any other path is read from disk.
@@ -121,7 +123,7 @@ def resolve(name_or_path: str) -> tuple[str, dict]:
 def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     """Load and validate a scenario file (see the module docstring)."""
     source, data = resolve(name_or_path)
-    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor"}
+    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor", "model"}
     for key in data:
         if key not in known:
             raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(known))}")
@@ -159,6 +161,19 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
 
     Actuator(**actuator)
     Sensor(**sensor)
+    model = data.get("model", {})
+    if not isinstance(model, dict):
+        raise ParameterError(f"model = {model!r}: must be a table with the field preset")
+    for key in model:
+        if key != "preset":
+            raise ParameterError(f"model.{key}: unknown field; allowed: preset")
+    if "preset" in model:
+        from ..config import load_preset, preset_names
+
+        if model["preset"] not in preset_names():
+            raise ParameterError(
+                f"model.preset = {model['preset']!r}: must be one of {', '.join(map(repr, preset_names()))}")
+        base = load_preset(model["preset"], base=base)
     params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=base)
     return Scenario(
         name=str(sc.get("name", Path(source).stem)),
