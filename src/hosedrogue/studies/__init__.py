@@ -1,0 +1,1 @@
+"""Studies: library functions that produce the data of a report section (no files, no figures)."""
