@@ -189,7 +189,7 @@ def test_yaw_limit_message_names_the_remedy():
     n = p.hose.links
     m = HoseModel(p)
     x0 = np.zeros(4 * n)
-    x0[0::2][:n] = 0.3
+    x0[0 : 2 * n : 2] = 0.3
     x0[1 : 2 * n : 2] = math.radians(0.5)
     x0[2 * n + 1 :: 2] = 1.0  # yaw rates carry the links past 1 deg at once
     res = simulate(p, 1.0, x0=x0, model=m, equilibrium=_dummy_equilibrium(m, x0))
