@@ -252,8 +252,8 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     # joint: the moment (c_b / lbar) (w_k+1 - w_k) on link k and the opposite on link k+1, w the
     # links' angular velocities perpendicular to their axes (e x de/dt). Each link is a line
     # without axial inertia or torsion, so only the part of a moment perpendicular to its axis
-    # acts on it (the partial angular velocities [0,1,0], [s1,0,c1] have an axial part -s2 e:
-    # the frames' twist, which is no motion of the line). It dissipates
+    # acts on it (the partial angular velocity [0,1,0] has an axial part -s2 e: the frame's
+    # twist, which is no motion of the line). It dissipates
     # sum (c_b / lbar) |w_k+1 - w_k|^2.
     cb = ps[PS_BEND_DAMP]
     if cb > 0.0:
