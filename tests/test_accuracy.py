@@ -93,7 +93,7 @@ def _converged_preset():
     change) as Params, or None while it is missing."""
     from importlib.resources import files
 
-    from hosedrogue.params import load_params
+    from hosedrogue.config import load_params
 
     path = files("hosedrogue").joinpath("presets", "converged.toml")
     if not path.is_file():

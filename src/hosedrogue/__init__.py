@@ -10,9 +10,10 @@ Quick start::
 """
 
 from .version import __version__
-from .params import PAPER, Params, ParameterError, load_params  # noqa: E402
+from .config import load_params, resolve_config
+from .params import PAPER, Params, ParameterError
 
-__all__ = ["PAPER", "Params", "ParameterError", "load_params", "solve_equilibrium", "simulate", "__version__"]
+__all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "solve_equilibrium", "simulate", "__version__"]
 
 
 def __getattr__(name):

@@ -12,9 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Mapping
 
 from .constants import H_MAX_ATMOSPHERE
@@ -147,6 +145,15 @@ class Hose(_Section):
     mass_lumping: str = field(default="aft", metadata=_choice("aft", "split"))
     normal_drag_coefficient: float = field(default=0.28, metadata=_num(0.0, lo_open=False))
     tangential_drag_coefficient: float = field(default=0.001, metadata=_num(0.0, lo_open=False))
+    #: Link drag along the link: "midpoint" (the paper: one evaluation at the link's midpoint,
+    #: blind to a link turning about its midpoint) or "gauss2" (two-point Gauss quadrature of the
+    #: distributed drag; docs/model.md, docs/long-runs.md).
+    drag_quadrature: str = field(default="midpoint", metadata=_choice("midpoint", "gauss2"))
+    #: Structural (Kelvin-Voigt) bending damping of the hose wall [N m^2 s]: bending moment
+    #: c_b dkappa/dt, lumped at each inner joint as c_b / lbar (omega_k+1 - omega_k) on link k and
+    #: the opposite on link k+1 (0 in the paper's case; the ``converged`` preset's value,
+    #: eta E I / omega_ref, is derived in docs/long-runs.md).
+    bending_damping_n_m2_s: float = field(default=0.0, metadata=_num(0.0, 1e6, lo_open=False, unit="N m^2 s"))
 
     def _check_consistency(self) -> None:
         if self.inner_diameter_m >= self.outer_diameter_m:
@@ -338,30 +345,6 @@ def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
     return Params(**sections)
 
 
-def read_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file, turning I/O and syntax problems into :class:`ParameterError`."""
-    p = Path(path)
-    try:
-        with p.open("rb") as fh:
-            return tomllib.load(fh)
-    except FileNotFoundError:
-        raise ParameterError(f"config file {str(p)!r}: not found") from None
-    except IsADirectoryError:
-        raise ParameterError(f"config file {str(p)!r}: is a directory, expected a TOML file") from None
-    except PermissionError:
-        raise ParameterError(f"config file {str(p)!r}: not readable (permission denied)") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"config file {str(p)!r}: not valid TOML ({exc})") from None
-    except UnicodeDecodeError:
-        raise ParameterError(f"config file {str(p)!r}: not valid UTF-8 TOML") from None
-
-
-def load_params(path: str | Path, base: Params = PAPER) -> Params:
-    """Parameters from a TOML file of ``[section]`` tables overriding ``base``."""
-    return params_from_dict(read_toml(path), base=base)
-
-
-# --- control hardware: actuator and sensor --------------------------------------------------------
 @dataclass(frozen=True)
 class Actuator:
     """Limits on the control force applied to the drogue.

@@ -8,7 +8,8 @@ import math
 from pathlib import Path
 
 from ..errors import ParameterError
-from ..params import PAPER, Params, load_params
+from ..config import resolve_config
+from ..params import PAPER, Params
 
 #: Exit status of bad input (one line on stderr, nothing written).
 EXIT_BAD_INPUT = 2
@@ -63,7 +64,9 @@ def add_flight_options(sp: argparse.ArgumentParser, links: bool = True) -> None:
     if links:
         sp.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
                         help="number of rigid links of the hose [-], >= 1 (default 20)")
-    sp.add_argument("--config", metavar="FILE", help="TOML file of parameter overrides ([hose], [flight], ...)")
+    sp.add_argument("--config", metavar="PRESET|FILE",
+                    help="a shipped model preset (e.g. 'converged') or a TOML file of parameter overrides "
+                         "([hose], [flight], ...)")
     sp.add_argument("--no-wake", action="store_true", help="switch the tanker wake off (free stream only)")
 
 
@@ -83,7 +86,7 @@ def flight_overrides(args) -> dict:
 
 def params_from_args(args) -> Params:
     """The parameter set selected by --config and the flight options (the paper's case by default)."""
-    base = load_params(args.config) if getattr(args, "config", None) else PAPER
+    base = resolve_config(args.config) if getattr(args, "config", None) else PAPER
     over = flight_overrides(args)
     return base.replace(**over) if over else base
 

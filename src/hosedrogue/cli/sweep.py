@@ -22,7 +22,8 @@ def add_parser(sub) -> None:
                    help="airspeeds [m/s] (default 100 to 250 in steps of 10)")
     s.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
                    help="number of links [-] (default 20)")
-    s.add_argument("--config", metavar="FILE", help="TOML file of parameter overrides")
+    s.add_argument("--config", metavar="PRESET|FILE",
+                   help="a shipped model preset (e.g. 'converged') or a TOML file of parameter overrides")
     s.add_argument("--no-wake", action="store_true", help="switch the tanker wake off")
     s.add_argument("--out", metavar="DIR", default="out/sweep", help="output folder (default out/sweep)")
     s.set_defaults(func=run)

@@ -22,7 +22,8 @@ reference the recursion is tested against.
 Layout of the scalar arrays (indices are the module constants below):
 
 ``ps`` (model): gravity, density, airspeed, outer diameter, c_t, c_n, drogue area x c_d, E I,
-bending mode (0 off, 1 paper, 2 moment), drogue inertia, mass lumped at the tow point.
+bending mode (0 off, 1 paper, 2 moment), drogue inertia, link drag quadrature (0 midpoint,
+1 two-point Gauss), structural bending damping c_b [N m^2 s], mass lumped at the tow point.
 ``env`` (air): airspeed, frozen flag, gust window on/off, gust record t0/dt, then the 6 wake
 scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag.
 """
@@ -45,12 +46,16 @@ from ..environment.wake import wake_velocity
 JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
 
 # ps layout
-PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD = range(10)
+(PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD, PS_DRAG_QUAD,
+ PS_BEND_DAMP) = range(12)
 #: mass lumped at the tow point (joint 0) [kg]: carried by the tanker, it never moves, so it
 #: enters only the tow-point force (its weight); nonzero for the ``split`` lumping
-PS_M_TOW = 10
-PS_SIZE = 11
+PS_M_TOW = 12
+PS_SIZE = 13
 BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
+DRAG_MIDPOINT, DRAG_GAUSS2 = 0, 1
+#: Two-point Gauss-Legendre abscissa on [0, 1] measured from the link's centre: 1/(2 sqrt 3).
+GAUSS2_OFFSET = 0.5 / math.sqrt(3.0)
 
 # env layout
 ENV_V, ENV_FROZEN, ENV_T_ON, ENV_T_OFF, ENV_G_T0, ENV_G_DT = range(6)
@@ -142,9 +147,43 @@ def kink(e, k):
 
 
 @njit(**JIT)
+def segment_drag(t, env, gust, q_ct, q_cn, lw, sf, sp, k, e, r, v):
+    """Drag [N] of the piece of link k of length lw [m] at the point sf r_k + sp r_k+1 (sf + sp
+    = 1), from the relative velocity there: tangential -q_ct lw v_t |v_t| n_k and normal
+    -q_cn lw |V_n| V_n, with q_c = rho pi d_o c / 2 and n_k = -e_k."""
+    px = sf * r[k, 0] + sp * r[k + 1, 0]
+    py = sf * r[k, 1] + sp * r[k + 1, 1]
+    pz = sf * r[k, 2] + sp * r[k + 1, 2]
+    wx, wy, wz = air_velocity(px, py, pz, t, env, gust)
+    vtx = sf * v[k, 0] + sp * v[k + 1, 0] - wx
+    vty = sf * v[k, 1] + sp * v[k + 1, 1] - wy
+    vtz = sf * v[k, 2] + sp * v[k + 1, 2] - wz
+    # n_k = -e_k; tangential and normal parts of the relative velocity
+    vt = -(vtx * e[k, 0] + vty * e[k, 1] + vtz * e[k, 2])
+    vnx = vtx + vt * e[k, 0]
+    vny = vty + vt * e[k, 1]
+    vnz = vtz + vt * e[k, 2]
+    vn = math.sqrt(vnx * vnx + vny * vny + vnz * vnz)
+    ft = -q_ct * lw * vt * abs(vt)  # along n_k = -e_k
+    fn = -q_cn * lw * vn
+    return -ft * e[k, 0] + fn * vnx, -ft * e[k, 1] + fn * vny, -ft * e[k, 2] + fn * vnz
+
+
+@njit(**JIT)
+def link_omega(k, l, e, v):
+    """Angular velocity of link k [rad/s] from its end velocities: omega_k = e_k x de_k/dt with
+    de_k/dt = (V_k+1 - V_k) / l_k (omega_k is perpendicular to e_k, MODEL.md 1)."""
+    dx = (v[k + 1, 0] - v[k, 0]) / l[k]
+    dy = (v[k + 1, 1] - v[k, 1]) / l[k]
+    dz = (v[k + 1, 2] - v[k, 2]) / l[k]
+    return (e[k, 1] * dz - e[k, 2] * dy, e[k, 2] * dx - e[k, 0] * dz, e[k, 0] * dy - e[k, 1] * dx)
+
+
+@njit(**JIT)
 def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
-    link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending."""
+    link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
+    structural bending damping."""
     g = ps[PS_G]
     rho = ps[PS_RHO]
     for k in range(n + 1):
@@ -157,31 +196,26 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     if rho > 0.0:
         q_ct = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CT]
         q_cn = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CN]
+        # quadrature along each link: points s (0 fore joint, 1 aft joint) and weights w; a
+        # point load at s goes (1 - s) to the fore joint and s to the aft joint, which is exactly
+        # what that load's partial velocities give (the point moves as (1 - s) V_k + s V_k+1)
+        if ps[PS_DRAG_QUAD] == DRAG_GAUSS2:
+            npts = 2
+            s0, s1, w = 0.5 - GAUSS2_OFFSET, 0.5 + GAUSS2_OFFSET, 0.5
+        else:
+            npts = 1
+            s0, s1, w = 0.5, 0.5, 1.0
         for k in range(n):
-            mx = 0.5 * (r[k, 0] + r[k + 1, 0])
-            my = 0.5 * (r[k, 1] + r[k + 1, 1])
-            mz = 0.5 * (r[k, 2] + r[k + 1, 2])
-            wx, wy, wz = air_velocity(mx, my, mz, t, env, gust)
-            vtx = 0.5 * (v[k, 0] + v[k + 1, 0]) - wx
-            vty = 0.5 * (v[k, 1] + v[k + 1, 1]) - wy
-            vtz = 0.5 * (v[k, 2] + v[k + 1, 2]) - wz
-            # n_k = -e_k; tangential and normal parts of the relative velocity
-            vt = -(vtx * e[k, 0] + vty * e[k, 1] + vtz * e[k, 2])
-            vnx = vtx + vt * e[k, 0]
-            vny = vty + vt * e[k, 1]
-            vnz = vtz + vt * e[k, 2]
-            vn = math.sqrt(vnx * vnx + vny * vny + vnz * vnz)
-            ft = -q_ct * l[k] * vt * abs(vt)  # along n_k = -e_k
-            fn = -q_cn * l[k] * vn
-            dx = -ft * e[k, 0] + fn * vnx
-            dy = -ft * e[k, 1] + fn * vny
-            dz = -ft * e[k, 2] + fn * vnz
-            F[k, 0] += 0.5 * dx
-            F[k, 1] += 0.5 * dy
-            F[k, 2] += 0.5 * dz
-            F[k + 1, 0] += 0.5 * dx
-            F[k + 1, 1] += 0.5 * dy
-            F[k + 1, 2] += 0.5 * dz
+            for j in range(npts):
+                sp = s0 if j == 0 else s1
+                sf = 1.0 - sp
+                dx, dy, dz = segment_drag(t, env, gust, q_ct, q_cn, w * l[k], sf, sp, k, e, r, v)
+                F[k, 0] += sf * dx
+                F[k, 1] += sf * dy
+                F[k, 2] += sf * dz
+                F[k + 1, 0] += sp * dx
+                F[k + 1, 1] += sp * dy
+                F[k + 1, 2] += sp * dz
         wx, wy, wz = air_velocity(r[n, 0], r[n, 1], r[n, 2], t, env, gust)
         vrx = v[n, 0] - wx
         vry = v[n, 1] - wy
@@ -227,6 +261,32 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
                 Mom[k + 1, 0] -= scale * wx
                 Mom[k + 1, 1] -= scale * wy
                 Mom[k + 1, 2] -= scale * wz
+
+    # structural (Kelvin-Voigt) damping of the hose wall, c_b dkappa/dt lumped at every inner
+    # joint: the moment (c_b / lbar) (w_k+1 - w_k) on link k and the opposite on link k+1, w the
+    # links' angular velocities perpendicular to their axes (e x de/dt). Each link is a line
+    # without axial inertia or torsion, so only the part of a moment perpendicular to its axis
+    # acts on it (the partial angular velocity [0,1,0] has an axial part -s2 e: the frame's
+    # twist, which is no motion of the line). It dissipates
+    # sum (c_b / lbar) |w_k+1 - w_k|^2.
+    cb = ps[PS_BEND_DAMP]
+    if cb > 0.0:
+        ox, oy, oz = link_omega(0, l, e, v)
+        for k in range(n - 1):
+            px, py, pz = link_omega(k + 1, l, e, v)
+            cd = cb / (0.5 * (l[k] + l[k + 1]))
+            mx = cd * (px - ox)
+            my = cd * (py - oy)
+            mz = cd * (pz - oz)
+            ak = mx * e[k, 0] + my * e[k, 1] + mz * e[k, 2]
+            ak1 = mx * e[k + 1, 0] + my * e[k + 1, 1] + mz * e[k + 1, 2]
+            Mom[k, 0] += mx - ak * e[k, 0]
+            Mom[k, 1] += my - ak * e[k, 1]
+            Mom[k, 2] += mz - ak * e[k, 2]
+            Mom[k + 1, 0] -= mx - ak1 * e[k + 1, 0]
+            Mom[k + 1, 1] -= my - ak1 * e[k + 1, 1]
+            Mom[k + 1, 2] -= mz - ak1 * e[k + 1, 2]
+            ox, oy, oz = px, py, pz
 
 
 @njit(**JIT)

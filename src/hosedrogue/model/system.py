@@ -79,6 +79,8 @@ class HoseModel:
         ps[K.PS_EI] = hose.elastic_modulus_pa * inertia_area
         ps[K.PS_BENDING] = bending[hose.bending]
         ps[K.PS_JD] = drogue.inertia_kg_m2
+        ps[K.PS_DRAG_QUAD] = {"midpoint": K.DRAG_MIDPOINT, "gauss2": K.DRAG_GAUSS2}[hose.drag_quadrature]
+        ps[K.PS_BEND_DAMP] = hose.bending_damping_n_m2_s
         ps[K.PS_M_TOW] = self.M_tow
         self.ps = ps
         if gusts is None:

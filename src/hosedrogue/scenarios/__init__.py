@@ -1,6 +1,8 @@
 """Scenario files: a TOML file with a ``[scenario]`` table (run settings), optional
 ``[controller]``, ``[actuator]`` and ``[sensor]`` tables, and any parameter sections of
 :mod:`hosedrogue.params` (``[flight]``, ``[turbulence]``, ...) overriding the paper's case.
+``[model] preset = "converged"`` starts from a shipped model preset (:mod:`hosedrogue.config`)
+instead; the file's parameter sections then override the preset.
 
 Scenarios shipped with the package are found by name (``paper-turbulence``) or file name
 (``scenarios/paper-turbulence.toml``); any other path is read from disk.
@@ -14,7 +16,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from ..params import SECTIONS, PAPER, ParameterError, Params, params_from_dict, read_toml
+from ..config import read_toml
+from ..params import SECTIONS, PAPER, ParameterError, Params, params_from_dict
 
 SCENARIO_KEYS = {
     "name", "description", "duration_s", "initial", "initial_pitch_offset_deg",
@@ -135,7 +138,7 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     source, data = resolve(name_or_path)
     from ..engagement.spec import ENGAGEMENT_SECTIONS, validate_sections  # hook: non-core sections
 
-    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor"} | set(ENGAGEMENT_SECTIONS)
+    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor", "model"} | set(ENGAGEMENT_SECTIONS)
     for key in data:
         if key not in known:
             raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(known))}")
@@ -173,6 +176,19 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
 
     Actuator(**actuator)
     Sensor(**sensor)
+    model = data.get("model", {})
+    if not isinstance(model, dict):
+        raise ParameterError(f"model = {model!r}: must be a table with the field preset")
+    for key in model:
+        if key != "preset":
+            raise ParameterError(f"model.{key}: unknown field; allowed: preset")
+    if "preset" in model:
+        from ..config import load_preset, preset_names
+
+        if model["preset"] not in preset_names():
+            raise ParameterError(
+                f"model.preset = {model['preset']!r}: must be one of {', '.join(map(repr, preset_names()))}")
+        base = load_preset(model["preset"], base=base)
     params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=base)
     extra = validate_sections(data)
     return Scenario(

@@ -27,7 +27,7 @@ ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float
 
 _STATUS_TEXT = {
     K.NONFINITE: "the state became non-finite (numerical divergence)",
-    K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
+    K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular (likely the paper's almost undamped zigzag modes growing in turbulence; for long runs use the model preset: --config converged or [model] preset = \"converged\", docs/long-runs.md)",
     K.STEP_LIMIT: "the adaptive integrator could not meet its tolerance (step size limit)",
 }
 

@@ -5,5 +5,7 @@
   process) and :mod:`.statistics` (the summary over runs);
 * :mod:`.convergence` - integration step and link count convergence;
 * :mod:`.accuracy` - accuracy against the number of links for both mass lumpings, against the
-  continuum limit.
+  continuum limit;
+* :mod:`.long_runs` - time to blow-up of the paper's model, the least damped mode per model
+  option, and the stable model's hour-long run.
 """

@@ -1,0 +1,145 @@
+"""The "long runs" study (issue 15, docs/long-runs.md).
+
+The paper's model (midpoint drag, no structural damping) has zigzag modes of the link chain with
+damping ratios ~4e-5; turbulence feeds them until a link's yaw reaches the coordinate limit. This
+module measures that and shows the remedy:
+
+* time to blow-up of the paper's model against the standard turbulence intensities (light,
+  moderate, severe at the flight altitude), a few seeds each, capped at an hour;
+* the least damped mode (damping ratio, natural frequency) of the linearization for each model
+  option: the paper's, + Gauss drag, + structural damping, rod inertia, the ``converged`` preset;
+* an hour-long run of the ``converged`` model in severe turbulence (the shipped scenario
+  ``long-turbulence-severe``).
+
+:func:`long_runs_study` returns a :class:`LongRunStudy`; :mod:`hosedrogue.plotting.long_runs`
+draws it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+from ..analysis.linearize import linearize
+from ..simulation import simulate_batch
+from ..config import load_preset, preset_data
+from ..params import PAPER, ParameterError, Params
+from ..results import SimulationResult
+
+#: Standard intensities in the order of the study.
+INTENSITIES = ("light", "moderate", "severe")
+#: Turbulence seeds of the blow-up study (the paper's record's seed first).
+SEEDS = (2018, 2019, 2020)
+#: Runs are capped at an hour [s].
+CAP_S = 3600.0
+#: Turbulence is switched on at this time [s] and stays on to the end (the paper's start).
+TURBULENCE_START_S = 10.0
+#: The hour-long run of the stable model.
+HOUR_SCENARIO = "long-turbulence-severe"
+
+
+def model_options(base: Params = PAPER) -> dict[str, Params]:
+    """The model options compared: the paper's, each change alone, and the ``converged`` preset."""
+    damping = preset_data("converged")["hose"]["bending_damping_n_m2_s"]
+    return {
+        "paper": base,
+        "+gauss2 drag": base.replace(hose={"drag_quadrature": "gauss2"}),
+        "+structural damping": base.replace(hose={"bending_damping_n_m2_s": damping}),
+        "rod inertia": base.replace(hose={"link_inertia": "rod"}),
+        "converged": load_preset("converged", base=base),
+    }
+
+
+def least_damped_mode(params: Params) -> tuple[float, float]:
+    """(damping ratio, natural frequency [rad/s]) of the least damped oscillatory mode of the
+    linearization about the balance position (steady air, wake as configured)."""
+    poles = linearize(params).poles
+    poles = poles[poles.imag > 0.0]
+    zeta = -poles.real / np.abs(poles)
+    i = int(np.argmin(zeta))
+    return float(zeta[i]), float(np.abs(poles[i]))
+
+
+def mode_table(options: Mapping[str, Params]) -> pd.DataFrame:
+    """Least damped mode per model option: columns option, damping_ratio, natural_frequency_rad_s."""
+    rows = []
+    for name, params in options.items():
+        zeta, omega = least_damped_mode(params)
+        rows.append({"option": name, "damping_ratio": zeta, "natural_frequency_rad_s": omega})
+    return pd.DataFrame(rows)
+
+
+def turbulence_to_the_end(params: Params, intensity: str, duration_s: float) -> Params:
+    """``params`` with standard turbulence of ``intensity`` on from 10 s to the end of the run."""
+    return params.replace(turbulence={"enabled": True, "intensity": intensity, "start_s": TURBULENCE_START_S,
+                                      "duration_s": max(duration_s - TURBULENCE_START_S, 0.0)})
+
+
+def blowup_table(params: Params = PAPER, intensities: Sequence[str] = INTENSITIES,
+                 seeds: Sequence[int] = SEEDS, cap_s: float = CAP_S) -> pd.DataFrame:
+    """Time to blow-up (yaw limit or non-finite state) of open-loop runs in turbulence.
+
+    Columns: intensity, sigma_m_s, seed, completed, t_end_s (``cap_s`` when the run completed).
+    All seeds of one intensity run in one compiled call (:func:`hosedrogue.simulation.batch.simulate_batch`).
+    """
+    if not (isinstance(cap_s, (int, float)) and np.isfinite(cap_s) and cap_s > TURBULENCE_START_S):
+        raise ParameterError(f"cap_s = {cap_s!r}: must be a finite number > {TURBULENCE_START_S:g} s")
+    frames = []
+    for level in intensities:
+        p = turbulence_to_the_end(params, level, cap_s)
+        df = simulate_batch(p, seeds, cap_s)
+        frames.append(pd.DataFrame({
+            "intensity": level,
+            "sigma_m_s": p.turbulence.sigma_m_s[0],
+            "seed": df["seed"],
+            "completed": df["completed"],
+            "t_end_s": df["t_end_s"],
+        }))
+    return pd.concat(frames, ignore_index=True)
+
+
+def hour_run(duration_s: float | None = None) -> SimulationResult:
+    """The shipped scenario ``long-turbulence-severe`` (converged model, an hour of severe
+    turbulence); ``duration_s`` shortens it (turbulence still to the end)."""
+    from ..scenarios.runner import run_scenario
+    from ..scenarios import load_scenario
+
+    sc = load_scenario(HOUR_SCENARIO)
+    if duration_s is not None:
+        sc = sc.with_overrides(duration_s=duration_s)
+    return run_scenario(sc)
+
+
+@dataclass(frozen=True)
+class LongRunStudy:
+    """Data of the long-runs study (SI units)."""
+
+    #: Paper model, open loop: intensity, sigma_m_s, seed, completed, t_end_s.
+    blowup: pd.DataFrame
+    #: Least damped mode per model option: option, damping_ratio, natural_frequency_rad_s.
+    modes: pd.DataFrame
+    #: The converged model's run in severe turbulence.
+    hour: SimulationResult
+    #: Cap of the blow-up runs [s].
+    cap_s: float
+
+    @property
+    def damping_gain(self) -> float:
+        """Least damping ratio of the converged model over the paper's."""
+        z = self.modes.set_index("option")["damping_ratio"]
+        return float(z["converged"] / z["paper"])
+
+
+def long_runs_study(intensities: Sequence[str] = INTENSITIES, seeds: Sequence[int] = SEEDS,
+                    cap_s: float = CAP_S, hour_duration_s: float | None = None,
+                    base: Params = PAPER) -> LongRunStudy:
+    """Run the whole study (about 2-4 minutes of computing at the defaults)."""
+    return LongRunStudy(
+        blowup=blowup_table(base, intensities, seeds, cap_s),
+        modes=mode_table(model_options(base)),
+        hour=hour_run(hour_duration_s),
+        cap_s=float(cap_s),
+    )
