@@ -175,6 +175,7 @@ def _paper_claims() -> dict:
 
 def _html(params, window, st: _Stats, sp: dict, ns: int, seeds: tuple[int, int], tables: tuple[str, str],
           s0: tuple[float, float]) -> str:
+    """The Figs. 12-13 section; ``s0`` is the LQR's |S(0)| [-] (lateral, vertical)."""
     peaks, red, forces = st.peaks, st.reduction, st.forces
     pc = _paper_claims()
     off_lo, off_hi = SEC33_DISPLACEMENT_M["off"]
@@ -224,6 +225,7 @@ def _html(params, window, st: _Stats, sp: dict, ns: int, seeds: tuple[int, int],
 
 
 def _summary(params, st: _Stats) -> str:
+    """The summary point: peak displacements [m, mm] and forces [N] beside the paper's."""
     p, f, red = st.peaks, st.forces, st.reduction
     pc = _paper_claims()
     fl = params.flight

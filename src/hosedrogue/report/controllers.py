@@ -315,6 +315,7 @@ def _integral_html(st: _Steps, rows) -> str:
 
 
 def _table3_html(st: _Steps, rows, integral_rows, s0, c0) -> str:
+    """The Table 3 section; ``s0`` |S(0)| [-] and ``c0`` |C(0)| [N/m] of the LQR on our full model."""
     return (
         '<section id="table3"><h2>Table 3: closed-loop step responses (PID and LQR)</h2>'
         "<p>Unit reference steps of each channel in closed loop: rise time 10-90 %, settling time to "
@@ -332,6 +333,7 @@ def _table3_html(st: _Steps, rows, integral_rows, s0, c0) -> str:
 
 
 def _figures_html(st: _Steps) -> str:
+    """The Figs. 10-11 section, captions quoting the computed rise times [s]."""
     rise = {(c, lab): max(st.metrics[(c, lab, ch)]["rise_time_s"] for ch in CHANNELS)
             for c in ("PID", "LQR") for lab in ("paper 2nd", "ours 2nd")}
     return (
@@ -352,6 +354,7 @@ def _figures_html(st: _Steps) -> str:
 
 
 def _summary(st: _Steps) -> str:
+    """The summary point: Table 3's PID and LQR rows on the paper's models beside the paper's."""
     r = {(c, ch, k): st.metrics[(c, "paper 2nd", ch)][k] for c in ("PID", "LQR") for ch in CHANNELS
          for k in ("rise_time_s", "settling_time_s")}
     p = {(c, ch, k): TABLE3[(c, ch)][k] for c, ch, k in r}
