@@ -51,6 +51,7 @@ TABLES = {
     "table-linearization-conditions": "linearization_conditions.csv",
     "table-reduction-error": "reduction_error.csv",
     "table-3": "table3.csv",
+    "table-3-lqr-integral": "table3_lqr_integral.csv",
     "table-closed-loop": "closed_loop_peaks.csv",
     "table-realization-spread": "realization_spread.csv",
     "table-comparison": "comparison.csv",
@@ -161,6 +162,25 @@ def test_paper_pid_reproduces_table3_on_the_papers_models(report):
         for key in ("rise_time_s", "settling_time_s", "overshoot_pct"):
             ours = headline["table3"][f"PID_{ch}_{key}"]["on_paper_model"]
             assert ours == pytest.approx(TABLE3[("PID", ch)][key], rel=0.06), (ch, key)
+
+
+def test_papers_lqr_reproduces_table3_lateral_row_on_the_papers_models(report):
+    """The report's "LQR" is the paper's LQR read on the balanced states (issue 10): on the paper's
+    models its lateral rise and settling times are the paper's (0.836 / 1.485 s vs 0.839 / 1.49 s).
+    3 %: the paper prints three digits and the 2 % settling time depends on where the tail crosses
+    the band. The overshoot is not reproduced (every closed-loop pole is real, so the step cannot
+    overshoot): it must read 0 within the interpolation of the metrics, as the page explains."""
+    _, headline, page = report
+    from hosedrogue.paper import TABLE3
+
+    t3 = headline["table3"]
+    for key in ("rise_time_s", "settling_time_s"):
+        ours = t3[f"LQR_lateral_{key}"]["on_paper_model"]
+        assert ours == pytest.approx(TABLE3[("LQR", "lateral")][key], rel=0.03), key
+    assert t3["LQR_lateral_overshoot_pct"]["on_paper_model"] < 0.01
+    assert headline["lqr"]["reading"] == "balanced"
+    assert 'id="table-3-lqr-integral"' in page
+    assert "literal" not in page.lower()
 
 
 def test_sections_receive_exactly_the_results_they_declare():

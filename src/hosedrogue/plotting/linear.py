@@ -210,7 +210,7 @@ def plot_closed_loop_steps(t_s, rows: Mapping[str, Mapping[str, Mapping[str, np.
         a 1 m reference step. Fig. 10: rows = design models, curves = PID and LQR; Fig. 11:
         curves = full, 6th and 2nd order.
     log_time : bool
-        Logarithmic time axis (shows a 0.07 s PID rise and a 10 s LQR rise on one plot).
+        Logarithmic time axis (rise times an order of magnitude apart on one plot).
     reference_rows : mapping, optional
         Same structure, drawn dashed.
 

@@ -80,8 +80,15 @@ def _spread(settings, runs: dict, base_seed: int):
     return spread, head
 
 
-def _add_comparisons(comparison, st: _Stats, sp: dict, ns: int, slowest_pole_1_s: float) -> None:
-    """The Sec. 3.3 numbers (Figs. 12-13) beside ours."""
+def _lqr_reason(s0: tuple[float, float]) -> str:
+    """Why the LQR leaves centimetres: no integral action (|S(0)| from the Table 3 section)."""
+    return ("the regulator has no integral action, so at the low frequencies where the gusts carry their "
+            "energy it leaves |S(0)| = "
+            f"{s0[0]:.2f} (lateral) and {s0[1]:.2f} (vertical) of the uncontrolled offset")
+
+
+def _add_comparisons(comparison, st: _Stats, sp: dict, ns: int, s0: tuple[float, float]) -> None:
+    """The Sec. 3.3 numbers (Figs. 12-13) beside ours; ``s0`` is the LQR's |S(0)| [-]."""
     def spread_txt(key, col, scale=1.0, unit="m", digits=3):
         lo, hi = sp[key][col]["min"], sp[key][col]["max"]
         return f"over {ns} realisations {scale * lo:.{digits}g}-{scale * hi:.{digits}g} {unit}"
@@ -96,9 +103,8 @@ def _add_comparisons(comparison, st: _Stats, sp: dict, ns: int, slowest_pole_1_s
                 note = (f"{spread_txt(k, col, 1000, 'mm', 2)}: the paper's high-gain PID on this plant holds the "
                         f"drogue to millimetres; the value depends on the realisation")
             else:
-                note = ("the literal paper weights give a slow loop (slowest pole "
-                        f"{slowest_pole_1_s:.2f} 1/s, Table 3), which only "
-                        f"partly rejects gusts near the pendulum frequency ({spread_txt(k, col)}); not adjusted")
+                note = (f"{spread_txt(k, col, 1000, 'mm', 2)}, {st.reduction[k][j]:.1f} x less than without "
+                        f"control: {_lqr_reason(s0)}; weights not adjusted")
             comparison.add("Fig. 12", f"peak {ax} displacement, {k} on", "m", SEC33_DISPLACEMENT_M["on"], st.peaks[k][j], note)
     for k in ("PID", "LQR"):
         for j, ch in enumerate(CHANNELS):
@@ -106,13 +112,9 @@ def _add_comparisons(comparison, st: _Stats, sp: dict, ns: int, slowest_pole_1_s
             ax = ("lateral u_hor", "vertical u_ver")[j]
             col = ("peak_force_hor_n", "peak_force_ver_n")[j]
             below = f"; the paper's value is below all {ns} of ours" if pv < sp[k][col]["min"] else ""
-            if k == "PID":
-                note = (f"{spread_txt(k, col, 1, 'N', 3)}{below}: the force is set by the gust loads on hose and "
-                        "drogue, which depend on the turbulence record and on the plant; the paper's record, "
-                        "gust distribution along the hose and actuator model are unknown")
-            else:
-                note = (f"{spread_txt(k, col, 1, 'N', 3)}{below}: our LQR (literal weights) is slower and lets the "
-                        "drogue move, so its force history differs from the paper's")
+            note = (f"{spread_txt(k, col, 1, 'N', 3)}{below}: the force is set by the gust loads on hose and "
+                    "drogue, which depend on the turbulence record and on the plant; the paper's record, "
+                    "gust distribution along the hose and actuator model are unknown")
             comparison.add("Fig. 13", f"peak {ax} force, {k}", "N", pv, st.forces[k][j], note)
 
 
@@ -171,19 +173,25 @@ def _paper_claims() -> dict:
             "pid_n": (f[("PID", "lateral")], f[("PID", "vertical")]), "lqr_n": (f[("LQR", "lateral")], f[("LQR", "vertical")])}
 
 
-def _html(params, window, st: _Stats, sp: dict, ns: int, seeds: tuple[int, int], tables: tuple[str, str]) -> str:
+def _html(params, window, st: _Stats, sp: dict, ns: int, seeds: tuple[int, int], tables: tuple[str, str],
+          s0: tuple[float, float]) -> str:
+    """The Figs. 12-13 section; ``s0`` is the LQR's |S(0)| [-] (lateral, vertical)."""
     peaks, red, forces = st.peaks, st.reduction, st.forces
     pc = _paper_claims()
     off_lo, off_hi = SEC33_DISPLACEMENT_M["off"]
+    on_hi = SEC33_DISPLACEMENT_M["on"][1]
     inside = all(off_lo <= p <= off_hi for p in peaks["off"])
-    sub_cm = max(peaks["PID"]) < SEC33_DISPLACEMENT_M["on"][1]
+    sub_cm = {k: max(peaks[k]) < on_hi for k in ("PID", "LQR")}
     pid_lo = (sp["PID"]["peak_force_hor_n"]["min"], sp["PID"]["peak_force_ver_n"]["min"])
     fl = params.flight
+    lqr_txt = ("also reaches the paper's sub-centimetre drogue" if sub_cm["LQR"] else
+               f"does not reach the paper's {pc['on_cm']}: {_lqr_reason(s0)} (Table 3 section)")
     return (
         '<section id="fig12-13"><h2>Figs. 12-13: the controllers on the nonlinear model in turbulence</h2>'
         f"<p>The paper's turbulence case at {fl.airspeed_m_s:g} m/s, {fl.altitude_m:g} m (turbulence on from "
-        f"{window[0]:g} s to {window[1]:g} s), controller off, with the paper's PID and with the LQR (paper Q, R, "
-        f"designed on this flight condition's 2nd-order model, Kalman observer). The controller reads the drogue's "
+        f"{window[0]:g} s to {window[1]:g} s), controller off, with the paper's PID and with the paper's LQR "
+        f"(paper Q, R on the balanced states, designed on this flight condition's 2nd-order model, Kalman "
+        f"observer; Table 3). The controller reads the drogue's "
         f"offset from its balance position and applies u_hor, u_ver at the drogue. Peaks are over the "
         f"whole run, RMS values over the turbulence window. The paper reports {pc['off_m']} without control, "
         f"{pc['on_cm']} with either controller, and peak forces of about {pc['pid_n'][0]:g} N (lateral) and "
@@ -191,15 +199,14 @@ def _html(params, window, st: _Stats, sp: dict, ns: int, seeds: tuple[int, int],
         f"<p>Here: <b>off</b> {peaks['off'][0]:.3f} m lateral and {peaks['off'][1]:.3f} m vertical "
         f"({'inside' if inside else 'not both inside'} the paper's range); <b>PID</b> {1000 * peaks['PID'][0]:.1f} mm and "
         f"{1000 * peaks['PID'][1]:.1f} mm (reduction {red['PID'][0]:.0f} x and {red['PID'][1]:.0f} x) with "
-        f"peak forces {forces['PID'][0]:.0f} N and {forces['PID'][1]:.0f} N; <b>LQR with the literal paper "
-        f"weights</b> {peaks['LQR'][0]:.3f} m and {peaks['LQR'][1]:.3f} m (reduction only "
+        f"peak forces {forces['PID'][0]:.0f} N and {forces['PID'][1]:.0f} N; <b>LQR</b> "
+        f"{1000 * peaks['LQR'][0]:.1f} mm and {1000 * peaks['LQR'][1]:.1f} mm (reduction "
         f"{red['LQR'][0]:.1f} x and {red['LQR'][1]:.1f} x) with peak forces {forces['LQR'][0]:.0f} N and "
         f"{forces['LQR'][1]:.0f} N. The PID result "
-        f"{'agrees with the paper claim of a sub-centimetre drogue' if sub_cm else 'does NOT reach the paper claim of a sub-centimetre drogue'} but "
+        f"{'agrees with the paper claim of a sub-centimetre drogue' if sub_cm['PID'] else 'does NOT reach the paper claim of a sub-centimetre drogue'} but "
         f"needs about {forces['PID'][0] / pc['pid_n'][0]:.1f} x and {forces['PID'][1] / pc['pid_n'][1]:.1f} x the paper's forces "
-        f"(the smallest peaks over {ns} realisations are {pid_lo[0]:.0f} N and {pid_lo[1]:.0f} N); "
-        f"the LQR result does not reproduce the paper: with the paper's weights taken literally the loop "
-        f"is slow (Table 3), and this report does not change them.</p>"
+        f"(the smallest peaks over {ns} realisations are {pid_lo[0]:.0f} N and {pid_lo[1]:.0f} N). "
+        f"The LQR {lqr_txt}; its weights are not changed here.</p>"
         + tables[0]
         + f"<p>Spread over {ns} turbulence realisations (seeds {seeds[0]} to "
           f"{seeds[1]}), min / median / max. A single published "
@@ -218,16 +225,17 @@ def _html(params, window, st: _Stats, sp: dict, ns: int, seeds: tuple[int, int],
 
 
 def _summary(params, st: _Stats) -> str:
-    p, f = st.peaks, st.forces
+    """The summary point: peak displacements [m, mm] and forces [N] beside the paper's."""
+    p, f, red = st.peaks, st.forces, st.reduction
     pc = _paper_claims()
     fl = params.flight
     return (f"Turbulence at {fl.airspeed_m_s:g} m/s, {fl.altitude_m:g} m: peak displacement {p['off'][0]:.2f} / "
             f"{p['off'][1]:.2f} m off (paper {pc['off_m']}), "
             f"{1000 * p['PID'][0]:.1f} / {1000 * p['PID'][1]:.1f} mm with PID "
             f"(paper {pc['on_mm']}) at {f['PID'][0]:.0f} / {f['PID'][1]:.0f} N "
-            f"(paper {pc['pid_n'][0]:g} / {pc['pid_n'][1]:g} N), {p['LQR'][0]:.2f} / {p['LQR'][1]:.2f} m with "
-            f"the literal-weight LQR (paper {pc['on_mm']}) at {f['LQR'][0]:.0f} / "
-            f"{f['LQR'][1]:.0f} N (paper {pc['lqr_n'][0]:g} / {pc['lqr_n'][1]:g} N).")
+            f"(paper {pc['pid_n'][0]:g} / {pc['pid_n'][1]:g} N), {1000 * p['LQR'][0]:.0f} / {1000 * p['LQR'][1]:.0f} mm "
+            f"({red['LQR'][0]:.1f} x / {red['LQR'][1]:.1f} x less than off) with the paper's LQR (paper "
+            f"{pc['on_mm']}) at {f['LQR'][0]:.0f} / {f['LQR'][1]:.0f} N (paper {pc['lqr_n'][0]:g} / {pc['lqr_n'][1]:g} N).")
 
 
 def build(out: ReportFolder, settings: ReportSettings, *, controllers: ControllersResult) -> ClosedLoopResult:
@@ -241,7 +249,8 @@ def build(out: ReportFolder, settings: ReportSettings, *, controllers: Controlle
     settings : hosedrogue.report.settings.ReportSettings
         Run length [s] and number of turbulence realisations.
     controllers : hosedrogue.report.controllers.ControllersResult
-        The slowest LQR pole on our model [1/s], quoted in the comparison.
+        The LQR's low-frequency disturbance rejection |S(0)| [-], quoted as the reason for its
+        residual.
 
     Returns
     -------
@@ -257,7 +266,8 @@ def build(out: ReportFolder, settings: ReportSettings, *, controllers: Controlle
     st = _statistics(runs, window)
     base_seed = sc.params.turbulence.seed
     spread, sp = _spread(settings, runs, base_seed)
-    _add_comparisons(out.comparison, st, sp, settings.spread_seeds, controllers.slowest_lqr_pole_our_model_1_s)
+    s0 = controllers.lqr_dc_sensitivity
+    _add_comparisons(out.comparison, st, sp, settings.spread_seeds, s0)
 
     _write_csv(out, runs, st, spread)
     on = {"PID": runs["PID"], "LQR": runs["LQR"]}
@@ -265,7 +275,7 @@ def build(out: ReportFolder, settings: ReportSettings, *, controllers: Controlle
     out.figure(plot_control_forces(on, window_s=window), "fig13_control_forces.png")
     seeds = (base_seed, base_seed + settings.spread_seeds - 1)
     out.section("fig12-13", "Figs. 12-13", _html(sc.params, window, st, sp, settings.spread_seeds, seeds,
-                                                 _tables(runs, st, sp)))
+                                                 _tables(runs, st, sp), s0))
     out.summarize(_summary(sc.params, st))
     out.record("closed_loop", {
         k: {"peak_lateral_m": st.peaks[k][0], "peak_vertical_m": st.peaks[k][1], "rms_lateral_m": st.rms[k][0],
