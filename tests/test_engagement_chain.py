@@ -33,7 +33,7 @@ def free_reel_run(step, rng, n=8, yaw_scale=0.2):
     constant-tension motor (100 N at the rim) brakes it and reels back in: in 10 s the exit link
     is split twice and merged twice (``yaw_scale`` 0.2), or split three times while links change
     chart eleven times (``yaw_scale`` 3)."""
-    p = PAPER.replace(hose={"links": n, "link_inertia": "rod", "bending": "moment"},
+    p = PAPER.replace(hose={"links": n, "link_inertia": "rod", "bending": "moment", "mass_lumping": "split"},
                       flight={"density_scale": 0.0},
                       numerics={"step_s": step, "output_every": int(round(0.05 / step))})
     # limits far away: the speed governor and the torque clip are kinks of the right-hand side
@@ -129,15 +129,15 @@ def test_exit_work_balances_hose_energy(free_runs):
 def test_fixed_length_limit_matches_paper_kernels(rng):
     """At L' = 0 the variable-length chain is the fixed-length chain: the same accelerations as
     HoseModel (to 1e-9 relative, round-off of two O(n) solves superposed)."""
-    p = PAPER.replace(hose={"links": 12, "link_inertia": "rod"})
+    p = PAPER.replace(hose={"links": 12, "link_inertia": "rod", "mass_lumping": "split"})
     l_nom = p.hose.length_m / p.hose.links
     # an exit link of another length: the kernel recomputes its mass and inertia from L
-    chain = chain_arrays(p, np.r_[0.9 * l_nom, np.full(11, l_nom)], "split", l_nom)
+    chain = chain_arrays(p, np.r_[0.9 * l_nom, np.full(11, l_nom)], l_nom)
     model = ChainModel(p, chain)
     q = np.pi / 2 * 0.3 + rng.uniform(-0.2, 0.2, 2 * chain.n)
     qd = rng.uniform(-0.5, 0.5, 2 * chain.n)
     ref = model.accelerations(q, qd, t=0.0)
-    ep = engagement_parameters(p, Reel(law="locked"), None, chain, np.zeros(3), "split")
+    ep = engagement_parameters(p, Reel(law="locked"), None, chain, np.zeros(3))
     z = np.concatenate([q, qd, [float(np.sum(chain.l)), 0.0], np.zeros(EK.Z_TAIL - 2)])
     ws, ws2 = K.make_workspace(chain.n), K.make_workspace(chain.n)
     out = np.empty(EK.O_SIZE)
@@ -150,13 +150,13 @@ def test_payout_settles_to_longer_balance_position():
     """Pay out 4 m at 1 m/s in steady air (wake on), lock the reel: 26 s after the lock the drogue
     is within 5 mm (the brief's bound) of the balance position of the 20 m hose on the same mesh
     (split lumping). The remaining offset is the slowly decaying transient (measured 0.5 mm)."""
-    p = PAPER.replace(hose={"links": 20, "link_inertia": "rod"})
+    p = PAPER.replace(hose={"links": 20, "link_inertia": "rod", "mass_lumping": "split"})
     reel = Reel(law="locked", payout_m=4.0, payout_speed_m_s=1.0, payout_acceleration_m_s2=2.0)
     r = simulate_engagement(p, reel, None, 30.0)
     assert r.completed, r.message
     # the schedule's length is met to the integrator's accuracy (10 um on 4 m)
     assert abs(r.hose_length_m[-1] - 20.0) < 1e-5
-    ch = chain_for_length(p, 20.0, "split")
+    ch = chain_for_length(p, 20.0)
     assert r.links[-1] == ch.n
     eq, _ = chain_equilibrium(p, ch)
     assert np.linalg.norm(r.drogue_position_m[-1] - eq.drogue_position_m) < 5e-3
@@ -169,14 +169,14 @@ def test_angle_charts_describe_the_same_motion(rng):
     and exit tension: 1e-9 relative is round-off of the two O(n) solves."""
     from hosedrogue.engagement.chain import frame, coordinates
 
-    p = PAPER.replace(hose={"links": 10, "link_inertia": "rod", "bending": "moment"})
+    p = PAPER.replace(hose={"links": 10, "link_inertia": "rod", "bending": "moment", "mass_lumping": "split"})
     n = 10
-    chain = chain_arrays(p, np.full(n, 1.6), "split", 1.6)
+    chain = chain_arrays(p, np.full(n, 1.6), 1.6)
     model = ChainModel(p, chain)
     q = np.pi / 2 * 0.2 + rng.uniform(-0.3, 0.3, 2 * n)
     qd = rng.uniform(-0.5, 0.5, 2 * n)
     z = np.concatenate([q, qd, [16.0, 0.7], np.zeros(EK.Z_TAIL - 2)])
-    ep = engagement_parameters(p, Reel(law="constant-tension", tension_set_n=900.0), None, chain, np.zeros(3), "split")
+    ep = engagement_parameters(p, Reel(law="constant-tension", tension_set_n=900.0), None, chain, np.zeros(3))
 
     def accelerations(z, chart):
         ws, ws2 = K.make_workspace(n), K.make_workspace(n)

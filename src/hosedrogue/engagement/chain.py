@@ -22,12 +22,11 @@ import numpy as np
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
-from ..model.system import HoseModel
+from ..model.system import HoseModel, link_inertias, lumped_masses
 from ..params import Params
 
 SPLIT_RATIO = 1.5
 MERGE_RATIO = 0.5
-LUMPINGS = ("split", "aft")
 
 
 @dataclass
@@ -45,41 +44,33 @@ class Chain:
         return self.l.size
 
 
-def chain_arrays(params: Params, lengths: np.ndarray, lumping: str, l_nom: float,
-                 chart: np.ndarray | None = None) -> Chain:
+def chain_arrays(params: Params, lengths: np.ndarray, l_nom: float, chart: np.ndarray | None = None) -> Chain:
     """Masses and inertias for link lengths ``lengths`` (lengths[0] is the exit link's current
-    length; it is recomputed from L in the kernels)."""
-    if lumping not in LUMPINGS:
-        raise ValueError(f"lumping = {lumping!r}: must be one of {LUMPINGS}")
-    hose = params.hose
-    mu = hose.mass_per_length_kg_m
+    length; it is recomputed from L in the kernels), lumped as ``params.hose.mass_lumping`` says
+    by the fixed-length model's own :func:`~hosedrogue.model.system.lumped_masses` (the tow
+    point's share of ``split`` is carried by the tanker). The compiled counterpart for the exit
+    link as L changes is ``engagement_kernels.set_variable_link``; ``hose_mass_kg`` of every run
+    checks that the two agree (mu L at every output time)."""
     l = np.ascontiguousarray(lengths, dtype=np.float64).copy()
     n = l.size
-    M = np.empty(n)
-    if lumping == "split":
-        for k in range(n - 1):
-            M[k] = 0.5 * mu * (l[k] + l[k + 1])
-        M[n - 1] = 0.5 * mu * l[n - 1]
-    else:
-        M[:] = mu * l
-    M[n - 1] += params.drogue.mass_kg
-    J = mu * l**3 / 12.0 if hose.link_inertia == "rod" else np.full(n, hose.link_inertia_kg_m2)
+    M, _ = lumped_masses(params, l)
+    J = link_inertias(params, l)
     # the drogue's inertia as transverse inertia of the last link (engagement_kernels docstring)
     J[n - 1] += params.drogue.inertia_kg_m2
     chart = np.zeros(n) if chart is None else np.ascontiguousarray(chart, dtype=np.float64).copy()
     return Chain(l, M, J, l_nom, chart)
 
 
-def initial_chain(params: Params, lumping: str) -> Chain:
+def initial_chain(params: Params) -> Chain:
     n = params.hose.links
     l_nom = params.hose.length_m / n
-    return chain_arrays(params, np.full(n, l_nom), lumping, l_nom)
+    return chain_arrays(params, np.full(n, l_nom), l_nom)
 
 
-def hose_mass_in_air(chain: Chain, params: Params, lumping: str) -> float:
+def hose_mass_in_air(chain: Chain, params: Params) -> float:
     """Hose mass carried by the joints (and, for split lumping, the exit's half-link) [kg]."""
     m = float(np.sum(chain.M)) - params.drogue.mass_kg
-    if lumping == "split":
+    if params.hose.mass_lumping == "split":
         m += 0.5 * params.hose.mass_per_length_kg_m * chain.l[0]
     return m
 
@@ -145,18 +136,18 @@ def switch_charts(z: np.ndarray, chain: Chain, switch_yaw: float) -> tuple[np.nd
     return z, chain, moved
 
 
-def split(z: np.ndarray, chain: Chain, params: Params, lumping: str) -> tuple[np.ndarray, Chain]:
+def split(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chain]:
     """Split the exit link: new exit link ``l_0 - l_nom`` and a fixed link ``l_nom`` on its line."""
     n = chain.n
     q, qd, tail = z[: 2 * n], z[2 * n: 4 * n], z[4 * n:]
     q2 = np.concatenate([q[:2], q])
     qd2 = np.concatenate([qd[:2], qd])
     lengths = np.concatenate([[chain.l[0] - chain.l_nom, chain.l_nom], chain.l[1:]])
-    new = chain_arrays(params, lengths, lumping, chain.l_nom, np.r_[chain.chart[0], chain.chart])
+    new = chain_arrays(params, lengths, chain.l_nom, np.r_[chain.chart[0], chain.chart])
     return np.concatenate([q2, qd2, tail]), new
 
 
-def merge(z: np.ndarray, chain: Chain, params: Params, lumping: str) -> tuple[np.ndarray, Chain, float]:
+def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chain, float]:
     """Merge links 0 and 1 into a straight exit link to old joint 2; returns (z, chain, delta)
     with delta [m] the free length lost (zero for collinear links)."""
     n = chain.n
@@ -182,7 +173,7 @@ def merge(z: np.ndarray, chain: Chain, params: Params, lumping: str) -> tuple[np
     tail[EK.Z_L] = L - delta
     tail[EK.Z_LD] = Ld_new
     lengths = np.concatenate([[lam], chain.l[2:]])
-    new = chain_arrays(params, lengths, lumping, chain.l_nom, np.r_[ch, chain.chart[2:]])
+    new = chain_arrays(params, lengths, chain.l_nom, np.r_[ch, chain.chart[2:]])
     return np.concatenate([q2, qd2, tail]), new, delta
 
 
@@ -199,6 +190,9 @@ class ChainModel(HoseModel):
         self.S = np.cumsum(self.M[::-1])[::-1].copy()
         self.J = chain.J.copy()
         self.ps[K.PS_JD] = 0.0  # the drogue's inertia is in J[n-1] (transverse only)
+        # the tow point's share of the split lumping, for this chain's own exit link
+        self.M_tow = lumped_masses(self.params, self.l)[1]
+        self.ps[K.PS_M_TOW] = self.M_tow
 
 
 def chain_equilibrium(params: Params, chain: Chain) -> tuple[Equilibrium, ChainModel]:
@@ -207,11 +201,11 @@ def chain_equilibrium(params: Params, chain: Chain) -> tuple[Equilibrium, ChainM
     return solve_equilibrium(model.params, model=model), model
 
 
-def chain_for_length(params: Params, L: float, lumping: str) -> Chain:
+def chain_for_length(params: Params, L: float) -> Chain:
     """The mesh the remesh rules give for free length L grown or shortened from the nominal mesh
     (exit link in [MERGE_RATIO, SPLIT_RATIO) l_nom, every other link l_nom)."""
     l_nom = params.hose.length_m / params.hose.links
     m = int(math.floor((L - MERGE_RATIO * l_nom) / l_nom))
     m = max(m, 0)
     l0 = L - m * l_nom
-    return chain_arrays(params, np.concatenate([[l0], np.full(m, l_nom)]), lumping, l_nom)
+    return chain_arrays(params, np.concatenate([[l0], np.full(m, l_nom)]), l_nom)

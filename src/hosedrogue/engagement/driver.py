@@ -17,8 +17,8 @@ import numpy as np
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..params import ParameterError, Params
-from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, initial_chain, merge, split,
-                    switch_charts)
+from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, hose_mass_in_air,
+                    initial_chain, merge, split, switch_charts)
 from .spec import Probe, Reel
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
@@ -98,12 +98,12 @@ class EngagementResult:
 
 
 def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain: Chain,
-                          drogue_eq: np.ndarray, lumping: str) -> np.ndarray:
+                          drogue_eq: np.ndarray) -> np.ndarray:
     ep = np.zeros(EK.EP_SIZE)
     hose = params.hose
     ep[EK.EP_MU] = hose.mass_per_length_kg_m
     ep[EK.EP_MD] = params.drogue.mass_kg
-    ep[EK.EP_SPLIT] = 1.0 if lumping == "split" else 0.0
+    ep[EK.EP_SPLIT] = 1.0 if hose.mass_lumping == "split" else 0.0
     ep[EK.EP_JLINK] = -1.0 if hose.link_inertia == "rod" else hose.link_inertia_kg_m2
     ep[EK.EP_JD] = params.drogue.inertia_kg_m2
     ep[EK.EP_L0] = chain.l_nom
@@ -172,7 +172,7 @@ def _energies(zs, chain: Chain, model, ep):
 
 
 def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duration_s: float,
-                        lumping: str = "split", energy: bool = False,
+                        energy: bool = False,
                         equilibrium=None, x0: np.ndarray | None = None, length_rate_m_s: float = 0.0,
                         gravity_m_s2: float | None = None) -> EngagementResult:
     """Simulate an engagement from the balance position at rest (steady air plus the
@@ -181,13 +181,13 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     Parameters
     ----------
     params : Params
-        Hose, drogue, flight and numerics (RK4, ``numerics.step_s``, ``output_every``).
+        Hose, drogue, flight and numerics (RK4, ``numerics.step_s``, ``output_every``). The link
+        masses are lumped as ``hose.mass_lumping`` says (MODEL.md 2; ``split`` converges at
+        second order, the engagement scenarios set it).
     reel, probe : Reel, Probe or None
         The drum unit and the receiver's probe (None: no probe).
     duration_s : float
         Simulated time [s]; a miss ends the run earlier with the reason in ``outcome``.
-    lumping : "split" or "aft"
-        How link masses go to the joints (MODEL.md 2); ``split`` converges at second order.
     energy : bool
         Also evaluate the energy terms at every output time (for the energy balance).
     equilibrium : Equilibrium, optional
@@ -206,7 +206,7 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     h = num.step_s
     every = num.output_every
     total_steps = int(round(duration_s / h))
-    chain = initial_chain(params, lumping)
+    chain = initial_chain(params)
     from .chain import ChainModel
 
     need_eq = x0 is None or (probe is not None and probe.enabled)
@@ -226,7 +226,7 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     else:
         drogue_eq = equilibrium.drogue_position_m.copy()
     z = np.concatenate([hose0, [L0, float(length_rate_m_s)], np.zeros(EK.Z_TAIL - 2)])
-    ep = engagement_parameters(params, reel, probe, chain, drogue_eq, lumping)
+    ep = engagement_parameters(params, reel, probe, chain, drogue_eq)
     t_set = reel.tension_set_n
     if t_set < 0:
         t_set = exit_tension_at_rest(params, chain, z, ep, model)
@@ -280,11 +280,11 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
             e_before = _energies(z[None, :], chain, model, ep)[0]
             n_before = chain.n
             if code == EK.SPLIT:
-                z, chain = split(z, chain, params, lumping)
+                z, chain = split(z, chain, params)
                 delta = 0.0
             else:
                 Ld_before = z[4 * n_before + EK.Z_LD]
-                z, chain, delta = merge(z, chain, params, lumping)
+                z, chain, delta = merge(z, chain, params)
                 delta_total += delta
             after = _outputs(np.array([t]), z[None, :], chain, model, ep)
             e_after = _energies(z[None, :], chain, model, ep)[0]
@@ -347,11 +347,11 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
                            "result": outcome["result"]})
             continue
 
-    return _assemble(params, segments, events, outcome, model, drogue_eq, lumping, energy,
+    return _assemble(params, segments, events, outcome, model, drogue_eq, energy,
                      status == K.OK, message, delta_total, t_set, reel, probe)
 
 
-def _assemble(params, segments, events, outcome, model, drogue_eq, lumping, energy, completed, message,
+def _assemble(params, segments, events, outcome, model, drogue_eq, energy, completed, message,
               delta_total, t_set, reel, probe) -> EngagementResult:
     cols = {k: [] for k in ("t", "L", "Ld", "T0", "Td", "fp", "pp", "cp", "slack", "rd", "vd", "tow", "tau",
                             "miss", "dplane", "vclose", "links", "mass", "E")}
@@ -386,8 +386,7 @@ def _assemble(params, segments, events, outcome, model, drogue_eq, lumping, ener
         lw, Mw, Jw = chain.l.copy(), chain.M.copy(), chain.J.copy()
         for z in zs:
             EK.set_variable_link(z[4 * n + EK.Z_L], n, lw, Mw, Jw, ep)
-            masses.append(float(np.sum(Mw)) - params.drogue.mass_kg
-                          + (0.5 * params.hose.mass_per_length_kg_m * lw[0] if lumping == "split" else 0.0))
+            masses.append(hose_mass_in_air(Chain(lw, Mw, Jw, chain.l_nom, chain.chart), params))
         cols["mass"].append(np.array(masses))
         if energy:
             en = _energies(zs, chain, model, ep)
@@ -423,7 +422,8 @@ def _assemble(params, segments, events, outcome, model, drogue_eq, lumping, ener
         outcome["tension_set_n"] = None
     from .spec import plain
 
-    meta = {"reel": plain(reel), "probe": plain(probe) if probe is not None else None, "lumping": lumping,
+    meta = {"reel": plain(reel), "probe": plain(probe) if probe is not None else None,
+            "lumping": params.hose.mass_lumping,
             "events": events}
     return EngagementResult(
         t_s=cat["t"], hose_length_m=cat["L"], reel_speed_m_s=-cat["Ld"], exit_tension_n=cat["T0"],

@@ -28,11 +28,38 @@ def run_engagement(scenario) -> EngagementResult:
     return result
 
 
+#: The hose counts as gone slack when its exit tension falls below this fraction of the steady
+#: trail tension (the exit tension at the start, at the balance position).
+SLACK_TENSION_FRACTION = 0.1
+
+
+def went_slack(result: EngagementResult) -> bool:
+    """Whether the hose went (nearly) slack: the exit tension fell below
+    :data:`SLACK_TENSION_FRACTION` of the steady trail tension. Then the hose whips, and the
+    tension spikes when it snaps taut again are not converged with the link count
+    (docs/engagement.md; the shipped scenarios' minimum exit tension: locked reel -1.9 kN,
+    responsive reel 38 N, of a 1.53 kN trail tension; the constant-tension reel keeps 551 N and
+    all its peaks converge)."""
+    T = np.asarray(result.exit_tension_n)
+    return bool(T.size and np.min(T) < SLACK_TENSION_FRACTION * T[0])
+
+
+#: ``notes`` entry of a run in which the hose went slack (:func:`went_slack`).
+SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail tension): peak_exit_tension_n "
+              "and peak_drogue_tension_n are snap spikes of an inextensible link chain and are not converged "
+              "with the link count (docs/engagement.md). The peak probe load and the peak slack of the shipped "
+              "scenarios change by less than 5 % when their links are doubled")
+
+
 def engagement_summary(result: EngagementResult) -> dict:
-    """The run's ``"engagement"`` object: the brief's keys first, then the supporting figures."""
+    """The run's ``"engagement"`` object: the brief's keys first, then the supporting figures,
+    ``peak_tension_converged`` and ``notes`` (what not to read as converged)."""
     o = result.outcome
     out = {k: o.get(k) for k in SUMMARY_KEYS}
     out.update({k: v for k, v in o.items() if k not in out})
+    slack = went_slack(result)
+    out["peak_tension_converged"] = not slack
+    out["notes"] = [SLACK_NOTE] if slack else []
     return out
 
 

@@ -32,6 +32,46 @@ class StateOutputs:
     tow_force_n: np.ndarray  #: force the hose exerts on the tow point (3,) [N]
 
 
+def lumped_masses(params: Params, lengths: np.ndarray) -> tuple[np.ndarray, float]:
+    """Joint masses of links of the given lengths (MODEL.md 2; ``params.hose.mass_lumping``).
+
+    Parameters
+    ----------
+    params : Params
+        Hose (mass per length, ``mass_lumping``) and drogue (mass).
+    lengths : array (n,)
+        Link lengths [m], from the tow point aft (they need not be equal: the engagement's chain
+        has an exit link of its own length, ``engagement/chain.py``).
+
+    Returns
+    -------
+    M : array (n,)
+        ``M[k]`` [kg] sits at joint k+1; the drogue's mass is in ``M[n-1]``. ``aft``: each link's
+        mass at its aft joint; ``split``: half of each link's mass at each end joint.
+    M_tow : float
+        The mass lumped at the tow point (joint 0) [kg]: half of link 0 for ``split``, else 0.
+    """
+    link_mass = params.hose.mass_per_length_kg_m * np.asarray(lengths, dtype=np.float64)
+    if params.hose.mass_lumping == "aft":
+        M = link_mass.copy()
+        M_tow = 0.0
+    else:  # "split": half of link k at joint k-1, half at joint k
+        M = 0.5 * link_mass
+        M[:-1] += 0.5 * link_mass[1:]
+        M_tow = 0.5 * float(link_mass[0])
+    M[-1] += params.drogue.mass_kg
+    return M, M_tow
+
+
+def link_inertias(params: Params, lengths: np.ndarray) -> np.ndarray:
+    """Link rotational inertias J [kg m^2] (n,): Table 1's fixed value (``link_inertia = "paper"``)
+    or the rod's m l^2 / 12 (``"rod"``) of links of the given lengths [m]."""
+    lengths = np.asarray(lengths, dtype=np.float64)
+    if params.hose.link_inertia == "paper":
+        return np.full(lengths.size, params.hose.link_inertia_kg_m2)
+    return params.hose.mass_per_length_kg_m * lengths**3 / 12.0
+
+
 class HoseModel:
     """Arrays and entry points of one parameter set.
 
@@ -51,21 +91,10 @@ class HoseModel:
         self.rho = density(flight.altitude_m) * flight.density_scale
         lk = hose.link_length_m
         self.l = np.full(n, lk)
-        link_mass = hose.mass_per_length_kg_m * self.l
         #: joint masses [kg]: M[k] sits at joint k+1 (MODEL.md 2); M_tow at the tow point (joint 0)
-        if hose.mass_lumping == "aft":
-            self.M = link_mass.copy()
-            self.M_tow = 0.0
-        else:  # "split": half of link k at joint k-1, half at joint k
-            self.M = 0.5 * link_mass
-            self.M[:-1] += 0.5 * link_mass[1:]
-            self.M_tow = 0.5 * float(link_mass[0])
-        self.M[-1] += drogue.mass_kg
+        self.M, self.M_tow = lumped_masses(params, self.l)
         self.S = np.cumsum(self.M[::-1])[::-1].copy()
-        if hose.link_inertia == "paper":
-            self.J = np.full(n, hose.link_inertia_kg_m2)
-        else:
-            self.J = link_mass * self.l**2 / 12.0
+        self.J = link_inertias(params, self.l)
         inertia_area = math.pi * (hose.outer_diameter_m**4 - hose.inner_diameter_m**4) / 64.0
         bending = {"off": K.BENDING_OFF, "paper": K.BENDING_PAPER, "moment": K.BENDING_MOMENT}
         ps = np.zeros(K.PS_SIZE)
