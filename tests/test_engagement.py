@@ -26,7 +26,7 @@ def shipped():
 
 def small(**numerics):
     """A quick 20-link case (capture geometry does not need the whip resolved)."""
-    return PAPER.replace(hose={"links": 20, "link_inertia": "rod", "bending": "moment"},
+    return PAPER.replace(hose={"links": 20, "link_inertia": "rod", "bending": "moment", "mass_lumping": "split"},
                          numerics={"step_s": 0.0025, "output_every": 4, **numerics})
 
 
@@ -80,7 +80,7 @@ def test_locked_reel_keeps_its_length(shipped):
 
 def test_responsive_reel_takes_up_and_cuts_slack(shipped):
     """The brief: the responsive reel takes up at least 1 m and cuts the peak slack at least
-    fivefold against the locked reel (measured 1.89 m; 1.77 m vs 0.31 m of slack, x5.7)."""
+    fivefold against the locked reel (measured at 160 links: 1.90 m; 1.71 m vs 0.32 m of slack, x5.4)."""
     resp, locked = shipped["response"].outcome, shipped["locked"].outcome
     assert resp["length_taken_up_m"] >= 1.0
     assert locked["peak_slack_m"] >= 5 * resp["peak_slack_m"]
@@ -96,41 +96,47 @@ def test_hose_mass_in_air_during_engagement(shipped):
 
 
 # --- link-count convergence ----------------------------------------------------------------------
-def _peaks(law, links, step):
+def _doubled_links(law):
+    """The shipped scenario on twice its links, the RK4 step halved with the link length, output
+    at the same 10 ms."""
     sc = load_scenario(f"engage-{law}")
-    p = sc.params.replace(hose={"links": links}, numerics={"step_s": step, "output_every": int(round(0.01 / step))})
-    r = simulate_engagement(p, sc.extra["reel"], sc.extra["probe"], 12.0)
-    return r.outcome["peak_probe_load_n"], r.outcome["peak_slack_m"]
+    p = sc.params
+    n = 2 * p.hose.links
+    p = p.replace(hose={"links": n}, numerics={"step_s": p.numerics.step_s / 2, "output_every": 2 * p.numerics.output_every})
+    return simulate_engagement(p, sc.extra["reel"], sc.extra["probe"], sc.duration_s)
 
 
 @pytest.fixture(scope="module")
 def doubled():
-    return {law: (_peaks(law, 40, 0.0025), _peaks(law, 80, 0.00125)) for law in LAWS}
+    return {law: _doubled_links(law) for law in LAWS}
 
 
-@pytest.mark.parametrize("law", ["constant-tension", "response"])
-def test_doubling_links_changes_peaks_less_than_5_percent(doubled, law):
-    """The brief's bound: 40 -> 80 links (step halved with the link length) moves the peak probe
-    load and the peak slack by less than 5 % (measured: constant tension 0.5 % and 3 %, response
-    4.5 % and 2.5 %)."""
-    (f1, s1), (f2, s2) = doubled[law]
-    assert abs(f2 - f1) < 0.05 * f1
-    assert abs(s2 - s1) < 0.05 * s1
+@pytest.mark.slow
+@pytest.mark.parametrize("law", LAWS)
+def test_doubling_links_changes_peaks_less_than_5_percent(shipped, doubled, law):
+    """The brief's bound, at the shipped 160 links: 160 -> 320 links (step halved with the link
+    length, 15 s) moves the peak probe load and the peak slack by less than 5 %. Measured: locked
+    0.8 % / 0.4 %, constant tension 0.1 % / 0.2 %, response see docs/engagement.md. (At 80 links the
+    responsive reel's probe load moved by 5.7 % from 80 to 160, hence 160 links.)"""
+    a, b = shipped[law].outcome, doubled[law].outcome
+    assert shipped[law].links[0] == 160 and doubled[law].links[0] == 320
+    for key in ("peak_probe_load_n", "peak_slack_m"):
+        assert abs(b[key] - a[key]) < 0.05 * a[key], (law, key, a[key], b[key])
 
 
-def test_locked_reel_slack_converges(doubled):
-    (_, s1), (_, s2) = doubled["locked"]
-    assert abs(s2 - s1) < 0.05 * s1
+def test_whipping_runs_say_their_tension_peak_is_not_converged(shipped):
+    """The hose goes slack (exit tension below 10 % of the trail tension) with the locked and the
+    responsive reel, not with the constant-tension one (measured minimum exit tension at 160 links:
+    locked -1.9 kN, response 38 N, constant tension 551 N, of a 1.53 kN trail tension); run.json
+    then says that the exit-tension peak is not converged."""
+    from hosedrogue.engagement.run import engagement_summary
 
-
-@pytest.mark.xfail(strict=True, reason=(
-    "The locked reel's peak probe load is a snap load: the slack hose goes taut again with no "
-    "axial elasticity in the rigid-link model, so its peak depends on the discretization (measured "
-    "2350 / 2505 / 2451 N at 40 / 80 / 160 links: 6.6 %, then 2.2 %). Physics, not a tolerance: a "
-    "finite EA is needed to converge it (docs/engagement.md)."))
-def test_locked_reel_probe_load_converges(doubled):
-    (f1, _), (f2, _) = doubled["locked"]
-    assert abs(f2 - f1) < 0.05 * f1
+    for law, r in shipped.items():
+        s = engagement_summary(r)
+        whips = law != "constant-tension"
+        assert (r.outcome["min_exit_tension_n"] < 0.1 * r.exit_tension_n[0]) == whips, law
+        assert s["peak_tension_converged"] is (not whips)
+        assert bool(s["notes"]) == whips and (not whips or "not converged" in s["notes"][0])
 
 
 # --- input validation and the command line --------------------------------------------------------

@@ -22,6 +22,7 @@ _ROWS = (
     ("probe load [N]", lambda r: np.linalg.norm(r.probe_force_n, axis=1)),
     ("slack [m]", lambda r: r.slack_m),
     ("drogue x offset [m]", lambda r: r.drogue_offset_m[:, 0]),
+    ("coupled [0/1]", lambda r: r.coupled.astype(float)),
 )
 
 
@@ -34,7 +35,8 @@ def _contact_time(r) -> float | None:
 
 def plot_engagement_history(results: Mapping[str, object], rows: Sequence[int] | None = None) -> Figure:
     """Time histories of engagement runs side by side (one column per run, shared y per row):
-    hose length, take-up speed, exit and drogue-end tension, probe load, slack, drogue x offset.
+    hose length, take-up speed, exit and drogue-end tension, probe load, slack, drogue x offset,
+    coupled flag.
     A dotted line marks the contact."""
     names = list(results)
     sel = [_ROWS[i] for i in (rows if rows is not None else range(len(_ROWS)))]
