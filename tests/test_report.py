@@ -36,6 +36,8 @@ FIGURES = {
     "fig12": "fig12_controller_on_off.png",
     "fig13": "fig13_control_forces.png",
     "fig-hose3d": "fig_hose3d.png",
+    "fig-engagement-history": "fig_engagement_history.png",
+    "fig-engagement-snapshots": "fig_engagement_snapshots.png",
 }
 
 #: Every table of the report: HTML id -> CSV file.
@@ -55,6 +57,8 @@ TABLES = {
     "table-closed-loop": "closed_loop_peaks.csv",
     "table-realization-spread": "realization_spread.csv",
     "table-comparison": "comparison.csv",
+    "table-engagement": "engagement_outcomes.csv",
+    "table-engagement-doubling": "engagement_outcomes.csv",
 }
 
 #: The data behind each figure.
@@ -63,11 +67,12 @@ FIGURE_DATA = [
     "fig05_linear_steps.csv", "fig06_pole_zero.csv", "fig07_bode.csv", "fig08_step_compare.csv",
     "fig10_closed_loop_steps.csv", "fig11_pid_orders.csv", "fig12_controller_on_off.csv",
     "fig13_control_forces.csv", "fig_hose3d.csv", "anim_turbulence.csv",
+    "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
 ]
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
 SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
-            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation"]
+            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation", "engagement"]
 
 
 @pytest.fixture(scope="module")
@@ -93,9 +98,11 @@ def test_every_figure_and_table_is_on_the_page_and_on_disk(report):
     for section in SECTIONS:
         assert f'<section id="{section}"' in page, section
     assert 'id="anim"' in page and 'src="anim_turbulence.gif"' in page
-    gif = out / "anim_turbulence.gif"
-    assert gif.read_bytes()[:6] in (b"GIF87a", b"GIF89a")
-    assert gif.stat().st_size < 3e6
+    assert 'id="anim-engagement"' in page and 'src="anim_engagement.gif"' in page
+    for name in ("anim_turbulence.gif", "anim_engagement.gif"):
+        gif = out / name
+        assert gif.read_bytes()[:6] in (b"GIF87a", b"GIF89a"), name
+        assert gif.stat().st_size < 3e6, name
 
 
 def test_page_is_self_contained(report):
@@ -149,6 +156,24 @@ def test_report_json_holds_finite_headline_numbers(report):
     assert {"lateral", "vertical"} <= set(data["table2"])
     assert "PID_lateral_rise_time_s" in data["table3"]
     assert data["steady"]["balance_ratio"] > 0
+    eng = data["engagement"]
+    assert eng["fast"] is True and eng["doubling_links"] == 2 * eng["links"]
+    assert set(eng["runs"]) == {"locked", "constant-tension", "response"}
+    for law, run in eng["runs"].items():
+        assert run["captured"] is True, law
+        assert run["peak_probe_load_n"] > 0 and run["peak_slack_m"] > 0, law
+    # the locked reel whips and its exit-tension peak is flagged; the constant-tension reel's is not
+    assert eng["runs"]["locked"]["peak_exit_tension_converged"] is False
+    assert eng["runs"]["constant-tension"]["peak_exit_tension_converged"] is True
+
+
+def test_engagement_section_marks_the_fast_runs(report):
+    """The fast version's engagement runs are not the shipped mesh: the section says so."""
+    _, headline, page = report
+    section = page[page.index('<section id="engagement"'):]
+    section = section[:section.index("</section>")]
+    assert "Fast version:" in section and f"{headline['engagement']['links']} links" in section
+    assert "not converged" in section
 
 
 def test_paper_pid_reproduces_table3_on_the_papers_models(report):

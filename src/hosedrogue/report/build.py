@@ -18,6 +18,7 @@ from typing import Callable
 from ..version import __version__
 from . import (closed_loop, comparison, controllers, convergence, differences, hose_views, linear, parameters,
                sweep, turbulence_speeds)
+from . import engagement
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -59,6 +60,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("closed_loop", "controllers in turbulence (Figs. 12-13)", closed_loop.build, needs=("controllers",)),
     Section("hose_3d", "hose in 3D", hose_views.build_3d, needs=("closed_loop",)),
     Section("animation", "animation", hose_views.build_animation, needs=("closed_loop",)),
+    Section("engagement", "engagement (beyond the paper)", engagement.build),
 )
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.
