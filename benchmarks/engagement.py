@@ -1,10 +1,10 @@
 """Speed of the engagement driver, printed as figures (never asserted).
 
 * real-time factor (simulated seconds per wall second) of the shipped ``engage-response``
-  scenario (40 links, wake on, RK4 at 2.5 ms, 15 s with a capture and five remeshes), the whole
+  scenario (160 links, wake on, RK4 at 0.625 ms, 15 s with a capture and 19 remeshes), the whole
   driver timed (balance position, segments, remeshes, derived outputs), compile time excluded
   and reported apart;
-* the same with 80 links at half the step (the link-doubling check).
+* the same with twice the links at half the step (the link-doubling check, 320 links).
 
 Run:  .venv/bin/python benchmarks/engagement.py   (one core: NUMBA_NUM_THREADS=1 is set here)
 """
@@ -41,7 +41,8 @@ def main():
     t0 = time.perf_counter()
     simulate_engagement(sc.params, reel, probe, 0.5)
     print(f"compile + first short run: {time.perf_counter() - t0:.1f} s")
-    for links, step in ((40, sc.params.numerics.step_s), (80, sc.params.numerics.step_s / 2)):
+    n, h = sc.params.hose.links, sc.params.numerics.step_s
+    for links, step in ((n, h), (2 * n, h / 2)):
         p = sc.params.replace(hose={"links": links}, numerics={"step_s": step})
         wall, r = timed(p, reel, probe, sc.duration_s)
         steps = int(round(sc.duration_s / step))

@@ -36,7 +36,7 @@ SLACK_TENSION_FRACTION = 0.1
 def went_slack(result: EngagementResult) -> bool:
     """Whether the hose went (nearly) slack: the exit tension fell below
     :data:`SLACK_TENSION_FRACTION` of the steady trail tension. Then the hose whips, and the
-    tension spikes when it snaps taut again are not converged with the link count
+    exit-tension spikes when it snaps taut again are not converged with the link count
     (docs/engagement.md; the shipped scenarios' minimum exit tension: locked reel -1.9 kN,
     responsive reel 38 N, of a 1.53 kN trail tension; the constant-tension reel keeps 551 N and
     all its peaks converge)."""
@@ -46,7 +46,7 @@ def went_slack(result: EngagementResult) -> bool:
 
 #: ``notes`` entry of a run in which the hose went slack (:func:`went_slack`).
 SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail tension): peak_exit_tension_n "
-              "and peak_drogue_tension_n are snap spikes of an inextensible link chain and are not converged "
+              "and min_exit_tension_n are snap spikes of an inextensible link chain and are not converged "
               "with the link count (docs/engagement.md). The peak probe load and the peak slack of the shipped "
               "scenarios change by less than 5 % when their links are doubled")
 

@@ -249,8 +249,9 @@ def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResul
         f"({'within' if passes else 'beyond'} the 5 % bound). "
         + (f"The peak exit tension of the runs in which the hose goes slack ({', '.join(whipping)}: the exit "
            "tension falls below 10 % of the steady trail tension) is <b>not converged</b>: "
-           "it is the spike when the slack hose snaps taut, which in an inextensible link chain grows as "
-           "links are added (docs/engagement.md); it is marked in the table and in each run's "
+           "it is the spike when the slack hose snaps taut, whose height in a chain of rigid, inextensible "
+           "links depends on the discretization (the doubling table; docs/engagement.md has 40 to 320 "
+           "links); it is marked in the table and in each run's "
            "<code>run.json</code> notes. A finite axial stiffness of the hose would be needed to converge it."
            if whipping else "The hose never goes slack, and every peak converges.")
         + "</p>"
