@@ -18,7 +18,8 @@ Layout
 - :mod:`.runs`: the nonlinear runs and their window statistics;
 - one module per section: :mod:`.parameters`, :mod:`.convergence`, :mod:`.sweep`,
   :mod:`.turbulence_speeds`, :mod:`.linear` (+ :mod:`.linear_responses`), :mod:`.controllers`,
-  :mod:`.closed_loop`, :mod:`.hose_views`, :mod:`.differences`.
+  :mod:`.closed_loop`, :mod:`.hose_views`, :mod:`.engagement` (beyond the paper: the refuelling
+  engagement), :mod:`.differences`.
 
 Each section module has a ``build(out, settings, **needs)`` function that computes (library
 calls), then writes its CSV files, then its figures (functions of :mod:`hosedrogue.plotting`),
