@@ -1,4 +1,4 @@
-"""Receiver bow wave: the potential-flow invariants of ENGAGEMENT.md section 3, each checked
+"""Receiver bow wave: the potential-flow invariants of the receiver's forebody flow (potential flow theory), each checked
 against the field the module computes, with independent formulas for the body and the line."""
 
 import math

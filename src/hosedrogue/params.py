@@ -124,7 +124,7 @@ class Tanker(_Section):
 
 @dataclass(frozen=True)
 class Hose(_Section):
-    """The hose, modelled as ``links`` rigid links of equal length (paper Table 1; MODEL.md 2-3)."""
+    """The hose, modelled as ``links`` rigid links of equal length (paper Table 1; docs/model.md §2-3)."""
 
     _section = "hose"
     length_m: float = field(default=16.0, metadata=_num(0.0, unit="m"))
@@ -135,11 +135,11 @@ class Hose(_Section):
     elastic_modulus_pa: float = field(default=13.79e6, metadata=_num(0.0, lo_open=False, unit="Pa"))
     #: Link rotational inertia J_y = J_z [kg m^2] used when ``link_inertia == "paper"``.
     link_inertia_kg_m2: float = field(default=2.816, metadata=_num(0.0, lo_open=False, unit="kg m^2"))
-    #: "paper": Table 1's 2.816 kg m^2 per link; "rod": m l^2 / 12 of each link (MODEL.md 2).
+    #: "paper": Table 1's 2.816 kg m^2 per link; "rod": m l^2 / 12 of each link (docs/model.md §2).
     link_inertia: str = field(default="paper", metadata=_choice("paper", "rod"))
     #: "paper": Eq. 20 equivalent joint force; "moment": conservative restoring moment; "off".
     bending: str = field(default="paper", metadata=_choice("paper", "moment", "off"))
-    #: Where each link's mass sits (MODEL.md 2): "aft": all at its aft joint (the paper's
+    #: Where each link's mass sits (docs/model.md §2): "aft": all at its aft joint (the paper's
     #: lumping, first order in 1/links); "split": half at each end joint (the half at the tow
     #: point is carried by the tanker), second order in 1/links (docs/convergence.md).
     mass_lumping: str = field(default="aft", metadata=_choice("aft", "split"))
@@ -193,7 +193,7 @@ class Flight(_Section):
 
 @dataclass(frozen=True)
 class Wake(_Section):
-    """Hallock-Burnham tanker wake (MODEL.md 4). Geometry as fractions of the tanker span."""
+    """Hallock-Burnham tanker wake (docs/model.md §4). Geometry as fractions of the tanker span."""
 
     _section = "wake"
     enabled: bool = field(default=True, metadata=_bool())
@@ -209,7 +209,7 @@ class Wake(_Section):
 
 @dataclass(frozen=True)
 class Turbulence(_Section):
-    """Dryden turbulence (MODEL.md 4). The paper's case: isotropic 1.5 m/s, 530 m, on at 10 s for 20 s."""
+    """Dryden turbulence (docs/model.md §4). The paper's case: isotropic 1.5 m/s, 530 m, on at 10 s for 20 s."""
 
     _section = "turbulence"
     enabled: bool = field(default=False, metadata=_bool())

@@ -1,4 +1,4 @@
-"""The balance position (Sec. 2.3.2; MODEL.md 5): the rest state in steady air.
+"""The balance position (Sec. 2.3.2; docs/model.md §5): the rest state in steady air.
 
 Method (no hand-tuned starting guesses):
 

@@ -1,4 +1,4 @@
-"""Numerical linearization about the balance position (paper Eqs. 31-32; MODEL.md 5).
+"""Numerical linearization about the balance position (paper Eqs. 31-32; docs/model.md §5).
 
 States are the deviations of ``x = [q, qd]`` (4n) from the equilibrium, inputs the control force
 ``u = [u_hor, u_ver]`` [N] at the drogue, outputs the drogue's lateral and vertical offset

@@ -187,7 +187,7 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     duration_s : float
         Simulated time [s]; a miss ends the run earlier with the reason in ``outcome``.
     lumping : "split" or "aft"
-        How link masses go to the joints (MODEL.md 2); ``split`` converges at second order.
+        How link masses go to the joints (docs/model.md §2); ``split`` converges at second order.
     energy : bool
         Also evaluate the energy terms at every output time (for the energy balance).
     equilibrium : Equilibrium, optional

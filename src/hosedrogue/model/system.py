@@ -52,7 +52,7 @@ class HoseModel:
         lk = hose.link_length_m
         self.l = np.full(n, lk)
         link_mass = hose.mass_per_length_kg_m * self.l
-        #: joint masses [kg]: M[k] sits at joint k+1 (MODEL.md 2); M_tow at the tow point (joint 0)
+        #: joint masses [kg]: M[k] sits at joint k+1 (docs/model.md §2); M_tow at the tow point (joint 0)
         if hose.mass_lumping == "aft":
             self.M = link_mass.copy()
             self.M_tow = 0.0
