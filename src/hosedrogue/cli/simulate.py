@@ -23,6 +23,9 @@ def add_parser(sub) -> None:
     s.add_argument("--seed", metavar="N", type=bounded_int("--seed", 0, 2**63 - 1),
                    help="turbulence seed [-] (overrides the file)")
     s.add_argument("--out", metavar="DIR", default="out/simulate", help="output folder (default out/simulate)")
+    s.add_argument("--format", choices=("csv", "mat"), default="csv",
+                   help="'mat': also write DIR/timeseries.mat (MATLAB, full precision, named signals with SI "
+                        "units, the state [rad, rad/s]); default 'csv' only")
     s.set_defaults(func=run)
 
 
@@ -38,6 +41,10 @@ def run(args) -> int:
     created = not out.exists()
     try:
         paths = write_run(result, out)
+        if args.format == "mat":
+            from ..interop.matlab import write_simulation_mat
+
+            paths.append(write_simulation_mat(result, out / "timeseries.mat"))
     except BaseException:  # leave no half-written output folder behind
         if created and out.exists():
             shutil.rmtree(out, ignore_errors=True)
