@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..errors import EquilibriumError, ParameterError
+from ..errors import EquilibriumError, IncompleteError, ParameterError
 from . import export_fmu, linearize, montecarlo, reproduce, simulate, steady, sweep
 from .options import EXIT_BAD_INPUT, EXIT_INCOMPLETE, Parser
 
@@ -55,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     except ParameterError as exc:
         print(f"hosedrogue: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except EquilibriumError as exc:
+    except (EquilibriumError, IncompleteError) as exc:
         print(f"hosedrogue: {exc}", file=sys.stderr)
         return EXIT_INCOMPLETE
     except KeyboardInterrupt:
