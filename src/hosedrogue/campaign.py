@@ -415,7 +415,10 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
     On any error (including KeyboardInterrupt) the outstanding tasks are cancelled and the error
     propagates; results already passed to ``on_result`` stay.
     """
+    from concurrent.futures import CancelledError
+
     from distributed import as_completed
+    from distributed.comm.core import CommClosedError
 
     pending = iter(tasks)
     outstanding: set = set()
@@ -440,6 +443,26 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
             future.release()
             on_result(result)
             submit_next()
+    except (CancelledError, CommClosedError) as exc:
+        # The scheduler went away: it cancels every future (reason "scheduler-connection-lost") or a
+        # result's transfer breaks off (CommClosedError). No one is left to cancel the rest with, and
+        # the rows passed to on_result are final: stop with one line (exit 3), ready for a resume.
+        if isinstance(exc, CancelledError) and getattr(exc, "reason", None) != "scheduler-connection-lost":
+            client.cancel(list(outstanding))
+            raise
+        import logging
+
+        from .errors import IncompleteError
+
+        quiet = logging.getLogger("distributed.client")
+        level = quiet.level
+        quiet.setLevel(logging.CRITICAL)  # closing cuts its reconnection attempts short: no tracebacks
+        try:
+            client.close()
+        finally:
+            quiet.setLevel(level)
+        raise IncompleteError("the dask scheduler went away (connection lost); the finished runs are kept: "
+                              "run the same command again with a reachable --scheduler to resume") from None
     except BaseException:
         client.cancel(list(outstanding))
         raise
