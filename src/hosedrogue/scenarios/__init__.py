@@ -118,6 +118,14 @@ def resolve(name_or_path: str) -> tuple[str, dict]:
     )
 
 
+def _table(data: dict, name: str) -> dict:
+    """The table ``data[name]`` (empty if absent) as a new dict; anything else is a ParameterError."""
+    value = data.get(name, {})
+    if not isinstance(value, dict):
+        raise ParameterError(f"{name} = {value!r}: must be a table of fields ([{name}])")
+    return dict(value)
+
+
 def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     """Load and validate a scenario file (see the module docstring)."""
     source, data = resolve(name_or_path)
@@ -125,7 +133,7 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     for key in data:
         if key not in known:
             raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(known))}")
-    sc = dict(data.get("scenario", {}))
+    sc = _table(data, "scenario")
     for key in sc:
         if key not in SCENARIO_KEYS:
             raise ParameterError(f"scenario.{key}: unknown field; allowed: {', '.join(sorted(SCENARIO_KEYS))}")
@@ -141,20 +149,22 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and abs(v) <= 60):
             raise ParameterError(f"scenario.{key} = {v!r}: must be a finite number in [-60, 60] deg")
         offsets[key] = float(v)
-    ctrl = dict(data.get("controller", {}))
+    ctrl = _table(data, "controller")
     ctype = ctrl.pop("type", "none")
     if ctype not in CONTROLLER_TYPES:
         raise ParameterError(f"controller.type = {ctype!r}: must be one of {', '.join(map(repr, CONTROLLER_TYPES))}")
     options = _controller_options(ctype, ctrl)
-    actuator = dict(data.get("actuator", {}))
+    actuator = _table(data, "actuator")
     for key in actuator:
         if key not in ("max_force_n", "max_rate_n_s", "time_constant_s"):
             raise ParameterError(
                 f"actuator.{key}: unknown field; allowed: max_force_n, max_rate_n_s, time_constant_s")
-    sensor = dict(data.get("sensor", {}))
+    sensor = _table(data, "sensor")
     for key in sensor:
         if key not in ("noise_std_m", "sample_time_s"):
             raise ParameterError(f"sensor.{key}: unknown field; allowed: noise_std_m, sample_time_s")
+        if isinstance(sensor[key], bool) or not isinstance(sensor[key], (int, float)):  # Sensor compares first
+            raise ParameterError(f"sensor.{key} = {sensor[key]!r}: must be a finite number")
     from ..simulation import Actuator, Sensor  # validates values now, before any run or output
 
     Actuator(**actuator)
