@@ -9,17 +9,17 @@ fmpy; see ``docs/interop.md``).
 
 Interface (SI units, frame S_p: x forward, y right, z down, origin at the tow point):
 
-=========================  ==========  =========================================================
-variable                   causality   meaning
-=========================  ==========  =========================================================
-``u_hor_n``, ``u_ver_n``   input       control force at the drogue [N] (lateral, vertical)
-``gust_u_m_s`` .. ``_w_``  input       gust velocity along x, y, z [m/s], uniform over the hose
-``drogue_x_m`` .. ``_z_m`` output      drogue position [m]
-``tow_tension_n``          output      magnitude of the force at the tow point (hose exit) [N]
-``altitude_m``             parameter   flight altitude [m]
-``airspeed_m_s``           parameter   true airspeed [m/s]
-``wake_enabled``           parameter   tanker wake on/off
-=========================  ==========  =========================================================
+=================================  ==========  =================================================
+variable                           causality   meaning
+=================================  ==========  =================================================
+``u_hor_n``, ``u_ver_n``           input       control force at the drogue [N] (lateral, vertical)
+``gust_u_m_s`` .. ``gust_w_m_s``   input       gust velocity along x, y, z [m/s], uniform
+``drogue_x_m`` .. ``drogue_z_m``   output      drogue position [m]
+``tow_tension_n``                  output      force at the tow point (hose exit) [N], magnitude
+``altitude_m``                     parameter   flight altitude [m]
+``airspeed_m_s``                   parameter   true airspeed [m/s]
+``wake_enabled``                   parameter   tanker wake on/off
+=================================  ==========  =================================================
 
 Inputs are held constant over a communication step (zero-order hold); the step is split into
 sub-steps no longer than ``numerics.step_s`` of classical RK4 on
