@@ -8,6 +8,21 @@ import sys
 
 
 def progress_bar(total: int, desc: str, enabled: bool | None = None):
+    """A tqdm progress bar on stderr.
+
+    Parameters
+    ----------
+    total : int
+        Number of steps [-].
+    desc : str
+        Label shown before the bar.
+    enabled : bool, optional
+        Show it; by default only when stderr is a terminal and ``HOSEDROGUE_PROGRESS`` is not ``0``.
+
+    Returns
+    -------
+    tqdm.tqdm
+    """
     from tqdm import tqdm
 
     if enabled is None:

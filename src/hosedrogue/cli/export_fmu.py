@@ -8,7 +8,13 @@ NAME = "export-fmu"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(
         NAME, help="write an FMI 2.0 co-simulation FMU of the model (for Simulink, OpenModelica, fmpy, ...)",
         description="Write FILE.fmu, an FMI 2.0 co-simulation FMU (pythonfmu) of the hose-drogue model. Inputs: "
@@ -27,7 +33,18 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    """Export the FMU and print its path; exit status 0."""
+    """Export the FMU and print its path; exit status 0.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     from ..interop.fmu import export_fmu
 
     path = export_fmu(args.out, params_from_args(args))

@@ -12,7 +12,13 @@ NAME = "linearize"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(NAME, help="linear model about the balance position, reduced transfer functions",
                        description="Linearize about the balance position (inputs u_hor, u_ver [N] at the drogue; "
                                    "outputs the drogue's lateral and vertical offset P_ny, P_nz [m]) and print each "
@@ -32,7 +38,18 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    """Linearize, reduce and print (or print JSON)."""
+    """Linearize, reduce and print (or print JSON).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     import numpy as np
 
     from ..analysis.linearize import linearize
@@ -77,7 +94,18 @@ def run(args) -> int:
 
 
 def prepare_mat_out(out: str) -> None:
-    """Refuse a --out that is not a writable-looking ``.mat`` file name (before computing)."""
+    """Refuse a --out that is not a ``.mat`` file name (before anything is computed).
+
+    Parameters
+    ----------
+    out : str
+        The --out value.
+
+    Raises
+    ------
+    ParameterError
+        If it does not end in ``.mat`` or is a directory.
+    """
     path = Path(out)
     if path.suffix != ".mat" or path.is_dir():
         raise ParameterError(f"--out = {out!r}: must be a file name ending in .mat")

@@ -11,7 +11,13 @@ NAME = "montecarlo"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(
         NAME, help="Monte Carlo campaign: many turbulence seeds of one scenario, in parallel",
         description=(
@@ -52,7 +58,18 @@ def _percent(x: float | None) -> str:
 
 
 def run(args) -> int:
-    """Run the campaign; print a short summary and the files. Exit 3 if any run stopped early."""
+    """Run the campaign; print a short summary and the files. Exit 3 if any run stopped early.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     summary = run_campaign(
         args.scenario, args.runs, args.out, workers=args.workers, scheduler=args.scheduler, seed=args.seed,
         capture_radii_m=args.capture_radii, keep_timeseries=args.keep_timeseries,

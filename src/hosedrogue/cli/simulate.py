@@ -12,7 +12,13 @@ NAME = "simulate"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(NAME, help="run a scenario file (time simulation)",
                        description="Run SCENARIO (a shipped name such as 'swing-release' or "
                                    "'paper-turbulence', or a TOML path) and write DIR/timeseries.csv "
@@ -30,7 +36,18 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    """Simulate, write the files; exit 3 if the run stopped early (what it computed is kept)."""
+    """Simulate, write the files; exit 3 if the run stopped early (what it computed is kept).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     from ..runner import run_scenario, write_run
     from ..scenarios import load_scenario
 

@@ -123,7 +123,7 @@ class StepFailure(Exception):
     """The state stopped being valid during a step (non-finite, or a yaw beyond the limit)."""
 
     t_s: float  #: time at which it was detected [s]
-    reason: str
+    reason: str  #: why the state is no longer valid
 
     def __str__(self) -> str:
         return f"stopped at t = {self.t_s:.6g} s: {self.reason}"

@@ -31,13 +31,43 @@ _CHANNEL_TITLE = {"lateral": "lateral channel (u_hor -> P_ny)", "vertical": "ver
 
 
 def new_figure(nrows: int = 1, ncols: int = 1, size=(7.0, 4.0), **kw):
-    """A figure not registered with pyplot's global state (safe in long-running processes)."""
+    """A figure not registered with pyplot's global state (safe in long-running processes).
+
+    Parameters
+    ----------
+    nrows, ncols : int
+        Grid of axes [-].
+    size : tuple of float
+        Figure width and height [inch].
+    **kw
+        Passed to :meth:`matplotlib.figure.Figure.subplots` (``sharex``, ...).
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    axes : matplotlib.axes.Axes or numpy.ndarray of them
+    """
     fig = Figure(figsize=size, constrained_layout=True)
     axes = fig.subplots(nrows, ncols, **kw)
     return fig, axes
 
 
 def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
+    """Write ``fig`` to ``path`` (its folder is created).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : str or Path
+        Image file; the format follows the suffix (``.png``, ``.pdf``, ...).
+    dpi : int
+        Resolution [dots per inch].
+
+    Returns
+    -------
+    Path
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=dpi)
@@ -57,7 +87,20 @@ def _shade_window(ax, window_s):
 def plot_displacement(result, labels: Sequence[str] | None = None, others: Sequence = (), title: str = ""):
     """Lateral and vertical drogue displacement from the balance position [m] against time [s].
 
-    ``others`` are further results drawn on the same axes (e.g. controller off vs on).
+    Parameters
+    ----------
+    result : SimulationResult
+        The run to draw.
+    labels : sequence of str, optional
+        Legend labels of ``result`` and then of each of ``others``.
+    others : sequence of SimulationResult
+        Further results drawn on the same axes (e.g. controller off vs on).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     fig, (ax_y, ax_z) = new_figure(2, 1, size=(7.0, 5.0), sharex=True)
     results = [result, *others]

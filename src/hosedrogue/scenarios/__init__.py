@@ -27,22 +27,22 @@ CONTROLLER_TYPES = ("none", "pid", "lqr")
 class Scenario:
     """A runnable case: parameters plus run settings."""
 
-    name: str
-    params: Params
-    duration_s: float
-    description: str = ""
+    name: str  #: scenario name (``[scenario] name``, or the file's stem)
+    params: Params  #: the model, environment and numerics parameters
+    duration_s: float  #: simulated time [s]
+    description: str = ""  #: one line for people
     #: "equilibrium": start at rest at the balance position; "displaced": add the offsets below
     #: to every link's balance angles and release from rest.
     initial: str = "equilibrium"
-    initial_pitch_offset_deg: float = 0.0
-    initial_yaw_offset_deg: float = 0.0
-    controller: str = "none"
+    initial_pitch_offset_deg: float = 0.0  #: pitch added to every link for ``displaced`` [deg]
+    initial_yaw_offset_deg: float = 0.0  #: yaw added to every link for ``displaced`` [deg]
+    controller: str = "none"  #: "none", "pid" or "lqr"
     #: Design options of the controller: PID ``lateral``/``vertical`` = [K_P, K_I, K_D, N];
     #: LQR ``q_diag`` (4) and ``r_diag`` (2). Missing entries take the paper's values.
     controller_options: dict = field(default_factory=dict)
-    actuator: dict = field(default_factory=dict)
-    sensor: dict = field(default_factory=dict)
-    source: str = ""
+    actuator: dict = field(default_factory=dict)  #: actuator limits: max_force_n [N], max_rate_n_s [N/s], ...
+    sensor: dict = field(default_factory=dict)  #: sensor noise: noise_std_m [m], sample_time_s [s]
+    source: str = ""  #: where it was read from (``scenarios/NAME.toml`` or a path)
 
     def with_overrides(self, duration_s: float | None = None, seed: int | None = None) -> "Scenario":
         import dataclasses
@@ -103,7 +103,20 @@ def shipped_scenarios() -> list[str]:
 
 
 def resolve(name_or_path: str) -> tuple[str, dict]:
-    """Find a scenario by shipped name, ``scenarios/NAME.toml`` or path; return (source, data)."""
+    """Find a scenario by shipped name, ``scenarios/NAME.toml`` or path; return (source, data).
+
+    Parameters
+    ----------
+    name_or_path : str
+        A shipped scenario name, ``scenarios/NAME.toml``, or a TOML file's path.
+
+    Returns
+    -------
+    source : str
+        Where it was found.
+    data : dict
+        The parsed TOML.
+    """
     path = Path(name_or_path)
     if path.exists():
         return str(path), read_toml(path)
@@ -127,7 +140,24 @@ def _table(data: dict, name: str) -> dict:
 
 
 def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
-    """Load and validate a scenario file (see the module docstring)."""
+    """Load and validate a scenario file (see the module docstring).
+
+    Parameters
+    ----------
+    name_or_path : str
+        A shipped scenario name or a TOML file (:func:`resolve`).
+    base : Params
+        Parameters the file's sections override (the paper's case by default).
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ParameterError
+        One line naming the field, the value and what is allowed.
+    """
     source, data = resolve(name_or_path)
     known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor"}
     for key in data:
