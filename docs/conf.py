@@ -51,6 +51,11 @@ numpydoc_xref_param_type = False
 
 myst_heading_anchors = 3
 
+# Relative references such as :mod:`.steady` in a module docstring are resolved by suffix and
+# can match modules of several subpackages (plotting.steady, cli.steady): Sphinx links one of
+# them and warns; that is not a documentation error.
+suppress_warnings = ["ref.python"]
+
 html_theme = "alabaster"
 html_title = f"hosedrogue {release}"
 html_static_path = []
@@ -65,7 +70,10 @@ _LITERAL = re.compile(r"(``.*?``|`[^`]*`)")
 def _escape_bars(app, what, name, obj, options, lines):
     """Escape ``|`` outside literals (``|dy|`` is an absolute value, not a substitution)."""
     for i, line in enumerate(lines):
-        if "|" in line and not line.lstrip().startswith(("+", "|")):  # leave grid tables and line blocks
+        stripped = line.strip()
+        table = stripped.startswith(("+-", "+=")) or (stripped.startswith("|") and stripped.endswith("|")
+                                                     and stripped.count("|") > 2)
+        if "|" in line and not table:  # leave grid tables alone
             parts = _LITERAL.split(line)
             lines[i] = "".join(p if k % 2 else p.replace("|", "\\|") for k, p in enumerate(parts))
 

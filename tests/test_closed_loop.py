@@ -35,14 +35,35 @@ def test_pid_cuts_peak_displacement_tenfold(runs):
     assert np.max(np.abs(res.drogue_offset_m[res.t_s > 55.0, 1:])) < 1e-3
 
 
-def test_lqr_with_paper_weights_is_stable_and_reduces_displacement(runs):
-    """The paper's Q and R, taken in SI units, give a slow loop (see docs/paper-differences.md):
-    it stays stable and reduces the peak, but by far less than tenfold. Asserted as measured,
-    not as the paper claims."""
+def test_paper_lqr_cuts_peak_displacement_tenfold(runs):
+    """The paper's LQR (balanced-state reading, Kalman observer, designed on this model's
+    2nd-order channels): at least ten times smaller peak displacement on each axis (measured
+    20x lateral, 12x vertical; the paper reports 0.5-1 m -> 0.5-1 cm)."""
     res = runs["paper-turbulence-lqr"]
     assert res.completed
     ratio = peaks(runs["paper-turbulence"]) / peaks(res)
-    assert np.all(ratio > 1.0), ratio
+    print(f"LQR: peaks {peaks(res)} m, ratio {ratio}, peak force {np.abs(res.control_n).max(axis=0)} N")
+    assert np.all(ratio >= 10.0), ratio
+    # settled again after the gusts stop at 30 s: the slowest regulator pole (-1.57 1/s) has had
+    # 39 time constants by t = 55 s, so the drogue is back within 1 mm
+    assert np.max(np.abs(res.drogue_offset_m[res.t_s > 55.0, 1:])) < 1e-3
+
+
+def test_integral_lqr_with_paper_weights_is_slow(runs, tmp_path):
+    """The integral-action reading (design = "integral"), the paper's Q and R in SI units, gives a
+    slow loop (see docs/paper-differences.md): stable, it reduces the peak, but by far less than
+    tenfold and less than the balanced-state reading. Asserted as measured (3.5x / 2.5x)."""
+    from importlib import resources
+
+    src = (resources.files("hosedrogue.scenarios") / "paper-turbulence-lqr.toml").read_text()
+    (tmp_path / "int.toml").write_text(src.replace('design = "balanced"', 'design = "integral"'))
+    sc = load_scenario(str(tmp_path / "int.toml"))
+    assert sc.controller_options["design"] == "integral"
+    res = run_scenario(sc)
+    assert res.completed
+    ratio = peaks(runs["paper-turbulence"]) / peaks(res)
+    assert np.all((ratio > 1.0) & (ratio < 10.0)), ratio
+    assert np.all(peaks(res) > peaks(runs["paper-turbulence-lqr"]))
     # the slow loop (slowest pole ~-0.2 1/s) has had ~5 time constants after the gusts stop:
     # the 0.23 m peak has decayed below 5 cm
     assert np.max(np.abs(res.drogue_offset_m[res.t_s > 55.0, 1:])) < 0.05
@@ -68,9 +89,24 @@ def test_actuator_limits_and_sensor_noise():
     assert not np.array_equal(a.control_n, run_scenario(sc).control_n)
 
 
+def test_paper_lqr_with_actuator_limits_and_sensor_noise(runs):
+    """The observer-based LQR with a 40 N / 500 N/s actuator and 2 mm sensor noise: stable, the
+    force limit holds, and the peak displacement is still cut (measured 5.6 x / 4.9 x: the 40 N
+    limit is below the unlimited loop's 55 / 67 N peaks, so the 20 x / 12 x of the unlimited
+    loop cannot be kept; asserted > 3 x)."""
+    import dataclasses
+
+    sc = load_scenario("paper-turbulence-lqr")
+    res = run_scenario(dataclasses.replace(sc, actuator={"max_force_n": 40.0, "max_rate_n_s": 500.0},
+                                           sensor={"noise_std_m": 0.002}))
+    assert res.completed
+    assert np.max(np.abs(res.control_n)) <= 40.0 + 1e-9
+    assert np.all(peaks(runs["paper-turbulence"]) / peaks(res) > 3.0)
+
+
 def test_controller_design_options_are_used(tmp_path):
     """User PID gains and LQR weights from the scenario replace the paper's: a 100 x heavier LQR
-    output weight must hold the drogue closer than the paper's weights do."""
+    state weight must hold the drogue closer than the paper's weights do."""
     base = "[scenario]\nduration_s = 40.0\n[turbulence]\nenabled = true\n"
     (tmp_path / "lqr.toml").write_text(base + '[controller]\ntype = "lqr"\nq_diag = [1.2e6, 8e5, 8e5, 1e6]\n')
     (tmp_path / "pid.toml").write_text(base + '[controller]\ntype = "pid"\nlateral = [2000.0, 500.0, 300.0, 50.0]\n')

@@ -37,8 +37,9 @@ from hosedrogue.params import PAPER, Params
 # Parameters shared by all links, in the order the lambdified functions take them.
 SCALAR_PARAMS = ("g", "rho", "V", "d_o", "c_t", "c_n", "CdA_d", "EI", "J_d", "s_paper", "s_moment",
                  "u_hor", "u_ver")
-# Followed by the per-link parameters: lengths l_k [m], joint masses M_k [kg] (at the aft joint,
-# drogue included at joint n), link inertias J_k [kg m^2], k = 1..n.
+# Followed by the per-link parameters: lengths l_k [m], joint masses M_k [kg] at joint k (drogue
+# included at joint n; which share of each link's mass a joint carries is the lumping option,
+# distributed in param_vector from MODEL.md 2), link inertias J_k [kg m^2], k = 1..n.
 
 # Relative tolerance on the acceleration vector, ||qdd_pkg - qdd_sym|| / ||qdd_sym||. Both sides
 # solve H qdd = f in double precision (eps = 2.2e-16). The forces are O(1e2-1e3) N (drogue drag at
@@ -223,8 +224,18 @@ def param_vector(params: Params, rho: float, J_links, u=(0.0, 0.0)) -> np.ndarra
     hose, drogue, flight = params.hose, params.drogue, params.flight
     n = hose.links
     l = np.full(n, hose.length_m / n)
-    M = hose.mass_per_length_kg_m * l
-    M[-1] += drogue.mass_kg
+    # MODEL.md 2: link k (joints k-1 to k) puts all its mass at joint k ("aft") or half at each end
+    # ("split"); joint 0 is the fixed tow point, whose mass never moves and so is left out here.
+    joint_mass = np.zeros(n + 1)
+    for k in range(1, n + 1):
+        m_link = hose.mass_per_length_kg_m * l[k - 1]
+        if hose.mass_lumping == "aft":
+            joint_mass[k] += m_link
+        else:
+            joint_mass[k - 1] += m_link / 2
+            joint_mass[k] += m_link / 2
+    joint_mass[n] += drogue.mass_kg
+    M = joint_mass[1:]
     EI = hose.elastic_modulus_pa * math.pi * (hose.outer_diameter_m**4 - hose.inner_diameter_m**4) / 64.0
     scalars = {
         "g": G0,
@@ -327,6 +338,8 @@ CASES = [
     ("full-paper", {"hose": {"bending": "paper"}}),
     ("full-moment", {"hose": {"bending": "moment"}}),
     ("full-paper-rod-inertia", {"hose": {"bending": "paper", "link_inertia": "rod"}}),
+    ("split-inertia-gravity", {"hose": {"bending": "off", "mass_lumping": "split"}, "flight": {"density_scale": 0.0}}),
+    ("split-full-moment-rod", {"hose": {"bending": "moment", "link_inertia": "rod", "mass_lumping": "split"}}),
     # At 150 m/s the tangential relative speed v_t is always positive, so v_t |v_t| and the paper's
     # sign-losing v_t^2 agree; at 1 m/s the joints (up to ~3 m/s here) outrun the air and v_t changes
     # sign. Denser air and c_t = 0.1 make the tangential drag visible (~1e-3 of qdd) there.

@@ -27,7 +27,8 @@ def test_recursion_matches_dense_solve(n, bending, rng):
         assert np.linalg.norm(fast - dense) <= 1e-10 * np.linalg.norm(dense)
 
 
-def test_tow_force_is_momentum_balance(rng):
+@pytest.mark.parametrize("lumping", ["aft", "split"])
+def test_tow_force_is_momentum_balance(lumping, rng):
     """Without air the only external loads are the joint weights, so the force on the tow point
     must equal sum(M g z) - sum(M A), with the joint accelerations A taken here by central
     differences of the joint velocities along the motion (a different route from the
@@ -35,7 +36,8 @@ def test_tow_force_is_momentum_balance(rng):
     from hosedrogue.constants import G0
 
     n = 9
-    m = HoseModel(PAPER.replace(hose={"links": n, "bending": "moment"}, flight={"density_scale": 0.0}))
+    m = HoseModel(PAPER.replace(hose={"links": n, "bending": "moment", "mass_lumping": lumping},
+                                flight={"density_scale": 0.0}))
     q = np.empty(2 * n)
     q[0::2] = rng.uniform(0.8, 2.0, n)
     q[1::2] = rng.uniform(-0.5, 0.5, n)
@@ -43,6 +45,9 @@ def test_tow_force_is_momentum_balance(rng):
     h = 1e-6
     dx = m.derivative(0.0, x)
     acc = (m.outputs(x + h * dx).joint_velocities_m_s - m.outputs(x - h * dx).joint_velocities_m_s) / (2 * h)
-    expected = m.M.sum() * np.array([0.0, 0.0, G0]) - (m.M[:, None] * acc[1:]).sum(axis=0)
+    # the whole hose's weight, the half link lumped at the (fixed) tow point included for "split"
+    hose_and_drogue = m.params.hose.mass_per_length_kg_m * m.params.hose.length_m + m.params.drogue.mass_kg
+    assert m.M.sum() + m.M_tow == pytest.approx(hose_and_drogue, rel=1e-14)
+    expected = hose_and_drogue * np.array([0.0, 0.0, G0]) - (m.M[:, None] * acc[1:]).sum(axis=0)
     got = m.outputs(x).tow_force_n
     assert np.linalg.norm(got - expected) <= 1e-6 * np.linalg.norm(expected)

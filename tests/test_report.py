@@ -163,6 +163,26 @@ def test_paper_pid_reproduces_table3_on_the_papers_models(report):
             assert ours == pytest.approx(TABLE3[("PID", ch)][key], rel=0.06), (ch, key)
 
 
+def test_sections_receive_exactly_the_results_they_declare():
+    """Each section's build takes (out, settings) plus, as keyword-only arguments, the results of
+    the earlier sections it names in ``needs``: adding a section is one module and one line."""
+    import inspect
+
+    from hosedrogue.report.build import CLOSING, SECTIONS
+
+    seen = set()
+    for section in SECTIONS + CLOSING:
+        params = inspect.signature(section.build).parameters
+        positional = [n for n, p in params.items() if p.kind is p.POSITIONAL_OR_KEYWORD]
+        keyword = {n for n, p in params.items() if p.kind is p.KEYWORD_ONLY}
+        assert positional == ["out", "settings"], section.key
+        assert keyword == set(section.needs), section.key
+        assert set(section.needs) <= seen, f"{section.key} needs a later section"
+        assert section.key not in seen, section.key
+        seen.add(section.key)
+    assert len({s.label for s in SECTIONS}) == len(SECTIONS)
+
+
 # --- plotting smoke tests -------------------------------------------------------------------------
 UNIT = re.compile(r"\[[^\]]+\]")
 

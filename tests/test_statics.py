@@ -50,7 +50,14 @@ def static_march(p):
     V = p.flight.airspeed_m_s
     do, di = p.hose.outer_diameter_m, p.hose.inner_diameter_m
     EI = p.hose.elastic_modulus_pa * math.pi * (do**4 - di**4) / 64
-    mass = np.full(n, p.hose.mass_per_length_kg_m * l)
+    # mass[k]: joint k+1's load; "split" puts half a link at each end (MODEL.md 2), and the half
+    # link at the tow point adds its weight to the tow-point force only
+    link_mass = p.hose.mass_per_length_kg_m * l
+    if p.hose.mass_lumping == "aft":
+        mass, tow_mass = np.full(n, link_mass), 0.0
+    else:
+        mass, tow_mass = np.full(n, link_mass), link_mass / 2
+        mass[-1] = link_mass / 2
     mass[-1] += p.drogue.mass_kg
     area_d = math.pi * p.drogue.diameter_m**2 / 4
 
@@ -109,7 +116,7 @@ def static_march(p):
         new_drogue = sum(l * e for e in es)
         if np.linalg.norm(new_drogue - drogue) < 1e-12:
             # link 1 pulls the tow point with C_1; the other half of its drag acts there too
-            return new_drogue, carried + 0.5 * drag_next
+            return new_drogue, carried + 0.5 * drag_next + tow_mass * G0 * np.array([0, 0, 1.0])
         drogue = new_drogue
     raise AssertionError("static march did not converge")
 
@@ -122,6 +129,8 @@ def static_march(p):
         {"hose": {"bending": "off"}},
         {"flight": {"altitude_m": 2000.0, "airspeed_m_s": 100.0}},
         {"flight": {"altitude_m": 12000.0, "airspeed_m_s": 220.0}, "hose": {"links": 12}},
+        {"hose": {"mass_lumping": "split"}},
+        {"hose": {"mass_lumping": "split", "bending": "off", "links": 7}},
     ],
 )
 def test_equilibrium_matches_independent_force_balance(overrides):

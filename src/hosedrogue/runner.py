@@ -27,21 +27,26 @@ def initial_state(scenario: Scenario, eq: Equilibrium) -> np.ndarray:
 
 
 def build_controller(scenario: Scenario, model: HoseModel, eq: Equilibrium):
-    """The scenario's controller as a LinearController (None for "none")."""
+    """The scenario's controller as a LinearController (None for "none").
+
+    PID: the paper's gains (Eq. 33) unless ``lateral``/``vertical`` are given. LQR: the paper's
+    LQR read on the balanced states of each 2nd-order channel (``design = "balanced"``, default)
+    or the integral-action reading (``design = "integral"``), designed on this flight condition's
+    linearization, with the paper's Q and R unless ``q_diag``/``r_diag`` are given.
+    """
     if scenario.controller == "none":
         return None
     from .analysis.linearize import linearize
-    from .controllers.design import lqr_design_for
-    from .controllers.lqr import PAPER_LQR_Q, PAPER_LQR_R
+    from .controllers.design import lqr_controller_for
     from .controllers.pid import PAPER_PID, PIDGains, pid_controller
 
     opts = scenario.controller_options
     if scenario.controller == "pid":
         gains = {ch: PIDGains(*opts[ch]) if ch in opts else PAPER_PID[ch] for ch in ("lateral", "vertical")}
         return pid_controller(gains["lateral"], gains["vertical"])
-    Q = np.diag(opts["q_diag"]) if "q_diag" in opts else PAPER_LQR_Q
-    R = np.diag(opts["r_diag"]) if "r_diag" in opts else PAPER_LQR_R
-    return lqr_design_for(linearize(scenario.params, eq, model), Q, R).controller
+    Q = np.diag(opts["q_diag"]) if "q_diag" in opts else None
+    R = np.diag(opts["r_diag"]) if "r_diag" in opts else None
+    return lqr_controller_for(linearize(scenario.params, eq, model), opts.get("design", "balanced"), Q, R)
 
 
 def run_scenario(scenario: Scenario) -> SimulationResult:

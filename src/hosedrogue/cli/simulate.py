@@ -52,6 +52,8 @@ def run(args) -> int:
     from ..scenarios import load_scenario
 
     scenario = load_scenario(args.scenario).with_overrides(duration_s=args.duration, seed=args.seed)
+    if scenario.extra.keys() & {"reel", "probe"}:  # an engagement scenario: its own driver and files
+        from ..engagement.run import run_engagement as run_scenario, write_engagement as write_run  # noqa: F811
     out = Path(args.out)
     prepare_out(out)
     result = run_scenario(scenario)

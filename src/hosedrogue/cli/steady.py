@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+
 from .options import add_flight_options, params_from_args
 
 NAME = "steady"
@@ -21,6 +23,9 @@ def add_parser(sub) -> None:
                        description="Print the balance position: drogue position [m] in S_p, drogue drag [N], "
                                    "tow-point force [N] and D = V_D/L_H (drogue drop over hose length).")
     add_flight_options(s)
+    s.add_argument("--continuum", action="store_true",
+                   help="solve the continuous hose (towed-cable limit of infinitely many links, bending "
+                        "neglected) instead of the link model")
     s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     s.set_defaults(func=run)
 
@@ -41,17 +46,26 @@ def run(args) -> int:
     from ..analysis.equilibrium import solve_equilibrium
 
     params = params_from_args(args)
-    eq = solve_equilibrium(params)
+    if args.continuum:
+        from ..analysis.continuum import solve_continuum
+
+        eq = solve_continuum(params)
+        model = "continuous hose (bending neglected)"
+        drag = float(np.linalg.norm(eq.drogue_drag_n))
+    else:
+        eq = solve_equilibrium(params)
+        model = f"{params.hose.links} links"
+        drag = eq.drogue_drag_magnitude_n
     if args.json:
         print(json.dumps(eq.to_dict()))
         return 0
     x, y, z = eq.drogue_position_m
     fx, fy, fz = eq.tow_force_n
-    print(f"Balance position: {params.hose.links} links, {params.hose.length_m:g} m hose, "
+    print(f"Balance position: {model}, {params.hose.length_m:g} m hose, "
           f"{params.flight.airspeed_m_s:g} m/s at {params.flight.altitude_m:g} m, "
           f"wake {'on' if params.wake.enabled else 'off'}")
     print(f"  drogue position (x fwd, y right, z down) [m]: {x:9.4f} {y:9.4f} {z:9.4f}")
-    print(f"  drogue drag [N]:                               {eq.drogue_drag_magnitude_n:9.2f}")
+    print(f"  drogue drag [N]:                               {drag:9.2f}")
     print(f"  tow-point force [N]:                           {fx:9.2f} {fy:9.2f} {fz:9.2f}")
     print(f"  balance ratio D = V_D / L_H:                   {eq.balance_ratio:9.4f}")
     return 0

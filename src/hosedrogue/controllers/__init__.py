@@ -1,5 +1,9 @@
 """Controllers for the drogue position: PID and LQR with observer, as linear state-space laws.
 
+The paper's LQR is `lqr_balanced_design` (the paper's Q weighs the balanced states of each
+2nd-order channel; reproduces Table 3's lateral LQR row); `lqr_integral_design` is the
+integral-action reading of Eq. 34, kept as a sensitivity. `table3` gives the step responses.
+
 Every design returns a `LinearController` that maps the measured drogue offset
 y = [P_ny, P_nz] [m] to the force u = [u_hor, u_ver] [N], with the feedback sign inside.
 """
@@ -13,6 +17,14 @@ from .lqr import (
     lqr_integral_design,
     lqr_tracking_closed_loop,
     two_channel_plant,
+)
+from .lqr_balanced import (
+    TURBULENCE_FORCE_PSD,
+    BalancedLQRChannel,
+    BalancedLQRDesign,
+    balanced_realization,
+    lqr_balanced_design,
+    lqr_balanced_reference_loop,
 )
 from .stepinfo import StepMetrics, StepResponse, closed_loop_step, step_metrics
 
@@ -28,6 +40,12 @@ __all__ = [
     "lqr_integral_design",
     "lqr_tracking_closed_loop",
     "two_channel_plant",
+    "TURBULENCE_FORCE_PSD",
+    "BalancedLQRChannel",
+    "BalancedLQRDesign",
+    "balanced_realization",
+    "lqr_balanced_design",
+    "lqr_balanced_reference_loop",
     "StepMetrics",
     "StepResponse",
     "closed_loop_step",

@@ -4,8 +4,13 @@ model.
 
 * :func:`reduced_channels` - lateral and vertical SISO models of a given order;
 * :func:`paper_pid` - the paper's PID gains (Eq. 33) as a controller;
-* :func:`lqr_design_for` - LQR with integral action and Kalman observer (Eqs. 34-37; the paper's
-  Q, R by default) designed on the 2nd-order channels of *this* flight condition's linearization.
+* :func:`paper_lqr_design_for` - the paper's LQR (Eqs. 35-37, the paper's Q and R by default)
+  read as a regulator of the balanced states, with Kalman observers
+  (:mod:`.lqr_balanced`), designed on the reduced channels of *this* flight condition's
+  linearization; the reading that reproduces the paper's Table 3 lateral LQR row;
+* :func:`lqr_design_for` - the integral-action reading (Eq. 34, :mod:`.lqr`), kept as a
+  sensitivity;
+* :func:`lqr_controller_for` - either design by name, as the controller for the nonlinear loop.
 """
 
 from __future__ import annotations
@@ -13,15 +18,20 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import control
+import numpy as np
 
 from ..analysis.linearize import LinearModel
 from ..analysis.reduction import balanced_truncation, split_channels
 from .linear import LinearController
 from .lqr import PAPER_LQR_Q, PAPER_LQR_R, LQRDesign, lqr_integral_design, two_channel_plant
+from .lqr_balanced import BalancedLQRDesign, lqr_balanced_design
 from .pid import PAPER_PID, pid_controller
 
 #: Order of the design model (paper Sec. 3.2: "the 2nd order reduced model is chosen").
 DESIGN_ORDER = 2
+
+#: Names of the LQR readings: "balanced" (the paper's, default) and "integral" (Eq. 34 literally).
+LQR_DESIGNS = ("balanced", "integral")
 
 
 @dataclass(frozen=True)
@@ -45,7 +55,76 @@ def paper_pid() -> LinearController:
     return pid_controller(PAPER_PID["lateral"], PAPER_PID["vertical"])
 
 
-def lqr_design_for(lm: LinearModel, Q=PAPER_LQR_Q, R=PAPER_LQR_R) -> LQRDesign:
-    """LQR with integral action on the 2nd-order channels of ``lm``."""
-    ch = reduced_channels(lm, DESIGN_ORDER)
+def paper_lqr_design_for(lm: LinearModel, Q=PAPER_LQR_Q, R=PAPER_LQR_R,
+                         order: int = DESIGN_ORDER) -> BalancedLQRDesign:
+    """The paper's LQR (balanced-state reading) on the reduced channels of ``lm``.
+
+    Parameters
+    ----------
+    lm : LinearModel
+        Linearization about the balance position.
+    Q : array_like, shape (2 order, 2 order)
+        Diagonal weight on the lateral then vertical balanced states [1/(m N)]; default the
+        paper's diag(12000, 8000, 8000, 10000) (order 2).
+    R : array_like, shape (2, 2)
+        Diagonal weight on [u_hor, u_ver] [1/N^2]; default the paper's diag(0.4, 0.5).
+    order : int, optional
+        Order of each channel's design model (balanced truncation), default 2 as in the paper.
+
+    Returns
+    -------
+    BalancedLQRDesign
+    """
+    ch = reduced_channels(lm, order)
+    return lqr_balanced_design(ch.lateral, ch.vertical, Q, R)
+
+
+def lqr_design_for(lm: LinearModel, Q=PAPER_LQR_Q, R=PAPER_LQR_R,
+                   order: int = DESIGN_ORDER) -> LQRDesign:
+    """The integral-action reading of the paper's LQR (Eq. 34) on the reduced channels of ``lm``.
+
+    Parameters
+    ----------
+    lm : LinearModel
+        Linearization about the balance position.
+    Q : array_like, shape (4, 4)
+        Weight on [P_ny, P_nz, z_ny, z_nz] [1/m^2, 1/(m s)^2]; default the paper's printed Q.
+    R : array_like, shape (2, 2)
+        Weight on [u_hor, u_ver] [1/N^2]; default the paper's.
+    order : int, optional
+        Order of each channel's design model, default 2.
+
+    Returns
+    -------
+    LQRDesign
+    """
+    ch = reduced_channels(lm, order)
     return lqr_integral_design(two_channel_plant(ch.lateral, ch.vertical), Q, R)
+
+
+def lqr_controller_for(lm: LinearModel, design: str = "balanced", Q=None, R=None) -> LinearController:
+    """The LQR of the named reading as the controller of the nonlinear loop.
+
+    Parameters
+    ----------
+    lm : LinearModel
+        Linearization about the balance position.
+    design : {"balanced", "integral"}
+        "balanced": the paper's LQR read on the balanced states (default); "integral": weights
+        on the offsets and their integrals (Eq. 34).
+    Q, R : array_like, optional
+        Weights of the chosen reading (see `paper_lqr_design_for`, `lqr_design_for`); default
+        the paper's.
+
+    Returns
+    -------
+    LinearController
+        Measured offset [m] -> force [N], observer inside.
+    """
+    Q = PAPER_LQR_Q if Q is None else np.asarray(Q, dtype=float)
+    R = PAPER_LQR_R if R is None else np.asarray(R, dtype=float)
+    if design == "balanced":
+        return paper_lqr_design_for(lm, Q, R).controller
+    if design == "integral":
+        return lqr_design_for(lm, Q, R).controller
+    raise ValueError(f"design must be one of {LQR_DESIGNS}, got {design!r}")

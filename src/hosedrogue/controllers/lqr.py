@@ -1,5 +1,11 @@
 """LQR with integral action and a Kalman-filter observer (paper Sec. 3.2.2, Eqs. 34-37).
 
+This is the *integral-action reading* of the paper's LQR, kept as a sensitivity: with the
+paper's Q and R it is far slower than Table 3. The reading that reproduces Table 3's lateral
+LQR row weighs the balanced states instead, see :mod:`.lqr_balanced` (the default design of
+scenarios and of ``hosedrogue design lqr``). The paper's weights `PAPER_LQR_Q`, `PAPER_LQR_R`
+are defined here for both readings.
+
 Design model
     The reduced two-channel model x' = A x + B u, y = C x (D = 0): by default the block
     diagonal of the lateral (u_hor [N] -> P_ny [m]) and vertical (u_ver [N] -> P_nz [m])
@@ -82,7 +88,9 @@ __all__ = [
     "lqr_tracking_closed_loop",
 ]
 
-#: Paper Eq. 37: weight on the augmented outputs [P_ny, P_nz, z_ny, z_nz] (1/m^2, 1/(m s)^2).
+#: Paper Eq. 37: Q = diag(12000, 8000, 8000, 10000). Integral reading: weight on the augmented
+#: outputs [P_ny, P_nz, z_ny, z_nz] (1/m^2, 1/(m s)^2); balanced reading (`lqr_balanced`): on the
+#: lateral then vertical balanced states (1/(m N)).
 PAPER_LQR_Q = np.diag([12000.0, 8000.0, 8000.0, 10000.0])
 PAPER_LQR_Q.setflags(write=False)
 

@@ -39,12 +39,8 @@ sample interval or on the integration step.
 
 Standard intensities
 --------------------
-:func:`standard_intensity` gives the medium/high-altitude rms intensity of MIL-F-8785C (1980)
-Fig. 7 / MIL-HDBK-1797 (1997), "probability of exceedance of high-altitude intensity", as digitized
-in the lookup table of the MathWorks Aerospace Blockset "Dryden Wind Turbulence Model" blocks
-(MathWorks documentation: light = 1e-2, moderate = 1e-3, severe = 1e-5 probability of exceedance;
-the same numbers appear in JSBSim's ``FGWinds.cpp``). Altitudes 500-80 000 ft, intensities in ft/s;
-the model is isotropic there (sigma_u = sigma_v = sigma_w, L = 1750 ft = 533.4 m).
+:func:`standard_intensity` (defined in :mod:`hosedrogue.standards`, re-exported here) gives the
+MIL-F-8785C Fig. 7 high-altitude rms intensity for light, moderate and severe turbulence.
 """
 
 from __future__ import annotations
@@ -56,8 +52,13 @@ import numpy as np
 import scipy.linalg
 from numba import njit
 
-from ..constants import FT_TO_M
 from ..params import ParameterError, Turbulence
+from ..standards import (  # noqa: F401 - part of this module's public interface
+    INTENSITY_ALTITUDE_FT,
+    INTENSITY_FT_S,
+    PROBABILITY_OF_EXCEEDANCE,
+    standard_intensity,
+)
 
 #: Filter families, as accepted by ``Turbulence.model``.
 MODELS = ("mil-f-8785c", "mil-hdbk-1797")
@@ -280,6 +281,8 @@ class GustRecord:
         S_p x, y, z at times ``t0_s + k dt_s``. Treat as read-only.
     t_on_s, t_off_s : float
         The gusts act for ``t_on_s <= t < t_off_s`` [s] and are zero outside.
+    interpolation : {"linear", "cubic"}
+        How :func:`gust_at` reads between samples (``Turbulence.interpolation``).
     """
 
     t0_s: float
@@ -287,6 +290,7 @@ class GustRecord:
     values: np.ndarray
     t_on_s: float
     t_off_s: float
+    interpolation: str = "linear"
 
     def __post_init__(self) -> None:
         values = np.ascontiguousarray(self.values, dtype=np.float64)
@@ -294,6 +298,8 @@ class GustRecord:
             raise ValueError(f"values: shape {values.shape} must be (N, 3) with N >= 2")
         if not (math.isfinite(self.dt_s) and self.dt_s > 0.0):
             raise ValueError(f"dt_s = {self.dt_s!r}: must be a finite number > 0 [s]")
+        if self.interpolation not in ("linear", "cubic"):
+            raise ValueError(f"interpolation = {self.interpolation!r}: must be 'linear' or 'cubic'")
         object.__setattr__(self, "values", values)
 
     @property
@@ -302,7 +308,7 @@ class GustRecord:
         return self.t0_s + self.dt_s * np.arange(self.values.shape[0])
 
     def at(self, t):
-        """Gust velocity at time(s) ``t``, as :func:`gust_at` computes it.
+        """Gust velocity at time(s) ``t``, computed by :func:`gust_at` itself (same arithmetic).
 
         Parameters
         ----------
@@ -312,25 +318,34 @@ class GustRecord:
         Returns
         -------
         numpy.ndarray
-            Shape ``np.shape(t) + (3,)``: ``[u, v, w]`` [m/s] along S_p x, y, z; linear
-            interpolation between samples, clamped at the ends of the record, zero outside
+            Shape ``np.shape(t) + (3,)``: ``[u, v, w]`` [m/s] along S_p x, y, z; interpolated
+            between samples (``interpolation``), clamped at the ends of the record, zero outside
             ``[t_on_s, t_off_s)``.
         """
         t = np.asarray(t, dtype=np.float64)
-        v = self.values
-        last = v.shape[0] - 1
-        s = (t - self.t0_s) / self.dt_s
-        s = np.clip(np.where(np.isfinite(s), s, 0.0), 0.0, float(last))  # NaN/inf: masked below
-        i = np.minimum(np.floor(s).astype(np.intp), last - 1)
-        f = (s - i)[..., None]
-        out = v[i] + f * (v[i + 1] - v[i])
-        out = np.where((s >= last)[..., None], v[last], out)  # same arithmetic as gust_at
-        inside = (t >= self.t_on_s) & (t < self.t_off_s)
-        return np.where(inside[..., None], out, 0.0)
+        flat = np.ascontiguousarray(t.reshape(-1))
+        out = np.empty((flat.size, 3))
+        _gust_series(flat, float(self.t0_s), float(self.dt_s), self.values, float(self.t_on_s),
+                     float(self.t_off_s), self.interpolation == "cubic", out)
+        return out.reshape(t.shape + (3,))
 
 
 @njit(cache=True)
-def gust_at(t, t0, dt, values, t_on, t_off):
+def _segment(v, i, n, j, f, cubic):
+    """Value of column j on the segment [i, i+1] at fraction f: linear, or the Catmull-Rom cubic
+    through samples i-1 .. i+2 (end samples repeated at the ends of the record)."""
+    p1 = v[i, j]
+    p2 = v[i + 1, j]
+    if not cubic:
+        return p1 + f * (p2 - p1)
+    p0 = v[i - 1, j] if i > 0 else p1
+    p3 = v[i + 2, j] if i + 2 < n else p2
+    return p1 + 0.5 * f * ((p2 - p0) + f * ((2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3)
+                                            + f * (3.0 * (p1 - p2) + p3 - p0)))
+
+
+@njit(cache=True)
+def gust_at(t, t0, dt, values, t_on, t_off, cubic=False):
     """Gust velocity at time t from a sampled record (numba; the inner-loop lookup).
 
     Parameters
@@ -343,11 +358,15 @@ def gust_at(t, t0, dt, values, t_on, t_off):
         (N, 3) gust velocities [m/s] along S_p x, y, z (``GustRecord.values``).
     t_on, t_off : float
         Window [s]: zero unless ``t_on <= t < t_off``.
+    cubic : bool
+        False: linear interpolation between samples (continuous, with a kink at every sample);
+        True: Catmull-Rom cubic (continuous slope: lets RK4 keep its order on steps longer than
+        the sample interval). Both pass through every sample.
 
     Returns
     -------
     gu, gv, gw : float
-        Gust velocity [m/s]; linear interpolation between samples, clamped at the ends.
+        Gust velocity [m/s], interpolated between samples, clamped at the ends.
     """
     n = values.shape[0]
     if not (t >= t_on and t < t_off) or n == 0:
@@ -360,10 +379,16 @@ def gust_at(t, t0, dt, values, t_on, t_off):
     i = int(s)
     f = s - i
     return (
-        values[i, 0] + f * (values[i + 1, 0] - values[i, 0]),
-        values[i, 1] + f * (values[i + 1, 1] - values[i, 1]),
-        values[i, 2] + f * (values[i + 1, 2] - values[i, 2]),
+        _segment(values, i, n, 0, f, cubic),
+        _segment(values, i, n, 1, f, cubic),
+        _segment(values, i, n, 2, f, cubic),
     )
+
+
+@njit(cache=True)
+def _gust_series(ts, t0, dt, values, t_on, t_off, cubic, out):
+    for k in range(ts.shape[0]):
+        out[k, 0], out[k, 1], out[k, 2] = gust_at(ts[k], t0, dt, values, t_on, t_off, cubic)
 
 
 def generate_gusts(
@@ -409,7 +434,7 @@ def generate_gusts(
     t_on = turbulence.start_s
     t_off = t_on + duration
     if not turbulence.enabled:
-        return GustRecord(t_on, dt, np.zeros((2, 3)), t_on, t_off)
+        return GustRecord(t_on, dt, np.zeros((2, 3)), t_on, t_off, turbulence.interpolation)
 
     nsamp = int(math.ceil(duration / dt)) + 2
     rng = np.random.Generator(np.random.PCG64(turbulence.seed if seed is None else seed))
@@ -428,60 +453,54 @@ def generate_gusts(
             np.ascontiguousarray(Phi), np.ascontiguousarray(lq), np.ascontiguousarray(C[0]), x0, noise, column
         )
         values[:, j] = column
-    return GustRecord(t_on, dt, values, t_on, t_off)
+    if turbulence.smoothing_s > 0.0:
+        return smoothed_record(GustRecord(t_on, dt, values, t_on, t_off, turbulence.interpolation),
+                               turbulence.smoothing_s)
+    return GustRecord(t_on, dt, values, t_on, t_off, turbulence.interpolation)
 
 
-# ----------------------------------------------------------------------------------------------
-# standard intensities (MIL-F-8785C Fig. 7; MathWorks Dryden block lookup table)
-# ----------------------------------------------------------------------------------------------
-#: Altitude breakpoints of the high-altitude intensity table [ft].
-INTENSITY_ALTITUDE_FT = (500.0, 1750.0, 3750.0, 7500.0, 15000.0, 25000.0, 35000.0, 45000.0,
-                         55000.0, 65000.0, 75000.0, 80000.0)
-#: Rms intensity [ft/s] per level at those altitudes (MIL-F-8785C Fig. 7, as digitized in the
-#: MathWorks Aerospace Blockset Dryden blocks and JSBSim FGWinds).
-INTENSITY_FT_S = {
-    "light": (6.6, 6.9, 7.4, 6.7, 4.6, 2.7, 0.4, 0.0, 0.0, 0.0, 0.0, 0.0),
-    "moderate": (8.6, 9.6, 10.6, 10.1, 8.0, 6.6, 5.0, 4.2, 2.7, 0.0, 0.0, 0.0),
-    "severe": (15.6, 17.6, 23.0, 23.6, 22.1, 20.0, 16.0, 15.1, 12.1, 7.9, 6.2, 5.1),
-}
-#: Probability of exceedance of each level (MathWorks Dryden block documentation).
-PROBABILITY_OF_EXCEEDANCE = {"light": 1e-2, "moderate": 1e-3, "severe": 1e-5}
+def smoothed_record(record: GustRecord, width_s: float) -> GustRecord:
+    """The windowed gust ``g(t) 1[t_on <= t < t_off]`` averaged by a symmetric triangular kernel
+    (a box of ``width_s`` applied twice), as a record that is zero at both of its ends.
 
-
-def standard_intensity(level: str, altitude_m: float) -> tuple[float, float, float]:
-    """Standard isotropic turbulence intensity at a medium/high altitude.
+    The window's edges become ramps centred on ``t_on`` and ``t_off`` (the edge samples are
+    halved, so the linear reading of the windowed samples already ramps symmetrically about each
+    edge): a symmetric average keeps the forcing's impulse about every instant, so the response
+    changes only at second order in ``width_s`` (docs/convergence.md gives the numbers). The
+    returned record's window is its whole support.
 
     Parameters
     ----------
-    level : {"light", "moderate", "severe"}
-        Probability of exceedance 1e-2, 1e-3 or 1e-5.
-    altitude_m : float
-        Altitude [m], within the table: 152.4-24 384 m (500-80 000 ft).
+    record : GustRecord
+        The sampled gusts and their window.
+    width_s : float
+        Width of the box applied twice [s] (rounded to whole samples, at least one).
 
     Returns
     -------
-    tuple of float
-        ``(sigma_u, sigma_v, sigma_w)`` [m/s], all equal; linear interpolation in altitude of
-        MIL-F-8785C Fig. 7 (see the module docstring for the source).
-
-    Raises
-    ------
-    ParameterError
-        For an unknown level or an altitude outside the table. (MIL-F-8785C prescribes its
-        low-altitude model below 1000 ft; the table's lowest point, 500 ft, is accepted as given.)
+    GustRecord
     """
-    if not isinstance(level, str) or level not in INTENSITY_FT_S:
-        raise ParameterError(
-            f"turbulence.intensity = {level!r}: must be one of 'light', 'moderate', 'severe'"
-        )
-    lo_m = INTENSITY_ALTITUDE_FT[0] * FT_TO_M
-    hi_m = INTENSITY_ALTITUDE_FT[-1] * FT_TO_M
-    h = float(altitude_m)
-    if not (math.isfinite(h) and lo_m <= h <= hi_m):
-        raise ParameterError(
-            f"flight.altitude_m = {altitude_m!r}: standard turbulence intensities are tabulated for "
-            f"[{lo_m:g}, {hi_m:g}] m (500-80000 ft, MIL-F-8785C Fig. 7); give turbulence.sigma_m_s instead"
-        )
-    sigma_ft_s = float(np.interp(h / FT_TO_M, INTENSITY_ALTITUDE_FT, INTENSITY_FT_S[level]))
-    sigma = sigma_ft_s * FT_TO_M
-    return (sigma, sigma, sigma)
+    dt = record.dt_s
+    m = max(1, int(round(width_s / dt)))
+    box = np.full(m, 1.0 / m)
+    kernel = np.convolve(box, box)  # symmetric, sums to 1, length 2m - 1
+    half = kernel.size // 2
+    v = record.values.copy()
+    k_on = int(round((record.t_on_s - record.t0_s) / dt))
+    k_off = int(round((record.t_off_s - record.t0_s) / dt))
+    v[:max(k_on, 0)] = 0.0
+    if 0 <= k_on < v.shape[0]:
+        v[k_on] *= 0.5
+    if 0 <= k_off < v.shape[0]:
+        v[k_off] *= 0.5
+    v[k_off + 1:] = 0.0
+    pad = half + 2
+    padded = np.zeros((v.shape[0] + 2 * pad, 3))
+    padded[pad:pad + v.shape[0]] = v
+    out = np.empty_like(padded)
+    for j in range(3):
+        out[:, j] = np.convolve(padded[:, j], kernel, mode="same")
+    t0 = record.t0_s - pad * dt
+    t_end = t0 + (out.shape[0] - 1) * dt
+    return GustRecord(t0, dt, out, t0, t_end, record.interpolation)
+

@@ -7,7 +7,9 @@ Everything here is a pure function of float64 arrays; no Python objects, no I/O,
   link ``k`` (0-based here) has pitch ``q[2k]`` and yaw ``q[2k+1]``;
 * ``e_k = [-c1 c2, -s2, s1 c2]`` points aft along link k; ``a_k = de/dth1``, ``b_k = de/dth2``;
 * joint 0 is the tow point (origin of S_p); joint k+1 is the aft end of link k and carries the
-  lumped mass ``M[k]`` (the drogue's mass is included in ``M[n-1]``).
+  lumped mass ``M[k]`` (the drogue's mass is included in ``M[n-1]``). Which share of each link's
+  mass a joint carries (``aft`` or ``split`` lumping) is decided in ``model/system.py``; the
+  kernels only see the joint masses.
 
 Kane's equations give ``H(q) qdd = Q(q, qd, t, u)``. With masses lumped at joints and
 ``dV_i/dqd_{j}`` zero for ``j > i`` every generalized force is a dot product of a link's partial
@@ -20,9 +22,9 @@ reference the recursion is tested against.
 Layout of the scalar arrays (indices are the module constants below):
 
 ``ps`` (model): gravity, density, airspeed, outer diameter, c_t, c_n, drogue area x c_d, E I,
-bending mode (0 off, 1 paper, 2 moment), drogue inertia.
+bending mode (0 off, 1 paper, 2 moment), drogue inertia, mass lumped at the tow point.
 ``env`` (air): airspeed, frozen flag, gust window on/off, gust record t0/dt, then the 6 wake
-scalars of :func:`hosedrogue.environment.wake.wake_scalars`.
+scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag.
 """
 
 from __future__ import annotations
@@ -44,13 +46,22 @@ JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
 
 # ps layout
 PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD = range(10)
-PS_SIZE = 10
+#: mass lumped at the tow point (joint 0) [kg]: carried by the tanker, it never moves, so it
+#: enters only the tow-point force (its weight); nonzero for the ``split`` lumping
+PS_M_TOW = 10
+PS_SIZE = 11
 BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
 
 # env layout
 ENV_V, ENV_FROZEN, ENV_T_ON, ENV_T_OFF, ENV_G_T0, ENV_G_DT = range(6)
 ENV_WAKE = 6
-ENV_SIZE = 12
+#: 1.0: read the gust record with the cubic interpolant, 0.0: linearly
+ENV_G_CUBIC = 12
+#: per-evaluation scratch (in the workspace's copy of env, never in the model's): flag 1.0 when
+#: ENV_GU..ENV_GW hold the gust at the evaluation's time (the "uniform" distribution: one lookup
+#: per evaluation instead of one per link; the same arithmetic, so the same bits)
+ENV_G_NOW, ENV_GU, ENV_GV, ENV_GW = 13, 14, 15, 16
+ENV_SIZE = 17
 
 # status codes of the integrators
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
@@ -61,11 +72,14 @@ def air_velocity(px, py, pz, t, env, gust):
     """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]."""
     V = env[ENV_V]
     wy, wz = wake_velocity(py, pz, env[ENV_WAKE:ENV_WAKE + 6])
+    if env[ENV_G_NOW] != 0.0:
+        return -V + env[ENV_GU], wy + env[ENV_GV], wz + env[ENV_GW]
     t_eff = t
     if env[ENV_FROZEN] != 0.0:
         # a point a distance -px behind the tow point meets the frozen gust field -px/V later
         t_eff = t + px / V
-    gu, gv, gw = gust_at(t_eff, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF])
+    gu, gv, gw = gust_at(t_eff, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
+                         env[ENV_G_CUBIC] != 0.0)
     return -V + gu, wy + gv, wz + gw
 
 
@@ -296,6 +310,7 @@ def make_workspace(n):
         np.empty(3),  # 13 drogue drag
         np.empty(3),  # 14 tow force
         np.empty(2 * n),  # 15 qdd
+        np.empty(ENV_SIZE),  # 16 this evaluation's copy of env (with the gust at its time)
     )
 
 
@@ -403,12 +418,29 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
 
 
 @njit(**JIT)
+def env_at(t, env, gust, scratch):
+    """``env`` copied into ``scratch`` with, when every point sees the same gust (``uniform``),
+    the gust at time t looked up once (air_velocity then reads it instead of the record)."""
+    for i in range(ENV_G_NOW):
+        scratch[i] = env[i]
+    scratch[ENV_G_NOW] = 0.0
+    if env[ENV_FROZEN] == 0.0:
+        gu, gv, gw = gust_at(t, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
+                             env[ENV_G_CUBIC] != 0.0)
+        scratch[ENV_GU] = gu
+        scratch[ENV_GV] = gv
+        scratch[ENV_GW] = gw
+        scratch[ENV_G_NOW] = 1.0
+    return scratch
+
+
+@njit(**JIT)
 def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """:func:`loads` when the link frames ws[0:4] already hold those of q."""
     n = l.shape[0]
     e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
-    joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
+    joint_forces(t, u, l, M, ps, env_at(t, env, gust, ws[16]), gust, n, e, r, v, F, Mom, ws[13])
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 
@@ -426,6 +458,8 @@ def forward_dynamics_ws(l, M, J, ps, ws):
     """qdd (ws[15]) and tow-point force (ws[14]) from the loads in the workspace."""
     chain_forward_dynamics(l, M, J, ps[PS_JD], l.shape[0], ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
                            ws[10], ws[11], ws[12], ws[15], ws[14])
+    # the mass lumped at the (fixed) tow point adds only its weight to the tow-point force
+    ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
 
 
 @njit(**JIT)

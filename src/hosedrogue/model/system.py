@@ -52,7 +52,14 @@ class HoseModel:
         lk = hose.link_length_m
         self.l = np.full(n, lk)
         link_mass = hose.mass_per_length_kg_m * self.l
-        self.M = link_mass.copy()
+        #: joint masses [kg]: M[k] sits at joint k+1 (MODEL.md 2); M_tow at the tow point (joint 0)
+        if hose.mass_lumping == "aft":
+            self.M = link_mass.copy()
+            self.M_tow = 0.0
+        else:  # "split": half of link k at joint k-1, half at joint k
+            self.M = 0.5 * link_mass
+            self.M[:-1] += 0.5 * link_mass[1:]
+            self.M_tow = 0.5 * float(link_mass[0])
         self.M[-1] += drogue.mass_kg
         self.S = np.cumsum(self.M[::-1])[::-1].copy()
         if hose.link_inertia == "paper":
@@ -72,6 +79,7 @@ class HoseModel:
         ps[K.PS_EI] = hose.elastic_modulus_pa * inertia_area
         ps[K.PS_BENDING] = bending[hose.bending]
         ps[K.PS_JD] = drogue.inertia_kg_m2
+        ps[K.PS_M_TOW] = self.M_tow
         self.ps = ps
         if gusts is None:
             gusts = generate_gusts(params.turbulence, flight.airspeed_m_s)
@@ -96,6 +104,7 @@ class HoseModel:
             env[K.ENV_T_OFF] = gusts.t_off_s
             env[K.ENV_G_T0] = gusts.t0_s
             env[K.ENV_G_DT] = gusts.dt_s
+            env[K.ENV_G_CUBIC] = 1.0 if gusts.interpolation == "cubic" else 0.0
         return env
 
     @property

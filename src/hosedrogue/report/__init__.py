@@ -2,7 +2,37 @@
 project's model, written as one self-contained HTML page with its figures (PNG), the data behind
 every figure and table (CSV), the headline numbers (``report.json``) and an animation (GIF).
 
-This package and the CLI are the only code that writes files.
+This package and the CLI are the only code that writes files. Nothing here tunes anything to
+the paper: the paper's numbers (:mod:`hosedrogue.paper`) are shown beside this project's, with
+their ratio and a plain explanation of each large difference.
+
+Layout
+------
+- :mod:`.build`: :func:`build_report` and the ordered list of sections (``SECTIONS``, then
+  ``CLOSING``);
+- :mod:`.settings`: grid sizes and run lengths (``FULL``, ``FAST``);
+- :mod:`.writer`: the output folder (CSV, PNG, JSON, page fragments, summary, headline numbers);
+- :mod:`.markup`: number formatting and HTML tables and figures;
+- :mod:`.comparison`: the paper-vs-ours table (rows added by the sections; ``CLOSE``);
+- :mod:`.page`: page assembly and CSS;
+- :mod:`.runs`: the nonlinear runs and their window statistics;
+- one module per section: :mod:`.parameters`, :mod:`.convergence`, :mod:`.sweep`,
+  :mod:`.turbulence_speeds`, :mod:`.linear` (+ :mod:`.linear_responses`), :mod:`.controllers`,
+  :mod:`.closed_loop`, :mod:`.hose_views`, :mod:`.differences`.
+
+Each section module has a ``build(out, settings, **needs)`` function that computes (library
+calls), then writes its CSV files, then its figures (functions of :mod:`hosedrogue.plotting`),
+then its HTML section, and returns a small frozen dataclass for later sections (or None).
+
+Adding a section
+----------------
+1. Write ``report/<name>.py`` with ``build(out, settings, *, <needed keys>) -> Result | None``;
+   inside it call ``out.csv``, ``out.figure``, ``out.section(anchor, nav_name, html)`` and, if
+   wanted, ``out.summarize(text)``, ``out.comparison.add(...)`` and ``out.record(key, numbers)``.
+   Read published numbers from :mod:`hosedrogue.paper`.
+2. Add one line to ``SECTIONS`` in :mod:`.build`, e.g.
+   ``Section("lqr", "LQR", lqr.build, needs=("linear",))``, at its place in the order (the page
+   shows sections in build order, after ``page.FRONT``), and import the module there.
 """
 
 from .build import FAST, FULL, ReportSettings, build_report

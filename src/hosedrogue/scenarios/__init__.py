@@ -38,11 +38,15 @@ class Scenario:
     initial_yaw_offset_deg: float = 0.0  #: yaw added to every link for ``displaced`` [deg]
     controller: str = "none"  #: "none", "pid" or "lqr"
     #: Design options of the controller: PID ``lateral``/``vertical`` = [K_P, K_I, K_D, N];
-    #: LQR ``q_diag`` (4) and ``r_diag`` (2). Missing entries take the paper's values.
+    #: LQR ``design`` ("balanced", the paper's reading, default; or "integral"), ``q_diag`` (4:
+    #: the balanced states, lateral then vertical [1/(m N)]; integral: [P_ny, P_nz, z_ny, z_nz])
+    #: and ``r_diag`` (2) [1/N^2]. Missing entries take the paper's values.
     controller_options: dict = field(default_factory=dict)
     actuator: dict = field(default_factory=dict)  #: actuator limits: max_force_n [N], max_rate_n_s [N/s], ...
     sensor: dict = field(default_factory=dict)  #: sensor noise: noise_std_m [m], sample_time_s [s]
     source: str = ""  #: where it was read from (``scenarios/NAME.toml`` or a path)
+    #: Sections validated outside the core (``[reel]``, ``[probe]``): name -> validated object.
+    extra: dict = field(default_factory=dict)
 
     def with_overrides(self, duration_s: float | None = None, seed: int | None = None) -> "Scenario":
         import dataclasses
@@ -70,7 +74,7 @@ def _check_duration(value: Any, name: str) -> float:
 CONTROLLER_OPTIONS = {
     "none": {},
     "pid": {"lateral": (4, 0.0, False), "vertical": (4, 0.0, False)},
-    "lqr": {"q_diag": (4, 0.0, False), "r_diag": (2, 0.0, True)},
+    "lqr": {"design": None, "q_diag": (4, 0.0, False), "r_diag": (2, 0.0, True)},
 }
 
 
@@ -81,6 +85,14 @@ def _controller_options(ctype: str, given: dict) -> dict:
         if key not in allowed:
             names = ", ".join(["type", *allowed])
             raise ParameterError(f"controller.{key}: unknown field for type {ctype!r}; allowed: {names}")
+        if key == "design":
+            from ..controllers.design import LQR_DESIGNS  # one definition, next to the designs
+
+            if value not in LQR_DESIGNS:
+                raise ParameterError(
+                    f"controller.design = {value!r}: must be one of {', '.join(map(repr, LQR_DESIGNS))}")
+            out[key] = value
+            continue
         size, lo, strict = allowed[key]
         ok = (isinstance(value, list) and len(value) == size and all(
             isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
@@ -159,7 +171,9 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
         One line naming the field, the value and what is allowed.
     """
     source, data = resolve(name_or_path)
-    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor"}
+    from ..engagement.spec import ENGAGEMENT_SECTIONS, validate_sections  # hook: non-core sections
+
+    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor"} | set(ENGAGEMENT_SECTIONS)
     for key in data:
         if key not in known:
             raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(known))}")
@@ -200,6 +214,7 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     Actuator(**actuator)
     Sensor(**sensor)
     params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=base)
+    extra = validate_sections(data)
     return Scenario(
         name=str(sc.get("name", Path(source).stem)),
         params=params,
@@ -211,5 +226,6 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
         actuator=actuator,
         sensor=sensor,
         source=source,
+        extra=extra,
         **offsets,
     )

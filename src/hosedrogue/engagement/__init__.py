@@ -1,0 +1,7 @@
+"""The refuelling engagement (ENGAGEMENT.md 1-2, docs/engagement.md): a hose drum unit, a hose of
+varying free length, a prescribed receiver probe, capture and the coupled phase."""
+
+from .driver import EngagementResult, simulate_engagement
+from .spec import Probe, Reel
+
+__all__ = ["EngagementResult", "Probe", "Reel", "simulate_engagement"]

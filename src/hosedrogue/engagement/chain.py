@@ -1,0 +1,217 @@
+"""The variable-length link chain in Python: its arrays, its remesh (split and merge of the exit
+link) and its balance position at any free length.
+
+Link 0 runs from the hose exit to joint 1 and has the variable length ``l_0 = L - sum l_k``; the
+other links keep their length (the nominal ``l_nom = hose.length_m / hose.links`` unless a merge
+made them otherwise). When ``l_0`` passes ``SPLIT_RATIO l_nom`` the exit link is split into a new
+exit link ``l_0 - l_nom`` and a fixed link ``l_nom`` along the same line (exact: every joint keeps
+its position and velocity, L and L' are unchanged). Below ``MERGE_RATIO l_nom`` links 0 and 1 are
+merged into one straight exit link from the exit to old joint 2: joint 2 and everything aft keep
+position and velocity exactly, which fixes the new link's length ``|r_2|`` and the new L'
+``V_2 . e``; unless links 0 and 1 are collinear, L drops by ``delta = l_0 + l_1 - |r_2|`` (of order
+``l gamma^2``) and L' changes - both are recorded per event (docs/engagement.md).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..analysis.equilibrium import Equilibrium, solve_equilibrium
+from ..model import engagement_kernels as EK
+from ..model import kernels as K
+from ..model.system import HoseModel
+from ..params import Params
+
+SPLIT_RATIO = 1.5
+MERGE_RATIO = 0.5
+LUMPINGS = ("split", "aft")
+
+
+@dataclass
+class Chain:
+    """Arrays of one discretization: lengths (l[0] follows L), joint masses, link inertias."""
+
+    l: np.ndarray
+    M: np.ndarray
+    J: np.ndarray
+    l_nom: float
+    chart: np.ndarray  #: (n,) 0: standard angles, 1: the alternative chart (engagement_kernels.apply_charts)
+
+    @property
+    def n(self) -> int:
+        return self.l.size
+
+
+def chain_arrays(params: Params, lengths: np.ndarray, lumping: str, l_nom: float,
+                 chart: np.ndarray | None = None) -> Chain:
+    """Masses and inertias for link lengths ``lengths`` (lengths[0] is the exit link's current
+    length; it is recomputed from L in the kernels)."""
+    if lumping not in LUMPINGS:
+        raise ValueError(f"lumping = {lumping!r}: must be one of {LUMPINGS}")
+    hose = params.hose
+    mu = hose.mass_per_length_kg_m
+    l = np.ascontiguousarray(lengths, dtype=np.float64).copy()
+    n = l.size
+    M = np.empty(n)
+    if lumping == "split":
+        for k in range(n - 1):
+            M[k] = 0.5 * mu * (l[k] + l[k + 1])
+        M[n - 1] = 0.5 * mu * l[n - 1]
+    else:
+        M[:] = mu * l
+    M[n - 1] += params.drogue.mass_kg
+    J = mu * l**3 / 12.0 if hose.link_inertia == "rod" else np.full(n, hose.link_inertia_kg_m2)
+    # the drogue's inertia as transverse inertia of the last link (engagement_kernels docstring)
+    J[n - 1] += params.drogue.inertia_kg_m2
+    chart = np.zeros(n) if chart is None else np.ascontiguousarray(chart, dtype=np.float64).copy()
+    return Chain(l, M, J, l_nom, chart)
+
+
+def initial_chain(params: Params, lumping: str) -> Chain:
+    n = params.hose.links
+    l_nom = params.hose.length_m / n
+    return chain_arrays(params, np.full(n, l_nom), lumping, l_nom)
+
+
+def hose_mass_in_air(chain: Chain, params: Params, lumping: str) -> float:
+    """Hose mass carried by the joints (and, for split lumping, the exit's half-link) [kg]."""
+    m = float(np.sum(chain.M)) - params.drogue.mass_kg
+    if lumping == "split":
+        m += 0.5 * params.hose.mass_per_length_kg_m * chain.l[0]
+    return m
+
+
+#: A link whose yaw passes this in its chart is moved to the other chart (the angle coordinates
+#: are singular at 90 deg); after the switch its yaw is at most 90 - 60 = 30 deg in the new chart.
+SWITCH_YAW_DEG = 60.0
+
+
+def _rot(v: np.ndarray, chart: float, inverse: bool = False) -> np.ndarray:
+    """R v (or R^T v) for the alternative chart, identity for the standard one."""
+    if chart == 0.0:
+        return v.copy()
+    x, y, z = v
+    return np.array([x, z, -y]) if inverse else np.array([x, -z, y])
+
+
+def frame(th1: float, th2: float, chart: float = 0.0):
+    """(e, a, b) of a link in S_p."""
+    c1, s1, c2, s2 = math.cos(th1), math.sin(th1), math.cos(th2), math.sin(th2)
+    e = np.array([-c1 * c2, -s2, s1 * c2])
+    a = np.array([s1 * c2, 0.0, c1 * c2])
+    b = np.array([c1 * s2, -c2, -s1 * s2])
+    return _rot(e, chart), _rot(a, chart), _rot(b, chart)
+
+
+def _angles(e: np.ndarray, chart: float = 0.0) -> tuple[float, float]:
+    """(pitch, yaw) in the given chart of a unit vector e (S_p)."""
+    e = _rot(e, chart, inverse=True)
+    th2 = math.asin(max(-1.0, min(1.0, -e[1])))
+    th1 = math.atan2(e[2], -e[0])
+    return th1, th2
+
+
+def best_chart(e: np.ndarray) -> float:
+    """The chart in which direction e has the smaller |yaw|."""
+    return 0.0 if abs(e[1]) <= abs(e[2]) else 1.0
+
+
+def coordinates(e: np.ndarray, edot: np.ndarray, chart: float) -> tuple[float, float, float, float]:
+    """(th1, th2, thd1, thd2) of a link with direction e and rate edot in a chart."""
+    th1, th2 = _angles(e, chart)
+    _, a, b = frame(th1, th2, chart)
+    c2 = math.cos(th2)
+    return th1, th2, float(edot @ a) / (c2 * c2), float(edot @ b)
+
+
+def switch_charts(z: np.ndarray, chain: Chain, switch_yaw: float) -> tuple[np.ndarray, Chain, list[int]]:
+    """Move every link whose |yaw| exceeds switch_yaw [rad] to the other chart (exact remap);
+    returns the new state, a new Chain and the links moved."""
+    n = chain.n
+    z = z.copy()
+    chain = Chain(chain.l.copy(), chain.M.copy(), chain.J.copy(), chain.l_nom, chain.chart.copy())
+    moved = []
+    for k in range(n):
+        if abs(z[2 * k + 1]) > switch_yaw:
+            e, a, b = frame(z[2 * k], z[2 * k + 1], chain.chart[k])
+            edot = a * z[2 * n + 2 * k] + b * z[2 * n + 2 * k + 1]
+            new = 1.0 - chain.chart[k]
+            z[2 * k], z[2 * k + 1], z[2 * n + 2 * k], z[2 * n + 2 * k + 1] = coordinates(e, edot, new)
+            chain.chart[k] = new
+            moved.append(k)
+    return z, chain, moved
+
+
+def split(z: np.ndarray, chain: Chain, params: Params, lumping: str) -> tuple[np.ndarray, Chain]:
+    """Split the exit link: new exit link ``l_0 - l_nom`` and a fixed link ``l_nom`` on its line."""
+    n = chain.n
+    q, qd, tail = z[: 2 * n], z[2 * n: 4 * n], z[4 * n:]
+    q2 = np.concatenate([q[:2], q])
+    qd2 = np.concatenate([qd[:2], qd])
+    lengths = np.concatenate([[chain.l[0] - chain.l_nom, chain.l_nom], chain.l[1:]])
+    new = chain_arrays(params, lengths, lumping, chain.l_nom, np.r_[chain.chart[0], chain.chart])
+    return np.concatenate([q2, qd2, tail]), new
+
+
+def merge(z: np.ndarray, chain: Chain, params: Params, lumping: str) -> tuple[np.ndarray, Chain, float]:
+    """Merge links 0 and 1 into a straight exit link to old joint 2; returns (z, chain, delta)
+    with delta [m] the free length lost (zero for collinear links)."""
+    n = chain.n
+    assert n >= 2
+    q, qd, tail = z[: 2 * n], z[2 * n: 4 * n], z[4 * n:].copy()
+    L, Ld = tail[EK.Z_L], tail[EK.Z_LD]
+    l0 = L - float(np.sum(chain.l[1:]))
+    l1 = chain.l[1]
+
+    e0, a0, b0 = frame(q[0], q[1], chain.chart[0])
+    e1, a1, b1 = frame(q[2], q[3], chain.chart[1])
+    r2 = l0 * e0 + l1 * e1
+    V2 = Ld * e0 + l0 * (a0 * qd[0] + b0 * qd[1]) + l1 * (a1 * qd[2] + b1 * qd[3])
+    lam = float(np.linalg.norm(r2))
+    e = r2 / lam
+    Ld_new = float(V2 @ e)
+    edot = (V2 - Ld_new * e) / lam
+    ch = best_chart(e)
+    th1, th2, d1, d2 = coordinates(e, edot, ch)
+    q2 = np.concatenate([[th1, th2], q[4:]])
+    qd2 = np.concatenate([[d1, d2], qd[4:]])
+    delta = l0 + l1 - lam
+    tail[EK.Z_L] = L - delta
+    tail[EK.Z_LD] = Ld_new
+    lengths = np.concatenate([[lam], chain.l[2:]])
+    new = chain_arrays(params, lengths, lumping, chain.l_nom, np.r_[ch, chain.chart[2:]])
+    return np.concatenate([q2, qd2, tail]), new, delta
+
+
+class ChainModel(HoseModel):
+    """A :class:`HoseModel` whose arrays are those of a :class:`Chain` (for the equilibrium
+    solver, the linearization and the fixed-length kernels at L' = 0)."""
+
+    def __init__(self, params: Params, chain: Chain):
+        L = float(np.sum(chain.l))
+        params = params.replace(hose={"length_m": L, "links": chain.n})
+        super().__init__(params)
+        self.l = chain.l.copy()
+        self.M = chain.M.copy()
+        self.S = np.cumsum(self.M[::-1])[::-1].copy()
+        self.J = chain.J.copy()
+        self.ps[K.PS_JD] = 0.0  # the drogue's inertia is in J[n-1] (transverse only)
+
+
+def chain_equilibrium(params: Params, chain: Chain) -> tuple[Equilibrium, ChainModel]:
+    """Balance position of the chain as it is (any free length, any mesh), in steady air."""
+    model = ChainModel(params, chain)
+    return solve_equilibrium(model.params, model=model), model
+
+
+def chain_for_length(params: Params, L: float, lumping: str) -> Chain:
+    """The mesh the remesh rules give for free length L grown or shortened from the nominal mesh
+    (exit link in [MERGE_RATIO, SPLIT_RATIO) l_nom, every other link l_nom)."""
+    l_nom = params.hose.length_m / params.hose.links
+    m = int(math.floor((L - MERGE_RATIO * l_nom) / l_nom))
+    m = max(m, 0)
+    l0 = L - m * l_nom
+    return chain_arrays(params, np.concatenate([[l0], np.full(m, l_nom)]), lumping, l_nom)

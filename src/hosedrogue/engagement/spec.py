@@ -1,0 +1,105 @@
+"""Reel and probe parameters of the engagement (scenario sections ``[reel]`` and ``[probe]``).
+
+Validated at construction like :mod:`hosedrogue.params`: a wrong field raises a one-line
+:class:`~hosedrogue.errors.ParameterError` naming field, value and allowed range. SI units, the
+unit in every field name. Defaults and their reasons are in ``docs/engagement.md``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+from ..errors import ParameterError
+from ..params import _Section, _bool, _choice, _num
+
+REEL_LAWS = ("locked", "constant-tension", "response")
+
+
+@dataclass(frozen=True)
+class Reel(_Section):
+    """Hose drum unit: ``J_r w' = tau_m - r_d T_0 - c_r w`` (ENGAGEMENT.md 1; docs/engagement.md)."""
+
+    _section = "reel"
+    #: "locked": fixed length (or the length schedule below); "constant-tension": tau_m = r_d T_set;
+    #: "response": constant tension plus a take-up speed loop driven by the slack.
+    law: str = field(default="constant-tension", metadata=_choice(*REEL_LAWS))
+    drum_radius_m: float = field(default=0.3, metadata=_num(0.0, 5.0, unit="m"))
+    #: drum plus wound hose, constant: 30 m of hose (4.4 kg/m) at 0.35 m (16 kg m^2) plus the drum
+    inertia_kg_m2: float = field(default=20.0, metadata=_num(0.0, 1e5, unit="kg m^2"))
+    friction_n_m_s: float = field(default=1.0, metadata=_num(0.0, 1e5, lo_open=False, unit="N m s"))
+    #: T_set [N]; < 0 means "the steady trail tension at the balance position" (the default)
+    tension_set_n: float = field(default=-1.0, metadata=_num(-1.0, 1e6, lo_open=False, unit="N (-1: steady trail tension)"))
+    max_torque_n_m: float = field(default=2000.0, metadata=_num(0.0, 1e6, unit="N m"))
+    max_takeup_speed_m_s: float = field(default=3.0, metadata=_num(0.0, 50.0, unit="m/s"))
+    max_payout_speed_m_s: float = field(default=3.0, metadata=_num(0.0, 50.0, unit="m/s"))
+    #: stiffness of the speed governor beyond the speed limits
+    governor_gain_n_s_m: float = field(default=20000.0, metadata=_num(0.0, 1e8, unit="N s/m"))
+    #: response law: commanded take-up speed per metre of slack beyond the dead band
+    takeup_gain_1_s: float = field(default=4.0, metadata=_num(0.0, 1e3, lo_open=False, unit="1/s"))
+    slack_dead_band_m: float = field(default=0.02, metadata=_num(0.0, 100.0, lo_open=False, unit="m"))
+    #: response law: speed-loop gain (force at the drum rim per m/s of speed error)
+    speed_gain_n_s_m: float = field(default=3000.0, metadata=_num(0.0, 1e8, lo_open=False, unit="N s/m"))
+    #: locked law: length change of a payout schedule (negative: take up), 0 for a fixed length;
+    #: speed up to payout_speed_m_s along a half-sine acceleration pulse of peak payout_acceleration_m_s2
+    payout_m: float = field(default=0.0, metadata=_num(-1000.0, 1000.0, lo_open=False, unit="m"))
+    payout_speed_m_s: float = field(default=1.0, metadata=_num(0.0, 50.0, unit="m/s"))
+    payout_acceleration_m_s2: float = field(default=2.0, metadata=_num(0.0, 1000.0, unit="m/s^2"))
+    payout_start_s: float = field(default=0.0, metadata=_num(0.0, 1e6, lo_open=False, unit="s"))
+
+    def _check_consistency(self) -> None:
+        if self.payout_m != 0.0 and self.law != "locked":
+            raise ParameterError(
+                f"reel.payout_m = {self.payout_m!r}: a payout schedule needs reel.law = 'locked' (got {self.law!r})")
+
+
+@dataclass(frozen=True)
+class Probe(_Section):
+    """Prescribed probe-tip path, capture test and probe-drogue coupling (ENGAGEMENT.md 2)."""
+
+    _section = "probe"
+    enabled: bool = field(default=True, metadata=_bool())
+    #: start point: this far aft of the drogue's balance position, plus the offsets
+    standoff_m: float = field(default=3.0, metadata=_num(0.0, 100.0, unit="m"))
+    offset_y_m: float = field(default=0.0, metadata=_num(-10.0, 10.0, lo_open=False, unit="m"))
+    offset_z_m: float = field(default=0.0, metadata=_num(-10.0, 10.0, lo_open=False, unit="m"))
+    closure_speed_m_s: float = field(default=1.5, metadata=_num(0.0, 10.0, unit="m/s"))
+    #: after contact the probe goes on this far forward, then holds
+    push_m: float = field(default=2.0, metadata=_num(0.0, 50.0, lo_open=False, unit="m"))
+    stop_time_s: float = field(default=1.0, metadata=_num(0.0, 60.0, unit="s"))
+    capture_radius_m: float = field(default=0.305, metadata=_num(0.0, 5.0, unit="m"))
+    min_closure_speed_m_s: float = field(default=0.5, metadata=_num(0.0, 10.0, lo_open=False, unit="m/s"))
+    max_closure_speed_m_s: float = field(default=3.0, metadata=_num(0.0, 20.0, unit="m/s"))
+    stiffness_n_m: float = field(default=5000.0, metadata=_num(0.0, 1e7, unit="N/m"))
+    damping_n_s_m: float = field(default=500.0, metadata=_num(0.0, 1e6, lo_open=False, unit="N s/m"))
+
+    def _check_consistency(self) -> None:
+        if self.min_closure_speed_m_s >= self.max_closure_speed_m_s:
+            raise ParameterError(
+                f"probe.min_closure_speed_m_s = {self.min_closure_speed_m_s!r}: must be below "
+                f"probe.max_closure_speed_m_s = {self.max_closure_speed_m_s!r}")
+
+
+ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe}
+
+
+def section_from_dict(name: str, data: Any):
+    """Build ``Reel`` or ``Probe`` from a scenario table, rejecting unknown fields."""
+    cls = ENGAGEMENT_SECTIONS[name]
+    if not isinstance(data, Mapping):
+        raise ParameterError(f"{name} = {data!r}: must be a table of fields")
+    known = {f.name for f in dataclasses.fields(cls)}
+    for key in data:
+        if key not in known:
+            raise ParameterError(f"{name}.{key}: unknown field; allowed: {', '.join(sorted(known))}")
+    return cls(**data)
+
+
+def validate_sections(data: Mapping[str, Any]) -> dict:
+    """The scenario loader's hook: validate ``[reel]``/``[probe]`` now, return them as objects."""
+    return {name: section_from_dict(name, data[name]) for name in ENGAGEMENT_SECTIONS if name in data}
+
+
+def plain(obj) -> dict:
+    return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}

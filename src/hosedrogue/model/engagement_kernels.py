@@ -1,0 +1,511 @@
+"""Compiled core of the engagement (numba): a hose of varying free length on a reel, and the probe.
+
+The chain is the one of :mod:`hosedrogue.model.kernels` with one change: link 0 (the exit link,
+from the hose exit to joint 1) has the variable length ``l_0 = L - sum_{k>=1} l_k``, L the free
+hose length, a generalized coordinate of its own (docs/model.md, "Hose of varying length").
+Joints 1..n are material points of the hose. Every joint's velocity gains ``L' e_0`` and every
+joint's acceleration ``L'' e_0 + 2 L' de_0/dt``. The existing kernels are reused unchanged:
+
+* :func:`~hosedrogue.model.kernels.joint_kinematics` gives positions, velocities and the
+  velocity-product accelerations of the fixed-length chain; :func:`patch_kinematics` adds the
+  ``L' e_0`` velocity (also to joint 0: the hose material leaves the exit at ``L' e_0``, which the
+  exit link's drag sees) and the Coriolis-like ``2 L' de_0/dt`` term;
+* the term ``L'' e_0`` is the same for every joint 1..n, so it acts on the chain like an
+  acceleration of its root. The dynamics are linear in it: one articulated-body solve
+  (:func:`~hosedrogue.model.kernels.chain_forward_dynamics`) with the real loads gives qdd and the
+  hose's pull ``P_0`` at L'' = 0; a second with only the d'Alembert forces ``-M_k e_0`` gives the
+  response per unit L''. The exit tension ``T_0 = P . e_0`` is the generalized force of the hose
+  on L; the reel equation closes the system for L''. Still O(n).
+
+State ``z = [q (2n), qd (2n), L, L', W_motor, W_friction, W_exit, W_flux, W_probe]``: the five
+last entries integrate powers for the energy balance (work of the motor on the drum, heat of the
+drum's friction, work of the exit on the hose, kinetic energy carried by hose joining or leaving
+the moving masses, work of the probe on the drogue). ``ep`` holds the engagement scalars
+(indices below); ``ws`` is :func:`~hosedrogue.model.kernels.make_workspace` of n links and
+``ws2`` a second one for the unit-L'' solve.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .kernels import (
+    BENDING_MOMENT,
+    JIT,
+    NONFINITE,
+    OK,
+    PS_BENDING,
+    PS_EI,
+    YAW_LIMIT,
+    chain_forward_dynamics,
+    joint_forces,
+    joint_kinematics,
+    kink,
+    link_frames,
+    make_workspace_jit,
+    rotational_terms,
+)
+
+# --- ep layout -------------------------------------------------------------------------------
+(EP_MU, EP_MD, EP_SPLIT, EP_JLINK, EP_L0,
+ EP_LAW, EP_RD, EP_JR, EP_CR, EP_TSET, EP_TAU_MAX, EP_V_IN_MAX, EP_V_OUT_MAX, EP_K_GOV,
+ EP_KS, EP_DB, EP_KV,
+ EP_PAY_T0, EP_PAY_DIST, EP_PAY_V, EP_PAY_A,
+ EP_PROBE, EP_P0X, EP_P0Y, EP_P0Z, EP_VC, EP_PUSH, EP_T_STOP, EP_KP, EP_CP, EP_COUPLED, EP_T_CAP,
+ EP_S_CAP, EP_JD) = range(34)
+EP_SIZE = 34
+
+LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE = 0, 1, 2
+
+# state tail (after the 4n hose entries)
+Z_L, Z_LD, Z_WM, Z_WF, Z_WX, Z_WFLUX, Z_WP = range(7)
+Z_TAIL = 7
+
+# out layout (scalars of one evaluation)
+(O_T0, O_LDD, O_TAU, O_SLACK, O_PX, O_PY, O_PZ, O_FPX, O_FPY, O_FPZ, O_VPX, O_VPY, O_VPZ,
+ O_PMOTOR, O_PFRIC, O_PEXIT, O_PFLUX, O_PPROBE) = range(18)
+O_SIZE = 18
+
+# segment stop codes (besides kernels.OK / NONFINITE / YAW_LIMIT)
+SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13
+
+
+@njit(**JIT)
+def apply_charts(n, chart, e, a, b):
+    """Links in the alternative chart have e = R e_std(theta), R the rotation by +90 deg about x
+    ((x, y, z) -> (x, -z, y)): its singular directions are +-z instead of +-y, so a link whose yaw
+    nears +-90 deg in one chart is far from singular in the other (docs/engagement.md)."""
+    for k in range(n):
+        if chart[k] != 0.0:
+            for arr in (e, a, b):
+                y = arr[k, 1]
+                arr[k, 1] = -arr[k, 2]
+                arr[k, 2] = y
+
+
+@njit(**JIT)
+def rotate_rows(n, chart, c, inverse):
+    """Rotate rows of c (n,3) of the alternative-chart links by R (or R^T if inverse)."""
+    for k in range(n):
+        if chart[k] != 0.0:
+            y = c[k, 1]
+            if inverse:
+                c[k, 1] = c[k, 2]
+                c[k, 2] = -y
+            else:
+                c[k, 1] = -c[k, 2]
+                c[k, 2] = y
+
+
+@njit(**JIT)
+def set_variable_link(L, n, l, M, J, ep):
+    """Length of the exit link from L, and the masses and inertia that depend on it.
+
+    ``split`` lumping: half of each link's mass at each end joint (the exit's half is carried by
+    the tanker); ``aft``: each link's mass at its aft joint. Joint k+1's mass is M[k]; the drogue's
+    mass is in M[n-1]. ``ep[EP_JLINK] < 0`` selects the rod inertia m l^2 / 12 for link 0 (the
+    other links' J are set once); else every link has the fixed ``ep[EP_JLINK]``.
+    """
+    fixed = 0.0
+    for k in range(1, n):
+        fixed += l[k]
+    l[0] = L - fixed
+    mu = ep[EP_MU]
+    if ep[EP_SPLIT] != 0.0:
+        if n == 1:
+            M[0] = 0.5 * mu * l[0] + ep[EP_MD]
+        else:
+            M[0] = 0.5 * mu * (l[0] + l[1])
+    else:
+        M[0] = mu * l[0] + (ep[EP_MD] if n == 1 else 0.0)
+    if ep[EP_JLINK] < 0.0:
+        J[0] = mu * l[0] ** 3 / 12.0 + (ep[EP_JD] if n == 1 else 0.0)
+
+
+@njit(**JIT)
+def mass_rates(Ld, n, l, ep, dM):
+    """dM (2,): rate of change [kg/s] of joint 1's mass and, for ``split``, of the exit's share."""
+    mu = ep[EP_MU]
+    if ep[EP_SPLIT] != 0.0:
+        dM[0] = 0.5 * mu * Ld
+        dM[1] = 0.5 * mu * Ld
+    else:
+        dM[0] = mu * Ld
+        dM[1] = 0.0
+
+
+@njit(**JIT)
+def patch_kinematics(Ld, n, e, a, b, qd, v, c):
+    """Add the variable exit link's terms: L' e_0 to every joint's velocity (joint 0: the hose
+    material at the exit) and 2 L' de_0/dt to link 0's velocity-product acceleration."""
+    ex, ey, ez = e[0, 0], e[0, 1], e[0, 2]
+    for k in range(n + 1):
+        v[k, 0] += Ld * ex
+        v[k, 1] += Ld * ey
+        v[k, 2] += Ld * ez
+    d1 = qd[0]
+    d2 = qd[1]
+    for i in range(3):
+        c[0, i] += 2.0 * Ld * (a[0, i] * d1 + b[0, i] * d2)
+
+
+@njit(**JIT)
+def probe_state(t, ep):
+    """Prescribed probe-tip position and velocity [m, m/s] in S_p at time t.
+
+    From ``P0`` forward (+x) at the closure speed; after capture at ``t_cap`` (probe travel
+    ``s_cap``) it goes on to ``s_cap + push`` and stops with a half-cosine speed ramp of
+    ``t_stop`` seconds (no step in the probe's speed, so no impulse in the damper).
+    """
+    vc = ep[EP_VC]
+    s = vc * t
+    v = vc
+    if ep[EP_COUPLED] != 0.0:
+        t_stop = ep[EP_T_STOP]
+        # cruise until the ramp starts; the ramp covers vc t_stop / 2
+        cruise = ep[EP_PUSH] - 0.5 * vc * t_stop
+        if cruise < 0.0:
+            cruise = 0.0
+        t1 = ep[EP_T_CAP] + cruise / vc
+        if t > t1:
+            tau = t - t1
+            s1 = ep[EP_S_CAP] + cruise
+            if tau >= t_stop:
+                s = s1 + 0.5 * vc * t_stop
+                v = 0.0
+            else:
+                w = math.pi / t_stop
+                s = s1 + 0.5 * vc * (tau + math.sin(w * tau) / w)
+                v = 0.5 * vc * (1.0 + math.cos(w * tau))
+    return ep[EP_P0X] + s, ep[EP_P0Y], ep[EP_P0Z], v, 0.0, 0.0
+
+
+@njit(**JIT)
+def schedule_acceleration(t, ep):
+    """L'' [m/s^2] of the locked reel's length schedule: pays out ``pay_dist`` (negative: takes up)
+    from ``pay_t0`` at up to ``pay_v``, speeding up and slowing down along half-sine acceleration
+    pulses of peak ``pay_a``. The acceleration is continuous, so RK4 keeps its accuracy across
+    the schedule (a step in L'' inside a step would cost O(h) in the paid-out length)."""
+    d = ep[EP_PAY_DIST]
+    if d == 0.0:
+        return 0.0
+    sgn = 1.0 if d > 0.0 else -1.0
+    d = abs(d)
+    vmax = ep[EP_PAY_V]
+    acc = ep[EP_PAY_A]
+    if math.pi * vmax * vmax / (2.0 * acc) > d:  # no cruise: a lower top speed
+        vmax = math.sqrt(2.0 * acc * d / math.pi)
+    ta = math.pi * vmax / (2.0 * acc)  # each ramp covers vmax ta / 2
+    tc = (d - vmax * ta) / vmax
+    tau = t - ep[EP_PAY_T0]
+    if tau <= 0.0:
+        return 0.0
+    if tau < ta:
+        return sgn * acc * math.sin(math.pi * tau / ta)
+    if tau < ta + tc:
+        return 0.0
+    if tau < 2.0 * ta + tc:
+        return -sgn * acc * math.sin(math.pi * (tau - ta - tc) / ta)
+    return 0.0
+
+
+@njit(**JIT)
+def motor_torque(Ld, slack, ep):
+    """Motor torque [N m] (positive reels in) of the ``constant-tension`` and ``response`` laws,
+    with the speed governor and the torque limit."""
+    rd = ep[EP_RD]
+    vr = -Ld  # take-up speed, positive reeling in
+    tau = rd * ep[EP_TSET]
+    if ep[EP_LAW] == LAW_RESPONSE:
+        over = slack - ep[EP_DB]
+        vcmd = ep[EP_KS] * over if over > 0.0 else 0.0
+        if vcmd > ep[EP_V_IN_MAX]:
+            vcmd = ep[EP_V_IN_MAX]
+        tau += rd * ep[EP_KV] * (vcmd - vr)
+    if vr > ep[EP_V_IN_MAX]:
+        tau -= rd * ep[EP_K_GOV] * (vr - ep[EP_V_IN_MAX])
+    elif vr < -ep[EP_V_OUT_MAX]:
+        tau += rd * ep[EP_K_GOV] * (-ep[EP_V_OUT_MAX] - vr)
+    tmax = ep[EP_TAU_MAX]
+    if tau > tmax:
+        tau = tmax
+    elif tau < -tmax:
+        tau = -tmax
+    return tau
+
+
+@njit(**JIT)
+def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
+    """Accelerations (ws[15] holds qdd, out[O_LDD] holds L'') and the outputs of state z; chart
+    (n,) selects each link's angle chart (:func:`apply_charts`)."""
+    L = z[4 * n + Z_L]
+    Ld = z[4 * n + Z_LD]
+    set_variable_link(L, n, l, M, J, ep)
+    q = z[: 2 * n]
+    qd = z[2 * n: 4 * n]
+    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    link_frames(q, n, e, a, b, cs)
+    apply_charts(n, chart, e, a, b)
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    rotate_rows(n, chart, c, False)  # joint_kinematics writes l d2e/dt2 in the standard chart
+    patch_kinematics(Ld, n, e, a, b, qd, v, c)
+    u0 = ws2[13][:2]  # no control force (the probe acts on the drogue below)
+    u0[0] = 0.0
+    u0[1] = 0.0
+    joint_forces(t, u0, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
+    # probe
+    px, py, pz, vpx, vpy, vpz = probe_state(t, ep)
+    fx = fy = fz = 0.0
+    if ep[EP_COUPLED] != 0.0:
+        kp = ep[EP_KP]
+        cp = ep[EP_CP]
+        fx = kp * (px - r[n, 0]) + cp * (vpx - v[n, 0])
+        fy = kp * (py - r[n, 1]) + cp * (vpy - v[n, 1])
+        fz = kp * (pz - r[n, 2]) + cp * (vpz - v[n, 2])
+        F[n, 0] += fx
+        F[n, 1] += fy
+        F[n, 2] += fz
+    rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
+    rotational_terms(qd, J, n, cs, Mom, tau)
+    qdd = ws[15]
+    chain_forward_dynamics(l, M, J, 0.0, n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12], qdd, ws[14])
+    # response to a unit L'': d'Alembert force -M_k e_0 on joints 1..n, nothing else
+    F2, c2, tau2, qdde = ws2[7], ws2[6], ws2[9], ws2[15]
+    for i in range(3):
+        F2[0, i] = 0.0
+    for k in range(n):
+        for i in range(3):
+            F2[k + 1, i] = -M[k] * e[0, i]
+            c2[k, i] = 0.0
+        tau2[k, 0] = 0.0
+        tau2[k, 1] = 0.0
+    chain_forward_dynamics(l, M, J, 0.0, n, a, b, cs, c2, F2, tau2, ws2[10], ws2[11], ws2[12], qdde, ws2[14])
+    # exit tension at L'' = 0 and the effective mass the hose adds to the reel
+    T00 = 0.0
+    me = 0.0
+    for i in range(3):
+        T00 += (ws[14][i] - F[0, i]) * e[0, i]
+        me -= ws2[14][i] * e[0, i]
+    if ps[PS_BENDING] == BENDING_MOMENT and n > 1:
+        # the discrete bending energy (E I / lbar_0) gamma_0^2 / 2 depends on L through
+        # lbar_0 = (l_0 + l_1) / 2: its generalized force on L, -dU/dL, keeps the model conservative
+        lbar = 0.5 * (l[0] + l[1])
+        gamma = kink(e, 0)[4]
+        T00 += 0.25 * ps[PS_EI] * gamma * gamma / (lbar * lbar)
+    slack = L - math.sqrt(r[n, 0] ** 2 + r[n, 1] ** 2 + r[n, 2] ** 2)
+    law = ep[EP_LAW]
+    rd = ep[EP_RD]
+    taum = 0.0
+    if law == LAW_LOCKED:
+        Ldd = schedule_acceleration(t, ep)
+        pm = 0.0
+        pf = 0.0
+    else:
+        taum = motor_torque(Ld, slack, ep)
+        mr = ep[EP_JR] / (rd * rd)
+        Ldd = (T00 - taum / rd - ep[EP_CR] * Ld / (rd * rd)) / (mr + me)
+        pm = -taum * Ld / rd  # tau_m omega, omega = -L'/r_d
+        pf = ep[EP_CR] * Ld * Ld / (rd * rd)
+    T0 = T00 - me * Ldd
+    for i in range(2 * n):
+        qdd[i] += Ldd * qdde[i]
+    # power of the kinetic energy carried by hose joining (L' > 0) or leaving the moving masses
+    mass_rates(Ld, n, l, ep, dM)
+    v1 = v[1, 0] ** 2 + v[1, 1] ** 2 + v[1, 2] ** 2
+    pflux = 0.5 * dM[0] * v1
+    if ep[EP_JLINK] < 0.0:
+        c20 = cs[0, 2]
+        pflux += 0.5 * 0.25 * ep[EP_MU] * l[0] * l[0] * Ld * (c20 * c20 * qd[0] * qd[0] + qd[1] * qd[1])
+    out[O_T0] = T0
+    out[O_LDD] = Ldd
+    out[O_TAU] = taum
+    out[O_SLACK] = slack
+    out[O_PX] = px
+    out[O_PY] = py
+    out[O_PZ] = pz
+    out[O_FPX] = fx
+    out[O_FPY] = fy
+    out[O_FPZ] = fz
+    out[O_VPX] = vpx
+    out[O_VPY] = vpy
+    out[O_VPZ] = vpz
+    out[O_PMOTOR] = pm
+    out[O_PFRIC] = pf
+    out[O_PEXIT] = -Ld * T0
+    out[O_PFLUX] = pflux
+    out[O_PPROBE] = fx * v[n, 0] + fy * v[n, 1] + fz * v[n, 2]
+
+
+@njit(**JIT)
+def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, dz):
+    """dz/dt of the engagement state z."""
+    eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
+    qdd = ws[15]
+    for i in range(2 * n):
+        dz[i] = z[2 * n + i]
+        dz[2 * n + i] = qdd[i]
+    b = 4 * n
+    dz[b + Z_L] = z[b + Z_LD]
+    dz[b + Z_LD] = out[O_LDD]
+    dz[b + Z_WM] = out[O_PMOTOR]
+    dz[b + Z_WF] = out[O_PFRIC]
+    dz[b + Z_WX] = out[O_PEXIT]
+    dz[b + Z_WFLUX] = out[O_PFLUX]
+    dz[b + Z_WP] = out[O_PPROBE]
+
+
+@njit(**JIT)
+def plane_distance(z, n, l, ws, t, ep):
+    """Signed distance [m] of the probe tip aft of the coupler plane (through joint n, normal to
+    the last link, e_{n-1} pointing aft); positive before contact. Uses ws[0], ws[4] as filled by
+    :func:`eng_evaluate` for z."""
+    px, py, pz, _, _, _ = probe_state(t, ep)
+    e = ws[0]
+    r = ws[4]
+    k = n - 1
+    return (px - r[n, 0]) * e[k, 0] + (py - r[n, 1]) * e[k, 1] + (pz - r[n, 2]) * e[k, 2]
+
+
+@njit(**JIT)
+def eng_energy(z, n, l, M, J, ps, ep, chart):
+    """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z."""
+    L = z[4 * n + Z_L]
+    Ld = z[4 * n + Z_LD]
+    set_variable_link(L, n, l, M, J, ep)
+    ws = make_workspace_jit(n)
+    q = z[: 2 * n]
+    qd = z[2 * n: 4 * n]
+    e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
+    link_frames(q, n, e, a, b, cs)
+    apply_charts(n, chart, e, a, b)
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    patch_kinematics(Ld, n, e, a, b, qd, v, c)
+    T = 0.0
+    for k in range(n):
+        T += 0.5 * M[k] * (v[k + 1, 0] ** 2 + v[k + 1, 1] ** 2 + v[k + 1, 2] ** 2)
+        c2 = cs[k, 2]
+        T += 0.5 * J[k] * (c2 * c2 * qd[2 * k] ** 2 + qd[2 * k + 1] ** 2)
+    U = 0.0
+    if ps[PS_BENDING] == BENDING_MOMENT:
+        for k in range(n - 1):
+            gamma = kink(e, k)[4]
+            U += 0.5 * ps[PS_EI] / (0.5 * (l[k] + l[k + 1])) * gamma * gamma
+    Tr = 0.0
+    if ep[EP_LAW] != LAW_LOCKED:
+        Tr = 0.5 * ep[EP_JR] * (Ld / ep[EP_RD]) ** 2
+    return T, U, Tr
+
+
+@njit(**JIT)
+def eng_status(z, n, max_yaw):
+    for i in range(z.shape[0]):
+        if not math.isfinite(z[i]):
+            return NONFINITE
+    for k in range(n):
+        if abs(z[2 * k + 1]) > max_yaw:
+            return YAW_LIMIT
+    return OK
+
+
+@njit(**JIT)
+def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, max_yaw,
+                switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs):
+    """RK4 from (t0, z) (global step index step0) for at most ``nsteps`` steps, in place.
+
+    Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
+    the step at which the exit link's length leaves [merge_at, split_at] (SPLIT / MERGE), the probe
+    tip crosses the coupler plane before coupling (PLANE; zprev then holds the state before the
+    step), or the state fails (NONFINITE / YAW_LIMIT). Returns (status, steps done, saved count).
+    """
+    nz = z.shape[0]
+    k1 = np.empty(nz)
+    k2 = np.empty(nz)
+    k3 = np.empty(nz)
+    k4 = np.empty(nz)
+    tmp = np.empty(nz)
+    ws = make_workspace_jit(n)
+    ws2 = make_workspace_jit(n)
+    dM = np.empty(2)
+    out = np.empty(O_SIZE)
+    saved = 0
+    probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
+    d_before = 0.0
+    if probing:
+        eng_evaluate(t0, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
+        d_before = plane_distance(z, n, l, ws, t0, ep)
+    for s in range(1, nsteps + 1):
+        t = t0 + (s - 1) * h
+        for i in range(nz):
+            zprev[i] = z[i]
+        eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k1)
+        for i in range(nz):
+            tmp[i] = z[i] + 0.5 * h * k1[i]
+        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k2)
+        for i in range(nz):
+            tmp[i] = z[i] + 0.5 * h * k2[i]
+        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k3)
+        for i in range(nz):
+            tmp[i] = z[i] + h * k3[i]
+        eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k4)
+        for i in range(nz):
+            z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        t = t0 + s * h
+        status = eng_status(z, n, max_yaw)
+        if status != OK:
+            return status, s, saved
+        if (step0 + s) % save_every == 0:
+            ts[saved] = t
+            zs[saved, :] = z
+            saved += 1
+        for k in range(n):
+            if abs(z[2 * k + 1]) > switch_yaw:
+                return CHART, s, saved
+        set_variable_link(z[4 * n + Z_L], n, l, M, J, ep)
+        if l[0] > split_at:
+            return SPLIT, s, saved
+        if allow_merge and l[0] < merge_at:
+            return MERGE, s, saved
+        if probing:
+            eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
+            d = plane_distance(z, n, l, ws, t, ep)
+            if d_before > 0.0 and d <= 0.0:
+                return PLANE, s, saved
+            d_before = d
+    return OK, nsteps, saved
+
+
+@njit(**JIT)
+def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, joints, jvel, scal, tow, tension_drogue):
+    """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
+    (N, O_SIZE), tow-point force (N, 3) and the tension in the last link [N] (N,)."""
+    ws = make_workspace_jit(n)
+    ws2 = make_workspace_jit(n)
+    dM = np.empty(2)
+    out = np.empty(O_SIZE)
+    for i in range(ts.shape[0]):
+        eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
+        joints[i] = ws[4]
+        jvel[i] = ws[5]
+        scal[i] = out
+        Ldd = out[O_LDD]
+        # total force of the hose on the exit: F_0 + sum (F_k - M_k A_k)
+        for j in range(3):
+            tow[i, j] = ws[14][j] + Ldd * ws2[14][j]
+        # last link's tension: the drogue joint's load minus its inertia, along the link
+        # (joint n's acceleration from the recursion: A_n = L'' e_0 + sum of link terms)
+        e = ws[0]
+        qdd = ws[15]
+        Ax = Ldd * e[0, 0]
+        Ay = Ldd * e[0, 1]
+        Az = Ldd * e[0, 2]
+        for k in range(n):
+            Ax += l[k] * (ws[1][k, 0] * qdd[2 * k] + ws[2][k, 0] * qdd[2 * k + 1]) + ws[6][k, 0]
+            Ay += l[k] * (ws[1][k, 1] * qdd[2 * k] + ws[2][k, 1] * qdd[2 * k + 1]) + ws[6][k, 1]
+            Az += l[k] * (ws[1][k, 2] * qdd[2 * k] + ws[2][k, 2] * qdd[2 * k + 1]) + ws[6][k, 2]
+        F = ws[7]
+        m = M[n - 1]
+        tension_drogue[i] = ((F[n, 0] - m * Ax) * e[n - 1, 0] + (F[n, 1] - m * Ay) * e[n - 1, 1]
+                             + (F[n, 2] - m * Az) * e[n - 1, 2])

@@ -1,0 +1,51 @@
+"""Figure of the link-count convergence study (:mod:`hosedrogue.studies.accuracy`)."""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .base import _grid, new_figure
+
+
+def plot_accuracy(studies: Sequence, tolerances_m=(1e-2, 1e-3)) -> Figure:
+    """Drogue-position error against the continuum, lowest-mode frequencies and RMS turbulence
+    response against the number of links, one line per mass lumping.
+
+    ``studies``: :class:`~hosedrogue.studies.accuracy.LumpingStudy` objects (one per lumping).
+    Returns a Figure with three panels; units on every axis.
+    """
+    fig, axes = new_figure(1, 3, size=(13.0, 4.0))
+    ax_err, ax_freq, ax_rms = axes
+    for st in studies:
+        n = st.links
+        line, = ax_err.loglog(n, st.position_error_m * 1e3, "o-", label=f"{st.lumping}")
+        if st.frequencies is not None:
+            ax_freq.semilogx(n, st.frequencies.lateral_rad_s, "o-", color=line.get_color(),
+                             label=f"{st.lumping}, lateral")
+            ax_freq.semilogx(n, st.frequencies.vertical_rad_s, "s--", color=line.get_color(),
+                             label=f"{st.lumping}, vertical")
+        if st.rms_response_m is not None:
+            ax_rms.semilogx(n, st.rms_response_m[:, 0] * 1e3, "o-", color=line.get_color(),
+                            label=f"{st.lumping}, lateral")
+            ax_rms.semilogx(n, st.rms_response_m[:, 1] * 1e3, "s--", color=line.get_color(),
+                            label=f"{st.lumping}, vertical")
+    if studies:
+        n = np.asarray(studies[0].links, float)
+        for order, style in ((1, ":"), (2, "-.")):
+            ref = studies[0].position_error_m[0] * 1e3 * (n / n[0]) ** (-order)
+            ax_err.loglog(n, ref, "k" + style, lw=0.8, label=f"order {order}")
+    for tol in tolerances_m:
+        ax_err.axhline(tol * 1e3, color="0.6", lw=0.8)
+    ax_err.set_xlabel("links [-]")
+    ax_err.set_ylabel("steady drogue position error vs continuum [mm]")
+    ax_freq.set_xlabel("links [-]")
+    ax_freq.set_ylabel("lowest mode frequency [rad/s]")
+    ax_rms.set_xlabel("links [-]")
+    ax_rms.set_ylabel("RMS drogue offset in turbulence [mm]")
+    for ax in axes:
+        _grid(ax)
+        ax.legend(fontsize=7)
+    return fig

@@ -1,0 +1,91 @@
+"""Grid sizes and run lengths of a report build: the full reference version and the fast one."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["ReportSettings", "FULL", "FAST"]
+
+
+@dataclass(frozen=True)
+class ReportSettings:
+    """Grid sizes and run lengths of one report build (``FULL`` or ``FAST``).
+
+    Parameters
+    ----------
+    name : str
+        ``"full"`` or ``"fast"``; the page shows a banner for the fast version.
+    sweep_altitudes_m : tuple of float
+        Fig. 3 altitudes [m].
+    sweep_airspeeds_m_s : tuple of float
+        Fig. 3 airspeeds [m/s].
+    run_duration_s : float or None
+        Length of every turbulence run [s]; None: the scenario's own.
+    steps_s : tuple of float
+        RK4 steps of the step-convergence study [s].
+    reference_step_s : float
+        Reference step of that study [s].
+    links_paper_bending : tuple of int
+        Link counts of the link-convergence study with the paper's bending force.
+    links_consistent : tuple of int
+        Link counts with bending off and with the ``"moment"`` option.
+    spread_seeds : int
+        Turbulence realisations for the spread of the peak values.
+    sensitivity_altitudes_m : tuple of float
+        Linearization conditions of the Table 2 sensitivity study [m].
+    sensitivity_airspeeds_m_s : tuple of float
+        Linearization conditions of that study [m/s].
+    anim_fps : int
+        Frames per second of simulated time in the GIF [1/s].
+    bode_points : int
+        Frequency points of Fig. 7.
+    """
+
+    name: str
+    sweep_altitudes_m: tuple
+    sweep_airspeeds_m_s: tuple
+    run_duration_s: float | None
+    steps_s: tuple
+    reference_step_s: float
+    links_paper_bending: tuple
+    links_consistent: tuple
+    spread_seeds: int
+    sensitivity_altitudes_m: tuple
+    sensitivity_airspeeds_m_s: tuple
+    anim_fps: int
+    bode_points: int
+
+
+#: The reference version of the report.
+FULL = ReportSettings(
+    name="full",
+    sweep_altitudes_m=(2000.0, 4000.0, 6000.0, 8000.0, 10000.0),
+    sweep_airspeeds_m_s=tuple(float(v) for v in range(100, 251, 10)),
+    run_duration_s=None,
+    steps_s=(0.02, 0.01, 0.005, 0.0025),
+    reference_step_s=0.000625,
+    links_paper_bending=(5, 10, 20, 40, 80),
+    links_consistent=(20, 40, 80, 160),
+    spread_seeds=8,
+    sensitivity_altitudes_m=(0.0, 2000.0, 5000.0, 8000.0, 10000.0),
+    sensitivity_airspeeds_m_s=(100.0, 150.0, 200.0, 250.0),
+    anim_fps=10,
+    bode_points=600,
+)
+
+#: The fast version (``--fast``): coarser grids, shorter runs; the page says so prominently.
+FAST = ReportSettings(
+    name="fast",
+    sweep_altitudes_m=(2000.0, 6000.0, 10000.0),
+    sweep_airspeeds_m_s=(100.0, 150.0, 200.0, 250.0),
+    run_duration_s=32.0,
+    steps_s=(0.01, 0.005),
+    reference_step_s=0.00125,
+    links_paper_bending=(5, 10, 20, 40),
+    links_consistent=(10, 20, 40),
+    spread_seeds=2,
+    sensitivity_altitudes_m=(0.0, 8000.0),
+    sensitivity_airspeeds_m_s=(150.0, 250.0),
+    anim_fps=4,
+    bode_points=200,
+)

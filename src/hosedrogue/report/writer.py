@@ -1,0 +1,224 @@
+"""The report's output folder: CSV, figure and JSON files, and the page fragments written so far.
+
+Every file of the report is written through :class:`ReportFolder`, so the CSV format, the
+figure resolution and the list of written files are set in one place.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from .comparison import Comparison
+
+__all__ = ["DPI", "PageSection", "ReportFolder", "finite_json"]
+
+#: PNG resolution [dots per inch].
+DPI = 110
+
+
+def finite_json(obj):
+    """Convert numpy scalars and arrays to JSON types; non-finite numbers become None.
+
+    Parameters
+    ----------
+    obj : object
+        Nested dicts, lists, tuples, numpy arrays and scalars.
+
+    Returns
+    -------
+    object
+        The same structure in plain JSON types (the report's test checks that no None is left).
+    """
+    if isinstance(obj, dict):
+        return {str(k): finite_json(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [finite_json(v) for v in obj]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    return obj
+
+
+@dataclass(frozen=True)
+class PageSection:
+    """One ``<section>`` of the page.
+
+    Parameters
+    ----------
+    anchor : str
+        The section's ``id`` (the navigation links to ``#anchor``).
+    nav : str
+        Its name in the navigation bar.
+    html : str
+        The ``<section>`` element.
+    """
+
+    anchor: str
+    nav: str
+    html: str
+
+
+def _no_status(text: str) -> None:
+    return None
+
+
+@dataclass
+class ReportFolder:
+    """The output folder and what has been written to it so far.
+
+    Parameters
+    ----------
+    dir : Path
+        The folder (must exist before writing).
+    status : callable, optional
+        ``status(text)`` shows a short progress note (the progress bar's postfix).
+    """
+
+    dir: Path
+    status: Callable[[str], None] = _no_status
+    files: list[str] = field(default_factory=list)
+    comparison: Comparison = field(default_factory=Comparison)
+    sections: list[PageSection] = field(default_factory=list)
+    summary: list[str] = field(default_factory=list)
+    headline: dict[str, Any] = field(default_factory=dict)
+
+    def csv(self, df, name: str) -> str:
+        """Write a table as CSV (10 significant digits, no index).
+
+        Parameters
+        ----------
+        df : pandas.DataFrame
+            The table; SI units in the column names.
+        name : str
+            File name inside the folder.
+
+        Returns
+        -------
+        str
+            ``name``.
+        """
+        df.to_csv(self.dir / name, index=False, float_format="%.10g")
+        self.files.append(name)
+        return name
+
+    def figure(self, fig, name: str) -> str:
+        """Save a figure as PNG at :data:`DPI`.
+
+        Parameters
+        ----------
+        fig : matplotlib.figure.Figure
+            The figure (from :mod:`hosedrogue.plotting`).
+        name : str
+            File name inside the folder.
+
+        Returns
+        -------
+        str
+            ``name``.
+        """
+        from ..plotting.figures import save_figure
+
+        save_figure(fig, self.dir / name, dpi=DPI)
+        self.files.append(name)
+        return name
+
+    def written(self, path: Path) -> str:
+        """Register a file written by other code (e.g. the animation).
+
+        Parameters
+        ----------
+        path : Path
+            The file, inside the folder.
+
+        Returns
+        -------
+        str
+            Its name.
+        """
+        self.files.append(path.name)
+        return path.name
+
+    def section(self, anchor: str, nav: str, html: str) -> None:
+        """Add a section of the page (shown in the order added, see :mod:`.page`).
+
+        Parameters
+        ----------
+        anchor : str
+            The section's ``id``.
+        nav : str
+            Its name in the navigation bar.
+        html : str
+            The ``<section>`` element.
+        """
+        self.sections.append(PageSection(anchor, nav, html))
+
+    def summarize(self, text: str) -> None:
+        """Add one point (plain text) to the page's summary, in the order the sections run.
+
+        Parameters
+        ----------
+        text : str
+            The point.
+        """
+        self.summary.append(text)
+
+    def record(self, key: str, value) -> None:
+        """Add headline numbers to ``report.json`` under ``key``.
+
+        Parameters
+        ----------
+        key : str
+            Top-level key.
+        value : object
+            Numbers (nested dicts and lists allowed), in SI units named in the keys.
+        """
+        self.headline[key] = value
+
+    def write_json(self, headline: dict, name: str = "report.json") -> dict:
+        """Write the headline numbers, non-finite values as null.
+
+        Parameters
+        ----------
+        headline : dict
+            The numbers.
+        name : str
+            File name inside the folder.
+
+        Returns
+        -------
+        dict
+            What was written (plain JSON types).
+        """
+        data = finite_json(headline)
+        (self.dir / name).write_text(json.dumps(data, indent=2) + "\n")
+        self.files.append(name)
+        return data
+
+    def write_text(self, text: str, name: str) -> str:
+        """Write a UTF-8 text file (the page).
+
+        Parameters
+        ----------
+        text : str
+            The content.
+        name : str
+            File name inside the folder.
+
+        Returns
+        -------
+        str
+            ``name``.
+        """
+        (self.dir / name).write_text(text, encoding="utf-8")
+        self.files.append(name)
+        return name

@@ -1,0 +1,1 @@
+"""Studies built on the model: accuracy against the number of links (``accuracy``)."""

@@ -1,0 +1,185 @@
+"""The engagement (ENGAGEMENT.md 2, 4; docs/engagement.md): capture and its failure reasons, the
+three shipped scenarios, link-count convergence, scenario validation and the command line."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hosedrogue.engagement import Probe, Reel, simulate_engagement
+from hosedrogue.engagement.run import SUMMARY_KEYS, run_engagement
+from hosedrogue.errors import ParameterError
+from hosedrogue.params import PAPER
+from hosedrogue.scenarios import load_scenario
+
+LAWS = ("locked", "constant-tension", "response")
+SRC = str(Path(__file__).resolve().parents[1] / "src")
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    return {law: run_engagement(load_scenario(f"engage-{law}")) for law in LAWS}
+
+
+def small(**numerics):
+    """A quick 20-link case (capture geometry does not need the whip resolved)."""
+    return PAPER.replace(hose={"links": 20, "link_inertia": "rod", "bending": "moment"},
+                         numerics={"step_s": 0.0025, "output_every": 4, **numerics})
+
+
+# --- capture -------------------------------------------------------------------------------------
+def test_capture_on_target():
+    """Aimed at the balance position the probe tip meets the coupler (miss at round-off: 1e-9 m)
+    at the closure speed projected on the last link (1.5 m/s times the cosine of its ~15 deg
+    inclination: between 1.4 and 1.5 m/s), 2 s after starting 3 m behind."""
+    r = simulate_engagement(small(), Reel(law="constant-tension"), Probe(), 4.0)
+    o = r.outcome
+    assert o["result"] == "captured"
+    assert o["miss_distance_m"] < 1e-9
+    assert 1.4 < o["closure_speed_m_s"] < 1.5
+    assert abs(o["contact_time_s"] - 2.0) < 0.01  # the drogue is at rest before contact
+    assert r.coupled[-1] and not r.coupled[0]
+
+
+@pytest.mark.parametrize("probe,expect", [
+    (Probe(offset_y_m=0.5), "miss: radial miss"),
+    (Probe(standoff_m=0.5, closure_speed_m_s=0.3), "failed latch: closure speed 0.2"),
+    (Probe(closure_speed_m_s=2.5, max_closure_speed_m_s=2.0), "failed latch: closure speed 2.4"),
+])
+def test_miss_ends_the_run_with_its_reason(probe, expect):
+    """A lateral offset of 0.5 m > the 0.305 m capture radius misses; 0.3 m/s is below the 0.5 m/s
+    latch minimum; 2.5 m/s above a 2 m/s maximum. The run ends at the contact and says why."""
+    r = simulate_engagement(small(), Reel(law="locked"), probe, 6.0)
+    assert r.outcome["result"].startswith(expect), r.outcome["result"]
+    assert not r.coupled.any()
+    assert r.t_s[-1] < 6.0 - 0.1
+    assert r.outcome["peak_probe_load_n"] == 0.0
+    if probe.offset_y_m:
+        # the miss distance is the lateral offset seen in the coupler plane (0.5 m, 1 cm for the
+        # plane's tilt and the wake's small sideways set of the drogue)
+        assert abs(r.outcome["miss_distance_m"] - 0.5) < 0.01
+
+
+# --- the shipped scenarios -----------------------------------------------------------------------
+def test_shipped_scenarios_capture(shipped):
+    for law, r in shipped.items():
+        assert r.completed, (law, r.message)
+        assert r.outcome["result"] == "captured", law
+        for key in SUMMARY_KEYS:
+            assert r.outcome[key] is not None, (law, key)
+        assert r.outcome["peak_probe_load_n"] > 0 and r.outcome["peak_exit_tension_n"] > 0
+
+
+def test_locked_reel_keeps_its_length(shipped):
+    L = shipped["locked"].hose_length_m
+    assert np.all(L == L[0])
+
+
+def test_responsive_reel_takes_up_and_cuts_slack(shipped):
+    """The brief: the responsive reel takes up at least 1 m and cuts the peak slack at least
+    fivefold against the locked reel (measured 1.89 m; 1.77 m vs 0.31 m of slack, x5.7)."""
+    resp, locked = shipped["response"].outcome, shipped["locked"].outcome
+    assert resp["length_taken_up_m"] >= 1.0
+    assert locked["peak_slack_m"] >= 5 * resp["peak_slack_m"]
+
+
+def test_hose_mass_in_air_during_engagement(shipped):
+    """mu L at every output time through the take-up and its merges (round-off, 1e-10 kg)."""
+    for r in shipped.values():
+        assert np.max(np.abs(r.hose_mass_kg - PAPER.hose.mass_per_length_kg_m * r.hose_length_m)) < 1e-10
+        for ev in r.events:
+            if ev["kind"] in ("split", "merge", "chart"):
+                assert ev["position_jump_m"] < 1e-12 and ev["velocity_jump_m_s"] < 1e-12, ev
+
+
+# --- link-count convergence ----------------------------------------------------------------------
+def _peaks(law, links, step):
+    sc = load_scenario(f"engage-{law}")
+    p = sc.params.replace(hose={"links": links}, numerics={"step_s": step, "output_every": int(round(0.01 / step))})
+    r = simulate_engagement(p, sc.extra["reel"], sc.extra["probe"], 12.0)
+    return r.outcome["peak_probe_load_n"], r.outcome["peak_slack_m"]
+
+
+@pytest.fixture(scope="module")
+def doubled():
+    return {law: (_peaks(law, 40, 0.0025), _peaks(law, 80, 0.00125)) for law in LAWS}
+
+
+@pytest.mark.parametrize("law", ["constant-tension", "response"])
+def test_doubling_links_changes_peaks_less_than_5_percent(doubled, law):
+    """The brief's bound: 40 -> 80 links (step halved with the link length) moves the peak probe
+    load and the peak slack by less than 5 % (measured: constant tension 0.5 % and 3 %, response
+    4.5 % and 2.5 %)."""
+    (f1, s1), (f2, s2) = doubled[law]
+    assert abs(f2 - f1) < 0.05 * f1
+    assert abs(s2 - s1) < 0.05 * s1
+
+
+def test_locked_reel_slack_converges(doubled):
+    (_, s1), (_, s2) = doubled["locked"]
+    assert abs(s2 - s1) < 0.05 * s1
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "The locked reel's peak probe load is a snap load: the slack hose goes taut again with no "
+    "axial elasticity in the rigid-link model, so its peak depends on the discretization (measured "
+    "2350 / 2505 / 2451 N at 40 / 80 / 160 links: 6.6 %, then 2.2 %). Physics, not a tolerance: a "
+    "finite EA is needed to converge it (docs/engagement.md)."))
+def test_locked_reel_probe_load_converges(doubled):
+    (f1, _), (f2, _) = doubled["locked"]
+    assert abs(f2 - f1) < 0.05 * f1
+
+
+# --- input validation and the command line --------------------------------------------------------
+BAD = [
+    ("[reel]\ndrum_radius_m = -0.3\n", "reel.drum_radius_m = -0.3: must be a finite number in (0, 5] m"),
+    ("[reel]\nlaw = \"spring\"\n", "reel.law = 'spring': must be one of"),
+    ("[reel]\ntorque = 3\n", "reel.torque: unknown field"),
+    ("[probe]\nclosure_speed_m_s = 0\n", "probe.closure_speed_m_s = 0: must be a finite number in (0, 10] m/s"),
+    ("[probe]\nmin_closure_speed_m_s = 2.0\nmax_closure_speed_m_s = 1.0\n",
+     "probe.min_closure_speed_m_s = 2.0: must be below probe.max_closure_speed_m_s = 1.0"),
+    ("[reel]\nlaw = \"response\"\npayout_m = 2.0\n", "reel.payout_m = 2.0: a payout schedule needs reel.law = 'locked'"),
+]
+
+
+@pytest.mark.parametrize("body,message", BAD)
+def test_bad_sections_raise_one_line(tmp_path, body, message):
+    f = tmp_path / "bad.toml"
+    f.write_text("[scenario]\nduration_s = 5.0\n" + body)
+    with pytest.raises(ParameterError) as exc:
+        load_scenario(str(f))
+    assert message in str(exc.value) and "\n" not in str(exc.value)
+
+
+def _cli(*args, cwd):
+    return subprocess.run([sys.executable, "-m", "hosedrogue", *args], capture_output=True, text=True, cwd=cwd,
+                          env={"PYTHONPATH": SRC, "PATH": "/usr/bin:/bin"})
+
+
+def test_cli_bad_input_exit_2_writes_nothing(tmp_path):
+    f = tmp_path / "bad.toml"
+    f.write_text("[scenario]\nduration_s = 5.0\n[reel]\nmax_torque_n_m = -5\n")
+    out = tmp_path / "out"
+    res = _cli("simulate", str(f), "--out", str(out), cwd=tmp_path)
+    assert res.returncode == 2
+    assert res.stderr.strip().count("\n") == 0 and "reel.max_torque_n_m = -5" in res.stderr
+    assert not out.exists()
+
+
+def test_cli_simulate_engage_response(tmp_path):
+    """End to end (shortened to 5 s: contact at 2 s, the take-up and the slack peak by 3 s)."""
+    out = tmp_path / "e"
+    res = _cli("simulate", "engage-response", "--duration", "5", "--out", str(out), cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    doc = json.loads((out / "run.json").read_text())
+    eng = doc["engagement"]
+    assert eng["result"] == "captured"
+    for key in SUMMARY_KEYS:
+        assert key in eng
+    header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
+    for col in ("hose_length_m", "reel_speed_m_s", "exit_tension_n", "probe_load_n", "coupled"):
+        assert col in header
+    assert (out / "engagement.png").exists()
