@@ -1,5 +1,6 @@
-"""Receiver bow wave: the potential-flow invariants of the receiver's forebody flow (potential flow theory), each checked
-against the field the module computes, with independent formulas for the body and the line."""
+"""Receiver bow wave: the potential-flow invariants of the forebody flow (no flow through the
+body, stagnation point, divergence-free, 1/r^2 decay), each checked against the field the module
+computes, with independent formulas for the body and the line."""
 
 import math
 

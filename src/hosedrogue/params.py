@@ -402,6 +402,10 @@ class Sensor:
     sample_time_s: float = 0.01
 
     def __post_init__(self):
+        for name in ("noise_std_m", "sample_time_s"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise ParameterError(f"sensor.{name} = {v!r}: must be a finite number")
         if not (self.noise_std_m >= 0 and math.isfinite(self.noise_std_m)):
             raise ParameterError(f"sensor.noise_std_m = {self.noise_std_m!r}: must be a finite number >= 0 m")
         if not (self.sample_time_s > 0 and math.isfinite(self.sample_time_s)):

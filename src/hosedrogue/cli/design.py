@@ -14,7 +14,13 @@ MAX_WEIGHT = 1e15
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(NAME, help="design the paper's PID or LQR on a reduced model, with step metrics",
                        description="Design the paper's PID (Eq. 33 gains) or LQR (Eqs. 35-37) on a reduced model "
                                    "of each channel (lateral u_hor [N] -> P_ny [m], vertical u_ver [N] -> P_nz [m]) "
@@ -230,7 +236,18 @@ def _print_table(args, data: dict, order: int, paper_key: str) -> None:
 
 
 def run(args) -> int:
-    """Design, compute the step metrics, print (or print JSON)."""
+    """Design, compute the step metrics, print (or print JSON).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     import numpy as np
 
     from ..paper import CHANNELS, TABLE3
