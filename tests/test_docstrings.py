@@ -26,7 +26,6 @@ UNDOCUMENTED = {
     "hosedrogue.engagement.run",
     "hosedrogue.engagement.spec",
     "hosedrogue.model.kernels",
-    "hosedrogue.params",  # dataclass fields without #: comments
     "hosedrogue.plotting.accuracy",
     "hosedrogue.plotting.engagement",
     "hosedrogue.plotting.long_runs",
