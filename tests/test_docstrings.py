@@ -30,7 +30,6 @@ UNDOCUMENTED = {
     "hosedrogue.plotting.engagement",
     "hosedrogue.plotting.long_runs",
     "hosedrogue.report.writer",
-    "hosedrogue.scenarios.runner",
     "hosedrogue.studies.accuracy",
     "hosedrogue.studies.campaign",
     "hosedrogue.studies.long_runs",
