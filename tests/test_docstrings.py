@@ -31,7 +31,6 @@ UNDOCUMENTED = {
     "hosedrogue.plotting.long_runs",
     "hosedrogue.report.writer",
     "hosedrogue.studies.accuracy",
-    "hosedrogue.studies.campaign",
     "hosedrogue.studies.long_runs",
 }
 
