@@ -29,7 +29,6 @@ UNDOCUMENTED = {
     "hosedrogue.plotting.accuracy",
     "hosedrogue.plotting.engagement",
     "hosedrogue.plotting.long_runs",
-    "hosedrogue.report.writer",
     "hosedrogue.studies.accuracy",
     "hosedrogue.studies.long_runs",
 }
