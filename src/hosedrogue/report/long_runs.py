@@ -176,7 +176,8 @@ def _html(settings, study, stats: dict) -> str:
         + _fast_note(settings)
         + "<p>The paper's turbulence lasts 20 s. Here it stays on from 10 s to the end of open-loop runs of the "
           f"paper's model (150 m/s, 8000 m, standard MIL-F-8785C intensities at the flight altitude), capped at "
-          f"{study.cap_s:g} s, against the least damped mode of each model option and a {run} of the stable "
+          f"{study.cap_s:g} s, against the least damped mode of each model option and {'an' if run[0] == 'h' else 'a'} "
+          f"{run} of the stable "
           "model in severe turbulence.</p>"
         + _zigzag_prose(study, stats) + _tables(study, stats)
         + figure_html("fig-long-runs", "fig_long_runs.png", "Long runs",
