@@ -16,8 +16,8 @@ from pathlib import Path
 from typing import Callable
 
 from ..version import __version__
-from . import (closed_loop, comparison, controllers, convergence, differences, hose_views, linear, parameters,
-               sweep, turbulence_speeds)
+from . import (accuracy, closed_loop, comparison, controllers, convergence, differences, hose_views, linear,
+               long_runs, parameters, sweep, turbulence_speeds)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -52,6 +52,7 @@ class Section:
 SECTIONS: tuple[Section, ...] = (
     Section("parameters", "parameters", parameters.build),
     Section("convergence", "convergence", convergence.build, needs=("parameters",)),
+    Section("accuracy", "accuracy per cost (issue 11)", accuracy.build, needs=("convergence",)),
     Section("sweep", "steady sweep (Fig. 3)", sweep.build),
     Section("turbulence_speeds", "turbulence at four airspeeds (Fig. 4)", turbulence_speeds.build),
     Section("linear", "linear model (Table 2, Figs. 5-8)", linear.build, needs=("sweep",)),
@@ -59,6 +60,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("closed_loop", "controllers in turbulence (Figs. 12-13)", closed_loop.build, needs=("controllers",)),
     Section("hose_3d", "hose in 3D", hose_views.build_3d, needs=("closed_loop",)),
     Section("animation", "animation", hose_views.build_animation, needs=("closed_loop",)),
+    Section("long_runs", "long runs (issue 15)", long_runs.build),
 )
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.
