@@ -1,5 +1,6 @@
-"""Receiver bow wave: the potential-flow invariants of ENGAGEMENT.md section 3, each checked
-against the field the module computes, with independent formulas for the body and the line."""
+"""Receiver bow wave: the potential-flow invariants of the forebody flow (no flow through the
+body, stagnation point, divergence-free, 1/r^2 decay), each checked against the field the module
+computes, with independent formulas for the body and the line."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""Tests of the air environment: Hallock-Burnham wake and Dryden turbulence (MODEL.md 4)."""
+"""Tests of the air environment: Hallock-Burnham wake and Dryden turbulence (docs/model.md §4)."""
 
 from __future__ import annotations
 
@@ -42,7 +42,7 @@ RTOL_FLOAT = 1e-12
 # wake
 # ----------------------------------------------------------------------------------------------
 def _expected_wake(y, z, *, mass=60000.0, span=34.0, tow=0.25, spacing=math.pi / 4, core=0.035, dz0=0.0):
-    """The Hallock-Burnham pair from MODEL.md 4, written with the polar angle of each offset.
+    """The Hallock-Burnham pair from docs/model.md §4, written with the polar angle of each offset.
 
     The starboard vortex, seen from behind (y right, z down), sweeps the air down on its inboard
     side and up outboard: at polar angle phi = atan2(dz, dy) its velocity is

@@ -1,15 +1,15 @@
 """A second, independent derivation of the hose equations of motion, compared with the package.
 
-The equations are derived here from MODEL.md sections 1-3 alone with ``sympy.physics.mechanics``
+The equations are derived here from docs/model.md §1-3 alone with ``sympy.physics.mechanics``
 (``KanesMethod``): reference frames and points instead of hand-written partial velocities, sympy's
 own inertia forces instead of the ``-J alpha - omega x J omega`` formula, and every external force
 written as a (point, vector) or (frame, torque) pair. The package's numba kernel is not consulted
 (only ``HoseModel``'s public API), so an error in either formulation shows up as a disagreement at
 random states and inputs.
 
-Construction (MODEL.md 1): inertial frame N = S_p (x forward, y right, z down, gravity +g z). Link k's
+Construction (docs/model.md §1): inertial frame N = S_p (x forward, y right, z down, gravity +g z). Link k's
 frame B_k is N rotated about N.y by theta_k1, then about the new z by theta_k2; the link points aft
-along e_k = -B_k.x, which the first tests check against MODEL.md's e_k and omega_k. Joint k carries
+along e_k = -B_k.x, which the first tests check against docs/model.md's e_k and omega_k. Joint k carries
 the particle M_k = mu l_k (plus the drogue mass at joint n); link k carries a massless rigid body
 with inertia diag(0, J_k, J_k) in B_k (the zero axis along the link), link n also the drogue's
 isotropic inertia J_d. Generalized speeds are the angle rates, so the Kane mass matrix is H and the
@@ -61,7 +61,7 @@ SCALAR_PARAMS = ("g", "rho", "V", "d_o", "c_t", "c_n", "CdA_d", "EI", "J_d", "s_
 RTOL_QDD = 1e-9
 COND_H_MAX = 1e3
 
-# Random states (MODEL.md's coordinates): pitch in +-0.8 rad, yaw in +-0.6 rad (away from the
+# Random states (docs/model.md's coordinates): pitch in +-0.8 rad, yaw in +-0.6 rad (away from the
 # yaw = 90 deg singularity), rates +-1 rad/s, control force components +-100 N.
 N_STATES = 6
 PITCH_MAX, YAW_MAX, RATE_MAX, U_MAX = 0.8, 0.6, 1.0, 100.0
@@ -71,7 +71,7 @@ PITCH_MAX, YAW_MAX, RATE_MAX, U_MAX = 0.8, 0.6, 1.0, 100.0
 class SympyHose:
     """The lambdified sympy model of an n-link hose.
 
-    Every function takes ``(q, qd, p)``: q and qd shape (2n,) in MODEL.md's order
+    Every function takes ``(q, qd, p)``: q and qd shape (2n,) in docs/model.md's order
     [th11, th12, th21, th22, ...], p the parameter vector of :func:`param_vector`.
     """
 
@@ -103,7 +103,7 @@ def _norm(mat: sm.Matrix) -> sm.Expr:
 
 @functools.lru_cache(maxsize=None)
 def derive(n: int) -> SympyHose:
-    """Kane's equations of the n-link hose from MODEL.md sections 1-3 (symbolic, then lambdified)."""
+    """Kane's equations of the n-link hose from docs/model.md §1-3 (symbolic, then lambdified)."""
     q = me.dynamicsymbols(f"q0:{2 * n}")
     u = me.dynamicsymbols(f"u0:{2 * n}")
     s = {name: sm.Symbol(name, real=True) for name in SCALAR_PARAMS}
@@ -143,7 +143,7 @@ def derive(n: int) -> SympyHose:
         forces[k + 1] += sm.Matrix([0, 0, Mk[k] * s["g"]])
 
     def link_drag(k, Vt, length):
-        """Drag of a piece of link k of the given length with relative velocity Vt (MODEL.md 3)."""
+        """Drag of a piece of link k of the given length with relative velocity Vt (docs/model.md §3)."""
         nk = -e[k]
         vt = Vt.dot(nk)
         Vn = Vt - vt * nk
@@ -249,7 +249,7 @@ def derive(n: int) -> SympyHose:
 
 
 def param_vector(params: Params, rho: float, J_links, u=(0.0, 0.0)) -> np.ndarray:
-    """Numbers for the sympy model from MODEL.md, given the package's air density and link inertia.
+    """Numbers for the sympy model from docs/model.md, given the package's air density and link inertia.
 
     rho [kg/m^3] and J_links [kg m^2] are taken from the package (the atmosphere and the
     paper/rod inertia option are not what this test checks); everything else is computed here.
@@ -257,7 +257,7 @@ def param_vector(params: Params, rho: float, J_links, u=(0.0, 0.0)) -> np.ndarra
     hose, drogue, flight = params.hose, params.drogue, params.flight
     n = hose.links
     l = np.full(n, hose.length_m / n)
-    # MODEL.md 2: link k (joints k-1 to k) puts all its mass at joint k ("aft") or half at each end
+    # docs/model.md §2: link k (joints k-1 to k) puts all its mass at joint k ("aft") or half at each end
     # ("split"); joint 0 is the fixed tow point, whose mass never moves and so is left out here.
     joint_mass = np.zeros(n + 1)
     for k in range(1, n + 1):
@@ -313,7 +313,7 @@ def _paper_inertia(params: Params) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------------------------
-# The sympy model on its own: frames as MODEL.md states them, H symmetric positive definite,
+# The sympy model on its own: frames as docs/model.md states them, H symmetric positive definite,
 # energy conserved without air (with and without the conservative bending moment).
 # --------------------------------------------------------------------------------------------
 @pytest.mark.parametrize("n", [2, 3])

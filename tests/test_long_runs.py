@@ -81,7 +81,7 @@ def test_hour_long_runs_complete(intensity, controller):
 
 
 def perpendicular_omega(x, n):
-    """Each link's angular velocity perpendicular to its axis [rad/s] (n, 3), from MODEL.md's
+    """Each link's angular velocity perpendicular to its axis [rad/s] (n, 3), from docs/model.md's
     omega_k = [s1 thd2, thd1, c1 thd2] minus its part along e_k (the frames' twist)."""
     q, qd = x[: 2 * n], x[2 * n:]
     th1, th2, d1, d2 = q[0::2], q[1::2], qd[0::2], qd[1::2]
@@ -94,7 +94,7 @@ def perpendicular_omega(x, n):
 @pytest.mark.parametrize("bending", ["off", "moment"])
 def test_energy_lost_equals_damping_work(bending, rng):
     """No air, damping on: T + V falls by exactly the work of the damping moments,
-    int sum_k (c_b / lbar) |w_k+1 - w_k|^2 dt (w computed here from MODEL.md's formulas, not the
+    int sum_k (c_b / lbar) |w_k+1 - w_k|^2 dt (w computed here from docs/model.md's formulas, not the
     kernel's e x de/dt). RK4 at 1e-3 s conserves energy to ~1e-10 of the kinetic energy
     (test_dynamics), and Simpson's rule on the same 1e-3 s samples integrates the smooth power
     to ~1e-12 relative, so 1e-9 of the initial kinetic energy is integrator accuracy with margin

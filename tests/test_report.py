@@ -36,6 +36,8 @@ FIGURES = {
     "fig12": "fig12_controller_on_off.png",
     "fig13": "fig13_control_forces.png",
     "fig-hose3d": "fig_hose3d.png",
+    "fig-accuracy": "fig_accuracy.png",
+    "fig-long-runs": "fig_long_runs.png",
     "fig-engagement-history": "fig_engagement_history.png",
     "fig-engagement-snapshots": "fig_engagement_snapshots.png",
 }
@@ -57,6 +59,15 @@ TABLES = {
     "table-closed-loop": "closed_loop_peaks.csv",
     "table-realization-spread": "realization_spread.csv",
     "table-comparison": "comparison.csv",
+    "table-accuracy-position": "accuracy_links.csv",
+    "table-accuracy-modes": "accuracy_links.csv",
+    "table-accuracy-rms": "accuracy_links.csv",
+    "table-accuracy-continuum": "accuracy_continuum.csv",
+    "table-accuracy-step": "accuracy_step.csv",
+    "table-accuracy-cost": "accuracy_time_to_accuracy.csv",
+    "table-long-runs-blowup": "long_runs_blowup.csv",
+    "table-long-runs-modes": "long_runs_modes.csv",
+    "table-long-runs-stable": "long_runs_stable_run.csv",
     "table-engagement": "engagement_outcomes.csv",
     "table-engagement-doubling": "engagement_outcomes.csv",
 }
@@ -67,12 +78,14 @@ FIGURE_DATA = [
     "fig05_linear_steps.csv", "fig06_pole_zero.csv", "fig07_bode.csv", "fig08_step_compare.csv",
     "fig10_closed_loop_steps.csv", "fig11_pid_orders.csv", "fig12_controller_on_off.csv",
     "fig13_control_forces.csv", "fig_hose3d.csv", "anim_turbulence.csv",
+    "accuracy_links.csv", "accuracy_continuum.csv", "long_runs_blowup.csv", "long_runs_modes.csv",
+    "long_runs_stable_run.csv",
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
 ]
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
 SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
-            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation", "engagement"]
+            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation", "accuracy", "long-runs", "engagement"]
 
 
 @pytest.fixture(scope="module")
@@ -156,6 +169,14 @@ def test_report_json_holds_finite_headline_numbers(report):
     assert {"lateral", "vertical"} <= set(data["table2"])
     assert "PID_lateral_rise_time_s" in data["table3"]
     assert data["steady"]["balance_ratio"] > 0
+    acc = data["accuracy"]
+    assert acc["split"]["position_error_m"][-1] < acc["aft"]["position_error_m"][-1]
+    assert acc["split"]["position_orders"][-1] == pytest.approx(2.0, abs=0.1)  # split lumping: 2nd order
+    assert acc["aft"]["position_orders"][-1] == pytest.approx(1.0, abs=0.1)  # the paper's aft lumping: 1st
+    assert acc["step"]["reference_step_s"] < min(acc["step"]["steps_s"])
+    lr = data["long_runs"]
+    assert {"paper", "converged"} <= set(lr["modes"]) and lr["damping_gain"] > 10
+    assert lr["blowup"] and lr["stable_run"]["completed"] is True
     eng = data["engagement"]
     assert eng["fast"] is True and eng["doubling_links"] == 2 * eng["links"]
     assert set(eng["runs"]) == {"locked", "constant-tension", "response"}
@@ -167,12 +188,26 @@ def test_report_json_holds_finite_headline_numbers(report):
     assert eng["runs"]["constant-tension"]["peak_exit_tension_converged"] is True
 
 
+def test_accuracy_and_long_runs_sections_link_to_each_other_and_say_when_fast(report):
+    """The accuracy section points to the convergence section and back (no duplicated content);
+    the fast variants of the two new sections are labelled on the page; the time-to-accuracy
+    figures are quoted with their source, never rerun."""
+    _, _, page = report
+    conv = re.search(r'<section id="convergence".*?</section>', page, re.S).group(0)
+    acc = re.search(r'<section id="accuracy".*?</section>', page, re.S).group(0)
+    lr = re.search(r'<section id="long-runs".*?</section>', page, re.S).group(0)
+    assert 'href="#accuracy"' in conv and 'href="#convergence"' in acc
+    assert 'id="accuracy-fast"' in acc and 'id="long-runs-fast"' in lr
+    assert "docs/benchmarks.md" in acc
+    assert "--config converged" in lr and 'preset = "converged"' in lr
+
+
 def test_engagement_section_marks_the_fast_runs(report):
     """The fast version's engagement runs are not the shipped mesh: the section says so."""
     _, headline, page = report
     section = page[page.index('<section id="engagement"'):]
     section = section[:section.index("</section>")]
-    assert "Fast version:" in section and f"{headline['engagement']['links']} links" in section
+    assert 'id="engagement-fast"' in section and f"{headline['engagement']['links']} links" in section
     assert "not converged" in section
 
 
@@ -361,3 +396,17 @@ def test_existing_figure_helpers_still_work(tmp_path):
     fig = F.plot_displacement(_fake_result(), labels=["a", "b"], others=[_fake_result(seed=5)])
     _check_figure(fig)
     assert F.save_figure(fig, tmp_path / "d.png").is_file()
+
+
+def test_plot_accuracy():
+    from hosedrogue.plotting.accuracy import plot_accuracy
+    from hosedrogue.studies.accuracy import FrequencyStudy, LumpingStudy
+
+    links = np.array([5, 10, 20])
+    cont = np.array([-15.02, 0.41, 5.46])
+    studies = []
+    for lumping, order in (("split", 2), ("aft", 1)):
+        pos = cont + np.outer(0.1 * (links / 5.0) ** -order, [0.0, 0.0, 1.0])
+        freqs = FrequencyStudy(links, 1.55 - 0.05 / links, 2.04 - 0.05 / links)
+        studies.append(LumpingStudy(lumping, links, pos, cont, freqs, np.full((3, 2), 0.15), np.full(3, 0.3)))
+    _check_figure(plot_accuracy(studies))

@@ -25,7 +25,7 @@ def unit_along(th1, th2):
 
 
 def wake_air(p, rho, y, z):
-    """Hallock-Burnham wake, written out from MODEL.md 4 (independent of the package)."""
+    """Hallock-Burnham wake, written out from docs/model.md §4 (independent of the package)."""
     if not p.wake.enabled:
         return np.zeros(3)
     b = p.tanker.span_m
@@ -50,7 +50,7 @@ def static_march(p):
     V = p.flight.airspeed_m_s
     do, di = p.hose.outer_diameter_m, p.hose.inner_diameter_m
     EI = p.hose.elastic_modulus_pa * math.pi * (do**4 - di**4) / 64
-    # mass[k]: joint k+1's load; "split" puts half a link at each end (MODEL.md 2), and the half
+    # mass[k]: joint k+1's load; "split" puts half a link at each end (docs/model.md §2), and the half
     # link at the tow point adds its weight to the tow-point force only
     link_mass = p.hose.mass_per_length_kg_m * l
     if p.hose.mass_lumping == "aft":

@@ -23,7 +23,24 @@ _PACKAGE = "hosedrogue.presets"
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file, turning I/O and syntax problems into :class:`ParameterError`."""
+    """Read a TOML file, turning I/O and syntax problems into :class:`ParameterError`.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The TOML file to read.
+
+    Returns
+    -------
+    dict
+        The parsed document, ``{key: value}`` as returned by :func:`tomllib.load`.
+
+    Raises
+    ------
+    ParameterError
+        One line naming the file if it is missing, a directory, not readable, not valid UTF-8
+        or not valid TOML.
+    """
     p = Path(path)
     try:
         with p.open("rb") as fh:
@@ -41,11 +58,32 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 
 
 def load_params(path: str | Path, base: Params = PAPER) -> Params:
-    """Parameters from a TOML file of ``[section]`` tables overriding ``base``."""
+    """Parameters from a TOML file of ``[section]`` tables overriding ``base``.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        TOML file of ``[section]`` tables (``[hose]``, ``[flight]``, ...) whose fields override
+        those of ``base``; fields keep the units of their names (``length_m`` [m], ...).
+    base : Params, optional
+        The parameters the file overrides; default :data:`~hosedrogue.params.PAPER`, the paper's
+        case.
+
+    Returns
+    -------
+    Params
+        ``base`` with the file's fields replaced, validated.
+
+    Raises
+    ------
+    ParameterError
+        If the file cannot be read or parsed (see :func:`read_toml`), or names an unknown section
+        or field, or a value of the wrong type or outside its range.
+    """
     return params_from_dict(read_toml(path), base=base)
 
 
-# --- control hardware: actuator and sensor --------------------------------------------------------
+# --- shipped presets ------------------------------------------------------------------------------
 def preset_names() -> list[str]:
     """Names of the model presets shipped with the package, sorted."""
     root = resources.files(_PACKAGE)
@@ -53,7 +91,23 @@ def preset_names() -> list[str]:
 
 
 def preset_data(name: str) -> dict[str, Any]:
-    """The raw ``{section: {field: value}}`` table of a shipped preset."""
+    """The raw ``{section: {field: value}}`` table of a shipped preset.
+
+    Parameters
+    ----------
+    name : str
+        A preset name, one of :func:`preset_names` (``"converged"``), without ``.toml``.
+
+    Returns
+    -------
+    dict
+        The preset's ``{section: {field: value}}`` overrides, not yet validated.
+
+    Raises
+    ------
+    ParameterError
+        If ``name`` is not a shipped preset (the message lists them).
+    """
     names = preset_names()
     if not isinstance(name, str) or name not in names:
         raise ParameterError(f"preset {name!r}: unknown; allowed: {', '.join(names)}")
@@ -62,7 +116,26 @@ def preset_data(name: str) -> dict[str, Any]:
 
 
 def load_preset(name: str, base: Params = PAPER) -> Params:
-    """Parameters of the shipped preset ``name`` (its sections override ``base``)."""
+    """Parameters of the shipped preset ``name`` (its sections override ``base``).
+
+    Parameters
+    ----------
+    name : str
+        A preset name, one of :func:`preset_names` (``"converged"``).
+    base : Params, optional
+        The parameters the preset overrides; default :data:`~hosedrogue.params.PAPER`, the
+        paper's case.
+
+    Returns
+    -------
+    Params
+        ``base`` with the preset's fields replaced, validated.
+
+    Raises
+    ------
+    ParameterError
+        If ``name`` is not a shipped preset.
+    """
     return params_from_dict(preset_data(name), base=base)
 
 
@@ -76,6 +149,26 @@ def resolve_config(name_or_path: str | Path, base: Params = PAPER) -> Params:
 
     A bare name that is neither a preset nor an existing file is a one-line
     :class:`ParameterError` listing the presets.
+
+    Parameters
+    ----------
+    name_or_path : str or pathlib.Path
+        A bare preset name (no ``/`` or ``\\``, not ending in ``.toml``), tried first among
+        :func:`preset_names`; otherwise the path of a TOML file.
+    base : Params, optional
+        The parameters the preset or file overrides; default
+        :data:`~hosedrogue.params.PAPER`, the paper's case.
+
+    Returns
+    -------
+    Params
+        ``base`` with the preset's or file's fields replaced, validated.
+
+    Raises
+    ------
+    ParameterError
+        If a bare name is neither a preset nor an existing file, or the file cannot be read,
+        parsed or validated (see :func:`load_params`).
     """
     text = str(name_or_path)
     if _is_bare_name(text) and text in preset_names():

@@ -4,6 +4,9 @@
   and what is allowed; the command line prints it and exits with status 2, writing nothing.
 * :class:`EquilibriumError` - no balance position could be found for a parameter set; the
   command line prints it in one line and exits with status 3.
+* :class:`IncompleteError` - a computation stopped before it finished (e.g. a campaign whose dask
+  scheduler went away); what it wrote is kept for a resume. The command line prints it in one
+  line and exits with status 3.
 """
 
 from __future__ import annotations
@@ -27,3 +30,10 @@ class EquilibriumError(RuntimeError):
     def __init__(self, message: str, result=None):
         super().__init__(message)
         self.result = result
+
+
+class IncompleteError(RuntimeError):
+    """A computation stopped before it finished; its output so far is kept (exit status 3).
+
+    The message is one line: what stopped, and how to go on (e.g. run the same command again).
+    """

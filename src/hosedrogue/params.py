@@ -118,32 +118,44 @@ class Tanker(_Section):
     """The tanker aircraft (paper Table 1)."""
 
     _section = "tanker"
+    #: Tanker mass [kg]; its weight sets the wake vortices' circulation W / (rho V b0).
     mass_kg: float = field(default=60000.0, metadata=_num(0.0, unit="kg"))
+    #: Wing span b [m]; the wake geometry is given in fractions of it.
     span_m: float = field(default=34.0, metadata=_num(0.0, unit="m"))
 
 
 @dataclass(frozen=True)
 class Hose(_Section):
-    """The hose, modelled as ``links`` rigid links of equal length (paper Table 1; MODEL.md 2-3)."""
+    """The hose, modelled as ``links`` rigid links of equal length (paper Table 1; docs/model.md §2-3)."""
 
     _section = "hose"
+    #: Trailed hose length from the tow point to the drogue [m].
     length_m: float = field(default=16.0, metadata=_num(0.0, unit="m"))
+    #: Number of rigid links n the hose is divided into [-] (link length ``length_m / links``).
     links: int = field(default=20, metadata=_int(1, 1000))
+    #: Inner diameter of the hose wall [m]; with ``outer_diameter_m`` it sets the area moment
+    #: pi (d_o^4 - d_i^4) / 64 of the bending stiffness. Must be smaller than the outer diameter.
     inner_diameter_m: float = field(default=0.051, metadata=_num(0.0, lo_open=False, unit="m"))
+    #: Outer diameter d_o of the hose [m]: the drag reference and the bending stiffness.
     outer_diameter_m: float = field(default=0.067, metadata=_num(0.0, unit="m"))
+    #: Mass per unit length of the hose [kg/m].
     mass_per_length_kg_m: float = field(default=4.4, metadata=_num(0.0, unit="kg/m"))
+    #: Young's modulus E of the hose wall [Pa]; bending stiffness E I [N m^2].
     elastic_modulus_pa: float = field(default=13.79e6, metadata=_num(0.0, lo_open=False, unit="Pa"))
     #: Link rotational inertia J_y = J_z [kg m^2] used when ``link_inertia == "paper"``.
     link_inertia_kg_m2: float = field(default=2.816, metadata=_num(0.0, lo_open=False, unit="kg m^2"))
-    #: "paper": Table 1's 2.816 kg m^2 per link; "rod": m l^2 / 12 of each link (MODEL.md 2).
+    #: "paper": Table 1's 2.816 kg m^2 per link; "rod": m l^2 / 12 of each link (docs/model.md §2).
     link_inertia: str = field(default="paper", metadata=_choice("paper", "rod"))
     #: "paper": Eq. 20 equivalent joint force; "moment": conservative restoring moment; "off".
     bending: str = field(default="paper", metadata=_choice("paper", "moment", "off"))
-    #: Where each link's mass sits (MODEL.md 2): "aft": all at its aft joint (the paper's
+    #: Where each link's mass sits (docs/model.md §2): "aft": all at its aft joint (the paper's
     #: lumping, first order in 1/links); "split": half at each end joint (the half at the tow
     #: point is carried by the tanker), second order in 1/links (docs/convergence.md).
     mass_lumping: str = field(default="aft", metadata=_choice("aft", "split"))
+    #: Drag coefficient c_n of the flow normal to a link [-], on the wetted area pi d_o l
+    #: (force per link 0.5 rho pi d_o c_n l |v_n| v_n).
     normal_drag_coefficient: float = field(default=0.28, metadata=_num(0.0, lo_open=False))
+    #: Skin-friction coefficient c_t of the flow along a link [-], on the wetted area pi d_o l.
     tangential_drag_coefficient: float = field(default=0.001, metadata=_num(0.0, lo_open=False))
     #: Link drag along the link: "midpoint" (the paper: one evaluation at the link's midpoint,
     #: blind to a link turning about its midpoint) or "gauss2" (two-point Gauss quadrature of the
@@ -164,6 +176,7 @@ class Hose(_Section):
 
     @property
     def link_length_m(self) -> float:
+        """Length of one link, ``length_m / links`` [m]."""
         return self.length_m / self.links
 
 
@@ -172,9 +185,14 @@ class Drogue(_Section):
     """The drogue (paper Table 1)."""
 
     _section = "drogue"
+    #: Drogue mass [kg], lumped at the last joint.
     mass_kg: float = field(default=29.0, metadata=_num(0.0, unit="kg"))
+    #: Drogue diameter D [m]; drag area pi D^2 / 4 c_dro.
     diameter_m: float = field(default=0.61, metadata=_num(0.0, unit="m"))
+    #: Rotational inertia of the drogue about its pitch and yaw axes [kg m^2], added to the
+    #: last link's.
     inertia_kg_m2: float = field(default=1.349, metadata=_num(0.0, lo_open=False, unit="kg m^2"))
+    #: Drag coefficient c_dro of the drogue [-], on its frontal area pi D^2 / 4.
     drag_coefficient: float = field(default=0.712, metadata=_num(0.0, lo_open=False))
 
 
@@ -183,25 +201,29 @@ class Flight(_Section):
     """Straight and level flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m)."""
 
     _section = "flight"
+    #: Flight altitude [m]; sets the ICAO standard-atmosphere air density.
     altitude_m: float = field(
         default=8000.0, metadata=_num(0.0, H_MAX_ATMOSPHERE, lo_open=False, unit="m")
     )
+    #: True airspeed of the tanker [m/s] (the free stream the hose sees).
     airspeed_m_s: float = field(default=150.0, metadata=_num(0.0, 400.0, unit="m/s"))
-    #: Multiplies the ICAO density; 0 switches all air forces off (used by energy checks).
+    #: Multiplies the ICAO density [-]; 0 switches all air forces off (used by energy checks).
     density_scale: float = field(default=1.0, metadata=_num(0.0, 10.0, lo_open=False))
 
 
 @dataclass(frozen=True)
 class Wake(_Section):
-    """Hallock-Burnham tanker wake (MODEL.md 4). Geometry as fractions of the tanker span."""
+    """Hallock-Burnham tanker wake (docs/model.md §4). Geometry as fractions of the tanker span."""
 
     _section = "wake"
+    #: Include the tanker's wake vortices in the air velocity at the hose.
     enabled: bool = field(default=True, metadata=_bool())
-    #: Lateral position of the tow point right of the centreline, over span (right wing mid-span).
+    #: Lateral position of the tow point right of the centreline, over span [-] (right wing
+    #: mid-span).
     tow_point_y_over_span: float = field(default=0.25, metadata=_num(-0.5, 0.5, lo_open=False))
-    #: Distance between the two vortices over span (elliptic loading: pi/4).
+    #: Distance between the two vortices over span [-] (elliptic loading: pi/4).
     vortex_spacing_over_span: float = field(default=math.pi / 4, metadata=_num(0.0, 1.0))
-    #: Vortex core radius over span.
+    #: Vortex core radius over span [-].
     core_radius_over_span: float = field(default=0.035, metadata=_num(0.0, 1.0))
     #: Height of the vortices below the tow point [m] (z down).
     vertical_offset_m: float = field(default=0.0, metadata=_num(-100.0, 100.0, lo_open=False, unit="m"))
@@ -209,16 +231,21 @@ class Wake(_Section):
 
 @dataclass(frozen=True)
 class Turbulence(_Section):
-    """Dryden turbulence (MODEL.md 4). The paper's case: isotropic 1.5 m/s, 530 m, on at 10 s for 20 s."""
+    """Dryden turbulence (docs/model.md §4). The paper's case: isotropic 1.5 m/s, 530 m, on at 10 s for 20 s."""
 
     _section = "turbulence"
+    #: Include the Dryden gusts during ``[start_s, start_s + duration_s)``.
     enabled: bool = field(default=False, metadata=_bool())
+    #: Dryden spectrum family: "mil-f-8785c" or "mil-hdbk-1797" (see
+    #: :mod:`hosedrogue.environment.turbulence`).
     model: str = field(default="mil-f-8785c", metadata=_choice("mil-f-8785c", "mil-hdbk-1797"))
     #: Intensity per axis [u, v, w] (m/s); one number means isotropic.
     sigma_m_s: tuple = field(default=(1.5, 1.5, 1.5), metadata=_vec3(0.0, 50.0, unit="m/s"))
     #: Scale length per axis [u, v, w] (m).
     scale_length_m: tuple = field(default=(530.0, 530.0, 530.0), metadata=_vec3(1.0, 1e5, unit="m"))
+    #: Time the gusts switch on [s].
     start_s: float = field(default=10.0, metadata=_num(0.0, lo_open=False, unit="s"))
+    #: Length of the gust window [s]; the gusts are off again after it.
     duration_s: float = field(default=20.0, metadata=_num(0.0, lo_open=False, unit="s"))
     #: "uniform": the whole hose sees the tow point's gust; "frozen": delayed by distance / airspeed.
     distribution: str = field(default="uniform", metadata=_choice("uniform", "frozen"))
@@ -233,6 +260,7 @@ class Turbulence(_Section):
     #: their size (0.02 s is 3 m of air at 150 m/s); numerically it makes the forcing smooth at
     #: the integration step, so RK4 keeps its order at steps beyond the sample interval.
     smoothing_s: float = field(default=0.0, metadata=_num(0.0, 10.0, lo_open=False, unit="s"))
+    #: Seed of the random generator of the gust record [-] (the same seed, the same gusts).
     seed: int = field(default=2018, metadata=_int(0, 2**63 - 1))
 
     #: Largest gust record [samples]: 1e7 x 3 axes x 8 bytes = 240 MB.
@@ -251,13 +279,19 @@ class Numerics(_Section):
     """Time integration settings. The default step is justified in docs/convergence.md."""
 
     _section = "numerics"
+    #: "rk4": fixed-step classical Runge-Kutta (the paper's); "adaptive": DOP853 with
+    #: ``rtol`` and ``atol`` (cross-checks).
     integrator: str = field(default="rk4", metadata=_choice("rk4", "adaptive"))
+    #: RK4 step [s]; the adaptive integrator outputs every ``step_s * output_every``.
     step_s: float = field(default=0.005, metadata=_num(0.0, 1.0, unit="s"))
-    #: Keep every ``output_every``-th step in the result.
+    #: Keep every ``output_every``-th step in the result [-].
     output_every: int = field(default=2, metadata=_int(1, 10**6))
+    #: Relative tolerance of the adaptive integrator [-].
     rtol: float = field(default=1e-9, metadata=_num(0.0, 1.0))
+    #: Absolute tolerance of the adaptive integrator, alike on every state component (link angles
+    #: [rad], their rates [rad/s], controller and actuator states).
     atol: float = field(default=1e-11, metadata=_num(0.0, 1.0))
-    #: A link yaw beyond this (degrees) stops the run: the angle coordinates are singular at 90.
+    #: A link yaw beyond this [deg] stops the run: the angle coordinates are singular at 90 deg.
     max_yaw_deg: float = field(default=85.0, metadata=_num(0.0, 89.9, unit="deg"))
 
 
@@ -276,12 +310,19 @@ SECTIONS = {
 class Params:
     """All parameters of one model run. ``Params()`` is the paper's case."""
 
+    #: The tanker aircraft (mass, span).
     tanker: Tanker = field(default_factory=Tanker)
+    #: The hose (geometry, mass, stiffness, drag, discretization).
     hose: Hose = field(default_factory=Hose)
+    #: The drogue (mass, size, inertia, drag).
     drogue: Drogue = field(default_factory=Drogue)
+    #: The flight condition (altitude, airspeed).
     flight: Flight = field(default_factory=Flight)
+    #: The tanker's wake vortices.
     wake: Wake = field(default_factory=Wake)
+    #: The Dryden turbulence and its time window.
     turbulence: Turbulence = field(default_factory=Turbulence)
+    #: Time integration settings.
     numerics: Numerics = field(default_factory=Numerics)
 
     def replace(self, **sections: Mapping[str, Any]) -> "Params":
@@ -289,6 +330,7 @@ class Params:
         return params_from_dict(sections, base=self)
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
+        """``{section: {field: value}}`` of every field, tuples as lists (TOML/JSON-ready)."""
         return {
             name: {f.name: _plain(getattr(getattr(self, name), f.name)) for f in dataclasses.fields(cls)}
             for name, cls in SECTIONS.items()
@@ -312,6 +354,28 @@ def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
     Unknown sections and fields are errors. ``wake = false`` / ``turbulence = true`` are short for
     ``[wake] enabled = false`` / ``[turbulence] enabled = true``. ``turbulence.intensity`` may name a standard
     intensity ("light", "moderate", "severe") that sets ``sigma_m_s`` from the altitude.
+
+    Parameters
+    ----------
+    data : Mapping
+        ``{section: {field: value}}`` with sections among ``SECTIONS`` (``"hose"``, ``"flight"``,
+        ...) and fields in the units their names carry (``length_m`` [m], ``airspeed_m_s``
+        [m/s], ...); a section may be missing (kept from ``base``), and ``wake`` or
+        ``turbulence`` may be a bool (its ``enabled``).
+    base : Params, optional
+        The parameters overridden; default :data:`PAPER`, the paper's case.
+
+    Returns
+    -------
+    Params
+        ``base`` with the given fields replaced, every section validated again.
+
+    Raises
+    ------
+    ParameterError
+        One line naming the field if a section or field is unknown, a value has the wrong type
+        or is outside its range, a cross-field check fails (inner diameter not smaller than the
+        outer one, a gust record too long), or both ``intensity`` and ``sigma_m_s`` are given.
     """
     if not isinstance(data, Mapping):
         raise ParameterError(f"parameters = {data!r}: must be a table of sections")
@@ -402,6 +466,10 @@ class Sensor:
     sample_time_s: float = 0.01
 
     def __post_init__(self):
+        for name in ("noise_std_m", "sample_time_s"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise ParameterError(f"sensor.{name} = {v!r}: must be a finite number")
         if not (self.noise_std_m >= 0 and math.isfinite(self.noise_std_m)):
             raise ParameterError(f"sensor.noise_std_m = {self.noise_std_m!r}: must be a finite number >= 0 m")
         if not (self.sample_time_s > 0 and math.isfinite(self.sample_time_s)):

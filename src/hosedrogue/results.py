@@ -27,10 +27,10 @@ class SimulationResult:
     drogue_drag_n: np.ndarray  #: (N, 3) aerodynamic force on the drogue [N]
     tow_force_n: np.ndarray  #: (N, 3) force the hose exerts on the tow point [N]
     control_n: np.ndarray  #: (N, 2) control force [u_hor, u_ver] [N]
-    completed: bool
-    message: str
+    completed: bool  #: True if the run reached its end time
+    message: str  #: "completed", or when and why the run stopped
     equilibrium_m: np.ndarray | None = None  #: (3,) drogue position at the balance position [m]
-    meta: dict[str, Any] = field(default_factory=dict)
+    meta: dict[str, Any] = field(default_factory=dict)  #: what was run (seed, parameters, scenario)
 
     @property
     def drogue_position_m(self) -> np.ndarray:

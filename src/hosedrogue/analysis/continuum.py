@@ -14,7 +14,7 @@ plus the drogue's load; a cable carries it as tension along itself, so the unit 
     dG/ds = -f(r, e),                G(L) = m_d g z + D_d(r(L)),
 
 with the load per length ``f = mu g z + d(r, e)``: gravity and the same drag laws as the links
-(MODEL.md 3) for a hose element at rest in the air velocity ``w(r) = [-V, 0, 0] + w_wake(y, z)``:
+(docs/model.md §3) for a hose element at rest in the air velocity ``w(r) = [-V, 0, 0] + w_wake(y, z)``:
 ``V_t = -w``, ``n = -e``, ``v_t = V_t . n``, ``V_n = V_t - v_t n``,
 ``d = -1/2 rho pi d_o (c_t v_t |v_t| n + c_n |V_n| V_n)``; the drogue drag
 ``D_d = -1/2 rho |w| (-w) (pi d_d^2 / 4) c_d`` at the drogue.

@@ -1,4 +1,4 @@
-"""The balance position (Sec. 2.3.2; MODEL.md 5): the rest state in steady air.
+"""The balance position (Sec. 2.3.2; docs/model.md §5): the rest state in steady air.
 
 Method (no hand-tuned starting guesses):
 
@@ -75,7 +75,18 @@ class Equilibrium:
 
 
 def towed_cable_guess(model: HoseModel) -> np.ndarray:
-    """Link angles of the chain in a uniform free stream without bending (step 1 above)."""
+    """Link angles of the chain in a uniform free stream without bending (step 1 above).
+
+    Parameters
+    ----------
+    model : HoseModel
+        The model (link lengths and masses, density, airspeed, drag coefficients).
+
+    Returns
+    -------
+    numpy.ndarray
+        q (2n,) [rad]: pitch and yaw of every link.
+    """
     n, l, M = model.n, model.l, model.M
     V, rho = model.params.flight.airspeed_m_s, model.rho
     hose, drogue = model.params.hose, model.params.drogue
@@ -146,6 +157,18 @@ def _newton(model: HoseModel, env: np.ndarray, q0: np.ndarray, scale: float):
 
 def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) -> Equilibrium:
     """Balance position for steady air (free stream and, if enabled, the tanker wake).
+
+    Parameters
+    ----------
+    params : Params
+        Parameter set (the paper's case by default); turbulence is ignored.
+    model : HoseModel, optional
+        A model of ``params`` to reuse (built if not given).
+
+    Returns
+    -------
+    Equilibrium
+        Link angles, joint and drogue positions [m], drogue drag and tow-point force [N].
 
     Raises
     ------

@@ -1,4 +1,4 @@
-"""Numerical linearization about the balance position (paper Eqs. 31-32; MODEL.md 5).
+"""Numerical linearization about the balance position (paper Eqs. 31-32; docs/model.md §5).
 
 States are the deviations of ``x = [q, qd]`` (4n) from the equilibrium, inputs the control force
 ``u = [u_hor, u_ver]`` [N] at the drogue, outputs the drogue's lateral and vertical offset
@@ -27,12 +27,12 @@ FD_STEP = 1e-6
 class LinearModel:
     """x' = A x + B u, y = C x + D u about ``equilibrium``; SI units."""
 
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
-    equilibrium: Equilibrium
-    params: Params
+    A: np.ndarray  #: (4n, 4n) state matrix [1/s and 1/s^2]; states [rad, rad/s]
+    B: np.ndarray  #: (4n, 2) input matrix; inputs u_hor, u_ver [N]
+    C: np.ndarray  #: (2, 4n) output matrix; outputs P_ny, P_nz [m]
+    D: np.ndarray  #: (2, 2) feedthrough (zero)
+    equilibrium: Equilibrium  #: the balance position linearized about
+    params: Params  #: the parameter set
 
     @property
     def ss(self):
@@ -67,7 +67,22 @@ def _drogue_yz(model: HoseModel, x: np.ndarray) -> np.ndarray:
 
 def linearize(params: Params = PAPER, equilibrium: Equilibrium | None = None,
               model: HoseModel | None = None) -> LinearModel:
-    """Linear model about the balance position of ``params`` (wake on or off as configured)."""
+    """Linear model about the balance position of ``params`` (wake on or off as configured).
+
+    Parameters
+    ----------
+    params : Params
+        Parameter set (turbulence is ignored: steady air).
+    equilibrium : Equilibrium, optional
+        The balance position (solved if not given).
+    model : HoseModel, optional
+        A model of ``params`` to reuse.
+
+    Returns
+    -------
+    LinearModel
+        Central-difference Jacobians (step :data:`FD_STEP`) in SI units.
+    """
     model = model if model is not None else HoseModel(params)
     eq = equilibrium if equilibrium is not None else solve_equilibrium(params, model=model)
     f = _steady_derivative(model)

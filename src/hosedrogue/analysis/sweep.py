@@ -26,9 +26,11 @@ COLUMNS = (
 
 @dataclass(frozen=True)
 class SweepResult:
-    altitudes_m: np.ndarray
-    airspeeds_m_s: np.ndarray
-    rows: list[dict]
+    """Result of :func:`steady_sweep`: one row per (altitude, airspeed) with the columns COLUMNS."""
+
+    altitudes_m: np.ndarray  #: altitudes of the grid [m]
+    airspeeds_m_s: np.ndarray  #: airspeeds of the grid [m/s]
+    rows: list[dict]  #: one dict per grid point, keys COLUMNS (SI units in the names)
 
     def to_dataframe(self):
         import pandas as pd
@@ -58,7 +60,23 @@ def _check_grid(name: str, values: Iterable[float], lo: float, hi: float, unit: 
 
 def steady_sweep(params: Params = PAPER, altitudes_m=DEFAULT_ALTITUDES_M,
                  airspeeds_m_s=DEFAULT_AIRSPEEDS_M_S, progress=None) -> SweepResult:
-    """Balance position at every (altitude, airspeed). ``progress`` is called once per point."""
+    """Balance position at every (altitude, airspeed).
+
+    Parameters
+    ----------
+    params : Params
+        Parameter set whose flight condition is replaced at each grid point.
+    altitudes_m : sequence of float
+        Altitudes [m], 0-20000.
+    airspeeds_m_s : sequence of float
+        True airspeeds [m/s], > 0 and <= 400.
+    progress : callable, optional
+        Called with no arguments once per grid point.
+
+    Returns
+    -------
+    SweepResult
+    """
     alts = _check_grid("altitudes", altitudes_m, 0.0, 20000.0, "m")
     vels = _check_grid("airspeeds", airspeeds_m_s, 0.0, 400.0, "m/s", lo_open=True)
     rows = []

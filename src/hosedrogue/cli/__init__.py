@@ -11,12 +11,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..errors import EquilibriumError, ParameterError
-from . import design, linearize, montecarlo, reproduce, simulate, steady, sweep
+from ..errors import EquilibriumError, IncompleteError, ParameterError
+from . import design, export_fmu, linearize, montecarlo, reproduce, simulate, steady, sweep
 from .options import EXIT_BAD_INPUT, EXIT_INCOMPLETE, Parser
 
 #: The sub-commands, in the order ``--help`` lists them. A new command is a module here plus a line.
-COMMANDS = (steady, simulate, sweep, linearize, design, reproduce, montecarlo)
+COMMANDS = (steady, simulate, sweep, linearize, design, reproduce, montecarlo, export_fmu)
 
 __all__ = ["main", "build_parser", "COMMANDS", "EXIT_BAD_INPUT", "EXIT_INCOMPLETE"]
 
@@ -55,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     except ParameterError as exc:
         print(f"hosedrogue: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except EquilibriumError as exc:
+    except (EquilibriumError, IncompleteError) as exc:
         print(f"hosedrogue: {exc}", file=sys.stderr)
         return EXIT_INCOMPLETE
     except KeyboardInterrupt:

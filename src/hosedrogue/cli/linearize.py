@@ -3,14 +3,22 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
+from ..errors import ParameterError
 from .options import add_flight_options, params_from_args, parse_order
 
 NAME = "linearize"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(NAME, help="linear model about the balance position, reduced transfer functions",
                        description="Linearize about the balance position (inputs u_hor, u_ver [N] at the drogue; "
                                    "outputs the drogue's lateral and vertical offset P_ny, P_nz [m]) and print each "
@@ -20,11 +28,28 @@ def add_parser(sub) -> None:
     s.add_argument("--order", default="2", metavar="full|N",
                    help="'full' or the reduced order per channel [-], >= 1 (default 2, as the paper's design model)")
     s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    s.add_argument("--format", choices=("table", "json", "mat"), default="table",
+                   help="'table' (default), 'json' (same as --json) or 'mat': write --out FILE.mat for MATLAB "
+                        "(A, B, C, D in SI units, state/input/output names and units, each channel's reduced "
+                        "transfer function) and print the table")
+    s.add_argument("--out", metavar="FILE.mat", default="out/linearize/linear_model.mat",
+                   help="file written by --format mat (default out/linearize/linear_model.mat)")
     s.set_defaults(func=run)
 
 
 def run(args) -> int:
-    """Linearize, reduce and print (or print JSON)."""
+    """Linearize, reduce and print (or print JSON).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     import numpy as np
 
     from ..analysis.linearize import linearize
@@ -32,6 +57,8 @@ def run(args) -> int:
     from ..controllers.design import reduced_channels
 
     order = parse_order(args.order)
+    if args.format == "mat":
+        prepare_mat_out(args.out)
     params = params_from_args(args)
     lm = linearize(params)
     ch = reduced_channels(lm, order)
@@ -44,9 +71,17 @@ def run(args) -> int:
     data["order"] = "full" if order is None else order
     data["flight"] = {"altitude_m": params.flight.altitude_m, "airspeed_m_s": params.flight.airspeed_m_s,
                       "wake": params.wake.enabled, "links": params.hose.links}
-    if args.json:
+    if args.json or args.format == "json":
         print(json.dumps(data))
         return 0
+    if args.format == "mat":
+        from ..interop.matlab import write_linear_mat
+
+        table = {name: (np.array(data[name]["num"]), np.array(data[name]["den"])) for name in ("lateral", "vertical")}
+        path = Path(args.out)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_linear_mat(lm, ch, table, path)
+        print(f"wrote {path}")
     print(f"Linear model about the balance position: {params.flight.airspeed_m_s:g} m/s at "
           f"{params.flight.altitude_m:g} m, wake {'on' if params.wake.enabled else 'off'}, "
           f"{params.hose.links} links; order {data['order']} per channel (balanced truncation)")
@@ -56,3 +91,21 @@ def run(args) -> int:
         poles = ", ".join(f"{re:.4g}{im:+.4g}j" for re, im in data[name]["poles"])
         print(f"    poles [rad/s]: {poles}")
     return 0
+
+
+def prepare_mat_out(out: str) -> None:
+    """Refuse a --out that is not a ``.mat`` file name (before anything is computed).
+
+    Parameters
+    ----------
+    out : str
+        The --out value.
+
+    Raises
+    ------
+    ParameterError
+        If it does not end in ``.mat`` or is a directory.
+    """
+    path = Path(out)
+    if path.suffix != ".mat" or path.is_dir():
+        raise ParameterError(f"--out = {out!r}: must be a file name ending in .mat")

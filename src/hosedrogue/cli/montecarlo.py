@@ -11,7 +11,13 @@ NAME = "montecarlo"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(
         NAME, help="Monte Carlo campaign: many turbulence seeds of one scenario, in parallel",
         description=(
@@ -52,7 +58,18 @@ def _percent(x: float | None) -> str:
 
 
 def run(args) -> int:
-    """Run the campaign; print a short summary and the files. Exit 3 if any run stopped early."""
+    """Run the campaign; print a short summary and the files. Exit 3 if any run stopped early.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     # here, not at the top: the model's modules (numba) load only when a campaign runs
     from ..metrics import DEFAULT_CAPTURE_RADII_M, capture_column
     from ..studies.campaign import run_campaign

@@ -26,7 +26,22 @@ class Parser(argparse.ArgumentParser):
 
 
 def finite_float(name: str, lo: float, hi: float, unit: str):
-    """An argparse type: a finite number in [lo, hi] [unit], else a one-line error naming ``name``."""
+    """An argparse type: a finite number in [lo, hi] [unit], else a one-line error naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The option, e.g. ``--airspeed``.
+    lo, hi : float
+        Allowed range, inclusive [unit].
+    unit : str
+        Unit shown in the error message.
+
+    Returns
+    -------
+    callable
+        ``parse(text) -> float``.
+    """
 
     def parse(text: str) -> float:
         try:
@@ -41,7 +56,20 @@ def finite_float(name: str, lo: float, hi: float, unit: str):
 
 
 def bounded_int(name: str, lo: int, hi: int):
-    """An argparse type: an integer in [lo, hi], else a one-line error naming ``name``."""
+    """An argparse type: an integer in [lo, hi], else a one-line error naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The option, e.g. ``--links``.
+    lo, hi : int
+        Allowed range, inclusive.
+
+    Returns
+    -------
+    callable
+        ``parse(text) -> int``.
+    """
 
     def parse(text: str) -> int:
         try:
@@ -56,7 +84,15 @@ def bounded_int(name: str, lo: int, hi: int):
 
 
 def add_flight_options(sp: argparse.ArgumentParser, links: bool = True) -> None:
-    """--altitude, --airspeed, (--links), --config, --no-wake."""
+    """Add --altitude, --airspeed, (--links), --config, --no-wake.
+
+    Parameters
+    ----------
+    sp : argparse.ArgumentParser
+        The sub-command's parser.
+    links : bool
+        Also add --links.
+    """
     sp.add_argument("--altitude", metavar="M", type=finite_float("--altitude", 0, 20000, "m"),
                     help="flight altitude [m], 0-20000 (default: paper, 8000 m)")
     sp.add_argument("--airspeed", metavar="M_PER_S", type=finite_float("--airspeed", 1e-9, 400, "m/s"),
@@ -71,7 +107,18 @@ def add_flight_options(sp: argparse.ArgumentParser, links: bool = True) -> None:
 
 
 def flight_overrides(args) -> dict:
-    """Parameter overrides from --altitude, --airspeed, --links, --no-wake (validated later)."""
+    """Parameter overrides from --altitude, --airspeed, --links, --no-wake (validated later).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    dict
+        ``{section: {field: value}}`` for :meth:`hosedrogue.params.Params.replace`.
+    """
     over: dict = {}
     if getattr(args, "altitude", None) is not None:
         over.setdefault("flight", {})["altitude_m"] = args.altitude
@@ -85,20 +132,47 @@ def flight_overrides(args) -> dict:
 
 
 def params_from_args(args) -> Params:
-    """The parameter set selected by --config and the flight options (the paper's case by default)."""
+    """The parameter set selected by --config and the flight options (the paper's case by default).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    Params
+    """
     base = resolve_config(args.config) if getattr(args, "config", None) else PAPER
     over = flight_overrides(args)
     return base.replace(**over) if over else base
 
 
 def prepare_out(out: Path) -> None:
-    """Refuse an output path that exists and is not a folder (before anything is computed)."""
+    """Refuse an output path that exists and is not a folder (before anything is computed).
+
+    Parameters
+    ----------
+    out : Path
+        The --out folder.
+    """
     if out.exists() and not out.is_dir():
         raise ParameterError(f"--out = {str(out)!r}: exists and is not a directory")
 
 
 def parse_order(text: str) -> int | None:
-    """--order: 'full' (None) or an integer >= 1."""
+    """--order: 'full' (None) or an integer >= 1.
+
+    Parameters
+    ----------
+    text : str
+        The --order value.
+
+    Returns
+    -------
+    int or None
+        The reduced order per channel, None for full order.
+    """
     if text == "full":
         return None
     try:

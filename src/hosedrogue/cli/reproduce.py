@@ -10,7 +10,13 @@ NAME = "reproduce"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(NAME, help="regenerate the paper's results as an HTML report",
                        description="Regenerate every result of the paper's Sections 2.3 and 3 from this model and "
                                    "write DIR/index.html with figures (PNG), data (CSV), report.json and an animation.")
@@ -20,7 +26,18 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    """Build the report."""
+    """Build the report.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     from ..report import build_report
 
     out = Path(args.out)

@@ -12,7 +12,13 @@ NAME = "simulate"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(NAME, help="run a scenario file (time simulation)",
                        description="Run SCENARIO (a shipped name such as 'swing-release' or "
                                    "'paper-turbulence', or a TOML path) and write DIR/timeseries.csv "
@@ -23,11 +29,25 @@ def add_parser(sub) -> None:
     s.add_argument("--seed", metavar="N", type=bounded_int("--seed", 0, 2**63 - 1),
                    help="turbulence seed [-] (overrides the file)")
     s.add_argument("--out", metavar="DIR", default="out/simulate", help="output folder (default out/simulate)")
+    s.add_argument("--format", choices=("csv", "mat"), default="csv",
+                   help="'mat': also write DIR/timeseries.mat (MATLAB, full precision, named signals with SI "
+                        "units, the state [rad, rad/s]); default 'csv' only")
     s.set_defaults(func=run)
 
 
 def run(args) -> int:
-    """Simulate, write the files; exit 3 if the run stopped early (what it computed is kept)."""
+    """Simulate, write the files; exit 3 if the run stopped early (what it computed is kept).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     from ..scenarios import load_scenario
     from ..scenarios.runner import run_scenario, write_run
 
@@ -40,6 +60,10 @@ def run(args) -> int:
     created = not out.exists()
     try:
         paths = write_run(result, out)
+        if args.format == "mat":
+            from ..interop.matlab import write_simulation_mat
+
+            paths.append(write_simulation_mat(result, out / "timeseries.mat"))
     except BaseException:  # leave no half-written output folder behind
         if created and out.exists():
             shutil.rmtree(out, ignore_errors=True)

@@ -12,7 +12,13 @@ NAME = "steady"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(NAME, help="balance position (equilibrium) of the hose and drogue",
                        description="Print the balance position: drogue position [m] in S_p, drogue drag [N], "
                                    "tow-point force [N] and D = V_D/L_H (drogue drop over hose length).")
@@ -25,7 +31,18 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    """Solve and print the balance position; exit status 0."""
+    """Solve and print the balance position; exit status 0.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     from ..analysis.equilibrium import solve_equilibrium
 
     params = params_from_args(args)

@@ -11,7 +11,13 @@ NAME = "sweep"
 
 
 def add_parser(sub) -> None:
-    """Register the sub-command on ``sub`` (an argparse subparsers object)."""
+    """Register the sub-command on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
     s = sub.add_parser(NAME, help="balance position over a grid of altitudes and airspeeds (paper Fig. 3)",
                        description="Solve the balance position at every altitude [m] x airspeed [m/s] and write "
                                    "DIR/sweep.csv (drogue position [m], drag [N], tow force [N], V_D/L_H) and "
@@ -30,7 +36,18 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    """Solve the grid, write CSV and figure; exit 3 if a grid point did not converge."""
+    """Solve the grid, write CSV and figure; exit 3 if a grid point did not converge.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
     from ..analysis.sweep import DEFAULT_AIRSPEEDS_M_S, DEFAULT_ALTITUDES_M, steady_sweep
     from ..plotting.figures import plot_sweep, save_figure
     from ..progress import progress_bar

@@ -36,13 +36,37 @@ LQR_DESIGNS = ("balanced", "integral")
 
 @dataclass(frozen=True)
 class ReducedChannels:
+    """The two SISO design channels of a linearization, as returned by :func:`reduced_channels`."""
+
     lateral: control.StateSpace  #: u_hor [N] -> P_ny [m]
     vertical: control.StateSpace  #: u_ver [N] -> P_nz [m]
     order: int | None  #: None: full order (minimal realization of each channel)
 
 
 def reduced_channels(lm: LinearModel, order: int | None) -> ReducedChannels:
-    """Each channel of the linear model, balanced-truncated to ``order`` (None: full)."""
+    """Each channel of the linear model, balanced-truncated to ``order`` (None: full).
+
+    Parameters
+    ----------
+    lm : LinearModel
+        Linearization about the balance position; its ``ss`` has inputs [u_hor, u_ver] [N] and
+        outputs [P_ny, P_nz] [m].
+    order : int or None
+        Number of states [-] kept in each channel by balanced truncation, >= 1; None keeps the
+        full order (the minimal realization of each channel).
+
+    Returns
+    -------
+    ReducedChannels
+        Lateral u_hor [N] -> P_ny [m] and vertical u_ver [N] -> P_nz [m] models, with ``order``
+        as requested (a channel may come out with fewer states if it has fewer significant
+        Hankel singular values, see :func:`~hosedrogue.analysis.reduction.balanced_truncation`).
+
+    Raises
+    ------
+    ValueError
+        If ``order`` is not None and not an integer >= 1.
+    """
     lat, ver = split_channels(lm.ss)
     if order is not None:
         lat = balanced_truncation(lat, order)
@@ -51,7 +75,13 @@ def reduced_channels(lm: LinearModel, order: int | None) -> ReducedChannels:
 
 
 def paper_pid() -> LinearController:
-    """The paper's PID gains on both channels, acting on the drogue's offset."""
+    """The paper's PID gains on both channels, acting on the drogue's offset.
+
+    Returns
+    -------
+    LinearController
+        Measured offset [m] -> force [N] with the gains of ``PAPER_PID`` (Eq. 33).
+    """
     return pid_controller(PAPER_PID["lateral"], PAPER_PID["vertical"])
 
 
@@ -74,6 +104,8 @@ def paper_lqr_design_for(lm: LinearModel, Q=PAPER_LQR_Q, R=PAPER_LQR_R,
     Returns
     -------
     BalancedLQRDesign
+        Per-channel gains and Kalman observers; its ``controller`` maps the measured offset [m]
+        to the force [N].
     """
     ch = reduced_channels(lm, order)
     return lqr_balanced_design(ch.lateral, ch.vertical, Q, R)
@@ -97,6 +129,8 @@ def lqr_design_for(lm: LinearModel, Q=PAPER_LQR_Q, R=PAPER_LQR_R,
     Returns
     -------
     LQRDesign
+        Gain on the plant and integrator states; its ``controller`` maps the measured offset
+        [m] to the force [N].
     """
     ch = reduced_channels(lm, order)
     return lqr_integral_design(two_channel_plant(ch.lateral, ch.vertical), Q, R)
@@ -120,6 +154,11 @@ def lqr_controller_for(lm: LinearModel, design: str = "balanced", Q=None, R=None
     -------
     LinearController
         Measured offset [m] -> force [N], observer inside.
+
+    Raises
+    ------
+    ValueError
+        If ``design`` is not one of ``LQR_DESIGNS``.
     """
     Q = PAPER_LQR_Q if Q is None else np.asarray(Q, dtype=float)
     R = PAPER_LQR_R if R is None else np.asarray(R, dtype=float)

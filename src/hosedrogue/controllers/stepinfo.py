@@ -1,6 +1,6 @@
 """Step-response figures of merit (paper Table 3) from a sampled response.
 
-Definitions (MODEL.md section 6), for a response y(t) that moves from its initial value y0 to
+Definitions (docs/model.md §6), for a response y(t) that moves from its initial value y0 to
 its final value yf, with amplitude delta = yf - y0:
 
 - rise time: time for y to go from y0 + 10 % delta to y0 + 90 % delta, each instant taken at

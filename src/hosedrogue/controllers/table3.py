@@ -81,6 +81,11 @@ def channel_models(plant: str, order, lm: LinearModel | None = None):
     -------
     tuple of control.StateSpace or control.TransferFunction
         (lateral u_hor [N] -> P_ny [m], vertical u_ver [N] -> P_nz [m]).
+
+    Raises
+    ------
+    ValueError
+        If ``plant`` is not in `PLANTS`, or is "model" without ``lm``.
     """
     if plant == "paper":
         return tuple(table2_transfer_function(ch, order) for ch in CHANNELS)
@@ -119,6 +124,13 @@ def lqr_steps(design, plant=None, t=None) -> dict[str, StepResponse]:
     -------
     dict
         ``{"lateral": StepResponse, "vertical": StepResponse}``, final value = the loop's DC gain.
+
+    Raises
+    ------
+    TypeError
+        If ``design`` is neither a BalancedLQRDesign nor an LQRDesign.
+    ValueError
+        If the closed loop is unstable.
     """
     if isinstance(design, BalancedLQRDesign):
         loop = lqr_balanced_reference_loop(design, plant)
@@ -153,7 +165,13 @@ def pid_steps(lateral, vertical, gains=None, t=None) -> dict[str, StepResponse]:
     Returns
     -------
     dict
-        ``{"lateral": StepResponse, "vertical": StepResponse}``.
+        ``{"lateral": StepResponse, "vertical": StepResponse}``: offset y [m] and force u [N]
+        per metre of reference step, and the metrics.
+
+    Raises
+    ------
+    ValueError
+        If a closed loop is unstable.
     """
     gains = PAPER_PID if gains is None else gains
     out = {}
@@ -187,6 +205,12 @@ def step_responses(controller: str, plant: str, lm: LinearModel | None = None, *
     dict
         ``{"lateral": StepResponse, "vertical": StepResponse}``: offset y [m] and force u [N] per
         metre of reference step, and the metrics.
+
+    Raises
+    ------
+    ValueError
+        If ``controller`` or ``plant`` is unknown, ``lm`` is missing for ``plant="model"``, or a
+        closed loop is unstable.
     """
     lat, ver = channel_models(plant, evaluate_on, lm)
     d_lat, d_ver = channel_models(plant, DESIGN_ORDER, lm)
@@ -244,11 +268,17 @@ def table3(lm: LinearModel | None = None) -> dict[tuple[str, str, str], StepMetr
 def table3_rows(lm: LinearModel | None = None) -> list[dict]:
     """`table3` as flat rows with the paper's Table 3 values beside ours.
 
+    Parameters
+    ----------
+    lm : LinearModel, optional
+        This project's linearization (e.g. at 150 m/s, 8000 m); without it only the paper's
+        plant is evaluated (see `table3`).
+
     Returns
     -------
     list of dict
-        Keys ``controller``, ``plant``, ``channel``, ``rise_time_s``, ``settling_time_s``,
-        ``overshoot_pct``, and ``paper_rise_time_s``, ``paper_settling_time_s``,
+        Keys ``controller``, ``plant``, ``channel``, ``rise_time_s`` [s], ``settling_time_s`` [s],
+        ``overshoot_pct`` [%], and ``paper_rise_time_s``, ``paper_settling_time_s``,
         ``paper_overshoot_pct`` (the paper's PID row beside "PID", its LQR row beside "LQR" and
         "LQR-integral").
     """

@@ -182,7 +182,7 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     ----------
     params : Params
         Hose, drogue, flight and numerics (RK4, ``numerics.step_s``, ``output_every``). The link
-        masses are lumped as ``hose.mass_lumping`` says (MODEL.md 2; ``split`` converges at
+        masses are lumped as ``hose.mass_lumping`` says (docs/model.md §2; ``split`` converges at
         second order, the engagement scenarios set it).
     reel, probe : Reel, Probe or None
         The drum unit and the receiver's probe (None: no probe).

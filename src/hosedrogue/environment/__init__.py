@@ -5,7 +5,7 @@ Modules
 atmosphere
     ICAO standard atmosphere (density at the flight altitude).
 wake
-    Hallock-Burnham trailing-vortex pair of the tanker (MODEL.md 4); a numba kernel
+    Hallock-Burnham trailing-vortex pair of the tanker (docs/model.md §4); a numba kernel
     :func:`~hosedrogue.environment.wake.wake_velocity` for the inner loop.
 turbulence
     Dryden forming filters, their exact discretization and the gust record; a numba lookup

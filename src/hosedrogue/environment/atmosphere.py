@@ -21,7 +21,17 @@ from ..params import ParameterError
 
 
 def temperature_pressure(altitude_m: float) -> tuple[float, float]:
-    """Static temperature [K] and pressure [Pa] at ``altitude_m`` [m]."""
+    """Static temperature [K] and pressure [Pa] at ``altitude_m`` [m].
+
+    Parameters
+    ----------
+    altitude_m : float
+        Geopotential altitude [m], within the table of the ICAO standard atmosphere.
+
+    Returns
+    -------
+    temperature_k, pressure_pa : float
+    """
     h = float(altitude_m)
     if not (math.isfinite(h) and 0.0 <= h <= H_MAX_ATMOSPHERE):
         raise ParameterError(
@@ -38,6 +48,17 @@ def temperature_pressure(altitude_m: float) -> tuple[float, float]:
 
 
 def density(altitude_m: float) -> float:
-    """Air density [kg/m^3] at ``altitude_m`` [m] (ICAO standard atmosphere)."""
+    """Air density [kg/m^3] at ``altitude_m`` [m] (ICAO standard atmosphere).
+
+    Parameters
+    ----------
+    altitude_m : float
+        Geopotential altitude [m].
+
+    Returns
+    -------
+    float
+        Density [kg/m^3].
+    """
     t, p = temperature_pressure(altitude_m)
     return p / (R_AIR * t)

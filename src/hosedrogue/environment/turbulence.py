@@ -468,6 +468,17 @@ def smoothed_record(record: GustRecord, width_s: float) -> GustRecord:
     edge): a symmetric average keeps the forcing's impulse about every instant, so the response
     changes only at second order in ``width_s`` (docs/convergence.md gives the numbers). The
     returned record's window is its whole support.
+
+    Parameters
+    ----------
+    record : GustRecord
+        The sampled gusts and their window.
+    width_s : float
+        Width of the box applied twice [s] (rounded to whole samples, at least one).
+
+    Returns
+    -------
+    GustRecord
     """
     dt = record.dt_s
     m = max(1, int(round(width_s / dt)))

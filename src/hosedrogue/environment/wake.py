@@ -1,4 +1,4 @@
-"""Hallock-Burnham wake of the tanker: a pair of trailing vortices (MODEL.md 4).
+"""Hallock-Burnham wake of the tanker: a pair of trailing vortices (docs/model.md §4).
 
 The tanker's wing sheds two counter-rotating vortices of circulation
 

@@ -1,7 +1,7 @@
 """The numerical core: kinematics, forces and Kane's equations of the link chain (numba).
 
 Everything here is a pure function of float64 arrays; no Python objects, no I/O, no validation
-(that is :mod:`hosedrogue.model.system`'s job). Notation follows ``MODEL.md``:
+(that is :mod:`hosedrogue.model.system`'s job). Notation follows ``docs/model.md``:
 
 * state ``x = [q, qd]``, ``q = [th_11, th_12, ..., th_n1, th_n2]`` (pitch down, yaw left), so
   link ``k`` (0-based here) has pitch ``q[2k]`` and yaw ``q[2k+1]``;
@@ -172,7 +172,7 @@ def segment_drag(t, env, gust, q_ct, q_cn, lw, sf, sp, k, e, r, v):
 @njit(**JIT)
 def link_omega(k, l, e, v):
     """Angular velocity of link k [rad/s] from its end velocities: omega_k = e_k x de_k/dt with
-    de_k/dt = (V_k+1 - V_k) / l_k (omega_k is perpendicular to e_k, MODEL.md 1)."""
+    de_k/dt = (V_k+1 - V_k) / l_k (omega_k is perpendicular to e_k, docs/model.md §1)."""
     dx = (v[k + 1, 0] - v[k, 0]) / l[k]
     dy = (v[k + 1, 1] - v[k, 1]) / l[k]
     dz = (v[k + 1, 2] - v[k, 2]) / l[k]

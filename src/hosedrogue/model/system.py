@@ -33,7 +33,7 @@ class StateOutputs:
 
 
 def lumped_masses(params: Params, lengths: np.ndarray) -> tuple[np.ndarray, float]:
-    """Joint masses of links of the given lengths (MODEL.md 2; ``params.hose.mass_lumping``).
+    """Joint masses of links of the given lengths (docs/model.md §2; ``params.hose.mass_lumping``).
 
     Parameters
     ----------
@@ -91,7 +91,7 @@ class HoseModel:
         self.rho = density(flight.altitude_m) * flight.density_scale
         lk = hose.link_length_m
         self.l = np.full(n, lk)
-        #: joint masses [kg]: M[k] sits at joint k+1 (MODEL.md 2); M_tow at the tow point (joint 0)
+        #: joint masses [kg]: M[k] sits at joint k+1 (docs/model.md §2); M_tow at the tow point (joint 0)
         self.M, self.M_tow = lumped_masses(params, self.l)
         self.S = np.cumsum(self.M[::-1])[::-1].copy()
         self.J = link_inertias(params, self.l)

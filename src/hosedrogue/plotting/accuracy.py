@@ -46,6 +46,9 @@ def plot_accuracy(studies: Sequence, tolerances_m=(1e-2, 1e-3)) -> Figure:
     ax_rms.set_xlabel("links [-]")
     ax_rms.set_ylabel("RMS drogue offset in turbulence [mm]")
     for ax in axes:
+        if studies:  # label the link counts themselves, not powers of ten
+            ax.set_xticks([int(k) for k in studies[0].links], [str(int(k)) for k in studies[0].links])
+            ax.minorticks_off()
         _grid(ax)
         ax.legend(fontsize=7)
     return fig

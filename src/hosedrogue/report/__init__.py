@@ -16,10 +16,10 @@ Layout
 - :mod:`.comparison`: the paper-vs-ours table (rows added by the sections; ``CLOSE``);
 - :mod:`.page`: page assembly and CSS;
 - :mod:`.runs`: the nonlinear runs and their window statistics;
-- one module per section: :mod:`.parameters`, :mod:`.convergence`, :mod:`.sweep`,
+- one module per section: :mod:`.parameters`, :mod:`.convergence`, :mod:`.accuracy`, :mod:`.sweep`,
   :mod:`.turbulence_speeds`, :mod:`.linear` (+ :mod:`.linear_responses`), :mod:`.controllers`,
-  :mod:`.closed_loop`, :mod:`.hose_views`, :mod:`.engagement` (beyond the paper: the refuelling
-  engagement), :mod:`.differences`.
+  :mod:`.closed_loop`, :mod:`.hose_views`, :mod:`.long_runs`, :mod:`.engagement`
+  (beyond the paper: the refuelling engagement), :mod:`.differences`.
 
 Each section module has a ``build(out, settings, **needs)`` function that computes (library
 calls), then writes its CSV files, then its figures (functions of :mod:`hosedrogue.plotting`),

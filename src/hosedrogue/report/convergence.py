@@ -144,7 +144,9 @@ def _link_prose(f: ConvergenceResult, link_studies, bending_stiffness_n_m2: floa
         f"moment E I &gamma; / l = E I &kappa;), the position converges: z = {slash_join(f.off_z_m, '.2f')} m (off) and "
         f"{slash_join(f.moment_z_m, '.2f')} m (moment) for {links(f.consistent_links)} links, the changes "
         f"({' / '.join(f'{d:.4f}' for d in d_off)} m) {'halving with each doubling (first order in l)' if off_converges else 'not yet regular'}; "
-        f"a Richardson estimate of the continuum limit is z &asymp; {f.continuum_z_m:.3f} m. The real hose's "
+        f"a Richardson estimate of the continuum limit is z &asymp; {f.continuum_z_m:.3f} m (the "
+        f'<a href="#accuracy">accuracy-per-cost section</a> measures every link count against the continuous hose '
+        f"itself, for the paper's and a second-order mass lumping). The real hose's "
         f"bending stiffness (E I &asymp; {bending_stiffness_n_m2:.1f} N m<sup>2</sup>) hardly matters: "
         f"bending off and 'moment' agree to millimetres. At the paper's {n} links the paper force moves "
         f"the drogue by {shift_cm:.1f} cm "

@@ -224,8 +224,8 @@ def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResul
     worst = max(max(c["peak_probe_load_n"], c["peak_slack_m"]) for c in change.values())
     passes = worst < DOUBLING_BOUND
     whipping = [_label(k) for k, v in slack.items() if v]
-    banner = (f'<p class="fast-note"><b>Fast version:</b> {n} links and {duration:g} s per run, not the shipped '
-              f"scenarios' mesh and 15 s; the doubling check is {n} -&gt; {2 * n} links. The full report runs "
+    banner = (f'<p class=diff id="engagement-fast">FAST VERSION of this section: {n} links and {duration:g} s '
+              f"per run, not the shipped scenarios' mesh and 15 s; the doubling check is {n} -&gt; {2 * n} links. The full report runs "
               "the shipped scenarios.</p>" if fast else "")
     contact = (f"All three probes are {esc(ol['result'])} at t = {fmt(ol.get('contact_time_s'), 3)} s with a miss "
                f"of {fmt(ol['miss_distance_m'], 2)} m and a closure speed of {fmt(ol['closure_speed_m_s'], 3)} m/s "

@@ -32,7 +32,9 @@ def _banner(settings) -> str:
     return ('<div class="banner" id="fast-banner"><b>FAST VERSION.</b> This report was built with '
             "<code>--fast</code>: coarser Fig. 3 grid, shorter turbulence runs "
             f"({settings.run_duration_s:g} s), fewer convergence steps and link counts, "
-            f"{settings.spread_seeds} turbulence realisations and a coarser animation. Numbers differ "
+            f"{settings.spread_seeds} turbulence realisations, a coarser animation, the accuracy study up to "
+            f"{max(settings.accuracy_links)} links and the long-runs study with {len(settings.long_run_seeds)} seed(s) "
+            f"capped at {settings.long_run_cap_s:g} s. Numbers differ "
             "slightly from the full report; run <code>hosedrogue reproduce</code> without "
             "<code>--fast</code> for the reference version.</div>")
 

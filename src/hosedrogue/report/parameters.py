@@ -124,7 +124,7 @@ def _rows(p: Params, d: ParametersResult) -> list[dict]:
         dict(parameter="derived: link mass mu l", value=m_link, unit="kg", source="Table 1"),
         dict(parameter="derived: area moment I = pi (d_o^4 - d_i^4) / 64", value=d.area_moment_m4, unit="m^4", source="Eq. 21"),
         dict(parameter="derived: bending stiffness E I", value=d.bending_stiffness_n_m2, unit="N m^2", source="Eqs. 20-21"),
-        dict(parameter=f"derived: mu l * l (compare Table 1's {li})", value=m_link * l, unit="kg m^2", source="MODEL.md 2"),
+        dict(parameter=f"derived: mu l * l (compare Table 1's {li})", value=m_link * l, unit="kg m^2", source="docs/model.md §2"),
         dict(parameter="derived: slender-rod inertia m l^2 / 12", value=m_link * l * l / 12.0, unit="kg m^2", source="option 'rod'"),
     ]
 

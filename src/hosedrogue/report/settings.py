@@ -39,6 +39,18 @@ class ReportSettings:
         Frames per second of simulated time in the GIF [1/s].
     bode_points : int
         Frequency points of Fig. 7.
+    long_run_seeds : tuple of int
+        Turbulence seeds of the long-runs blow-up study.
+    long_run_cap_s : float
+        Length cap of its runs [s] (the turbulence record has this length too).
+    long_run_hour_s : float or None
+        Length of the stable model's run [s]; None: the scenario's hour.
+    accuracy_links : tuple of int
+        Link counts of the accuracy-per-cost study (each a doubling of the previous).
+    accuracy_steps_s : tuple of float
+        RK4 steps of the ``paper-turbulence`` step study [s] (each must divide 0.1 s).
+    accuracy_reference_step_s : float
+        Reference step of that study [s].
     """
 
     name: str
@@ -54,6 +66,12 @@ class ReportSettings:
     sensitivity_airspeeds_m_s: tuple
     anim_fps: int
     bode_points: int
+    long_run_seeds: tuple
+    long_run_cap_s: float
+    long_run_hour_s: float | None
+    accuracy_links: tuple
+    accuracy_steps_s: tuple
+    accuracy_reference_step_s: float
 
 
 #: The reference version of the report.
@@ -71,6 +89,12 @@ FULL = ReportSettings(
     sensitivity_airspeeds_m_s=(100.0, 150.0, 200.0, 250.0),
     anim_fps=10,
     bode_points=600,
+    long_run_seeds=(2018, 2019, 2020),
+    long_run_cap_s=3600.0,
+    long_run_hour_s=None,
+    accuracy_links=(5, 10, 20, 40, 80, 160),
+    accuracy_steps_s=(0.01, 0.02, 0.025),
+    accuracy_reference_step_s=0.000625,
 )
 
 #: The fast version (``--fast``): coarser grids, shorter runs; the page says so prominently.
@@ -88,4 +112,10 @@ FAST = ReportSettings(
     sensitivity_airspeeds_m_s=(150.0, 250.0),
     anim_fps=4,
     bode_points=200,
+    long_run_seeds=(2018,),
+    long_run_cap_s=300.0,
+    long_run_hour_s=120.0,
+    accuracy_links=(5, 10, 20),
+    accuracy_steps_s=(0.02,),
+    accuracy_reference_step_s=0.005,
 )

@@ -76,12 +76,29 @@ def _no_status(text: str) -> None:
 class ReportFolder:
     """The output folder and what has been written to it so far.
 
+    Only ``dir`` and ``status`` are given; the other fields start empty and collect what the
+    sections write and add.
+
     Parameters
     ----------
     dir : Path
         The folder (must exist before writing).
     status : callable, optional
         ``status(text)`` shows a short progress note (the progress bar's postfix).
+
+    Other Parameters
+    ----------------
+    files : list of str
+        Names of the files written so far, in order (filled by the writing methods).
+    comparison : Comparison
+        The paper-vs-ours table the sections add rows to (:mod:`.comparison`).
+    sections : list of PageSection
+        The page's sections added so far (:meth:`section`).
+    summary : list of str
+        The points of the page's summary added so far (:meth:`summarize`).
+    headline : dict
+        The headline numbers of ``report.json`` recorded so far (:meth:`record`), in SI units
+        named in their keys.
     """
 
     dir: Path

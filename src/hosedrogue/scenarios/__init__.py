@@ -30,24 +30,24 @@ CONTROLLER_TYPES = ("none", "pid", "lqr")
 class Scenario:
     """A runnable case: parameters plus run settings."""
 
-    name: str
-    params: Params
-    duration_s: float
-    description: str = ""
+    name: str  #: scenario name (``[scenario] name``, or the file's stem)
+    params: Params  #: the model, environment and numerics parameters
+    duration_s: float  #: simulated time [s]
+    description: str = ""  #: one line for people
     #: "equilibrium": start at rest at the balance position; "displaced": add the offsets below
     #: to every link's balance angles and release from rest.
     initial: str = "equilibrium"
-    initial_pitch_offset_deg: float = 0.0
-    initial_yaw_offset_deg: float = 0.0
-    controller: str = "none"
+    initial_pitch_offset_deg: float = 0.0  #: pitch added to every link for ``displaced`` [deg]
+    initial_yaw_offset_deg: float = 0.0  #: yaw added to every link for ``displaced`` [deg]
+    controller: str = "none"  #: "none", "pid" or "lqr"
     #: Design options of the controller: PID ``lateral``/``vertical`` = [K_P, K_I, K_D, N];
     #: LQR ``design`` ("balanced", the paper's reading, default; or "integral"), ``q_diag`` (4:
     #: the balanced states, lateral then vertical [1/(m N)]; integral: [P_ny, P_nz, z_ny, z_nz])
     #: and ``r_diag`` (2) [1/N^2]. Missing entries take the paper's values.
     controller_options: dict = field(default_factory=dict)
-    actuator: dict = field(default_factory=dict)
-    sensor: dict = field(default_factory=dict)
-    source: str = ""
+    actuator: dict = field(default_factory=dict)  #: actuator limits: max_force_n [N], max_rate_n_s [N/s], ...
+    sensor: dict = field(default_factory=dict)  #: sensor noise: noise_std_m [m], sample_time_s [s]
+    source: str = ""  #: where it was read from (``scenarios/NAME.toml`` or a path)
     #: Sections validated outside the core (``[reel]``, ``[probe]``): name -> validated object.
     extra: dict = field(default_factory=dict)
 
@@ -118,7 +118,20 @@ def shipped_scenarios() -> list[str]:
 
 
 def resolve(name_or_path: str) -> tuple[str, dict]:
-    """Find a scenario by shipped name, ``scenarios/NAME.toml`` or path; return (source, data)."""
+    """Find a scenario by shipped name, ``scenarios/NAME.toml`` or path; return (source, data).
+
+    Parameters
+    ----------
+    name_or_path : str
+        A shipped scenario name, ``scenarios/NAME.toml``, or a TOML file's path.
+
+    Returns
+    -------
+    source : str
+        Where it was found.
+    data : dict
+        The parsed TOML.
+    """
     path = Path(name_or_path)
     if path.exists():
         return str(path), read_toml(path)
@@ -133,8 +146,33 @@ def resolve(name_or_path: str) -> tuple[str, dict]:
     )
 
 
+def _table(data: dict, name: str) -> dict:
+    """The table ``data[name]`` (empty if absent) as a new dict; anything else is a ParameterError."""
+    value = data.get(name, {})
+    if not isinstance(value, dict):
+        raise ParameterError(f"{name} = {value!r}: must be a table of fields ([{name}])")
+    return dict(value)
+
+
 def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
-    """Load and validate a scenario file (see the module docstring)."""
+    """Load and validate a scenario file (see the module docstring).
+
+    Parameters
+    ----------
+    name_or_path : str
+        A shipped scenario name or a TOML file (:func:`resolve`).
+    base : Params
+        Parameters the file's sections override (the paper's case by default).
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ParameterError
+        One line naming the field, the value and what is allowed.
+    """
     source, data = resolve(name_or_path)
     from ..engagement.spec import ENGAGEMENT_SECTIONS, validate_sections  # hook: non-core sections
 
@@ -142,7 +180,7 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     for key in data:
         if key not in known:
             raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(known))}")
-    sc = dict(data.get("scenario", {}))
+    sc = _table(data, "scenario")
     for key in sc:
         if key not in SCENARIO_KEYS:
             raise ParameterError(f"scenario.{key}: unknown field; allowed: {', '.join(sorted(SCENARIO_KEYS))}")
@@ -158,17 +196,17 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and abs(v) <= 60):
             raise ParameterError(f"scenario.{key} = {v!r}: must be a finite number in [-60, 60] deg")
         offsets[key] = float(v)
-    ctrl = dict(data.get("controller", {}))
+    ctrl = _table(data, "controller")
     ctype = ctrl.pop("type", "none")
     if ctype not in CONTROLLER_TYPES:
         raise ParameterError(f"controller.type = {ctype!r}: must be one of {', '.join(map(repr, CONTROLLER_TYPES))}")
     options = _controller_options(ctype, ctrl)
-    actuator = dict(data.get("actuator", {}))
+    actuator = _table(data, "actuator")
     for key in actuator:
         if key not in ("max_force_n", "max_rate_n_s", "time_constant_s"):
             raise ParameterError(
                 f"actuator.{key}: unknown field; allowed: max_force_n, max_rate_n_s, time_constant_s")
-    sensor = dict(data.get("sensor", {}))
+    sensor = _table(data, "sensor")
     for key in sensor:
         if key not in ("noise_std_m", "sample_time_s"):
             raise ParameterError(f"sensor.{key}: unknown field; allowed: noise_std_m, sample_time_s")

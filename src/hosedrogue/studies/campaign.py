@@ -11,9 +11,9 @@ Files in the output folder ``DIR``
     The settings. Resuming with different settings is an error.
 ``runs.csv``
     One row per finished run (:func:`hosedrogue.studies.store.run_columns`), appended and
-    flushed as runs finish, so an interrupted campaign loses at most the runs in flight and at most one partial last line,
-    which resuming detects and drops. Wall-clock times are kept out of it (they would make
-    identical campaigns differ); they go to ``timings.csv``, a log.
+    flushed as runs finish, so an interrupted campaign loses at most the runs in flight and at
+    most one partial last line, which resuming detects and drops. Wall-clock times are kept out
+    of it (they would make identical campaigns differ); they go to ``timings.csv``, a log.
 ``summary.json``, ``summary.csv``
     Per controller and statistic: mean, standard deviation, 95 % confidence interval of the
     mean (Student t), median, 5th and 95th percentiles, count; and the fraction of runs that
@@ -36,8 +36,8 @@ Bounded memory
 Tasks are generated lazily and at most ``4 K`` runs (K worker threads) are submitted at a time
 (:func:`hosedrogue.studies.executor.execute_dask`); each worker returns one small dict per run
 (the time series stays on the worker and is discarded, or written to disk there), which the
-client appends to runs.csv at once and forgets. A campaign of 10 000 runs therefore needs the memory of a few dozen runs; only the
-final summary reads all rows back (about 200 bytes each).
+client appends to runs.csv at once and forgets. A campaign of 10 000 runs therefore needs the
+memory of a few dozen runs; only the final summary reads all rows back (about 200 bytes each).
 """
 
 from __future__ import annotations
@@ -79,7 +79,9 @@ class RunTask:
     seed: int  #: turbulence seed (:func:`run_seed`)
     controller: str  #: controller type ("pid", "lqr", "none")
     window_s: tuple[float, float]  #: statistics window [start, end) [s]
+    #: radii [m] of the time-inside-radius statistics, each > 0 (:func:`summarize_run`)
     capture_radii_m: tuple[float, ...]
+    #: file the worker writes the run's time series to (CSV, atomically); None: not kept
     timeseries_path: str | None = None
 
 
@@ -120,7 +122,12 @@ def statistics_window(scenario) -> tuple[float, float]:
     -------
     (float, float)
         :func:`hosedrogue.metrics.turbulence_window`: the turbulence window, or the whole run
-        ``(0, inf)`` when turbulence is off. ParameterError when the window misses the run.
+        ``(0, inf)`` when turbulence is off.
+
+    Raises
+    ------
+    ParameterError
+        When the turbulence window does not overlap the run ``[0, duration_s]``.
     """
     if not scenario.params.turbulence.enabled:
         return 0.0, math.inf
@@ -142,7 +149,7 @@ def summarize_run(result, window_s: tuple[float, float], capture_radii_m: Sequen
     result : hosedrogue.results.SimulationResult
         The run.
     window_s : (float, float)
-        Statistics window [s].
+        Statistics window [start, end) [s] (:func:`statistics_window`).
     capture_radii_m : sequence of float
         Capture radii [m].
 
@@ -157,6 +164,9 @@ def summarize_run(result, window_s: tuple[float, float], capture_radii_m: Sequen
 def run_task(task: RunTask) -> dict:
     """Simulate one run and return its row of ``runs.csv`` (plus ``_wall_s`` [s], kept out of it).
 
+    Runs single-threaded: the model's kernels are serial, and LocalCluster workers get one thread
+    with ``NUMBA_NUM_THREADS = OMP_NUM_THREADS = 1``.
+
     Parameters
     ----------
     task : RunTask
@@ -166,9 +176,6 @@ def run_task(task: RunTask) -> dict:
     -------
     dict
         Column of :func:`hosedrogue.studies.store.run_columns` -> value, and ``_wall_s`` [s].
-
-    Runs single-threaded: the model's kernels are serial, and LocalCluster workers get one thread
-    with ``NUMBA_NUM_THREADS = OMP_NUM_THREADS = 1``.
     """
     start = time.perf_counter()
     scenario = dataclasses.replace(task.scenario.with_overrides(seed=task.seed), controller=task.controller)
@@ -241,6 +248,16 @@ def run_campaign(
     Returns
     -------
     CampaignSummary
+        The statistics over all finished runs (also written to ``summary.json`` and
+        ``summary.csv``), with how many runs this call added.
+
+    Raises
+    ------
+    ParameterError
+        On bad input (an unknown scenario, ``runs``, ``seed``, ``capture_radii_m``, ``workers``/
+        ``scheduler``/``client``, a scenario without a controller for ``compare_controller``, a
+        turbulence window outside the run), or an ``out_dir`` that is a file or holds a campaign
+        with other settings; nothing is written then.
     """
     runs = _check_int("--runs", runs, 1)
     seed = _check_int("--seed", seed, 0, 2**63 - 1)

@@ -27,11 +27,13 @@ STEP_CASES = ("swing", "turbulence", "turbulence+pid")
 
 @dataclass(frozen=True)
 class StepStudy:
-    case: str
-    steps_s: np.ndarray
+    """Result of :func:`step_convergence`."""
+
+    case: str  #: the case run, one of :data:`STEP_CASES`
+    steps_s: np.ndarray  #: RK4 steps compared [s]
     max_error_m: np.ndarray  #: max over time of |drogue position - reference| [m]
-    reference_step_s: float
-    duration_s: float
+    reference_step_s: float  #: step of the reference run [s]
+    duration_s: float  #: simulated time of each run [s]
 
     @property
     def observed_order(self) -> np.ndarray:
@@ -57,7 +59,23 @@ def _case_setup(case: str, params: Params):
 
 def step_convergence(case: str = "swing", steps_s=(0.02, 0.01, 0.005, 0.0025),
                      reference_step_s: float = 0.000625, params: Params = PAPER) -> StepStudy:
-    """Drogue-position error of RK4 at ``steps_s`` against a run at ``reference_step_s``."""
+    """Drogue-position error of RK4 at ``steps_s`` against a run at ``reference_step_s``.
+
+    Parameters
+    ----------
+    case : str
+        One of :data:`STEP_CASES`.
+    steps_s : sequence of float
+        RK4 steps to compare [s]; each must divide 0.04 s (the common output interval).
+    reference_step_s : float
+        Step of the reference run [s], much finer than ``steps_s``.
+    params : Params
+        Parameter set (turbulence is switched on or off by the case).
+
+    Returns
+    -------
+    StepStudy
+    """
     if case not in STEP_CASES:
         raise ValueError(f"case = {case!r}: must be one of {', '.join(STEP_CASES)}")
     p, eq, x0, ctrl, duration = _case_setup(case, params)
@@ -77,14 +95,28 @@ def step_convergence(case: str = "swing", steps_s=(0.02, 0.01, 0.005, 0.0025),
 
 @dataclass(frozen=True)
 class LinkStudy:
-    links: np.ndarray
-    drogue_position_m: np.ndarray  #: (k, 3)
-    lowest_lateral_rad_s: np.ndarray  #: damped frequency of the lowest mode seen laterally
-    lowest_vertical_rad_s: np.ndarray
+    """Result of :func:`link_convergence`."""
+
+    links: np.ndarray  #: link counts compared [-]
+    drogue_position_m: np.ndarray  #: (k, 3) balance position of the drogue [m] in S_p
+    lowest_lateral_rad_s: np.ndarray  #: damped frequency of the lowest mode seen laterally [rad/s]
+    lowest_vertical_rad_s: np.ndarray  #: damped frequency of the lowest mode seen vertically [rad/s]
 
 
 def link_convergence(links=(5, 10, 20, 40, 80), params: Params = PAPER) -> LinkStudy:
-    """Balance position and lowest lightly damped mode frequencies against the link count."""
+    """Balance position and lowest lightly damped mode frequencies against the link count.
+
+    Parameters
+    ----------
+    links : sequence of int
+        Link counts to compare [-].
+    params : Params
+        Parameter set (its ``hose.links`` is replaced by each count).
+
+    Returns
+    -------
+    LinkStudy
+    """
     pos, lat, ver = [], [], []
     for n in links:
         p = params.replace(hose={"links": int(n)})

@@ -11,7 +11,7 @@ import contextlib
 import os
 from typing import Callable, Iterator
 
-from ..errors import ParameterError
+from ..errors import IncompleteError, ParameterError
 
 #: The scheduler value that runs every simulation in this process, without dask.
 SYNCHRONOUS = "synchronous"
@@ -24,7 +24,9 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
     """Run ``fn(task)`` for every task on a dask client, at most ``max_in_flight`` at a time, calling
     ``on_result(result)`` in completion order.
 
-    On any error (including KeyboardInterrupt) the outstanding tasks are cancelled and the error
+    A lost scheduler raises :class:`~hosedrogue.errors.IncompleteError` (one line; exit 3 on the
+    command line) after the results already passed to ``on_result`` are kept.
+    On any other error (including KeyboardInterrupt) the outstanding tasks are cancelled and the error
     propagates; results already passed to ``on_result`` stay.
 
     Parameters
@@ -45,7 +47,10 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
     int
         The largest number of tasks that were in flight at once.
     """
+    from concurrent.futures import CancelledError
+
     from distributed import as_completed
+    from distributed.comm.core import CommClosedError
 
     pending = iter(tasks)
     outstanding: set = set()
@@ -70,10 +75,33 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
             future.release()
             on_result(result)
             submit_next()
+    except (CancelledError, CommClosedError) as exc:
+        # a lost scheduler shows up as cancelled futures or, while a result is fetched, as a
+        # closed connection; anything else cancelled is not ours to explain
+        if isinstance(exc, CancelledError) and getattr(exc, "reason", None) != "scheduler-connection-lost":
+            client.cancel(list(outstanding))
+            raise
+        _close_quietly(client)
+        raise IncompleteError("the dask scheduler went away (connection lost); the finished runs are kept: "
+                              "run the same command again with a reachable --scheduler to resume") from None
     except BaseException:
         client.cancel(list(outstanding))
         raise
     return peak
+
+
+def _close_quietly(client) -> None:
+    """Close a client whose scheduler is gone without its reconnection attempts printing
+    tracebacks (the error must stay one line)."""
+    import logging
+
+    quiet = logging.getLogger("distributed.client")
+    level = quiet.level
+    quiet.setLevel(logging.CRITICAL)
+    try:
+        client.close()
+    finally:
+        quiet.setLevel(level)
 
 
 def execute_synchronous(tasks: Iterator, fn: Callable, on_result: Callable) -> None:
