@@ -3,7 +3,8 @@
 :func:`simulate_engagement` integrates the compiled RK4 loop of
 :mod:`hosedrogue.model.engagement_kernels` segment by segment; a segment ends at a change of the
 discretization (split or merge of the exit link, see :mod:`.chain`), at the probe tip crossing
-the coupler plane (the capture test: ENGAGEMENT.md 2), at a failed state, or at the end.
+the coupler plane (the capture test: docs/engagement.md, "Capture"), at a failed state, or at
+the end. The result's class and its assembly from the segments are in :mod:`.result`.
 """
 
 from __future__ import annotations
@@ -17,88 +18,45 @@ import numpy as np
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..params import ParameterError, Params
-from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, hose_mass_in_air,
-                    initial_chain, merge, split, switch_charts)
+from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, ChainModel, chain_equilibrium, initial_chain,
+                    merge, split, switch_charts)
+from .result import EngagementResult, assemble_result
+from .result import segment_energies as _energies
+from .result import segment_outputs as _outputs
 from .spec import Probe, Reel
+
+__all__ = ["EngagementResult", "engagement_parameters", "exit_tension_at_rest", "simulate_engagement"]
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
            K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular"}
 
 
-@dataclass
-class EngagementResult:
-    """Time histories (S_p, SI units) and the outcome of one engagement run."""
-
-    t_s: np.ndarray
-    hose_length_m: np.ndarray
-    reel_speed_m_s: np.ndarray  #: take-up speed r_d w, positive reeling in
-    exit_tension_n: np.ndarray  #: T_0: hose tension at the exit along the hose
-    drogue_tension_n: np.ndarray  #: tension in the last link (at the drogue)
-    probe_force_n: np.ndarray  #: (N, 3) force of the probe on the drogue
-    probe_position_m: np.ndarray  #: (N, 3)
-    coupled: np.ndarray  #: (N,) bool
-    slack_m: np.ndarray  #: hose length minus the straight exit-to-drogue distance
-    drogue_position_m: np.ndarray  #: (N, 3)
-    drogue_velocity_m_s: np.ndarray  #: (N, 3)
-    tow_force_n: np.ndarray  #: (N, 3) force of the hose on the exit
-    motor_torque_n_m: np.ndarray
-    miss_distance_series_m: np.ndarray  #: radial probe-to-coupler distance in the coupler plane
-    plane_distance_m: np.ndarray  #: probe tip aft of the coupler plane (positive before contact)
-    closure_speed_series_m_s: np.ndarray  #: probe speed toward the coupler plane relative to the drogue
-    links: np.ndarray  #: (N,) number of links
-    hose_mass_kg: np.ndarray  #: hose mass in the air from the lumped masses
-    joints_m: list  #: per output time, (n+1, 3) joint positions
-    joint_velocities_m_s: list
-    energy: dict  #: "kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe" (N,) [J]
-    events: list  #: remesh and capture events (dicts)
-    outcome: dict
-    equilibrium_m: np.ndarray
-    completed: bool
-    message: str
-    meta: dict = field(default_factory=dict)
-
-    @property
-    def drogue_offset_m(self) -> np.ndarray:
-        return self.drogue_position_m - self.equilibrium_m
-
-    def to_dataframe(self):
-        import pandas as pd
-
-        pos, off, vel, tow = self.drogue_position_m, self.drogue_offset_m, self.drogue_velocity_m_s, self.tow_force_n
-        cols = {
-            "t_s": self.t_s,
-            "drogue_x_m": pos[:, 0], "drogue_y_m": pos[:, 1], "drogue_z_m": pos[:, 2],
-            "drogue_dx_m": off[:, 0], "drogue_dy_m": off[:, 1], "drogue_dz_m": off[:, 2],
-            "drogue_vx_m_s": vel[:, 0], "drogue_vy_m_s": vel[:, 1], "drogue_vz_m_s": vel[:, 2],
-            "tow_force_x_n": tow[:, 0], "tow_force_y_n": tow[:, 1], "tow_force_z_n": tow[:, 2],
-            "hose_length_m": self.hose_length_m,
-            "reel_speed_m_s": self.reel_speed_m_s,
-            "exit_tension_n": self.exit_tension_n,
-            "drogue_tension_n": self.drogue_tension_n,
-            "probe_load_n": np.linalg.norm(self.probe_force_n, axis=1),
-            "probe_x_m": self.probe_position_m[:, 0], "probe_y_m": self.probe_position_m[:, 1],
-            "probe_z_m": self.probe_position_m[:, 2],
-            "miss_distance_m": self.miss_distance_series_m,
-            "probe_plane_distance_m": self.plane_distance_m,
-            "closure_speed_m_s": self.closure_speed_series_m_s,
-            "slack_m": self.slack_m,
-            "motor_torque_n_m": self.motor_torque_n_m,
-            "links": self.links,
-            "coupled": self.coupled.astype(int),
-        }
-        return pd.DataFrame(cols)
-
-    def to_csv(self, path):
-        from pathlib import Path
-
-        path = Path(path)
-        self.to_dataframe().to_csv(path, index=False, float_format="%.10g")
-        return path
-
-
 def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain: Chain,
                           drogue_eq: np.ndarray) -> np.ndarray:
+    """The engagement parameter array of the compiled kernels (``engagement_kernels.EP_*``).
+
+    Parameters
+    ----------
+    params : Params
+        Hose mass per length [kg/m], lumping and link inertia [kg m^2], drogue mass [kg] and
+        inertia [kg m^2].
+    reel : Reel
+        The drum unit (law, radius [m], inertia [kg m^2], friction [N m s], tension set point [N],
+        torque [N m] and speed [m/s] limits, gains, payout schedule [s, m, m/s, m/s^2]).
+    probe : Probe or None
+        The receiver's probe (standoff and offsets [m], closure speed [m/s], push [m], stop
+        time [s], contact stiffness [N/m] and damping [N s/m]); None or disabled: parked far aft.
+    chain : Chain
+        The initial discretization (its nominal link length [m]).
+    drogue_eq : array (3,)
+        Drogue position at the start [m] in S_p, from which the probe starts.
+
+    Returns
+    -------
+    array (EP_SIZE,)
+        Not coupled yet (``EP_COUPLED`` 0, capture time ``EP_T_CAP`` infinite).
+    """
     ep = np.zeros(EK.EP_SIZE)
     hose = params.hose
     ep[EK.EP_MU] = hose.mass_per_length_kg_m
@@ -141,34 +99,33 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
 
 
 def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.ndarray, model) -> float:
-    """T_0 [N] of state z with the reel held (L'' = 0): the steady trail tension at a balance position."""
+    """T_0 [N] of state z with the reel held (L'' = 0): the steady trail tension at a balance position.
+
+    Parameters
+    ----------
+    params : Params
+        The run's parameters (unused; kept for the call's symmetry with the other helpers).
+    chain : Chain
+        The discretization of ``z``.
+    z : array (4n + Z_TAIL,)
+        State: hose angles [rad] and rates [rad/s], L [m], L' [m/s], work states [J].
+    ep : array (EP_SIZE,)
+        Engagement parameters (:func:`engagement_parameters`); copied, the reel locked and the
+        probe off.
+    model : hosedrogue.engagement.chain.ChainModel
+        Parameter, environment and gust arrays.
+
+    Returns
+    -------
+    float
+        Exit tension T_0 [N].
+    """
     e = ep.copy()
     e[EK.EP_LAW] = EK.LAW_LOCKED
     e[EK.EP_PAY_DIST] = 0.0
     e[EK.EP_PROBE] = 0.0
     scal = _outputs(np.zeros(1), z[None, :], chain, model, e)[2]
     return float(scal[0, EK.O_T0])
-
-
-def _outputs(ts, zs, chain: Chain, model, ep):
-    n = chain.n
-    N = ts.size
-    joints = np.empty((N, n + 1, 3))
-    jvel = np.empty((N, n + 1, 3))
-    scal = np.empty((N, EK.O_SIZE))
-    tow = np.empty((N, 3))
-    tdrog = np.empty(N)
-    EK.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
-                   chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, joints, jvel, scal, tow, tdrog)
-    return joints, jvel, scal, tow, tdrog
-
-
-def _energies(zs, chain: Chain, model, ep):
-    out = np.empty((zs.shape[0], 3))
-    for i, z in enumerate(zs):
-        out[i] = EK.eng_energy(np.ascontiguousarray(z), chain.n, chain.l.copy(), chain.M.copy(),
-                               chain.J.copy(), model.ps, ep, chain.chart)
-    return out
 
 
 def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duration_s: float,
@@ -198,17 +155,44 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     length_rate_m_s : float
         Initial L' [m/s] (positive paying out).
     gravity_m_s2 : float, optional
-        Overrides g (0 for the energy balance without gravity).
+        Overrides g [m/s^2] (0 for the energy balance without gravity).
+
+    Returns
+    -------
+    EngagementResult
+        Time histories, events and outcome (``completed`` False and ``message`` saying why if a
+        state failed).
+
+    Raises
+    ------
+    ParameterError
+        ``duration_s`` not a finite number > 0, or ``x0`` of the wrong shape or not finite.
     """
+    _check_duration(duration_s)
+    chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2)
+    ep = engagement_parameters(params, reel, probe, chain, drogue_eq)
+    t_set = reel.tension_set_n
+    if t_set < 0:
+        t_set = exit_tension_at_rest(params, chain, z, ep, model)
+        ep[EK.EP_TSET] = t_set
+    outcome: dict[str, Any] = {"result": "no contact", "miss_distance_m": None, "closure_speed_m_s": None}
+    if probe is None or not probe.enabled:
+        outcome["result"] = "no probe"
+    run = _Run(z=z, chain=chain, ep=ep, outcome=outcome,
+               segments=[(chain, ep.copy(), np.array([0.0]), z[None, :].copy())])
+    status, message = _integrate(run, params, probe, model, duration_s)
+    return assemble_result(params, run.segments, run.events, run.outcome, model, drogue_eq, energy,
+                           status == K.OK, message, run.delta_total, t_set, reel, probe)
+
+
+def _check_duration(duration_s) -> None:
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
         raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
-    num = params.numerics
-    h = num.step_s
-    every = num.output_every
-    total_steps = int(round(duration_s / h))
-    chain = initial_chain(params)
-    from .chain import ChainModel
 
+
+def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: float, gravity_m_s2):
+    """The initial chain, its model, the drogue's reference position [m] and the full state z."""
+    chain = initial_chain(params)
     need_eq = x0 is None or (probe is not None and probe.enabled)
     if equilibrium is None and need_eq:
         equilibrium, model = chain_equilibrium(params, chain)
@@ -226,211 +210,171 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     else:
         drogue_eq = equilibrium.drogue_position_m.copy()
     z = np.concatenate([hose0, [L0, float(length_rate_m_s)], np.zeros(EK.Z_TAIL - 2)])
-    ep = engagement_parameters(params, reel, probe, chain, drogue_eq)
-    t_set = reel.tension_set_n
-    if t_set < 0:
-        t_set = exit_tension_at_rest(params, chain, z, ep, model)
-        ep[EK.EP_TSET] = t_set
+    return chain, model, drogue_eq, z
+
+
+@dataclass
+class _Run:
+    """The state of a run between segments: current state, discretization and parameters,
+    the saved segments ``(chain, ep copy, ts, zs)``, the events and the outcome so far."""
+
+    z: np.ndarray
+    chain: Chain
+    ep: np.ndarray
+    outcome: dict
+    segments: list
+    events: list = field(default_factory=list)
+    step: int = 0
+    t: float = 0.0
+    delta_total: float = 0.0
+
+
+def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tuple[int, str]:
+    """Integrate segment by segment to the end, a failed state or a failed capture; handle the
+    event that ends each segment. Returns the status code and the run's message."""
+    num = params.numerics
+    h = num.step_s
+    every = num.output_every
+    total_steps = int(round(duration_s / h))
     max_yaw = math.radians(num.max_yaw_deg)
-
-    segments = []  # (chain, ep copy, ts, zs)
-    events: list[dict[str, Any]] = []
-    outcome: dict[str, Any] = {"result": "no contact", "miss_distance_m": None, "closure_speed_m_s": None}
-    if probe is None or not probe.enabled:
-        outcome["result"] = "no probe"
-    segments.append((chain, ep.copy(), np.array([0.0]), z[None, :].copy()))
-    step = 0
-    t = 0.0
-    status = K.OK
-    message = "completed"
-    stop = False
-    delta_total = 0.0
-    while step < total_steps and not stop:
-        remaining = total_steps - step
-        nsave = remaining // every + 2
-        ts = np.empty(nsave)
-        zs = np.empty((nsave, z.size))
-        zprev = np.empty(z.size)
-        lw = chain.l.copy()
-        Mw = chain.M.copy()
-        Jw = chain.J.copy()
-        code, done, saved = EK.eng_segment(
-            z, t, step, h, remaining, every, chain.n, lw, Mw, Jw, model.ps, model.env, model.gust_values,
-            ep, chain.chart, max_yaw, math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom, MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs)
-        step += done
-        t = step * h
-        if saved:
-            segments.append((chain, ep.copy(), ts[:saved].copy(), zs[:saved].copy()))
+    while run.step < total_steps:
+        code, zprev = _segment(run, model, h, every, total_steps - run.step, max_yaw)
         if code in (K.NONFINITE, K.YAW_LIMIT):
-            status = code
-            message = f"stopped at t = {t:.4f} s: {_STATUS[code]}"
-            break
+            return code, f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
         if code == EK.CHART:
-            before = _outputs(np.array([t]), z[None, :], chain, model, ep)
-            e_before = _energies(z[None, :], chain, model, ep)[0]
-            z, chain, moved = switch_charts(z, chain, math.radians(SWITCH_YAW_DEG))
-            after = _outputs(np.array([t]), z[None, :], chain, model, ep)
-            e_jump = float(np.sum(_energies(z[None, :], chain, model, ep)[0]) - np.sum(e_before))
-            events.append({"kind": "chart", "t_s": t, "links": moved, "energy_jump_j": e_jump,
-                           "position_jump_m": float(np.max(np.abs(after[0] - before[0]))),
-                           "velocity_jump_m_s": float(np.max(np.abs(after[1] - before[1])))})
-            continue
-        if code in (EK.SPLIT, EK.MERGE):
-            before = _outputs(np.array([t]), z[None, :], chain, model, ep)
-            e_before = _energies(z[None, :], chain, model, ep)[0]
-            n_before = chain.n
-            if code == EK.SPLIT:
-                z, chain = split(z, chain, params)
-                delta = 0.0
-            else:
-                Ld_before = z[4 * n_before + EK.Z_LD]
-                z, chain, delta = merge(z, chain, params)
-                delta_total += delta
-            after = _outputs(np.array([t]), z[None, :], chain, model, ep)
-            e_after = _energies(z[None, :], chain, model, ep)[0]
-            jb, ja = before[0][0], after[0][0]
-            vb, va = before[1][0], after[1][0]
-            if code == EK.SPLIT:  # the new joint 1 is inserted; old joints k -> k+1
-                pos_jump = np.max(np.abs(ja[np.r_[0, 2:ja.shape[0]]] - jb))
-                vel_jump = np.max(np.abs(va[np.r_[2:va.shape[0]]] - vb[1:]))
-            else:  # old joint 1 is removed; old joints k >= 2 -> k-1
-                pos_jump = np.max(np.abs(ja - jb[np.r_[0, 2:jb.shape[0]]]))
-                vel_jump = np.max(np.abs(va[1:] - vb[2:]))
-            events.append({
-                "kind": "split" if code == EK.SPLIT else "merge", "t_s": t, "links_before": n_before,
-                "links_after": chain.n, "position_jump_m": float(pos_jump), "velocity_jump_m_s": float(vel_jump),
-                "length_lost_m": float(delta),
-                "reel_speed_jump_m_s": 0.0 if code == EK.SPLIT else float(-(z[4 * chain.n + EK.Z_LD] - Ld_before)),
-                "energy_jump_j": float(np.sum(e_after) - np.sum(e_before)),
-            })
-            continue
-        if code == EK.PLANE:
-            out = _outputs(np.array([t - h, t]), np.stack([zprev, z]), chain, model, ep)
-            joints, jvel, scal = out[0], out[1], out[2]
-            d = np.empty(2)
-            radial = np.empty((2, 3))
-            vclose = np.empty(2)
-            for i in range(2):
-                e_last = joints[i][-1] - joints[i][-2]
-                e_last /= np.linalg.norm(e_last)
-                p = scal[i, [EK.O_PX, EK.O_PY, EK.O_PZ]]
-                vp = scal[i, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]]
-                rel = p - joints[i][-1]
-                d[i] = rel @ e_last
-                radial[i] = rel - d[i] * e_last
-                vclose[i] = -(vp - jvel[i][-1]) @ e_last
-            frac = d[0] / (d[0] - d[1])
-            miss = float(np.linalg.norm(radial[0] + frac * (radial[1] - radial[0])))
-            vc = float(vclose[0] + frac * (vclose[1] - vclose[0]))
-            t_cap = t - h + frac * h
-            outcome["miss_distance_m"] = miss
-            outcome["closure_speed_m_s"] = vc
-            outcome["contact_time_s"] = t_cap
-            if miss > probe.capture_radius_m:
-                outcome["result"] = (f"miss: radial miss {miss:.3f} m beyond the capture radius "
-                                     f"{probe.capture_radius_m:g} m")
-                stop = True
-            elif vc < probe.min_closure_speed_m_s:
-                outcome["result"] = (f"failed latch: closure speed {vc:.3f} m/s below the minimum "
-                                     f"{probe.min_closure_speed_m_s:g} m/s")
-                stop = True
-            elif vc > probe.max_closure_speed_m_s:
-                outcome["result"] = (f"failed latch: closure speed {vc:.3f} m/s above the maximum "
-                                     f"{probe.max_closure_speed_m_s:g} m/s")
-                stop = True
-            else:
-                outcome["result"] = "captured"
-                ep[EK.EP_COUPLED] = 1.0
-                ep[EK.EP_T_CAP] = t_cap
-                ep[EK.EP_S_CAP] = ep[EK.EP_VC] * t_cap
-            events.append({"kind": "contact", "t_s": t_cap, "miss_distance_m": miss, "closure_speed_m_s": vc,
-                           "result": outcome["result"]})
-            continue
-
-    return _assemble(params, segments, events, outcome, model, drogue_eq, energy,
-                     status == K.OK, message, delta_total, t_set, reel, probe)
+            _switch_charts(run, model)
+        elif code in (EK.SPLIT, EK.MERGE):
+            _remesh(run, code, params, model)
+        elif code == EK.PLANE and _contact(run, zprev, h, probe, model):
+            break
+    return K.OK, "completed"
 
 
-def _assemble(params, segments, events, outcome, model, drogue_eq, energy, completed, message,
-              delta_total, t_set, reel, probe) -> EngagementResult:
-    cols = {k: [] for k in ("t", "L", "Ld", "T0", "Td", "fp", "pp", "cp", "slack", "rd", "vd", "tow", "tau",
-                            "miss", "dplane", "vclose", "links", "mass", "E")}
-    joints_all, jvel_all = [], []
-    for chain, ep, ts, zs in segments:
-        n = chain.n
-        joints, jvel, scal, tow, tdrog = _outputs(ts, zs, chain, model, ep)
-        cols["t"].append(ts)
-        cols["L"].append(zs[:, 4 * n + EK.Z_L])
-        cols["Ld"].append(zs[:, 4 * n + EK.Z_LD])
-        cols["T0"].append(scal[:, EK.O_T0])
-        cols["Td"].append(tdrog)
-        cols["fp"].append(scal[:, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]])
-        pp = scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]]
-        cols["pp"].append(pp)
-        cols["cp"].append(np.full(ts.size, ep[EK.EP_COUPLED] != 0.0))
-        cols["slack"].append(scal[:, EK.O_SLACK])
-        cols["rd"].append(joints[:, -1, :])
-        cols["vd"].append(jvel[:, -1, :])
-        cols["tow"].append(tow)
-        cols["tau"].append(scal[:, EK.O_TAU])
-        e_last = joints[:, -1, :] - joints[:, -2, :]
-        e_last /= np.linalg.norm(e_last, axis=1)[:, None]
-        rel = pp - joints[:, -1, :]
-        dpl = np.einsum("ij,ij->i", rel, e_last)
-        cols["dplane"].append(dpl)
-        cols["miss"].append(np.linalg.norm(rel - dpl[:, None] * e_last, axis=1))
-        vp = scal[:, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]]
-        cols["vclose"].append(-np.einsum("ij,ij->i", vp - jvel[:, -1, :], e_last))
-        cols["links"].append(np.full(ts.size, n))
-        masses = []
-        lw, Mw, Jw = chain.l.copy(), chain.M.copy(), chain.J.copy()
-        for z in zs:
-            EK.set_variable_link(z[4 * n + EK.Z_L], n, lw, Mw, Jw, ep)
-            masses.append(hose_mass_in_air(Chain(lw, Mw, Jw, chain.l_nom, chain.chart), params))
-        cols["mass"].append(np.array(masses))
-        if energy:
-            en = _energies(zs, chain, model, ep)
-            cols["E"].append(np.column_stack([en, zs[:, 4 * n + EK.Z_WM:4 * n + EK.Z_WP + 1]]))
-        joints_all.extend(list(joints))
-        jvel_all.extend(list(jvel))
-    cat = {k: np.concatenate(v) for k, v in cols.items() if v}
-    en_dict = {}
-    if energy:
-        E = cat["E"]
-        for i, name in enumerate(("kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe")):
-            en_dict[name] = E[:, i]
-    coupled = cat["cp"]
-    fp = cat["fp"]
-    drogue = cat["rd"]
-    excursion = np.linalg.norm(drogue - drogue_eq, axis=1)
-    outcome.update({
-        "peak_probe_load_n": float(np.max(np.linalg.norm(fp, axis=1))),
-        "peak_exit_tension_n": float(np.max(cat["T0"])),
-        "min_exit_tension_n": float(np.min(cat["T0"])),
-        "peak_drogue_tension_n": float(np.max(cat["Td"])),
-        "peak_slack_m": float(np.max(cat["slack"])),
-        "peak_drogue_excursion_m": float(np.max(excursion)),
-        "hose_length_start_m": float(cat["L"][0]),
-        "hose_length_end_m": float(cat["L"][-1]),
-        "hose_length_min_m": float(np.min(cat["L"])),
-        "length_taken_up_m": float(cat["L"][0] - np.min(cat["L"])),
-        "length_lost_at_merges_m": float(delta_total),
-        "tension_set_n": float(t_set),
-        "remesh_events": sum(1 for e in events if e["kind"] in ("split", "merge")),
+def _segment(run: _Run, model, h: float, every: int, remaining: int, max_yaw: float):
+    """Run the compiled loop on the current discretization until an event or the end; save the
+    outputs. Returns the kernel's code and the state one step before the last."""
+    chain, z = run.chain, run.z
+    nsave = remaining // every + 2
+    ts = np.empty(nsave)
+    zs = np.empty((nsave, z.size))
+    zprev = np.empty(z.size)
+    lw = chain.l.copy()
+    Mw = chain.M.copy()
+    Jw = chain.J.copy()
+    code, done, saved = EK.eng_segment(
+        z, run.t, run.step, h, remaining, every, chain.n, lw, Mw, Jw, model.ps, model.env, model.gust_values,
+        run.ep, chain.chart, max_yaw, math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom,
+        MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs)
+    run.step += done
+    run.t = run.step * h
+    if saved:
+        run.segments.append((chain, run.ep.copy(), ts[:saved].copy(), zs[:saved].copy()))
+    return code, zprev
+
+
+def _at(run: _Run, model):
+    """Outputs and energies of the current state (see :func:`.result.segment_outputs`)."""
+    z1 = run.z[None, :]
+    return _outputs(np.array([run.t]), z1, run.chain, model, run.ep), _energies(z1, run.chain, model, run.ep)[0]
+
+
+def _switch_charts(run: _Run, model) -> None:
+    """Move the links near the singular yaw to the other angle chart; record the (zero) jumps."""
+    before, e_before = _at(run, model)
+    run.z, run.chain, moved = switch_charts(run.z, run.chain, math.radians(SWITCH_YAW_DEG))
+    after, e_after = _at(run, model)
+    run.events.append({"kind": "chart", "t_s": run.t, "links": moved,
+                       "energy_jump_j": float(np.sum(e_after) - np.sum(e_before)),
+                       "position_jump_m": float(np.max(np.abs(after[0] - before[0]))),
+                       "velocity_jump_m_s": float(np.max(np.abs(after[1] - before[1])))})
+
+
+def _joint_jumps(code: int, before, after) -> tuple[float, float]:
+    """Largest jump of a joint's position [m] and velocity [m/s] across a split or merge."""
+    jb, ja = before[0][0], after[0][0]
+    vb, va = before[1][0], after[1][0]
+    if code == EK.SPLIT:  # the new joint 1 is inserted; old joints k -> k+1
+        pos_jump = np.max(np.abs(ja[np.r_[0, 2:ja.shape[0]]] - jb))
+        vel_jump = np.max(np.abs(va[np.r_[2:va.shape[0]]] - vb[1:]))
+    else:  # old joint 1 is removed; old joints k >= 2 -> k-1
+        pos_jump = np.max(np.abs(ja - jb[np.r_[0, 2:jb.shape[0]]]))
+        vel_jump = np.max(np.abs(va[1:] - vb[2:]))
+    return float(pos_jump), float(vel_jump)
+
+
+def _remesh(run: _Run, code: int, params: Params, model) -> None:
+    """Split or merge the exit link; record the event with its jumps."""
+    before, e_before = _at(run, model)
+    n_before = run.chain.n
+    Ld_before = run.z[4 * n_before + EK.Z_LD]
+    if code == EK.SPLIT:
+        run.z, run.chain = split(run.z, run.chain, params)
+        delta = 0.0
+    else:
+        run.z, run.chain, delta = merge(run.z, run.chain, params)
+        run.delta_total += delta
+    after, e_after = _at(run, model)
+    pos_jump, vel_jump = _joint_jumps(code, before, after)
+    run.events.append({
+        "kind": "split" if code == EK.SPLIT else "merge", "t_s": run.t, "links_before": n_before,
+        "links_after": run.chain.n, "position_jump_m": pos_jump, "velocity_jump_m_s": vel_jump,
+        "length_lost_m": float(delta),
+        "reel_speed_jump_m_s": 0.0 if code == EK.SPLIT else float(-(run.z[4 * run.chain.n + EK.Z_LD] - Ld_before)),
+        "energy_jump_j": float(np.sum(e_after) - np.sum(e_before)),
     })
-    if reel.law == "locked":
-        outcome["tension_set_n"] = None
-    from .spec import plain
 
-    meta = {"reel": plain(reel), "probe": plain(probe) if probe is not None else None,
-            "lumping": params.hose.mass_lumping,
-            "events": events}
-    return EngagementResult(
-        t_s=cat["t"], hose_length_m=cat["L"], reel_speed_m_s=-cat["Ld"], exit_tension_n=cat["T0"],
-        drogue_tension_n=cat["Td"], probe_force_n=fp, probe_position_m=cat["pp"], coupled=coupled,
-        slack_m=cat["slack"], drogue_position_m=drogue, drogue_velocity_m_s=cat["vd"], tow_force_n=cat["tow"],
-        motor_torque_n_m=cat["tau"], miss_distance_series_m=cat["miss"], plane_distance_m=cat["dplane"],
-        closure_speed_series_m_s=cat["vclose"],
-        links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
-        energy=en_dict, events=events, outcome=outcome, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
-        completed=completed, message=message, meta=meta)
+
+def _plane_crossing(run: _Run, zprev: np.ndarray, h: float, model) -> tuple[float, float, float]:
+    """Radial miss [m] and closure speed [m/s] where the probe tip crossed the coupler plane
+    (linear between the last two steps), and the step fraction of the crossing."""
+    joints, jvel, scal = _outputs(np.array([run.t - h, run.t]), np.stack([zprev, run.z]), run.chain, model,
+                                  run.ep)[:3]
+    d = np.empty(2)
+    radial = np.empty((2, 3))
+    vclose = np.empty(2)
+    for i in range(2):
+        e_last = joints[i][-1] - joints[i][-2]
+        e_last /= np.linalg.norm(e_last)
+        p = scal[i, [EK.O_PX, EK.O_PY, EK.O_PZ]]
+        vp = scal[i, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]]
+        rel = p - joints[i][-1]
+        d[i] = rel @ e_last
+        radial[i] = rel - d[i] * e_last
+        vclose[i] = -(vp - jvel[i][-1]) @ e_last
+    frac = d[0] / (d[0] - d[1])
+    miss = float(np.linalg.norm(radial[0] + frac * (radial[1] - radial[0])))
+    vc = float(vclose[0] + frac * (vclose[1] - vclose[0]))
+    return miss, vc, frac
+
+
+def _capture_verdict(probe: Probe, miss: float, vc: float) -> tuple[str, bool]:
+    """The capture test (docs/engagement.md, "Capture"): the result and whether it is a capture."""
+    if miss > probe.capture_radius_m:
+        return (f"miss: radial miss {miss:.3f} m beyond the capture radius "
+                f"{probe.capture_radius_m:g} m"), False
+    if vc < probe.min_closure_speed_m_s:
+        return (f"failed latch: closure speed {vc:.3f} m/s below the minimum "
+                f"{probe.min_closure_speed_m_s:g} m/s"), False
+    if vc > probe.max_closure_speed_m_s:
+        return (f"failed latch: closure speed {vc:.3f} m/s above the maximum "
+                f"{probe.max_closure_speed_m_s:g} m/s"), False
+    return "captured", True
+
+
+def _contact(run: _Run, zprev: np.ndarray, h: float, probe: Probe, model) -> bool:
+    """The probe tip reached the coupler plane: test the capture, couple on success. Returns
+    True if the run ends here (a miss or a failed latch)."""
+    miss, vc, frac = _plane_crossing(run, zprev, h, model)
+    t_cap = run.t - h + frac * h
+    outcome = run.outcome
+    outcome["miss_distance_m"] = miss
+    outcome["closure_speed_m_s"] = vc
+    outcome["contact_time_s"] = t_cap
+    outcome["result"], captured = _capture_verdict(probe, miss, vc)
+    if captured:
+        run.ep[EK.EP_COUPLED] = 1.0
+        run.ep[EK.EP_T_CAP] = t_cap
+        run.ep[EK.EP_S_CAP] = run.ep[EK.EP_VC] * t_cap
+    run.events.append({"kind": "contact", "t_s": t_cap, "miss_distance_m": miss, "closure_speed_m_s": vc,
+                       "result": outcome["result"]})
+    return not captured

@@ -1,0 +1,308 @@
+"""The result of an engagement run, and its assembly from the integrated segments.
+
+:func:`~hosedrogue.engagement.driver.simulate_engagement` integrates segment by segment (one
+discretization each); :func:`assemble_result` evaluates the compiled output and energy kernels
+of :mod:`hosedrogue.model.engagement_kernels` on every segment's saved states, concatenates
+them and adds the run's peaks to its outcome (what is reported per engagement:
+docs/engagement.md, "What a run reports").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model import engagement_kernels as EK
+from ..params import Params
+from .chain import Chain, hose_mass_in_air
+
+#: Names of the energy terms, in the order of the columns of the energy kernel and the work states.
+ENERGY_TERMS = ("kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe")
+
+
+@dataclass
+class EngagementResult:
+    """Time histories (S_p, SI units) and the outcome of one engagement run.
+
+    Every array has one row per output time (N rows); vectors are in the tanker frame S_p.
+    """
+
+    t_s: np.ndarray  #: (N,) output times [s]
+    hose_length_m: np.ndarray  #: (N,) free hose length L [m]
+    reel_speed_m_s: np.ndarray  #: (N,) take-up speed r_d w [m/s], positive reeling in
+    exit_tension_n: np.ndarray  #: (N,) T_0: hose tension at the exit along the hose [N]
+    drogue_tension_n: np.ndarray  #: (N,) tension in the last link (at the drogue) [N]
+    probe_force_n: np.ndarray  #: (N, 3) force of the probe on the drogue [N]
+    probe_position_m: np.ndarray  #: (N, 3) probe tip position [m]
+    coupled: np.ndarray  #: (N,) bool: probe and drogue coupled
+    slack_m: np.ndarray  #: (N,) hose length minus the straight exit-to-drogue distance [m]
+    drogue_position_m: np.ndarray  #: (N, 3) drogue (last joint) position [m]
+    drogue_velocity_m_s: np.ndarray  #: (N, 3) drogue velocity [m/s]
+    tow_force_n: np.ndarray  #: (N, 3) force of the hose on the exit [N]
+    motor_torque_n_m: np.ndarray  #: (N,) reel motor torque tau_m [N m]
+    miss_distance_series_m: np.ndarray  #: (N,) radial probe-to-coupler distance in the coupler plane [m]
+    plane_distance_m: np.ndarray  #: (N,) probe tip aft of the coupler plane [m] (positive before contact)
+    closure_speed_series_m_s: np.ndarray  #: (N,) probe speed toward the coupler plane relative to the drogue [m/s]
+    links: np.ndarray  #: (N,) number of links
+    hose_mass_kg: np.ndarray  #: (N,) hose mass in the air from the lumped masses [kg]
+    joints_m: list  #: per output time, (n+1, 3) joint positions [m]
+    joint_velocities_m_s: list  #: per output time, (n+1, 3) joint velocities [m/s]
+    energy: dict  #: "kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe" (N,) [J]
+    events: list  #: remesh, chart and contact events (dicts, times [s], jumps [m], [m/s], [J])
+    outcome: dict  #: result, contact figures and peaks (keys carry their units, e.g. ``peak_slack_m``)
+    equilibrium_m: np.ndarray  #: (3,) drogue balance position at the start [m]
+    completed: bool  #: False if the run stopped on a failed state
+    message: str  #: "completed", or why the run stopped
+    meta: dict = field(default_factory=dict)  #: what was run: reel, probe, lumping, events, scenario
+
+    @property
+    def drogue_offset_m(self) -> np.ndarray:
+        """(N, 3) drogue position minus its balance position at the start [m]."""
+        return self.drogue_position_m - self.equilibrium_m
+
+    def to_dataframe(self):
+        """The time histories as a table, one row per output time, SI units in the column names.
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
+        import pandas as pd
+
+        pos, off, vel, tow = self.drogue_position_m, self.drogue_offset_m, self.drogue_velocity_m_s, self.tow_force_n
+        cols = {
+            "t_s": self.t_s,
+            "drogue_x_m": pos[:, 0], "drogue_y_m": pos[:, 1], "drogue_z_m": pos[:, 2],
+            "drogue_dx_m": off[:, 0], "drogue_dy_m": off[:, 1], "drogue_dz_m": off[:, 2],
+            "drogue_vx_m_s": vel[:, 0], "drogue_vy_m_s": vel[:, 1], "drogue_vz_m_s": vel[:, 2],
+            "tow_force_x_n": tow[:, 0], "tow_force_y_n": tow[:, 1], "tow_force_z_n": tow[:, 2],
+            "hose_length_m": self.hose_length_m,
+            "reel_speed_m_s": self.reel_speed_m_s,
+            "exit_tension_n": self.exit_tension_n,
+            "drogue_tension_n": self.drogue_tension_n,
+            "probe_load_n": np.linalg.norm(self.probe_force_n, axis=1),
+            "probe_x_m": self.probe_position_m[:, 0], "probe_y_m": self.probe_position_m[:, 1],
+            "probe_z_m": self.probe_position_m[:, 2],
+            "miss_distance_m": self.miss_distance_series_m,
+            "probe_plane_distance_m": self.plane_distance_m,
+            "closure_speed_m_s": self.closure_speed_series_m_s,
+            "slack_m": self.slack_m,
+            "motor_torque_n_m": self.motor_torque_n_m,
+            "links": self.links,
+            "coupled": self.coupled.astype(int),
+        }
+        return pd.DataFrame(cols)
+
+    def to_csv(self, path):
+        """Write :meth:`to_dataframe` as CSV (10 significant digits).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to write.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path``.
+        """
+        from pathlib import Path
+
+        path = Path(path)
+        self.to_dataframe().to_csv(path, index=False, float_format="%.10g")
+        return path
+
+
+def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.ndarray):
+    """The compiled outputs of states ``zs`` of one discretization.
+
+    Parameters
+    ----------
+    ts : array (N,)
+        Times [s].
+    zs : array (N, 4n + Z_TAIL)
+        States: hose [rad, rad/s], L [m], L' [m/s] and the work states [J].
+    chain : Chain
+        The discretization the states belong to.
+    model : hosedrogue.engagement.chain.ChainModel
+        Parameter, environment and gust arrays.
+    ep : array (EP_SIZE,)
+        Engagement parameters (:func:`hosedrogue.engagement.driver.engagement_parameters`).
+
+    Returns
+    -------
+    joints, jvel : array (N, n+1, 3)
+        Joint positions [m] and velocities [m/s].
+    scal : array (N, O_SIZE)
+        Scalar outputs (``engagement_kernels.O_*``: tensions [N], probe [m, m/s, N], slack [m],
+        torque [N m]).
+    tow : array (N, 3)
+        Force of the hose on the exit [N].
+    tdrog : array (N,)
+        Tension in the last link [N].
+    """
+    n = chain.n
+    N = ts.size
+    joints = np.empty((N, n + 1, 3))
+    jvel = np.empty((N, n + 1, 3))
+    scal = np.empty((N, EK.O_SIZE))
+    tow = np.empty((N, 3))
+    tdrog = np.empty(N)
+    EK.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
+                   chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, joints, jvel, scal, tow, tdrog)
+    return joints, jvel, scal, tow, tdrog
+
+
+def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray) -> np.ndarray:
+    """Kinetic, elastic and reel energy [J] of states ``zs`` of one discretization.
+
+    Parameters
+    ----------
+    zs : array (N, 4n + Z_TAIL)
+        States (see :func:`segment_outputs`).
+    chain : Chain
+        The discretization the states belong to.
+    model : hosedrogue.engagement.chain.ChainModel
+        Parameter array ``ps``.
+    ep : array (EP_SIZE,)
+        Engagement parameters.
+
+    Returns
+    -------
+    array (N, 3)
+        Kinetic, elastic (gravity and probe spring) and reel energy [J].
+    """
+    out = np.empty((zs.shape[0], 3))
+    for i, z in enumerate(zs):
+        out[i] = EK.eng_energy(np.ascontiguousarray(z), chain.n, chain.l.copy(), chain.M.copy(),
+                               chain.J.copy(), model.ps, ep, chain.chart)
+    return out
+
+
+def _coupler_geometry(joints, jvel, scal):
+    """Probe tip relative to the coupler plane (normal: the last link): distance along the normal
+    [m], radial miss [m] and closure speed [m/s]."""
+    e_last = joints[:, -1, :] - joints[:, -2, :]
+    e_last /= np.linalg.norm(e_last, axis=1)[:, None]
+    rel = scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]] - joints[:, -1, :]
+    dpl = np.einsum("ij,ij->i", rel, e_last)
+    miss = np.linalg.norm(rel - dpl[:, None] * e_last, axis=1)
+    vp = scal[:, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]]
+    return dpl, miss, -np.einsum("ij,ij->i", vp - jvel[:, -1, :], e_last)
+
+
+def _hose_masses(zs, chain: Chain, ep, params: Params) -> np.ndarray:
+    """Hose mass in the air [kg] at every state, from the lumped masses at its length."""
+    n = chain.n
+    masses = []
+    lw, Mw, Jw = chain.l.copy(), chain.M.copy(), chain.J.copy()
+    for z in zs:
+        EK.set_variable_link(z[4 * n + EK.Z_L], n, lw, Mw, Jw, ep)
+        masses.append(hose_mass_in_air(Chain(lw, Mw, Jw, chain.l_nom, chain.chart), params))
+    return np.array(masses)
+
+
+def _segment_columns(params: Params, segment, model, energy: bool) -> tuple[dict, np.ndarray, np.ndarray]:
+    """One segment's columns (keys of :func:`assemble_result`), joint positions and velocities."""
+    chain, ep, ts, zs = segment
+    n = chain.n
+    joints, jvel, scal, tow, tdrog = segment_outputs(ts, zs, chain, model, ep)
+    dpl, miss, vclose = _coupler_geometry(joints, jvel, scal)
+    cols = {"t": ts, "L": zs[:, 4 * n + EK.Z_L], "Ld": zs[:, 4 * n + EK.Z_LD], "T0": scal[:, EK.O_T0],
+            "Td": tdrog, "fp": scal[:, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "pp": scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]],
+            "cp": np.full(ts.size, ep[EK.EP_COUPLED] != 0.0), "slack": scal[:, EK.O_SLACK],
+            "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, EK.O_TAU],
+            "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
+            "mass": _hose_masses(zs, chain, ep, params)}
+    if energy:
+        en = segment_energies(zs, chain, model, ep)
+        cols["E"] = np.column_stack([en, zs[:, 4 * n + EK.Z_WM:4 * n + EK.Z_WP + 1]])
+    return cols, joints, jvel
+
+
+def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float) -> dict:
+    """The run's peaks and hose lengths (outcome keys, units in their names)."""
+    excursion = np.linalg.norm(cat["rd"] - drogue_eq, axis=1)
+    return {
+        "peak_probe_load_n": float(np.max(np.linalg.norm(cat["fp"], axis=1))),
+        "peak_exit_tension_n": float(np.max(cat["T0"])),
+        "min_exit_tension_n": float(np.min(cat["T0"])),
+        "peak_drogue_tension_n": float(np.max(cat["Td"])),
+        "peak_slack_m": float(np.max(cat["slack"])),
+        "peak_drogue_excursion_m": float(np.max(excursion)),
+        "hose_length_start_m": float(cat["L"][0]),
+        "hose_length_end_m": float(cat["L"][-1]),
+        "hose_length_min_m": float(np.min(cat["L"])),
+        "length_taken_up_m": float(cat["L"][0] - np.min(cat["L"])),
+        "length_lost_at_merges_m": float(delta_total),
+        "tension_set_n": float(t_set),
+        "remesh_events": sum(1 for e in events if e["kind"] in ("split", "merge")),
+    }
+
+
+def assemble_result(params: Params, segments: list, events: list, outcome: dict, model, drogue_eq: np.ndarray,
+                    energy: bool, completed: bool, message: str, delta_total: float, t_set: float,
+                    reel, probe) -> EngagementResult:
+    """Evaluate the outputs of every segment and build the run's result.
+
+    Parameters
+    ----------
+    params : Params
+        The run's parameters (hose mass per length [kg/m] and lumping for ``hose_mass_kg``).
+    segments : list of (Chain, array, array, array)
+        Per segment: its discretization, engagement parameters, output times [s] and states.
+    events : list of dict
+        Remesh, chart and contact events.
+    outcome : dict
+        Result and contact figures so far; updated in place with the peaks.
+    model : hosedrogue.engagement.chain.ChainModel
+        Parameter, environment and gust arrays of the run.
+    drogue_eq : array (3,)
+        Drogue position at the start [m] (the reference of the excursion).
+    energy : bool
+        Also evaluate the energy terms [J].
+    completed : bool
+        Whether the run reached its end without a failed state.
+    message : str
+        "completed" or why it stopped.
+    delta_total : float
+        Hose length lost at merges [m].
+    t_set : float
+        Tension set point of the reel [N] (resolved if the reel's was negative).
+    reel : Reel
+        The drum unit.
+    probe : Probe or None
+        The receiver's probe.
+
+    Returns
+    -------
+    EngagementResult
+    """
+    from .spec import plain
+
+    cols: dict = {}
+    joints_all, jvel_all = [], []
+    for segment in segments:
+        seg, joints, jvel = _segment_columns(params, segment, model, energy)
+        for k, v in seg.items():
+            cols.setdefault(k, []).append(v)
+        joints_all.extend(list(joints))
+        jvel_all.extend(list(jvel))
+    cat = {k: np.concatenate(v) for k, v in cols.items()}
+    en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
+    outcome.update(_peaks(cat, drogue_eq, events, delta_total, t_set))
+    if reel.law == "locked":
+        outcome["tension_set_n"] = None
+    meta = {"reel": plain(reel), "probe": plain(probe) if probe is not None else None,
+            "lumping": params.hose.mass_lumping,
+            "events": events}
+    return EngagementResult(
+        t_s=cat["t"], hose_length_m=cat["L"], reel_speed_m_s=-cat["Ld"], exit_tension_n=cat["T0"],
+        drogue_tension_n=cat["Td"], probe_force_n=cat["fp"], probe_position_m=cat["pp"], coupled=cat["cp"],
+        slack_m=cat["slack"], drogue_position_m=cat["rd"], drogue_velocity_m_s=cat["vd"], tow_force_n=cat["tow"],
+        motor_torque_n_m=cat["tau"], miss_distance_series_m=cat["miss"], plane_distance_m=cat["dplane"],
+        closure_speed_series_m_s=cat["vclose"],
+        links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
+        energy=en_dict, events=events, outcome=outcome, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
+        completed=completed, message=message, meta=meta)
