@@ -44,10 +44,10 @@ ANIM_SPEED = 0.5
 class EngagementSectionResult:
     """The runs' outcomes (``scenario -> outcome dict``), their mesh and whether it is the fast one."""
 
-    outcomes: dict
-    links: int
-    duration_s: float
-    fast: bool
+    outcomes: dict  #: scenario name -> the run's outcome dict (units in the keys)
+    links: int  #: links of the runs
+    duration_s: float  #: simulated length of the runs [s]
+    fast: bool  #: the fast version (:data:`FAST_RUN`)
 
 
 def _scenario(name: str, settings, links: int | None = None):
@@ -178,26 +178,42 @@ def _doubling_table(runs: dict, doubled: dict, change: dict) -> str:
                       table_id="table-engagement-doubling")
 
 
-def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResult:
-    """Run the three engagement scenarios and write their section.
+@dataclass(frozen=True)
+class _Study:
+    """What the section computes: the runs, their doubled-links twins and the numbers read from them."""
 
-    Parameters
-    ----------
-    out : hosedrogue.report.writer.ReportFolder
-        The report being written.
-    settings : hosedrogue.report.settings.ReportSettings
-        ``name == "fast"``: the fast mesh and length (:data:`FAST_RUN`); ``anim_fps``: GIF frames
-        per real second.
+    runs: dict  #: scenario -> EngagementResult
+    doubled: dict  #: scenario -> the same on twice the links
+    slack: dict  #: scenario -> whether the hose went slack
+    change: dict  #: scenario -> relative change of the peaks on doubling [-]
+    times: list  #: snapshot instants [s]
+    window: tuple  #: (start, end) of the animation [s]
+    frame_times: np.ndarray  #: instants of the animation's frames [s]
+    fast: bool
 
-    Returns
-    -------
-    EngagementSectionResult
-    """
+    @property
+    def outcomes(self) -> dict:
+        return {name: r.outcome for name, r in self.runs.items()}
+
+    @property
+    def links(self) -> int:
+        return int(self.runs["engage-locked"].links[0])
+
+    @property
+    def duration_s(self) -> float:
+        return float(self.runs["engage-locked"].t_s[-1])
+
+    @property
+    def worst(self) -> float:
+        """Largest relative change of the peak probe load and peak slack on doubling [-]."""
+        return max(max(c["peak_probe_load_n"], c["peak_slack_m"]) for c in self.change.values())
+
+
+def _study(settings) -> _Study:
+    """Run the scenarios and the doubling check; pick the snapshot instants and the animation window."""
     from ..engagement.run import went_slack
-    from ..plotting.engagement import animate_engagement, plot_drogue_region, plot_engagement_history
 
     fast = settings.name == "fast"
-    out.status("engagement runs")
     runs, doubled = _runs(settings)
     slack = {name: went_slack(r) for name, r in runs.items()}
     change = _doubling(runs, doubled)
@@ -206,47 +222,47 @@ def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResul
     tc = locked.outcome.get("contact_time_s") or 2.0
     window = (max(0.0, tc - 0.5), min(float(locked.t_s[-1]), tc + (4.0 if fast else 6.0)))
     frame_times = np.arange(window[0], window[1] + 1e-9, ANIM_SPEED / settings.anim_fps)
-    _write_csv(out, runs, doubled, times, frame_times)
+    return _Study(runs=runs, doubled=doubled, slack=slack, change=change, times=times, window=window,
+                  frame_times=frame_times, fast=fast)
 
-    labelled = {_label(n): r for n, r in runs.items()}
+
+def _figures(out, st: _Study, settings) -> float:
+    """The time histories, the hose shapes and the GIF; returns the GIF's size [MB]."""
+    from ..plotting.engagement import animate_engagement, plot_drogue_region, plot_engagement_history
+
+    labelled = {_label(n): r for n, r in st.runs.items()}
     out.figure(plot_engagement_history(labelled), "fig_engagement_history.png")
-    out.figure(plot_drogue_region(labelled, times), "fig_engagement_snapshots.png")
+    out.figure(plot_drogue_region(labelled, st.times), "fig_engagement_snapshots.png")
     out.status("engagement animation")
     gif = animate_engagement(labelled, out.dir / "anim_engagement.gif", fps=settings.anim_fps, speed=ANIM_SPEED,
-                             window_s=window)
+                             window_s=st.window)
     out.written(gif)
-    size_mb = gif.stat().st_size / 1e6
+    return gif.stat().st_size / 1e6
 
-    n = int(locked.links[0])
-    duration = float(locked.t_s[-1])
-    o = {name: r.outcome for name, r in runs.items()}
-    ol, oc, orr = (o[s] for s in SCENARIOS)
-    worst = max(max(c["peak_probe_load_n"], c["peak_slack_m"]) for c in change.values())
-    passes = worst < DOUBLING_BOUND
-    whipping = [_label(k) for k, v in slack.items() if v]
-    banner = (f'<p class=diff id="engagement-fast">FAST VERSION of this section: {n} links and {duration:g} s '
-              f"per run, not the shipped scenarios' mesh and 15 s; the doubling check is {n} -&gt; {2 * n} links. The full report runs "
-              "the shipped scenarios.</p>" if fast else "")
-    contact = (f"All three probes are {esc(ol['result'])} at t = {fmt(ol.get('contact_time_s'), 3)} s with a miss "
-               f"of {fmt(ol['miss_distance_m'], 2)} m and a closure speed of {fmt(ol['closure_speed_m_s'], 3)} m/s "
-               "seen by the coupler (the probe's 1.5 m/s along the inclined last link)."
-               if all(v["result"] == "captured" for v in o.values()) else
-               "Results: " + "; ".join(f"{_label(k)}: {esc(v['result'])}" for k, v in o.items()) + ".")
-    prose = (
-        f"<p>The receiver's probe starts 3 m behind the drogue's balance position (150 m/s, 8000 m, tanker "
-        f"wake on, no turbulence), closes at 1.5 m/s, couples, pushes the drogue 2 m further forward and holds "
-        f"(docs/engagement.md). The hose has {n} links and the runs last {duration:g} s. {contact}</p>"
-        f"<p>The <b>locked</b> reel cannot take up the 2 m: the hose goes slack "
-        f"(peak slack {fmt(ol['peak_slack_m'], 3)} m), bunches near the drogue into a loop that flails in the "
-        f"stream, and the probe carries a peak load of {fmt(ol['peak_probe_load_n'])} N when the loop snaps "
-        f"taut. The <b>constant-tension</b> reel takes up {fmt(oc['length_taken_up_m'], 3)} m as the tension "
-        f"drops: the slack stays at {fmt(oc['peak_slack_m'], 3)} m and the peak probe load at "
-        f"{fmt(oc['peak_probe_load_n'])} N. The <b>responsive</b> reel needs slack to move (its take-up "
-        f"speed is commanded by the slack beyond a dead band): it lets {fmt(orr['peak_slack_m'], 3)} m build, "
-        f"takes up {fmt(orr['length_taken_up_m'], 3)} m and the probe sees {fmt(orr['peak_probe_load_n'])} N.</p>"
+
+def _fast_note(st: _Study) -> str:
+    n = st.links
+    return (f'<p class=diff id="engagement-fast">FAST VERSION of this section: {n} links and {st.duration_s:g} s '
+            f"per run, not the shipped scenarios' mesh and 15 s; the doubling check is {n} -&gt; {2 * n} links. "
+            "The full report runs the shipped scenarios.</p>" if st.fast else "")
+
+
+def _contact_text(o: dict) -> str:
+    ol = o["engage-locked"]
+    return (f"All three probes are {esc(ol['result'])} at t = {fmt(ol.get('contact_time_s'), 3)} s with a miss "
+            f"of {fmt(ol['miss_distance_m'], 2)} m and a closure speed of {fmt(ol['closure_speed_m_s'], 3)} m/s "
+            "seen by the coupler (the probe's 1.5 m/s along the inclined last link)."
+            if all(v["result"] == "captured" for v in o.values()) else
+            "Results: " + "; ".join(f"{_label(k)}: {esc(v['result'])}" for k, v in o.items()) + ".")
+
+
+def _doubling_text(st: _Study) -> str:
+    n, worst = st.links, st.worst
+    whipping = [_label(k) for k, v in st.slack.items() if v]
+    return (
         f"<p><b>Link doubling.</b> From {n} to {2 * n} links (step halved with the link length) the peak probe "
         f"load and the peak slack change by at most {100 * worst:.1f} % "
-        f"({'within' if passes else 'beyond'} the 5 % bound). "
+        f"({'within' if worst < DOUBLING_BOUND else 'beyond'} the 5 % bound). "
         + (f"The peak exit tension of the runs in which the hose goes slack ({', '.join(whipping)}: the exit "
            "tension falls below 10 % of the steady trail tension) is <b>not converged</b>: "
            "it is the spike when the slack hose snaps taut, whose height in a chain of rigid, inextensible "
@@ -256,10 +272,35 @@ def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResul
            if whipping else "The hose never goes slack, and every peak converges.")
         + "</p>"
     )
-    html = (
-        '<section id="engagement"><h2>Beyond the paper: the refuelling engagement</h2>' + banner + prose
-        + _outcome_table(runs, slack)
-        + _doubling_table(runs, doubled, change)
+
+
+def _prose(st: _Study) -> str:
+    o = st.outcomes
+    ol, oc, orr = (o[s] for s in SCENARIOS)
+    return (
+        f"<p>The receiver's probe starts 3 m behind the drogue's balance position (150 m/s, 8000 m, tanker "
+        f"wake on, no turbulence), closes at 1.5 m/s, couples, pushes the drogue 2 m further forward and holds "
+        f"(docs/engagement.md). The hose has {st.links} links and the runs last {st.duration_s:g} s. "
+        f"{_contact_text(o)}</p>"
+        f"<p>The <b>locked</b> reel cannot take up the 2 m: the hose goes slack "
+        f"(peak slack {fmt(ol['peak_slack_m'], 3)} m), bunches near the drogue into a loop that flails in the "
+        f"stream, and the probe carries a peak load of {fmt(ol['peak_probe_load_n'])} N when the loop snaps "
+        f"taut. The <b>constant-tension</b> reel takes up {fmt(oc['length_taken_up_m'], 3)} m as the tension "
+        f"drops: the slack stays at {fmt(oc['peak_slack_m'], 3)} m and the peak probe load at "
+        f"{fmt(oc['peak_probe_load_n'])} N. The <b>responsive</b> reel needs slack to move (its take-up "
+        f"speed is commanded by the slack beyond a dead band): it lets {fmt(orr['peak_slack_m'], 3)} m build, "
+        f"takes up {fmt(orr['length_taken_up_m'], 3)} m and the probe sees {fmt(orr['peak_probe_load_n'])} N.</p>"
+        + _doubling_text(st)
+    )
+
+
+def _html(st: _Study, size_mb: float) -> str:
+    window = st.window
+    return (
+        '<section id="engagement"><h2>Beyond the paper: the refuelling engagement</h2>' + _fast_note(st)
+        + _prose(st)
+        + _outcome_table(st.runs, st.slack)
+        + _doubling_table(st.runs, st.doubled, st.change)
         + figure_html("fig-engagement-history", "fig_engagement_history.png", "Engagement time histories",
                       "Hose length, take-up speed (positive reeling in), exit tension, tension at the drogue end, "
                       "probe load, slack (hose length minus the straight exit-to-drogue distance), drogue x "
@@ -267,7 +308,7 @@ def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResul
                       ("engagement_timeseries.csv",))
         + figure_html("fig-engagement-snapshots", "fig_engagement_snapshots.png", "Hose shapes",
                       "Side view of the aft 5 m of hose (x forward, z down) with the probe tip (triangle) at "
-                      f"t = {', '.join(f'{x:g}' for x in times)} s: before contact, contact, and the locked "
+                      f"t = {', '.join(f'{x:g}' for x in st.times)} s: before contact, contact, and the locked "
                       "reel's peak slack and peak probe load.",
                       ("engagement_snapshots.csv",))
         + f'<figure id="anim-engagement"><img src="anim_engagement.gif" alt="engagement animation">'
@@ -276,20 +317,57 @@ def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResul
         f'<span class=data>Data: <a href="anim_engagement.csv">anim_engagement.csv</a>.</span>'
         f"</figcaption></figure></section>"
     )
-    out.section("engagement", "engagement", html)
-    out.summarize(
-        f"Engagement ({n} links{', fast version' if fast else ''}): the locked reel lets "
+
+
+def _summary(st: _Study) -> str:
+    ol, oc = st.outcomes["engage-locked"], st.outcomes["engage-constant-tension"]
+    return (
+        f"Engagement ({st.links} links{', fast version' if st.fast else ''}): the locked reel lets "
         f"{ol['peak_slack_m']:.2f} m of slack build and the probe sees {ol['peak_probe_load_n']:.0f} N; the "
         f"constant-tension reel takes up {oc['length_taken_up_m']:.2f} m with {oc['peak_slack_m']:.3f} m of slack "
-        f"and {oc['peak_probe_load_n']:.0f} N. Doubling the links moves these peaks by at most {100 * worst:.1f} %.")
-    keys = ("miss_distance_m", "closure_speed_m_s", "contact_time_s", "peak_probe_load_n", "peak_exit_tension_n",
-            "min_exit_tension_n", "peak_slack_m", "peak_drogue_excursion_m", "length_taken_up_m")
-    out.record("engagement", {
-        "links": n, "duration_s": duration, "fast": fast,
-        "runs": {_label(k): {"captured": v["result"] == "captured", **{x: v[x] for x in keys},
+        f"and {oc['peak_probe_load_n']:.0f} N. Doubling the links moves these peaks by at most {100 * st.worst:.1f} %.")
+
+
+#: Outcome keys recorded per run in report.json (units in their names).
+_RECORD_KEYS = ("miss_distance_m", "closure_speed_m_s", "contact_time_s", "peak_probe_load_n", "peak_exit_tension_n",
+               "min_exit_tension_n", "peak_slack_m", "peak_drogue_excursion_m", "length_taken_up_m")
+
+
+def _record(st: _Study, size_mb: float) -> dict:
+    """The ``"engagement"`` block of report.json."""
+    n, change, slack = st.links, st.change, st.slack
+    return {
+        "links": n, "duration_s": st.duration_s, "fast": st.fast,
+        "runs": {_label(k): {"captured": v["result"] == "captured", **{x: v[x] for x in _RECORD_KEYS},
                              "peak_exit_tension_converged": not slack[k],
                              "doubling_change_peak_probe_load": change[k]["peak_probe_load_n"],
-                             "doubling_change_peak_slack": change[k]["peak_slack_m"]} for k, v in o.items()},
-        "doubling_links": 2 * n, "doubling_max_change": worst, "animation_size_mb": size_mb,
-    })
-    return EngagementSectionResult(outcomes=o, links=n, duration_s=duration, fast=fast)
+                             "doubling_change_peak_slack": change[k]["peak_slack_m"]}
+                 for k, v in st.outcomes.items()},
+        "doubling_links": 2 * n, "doubling_max_change": st.worst, "animation_size_mb": size_mb,
+    }
+
+
+def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResult:
+    """Run the three engagement scenarios and write their section.
+
+    Parameters
+    ----------
+    out : hosedrogue.report.writer.ReportFolder
+        The report being written.
+    settings : hosedrogue.report.settings.ReportSettings
+        ``name == "fast"``: the fast mesh and length (:data:`FAST_RUN`); ``anim_fps``: GIF frames
+        per real second [1/s].
+
+    Returns
+    -------
+    EngagementSectionResult
+        The runs' outcomes, their links and duration [s].
+    """
+    out.status("engagement runs")
+    st = _study(settings)
+    _write_csv(out, st.runs, st.doubled, st.times, st.frame_times)
+    size_mb = _figures(out, st, settings)
+    out.section("engagement", "engagement", _html(st, size_mb))
+    out.summarize(_summary(st))
+    out.record("engagement", _record(st, size_mb))
+    return EngagementSectionResult(outcomes=st.outcomes, links=st.links, duration_s=st.duration_s, fast=st.fast)
