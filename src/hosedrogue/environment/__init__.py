@@ -7,8 +7,10 @@ atmosphere
 wake
     Hallock-Burnham trailing-vortex pair of the tanker (docs/model.md §4); a numba kernel
     :func:`~hosedrogue.environment.wake.wake_velocity` for the inner loop.
+dryden
+    Dryden spectra, forming filters and their exact discretization.
 turbulence
-    Dryden forming filters, their exact discretization and the gust record; a numba lookup
+    The gust record drawn through the Dryden filters (re-exporting :mod:`.dryden`); a numba lookup
     :func:`~hosedrogue.environment.turbulence.gust_at` for the inner loop.
 
 All velocities are in m/s along the tanker trajectory frame S_p (x forward, y right, z down),
