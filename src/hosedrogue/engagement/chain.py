@@ -33,10 +33,10 @@ MERGE_RATIO = 0.5
 class Chain:
     """Arrays of one discretization: lengths (l[0] follows L), joint masses, link inertias."""
 
-    l: np.ndarray
-    M: np.ndarray
-    J: np.ndarray
-    l_nom: float
+    l: np.ndarray  #: (n,) link lengths [m], exit link first (its length follows L in the kernels)
+    M: np.ndarray  #: (n,) lumped joint masses [kg], joints 1..n (the last includes the drogue)
+    J: np.ndarray  #: (n,) transverse link inertias [kg m^2] (the last includes the drogue's)
+    l_nom: float  #: nominal link length [m]: hose length over the initial number of links
     chart: np.ndarray  #: (n,) 0: standard angles, 1: the alternative chart (engagement_kernels.apply_charts)
 
     @property
@@ -50,7 +50,23 @@ def chain_arrays(params: Params, lengths: np.ndarray, l_nom: float, chart: np.nd
     by the fixed-length model's own :func:`~hosedrogue.model.system.lumped_masses` (the tow
     point's share of ``split`` is carried by the tanker). The compiled counterpart for the exit
     link as L changes is ``engagement_kernels.set_variable_link``; ``hose_mass_kg`` of every run
-    checks that the two agree (mu L at every output time)."""
+    checks that the two agree (mu L at every output time).
+
+    Parameters
+    ----------
+    params : Params
+        Hose mass per length [kg/m], lumping and link inertia, drogue mass [kg] and inertia [kg m^2].
+    lengths : array (n,)
+        Link lengths [m], exit link first.
+    l_nom : float
+        Nominal link length [m].
+    chart : array (n,), optional
+        Angle chart of each link (0 standard, 1 alternative); default all standard.
+
+    Returns
+    -------
+    Chain
+    """
     l = np.ascontiguousarray(lengths, dtype=np.float64).copy()
     n = l.size
     M, _ = lumped_masses(params, l)
@@ -62,13 +78,37 @@ def chain_arrays(params: Params, lengths: np.ndarray, l_nom: float, chart: np.nd
 
 
 def initial_chain(params: Params) -> Chain:
+    """The initial mesh: ``hose.links`` links of ``hose.length_m / hose.links`` [m], standard charts.
+
+    Parameters
+    ----------
+    params : Params
+        Hose length [m], links, mass per length [kg/m]; drogue mass [kg] and inertia [kg m^2].
+
+    Returns
+    -------
+    Chain
+    """
     n = params.hose.links
     l_nom = params.hose.length_m / n
     return chain_arrays(params, np.full(n, l_nom), l_nom)
 
 
 def hose_mass_in_air(chain: Chain, params: Params) -> float:
-    """Hose mass carried by the joints (and, for split lumping, the exit's half-link) [kg]."""
+    """Hose mass carried by the joints (and, for split lumping, the exit's half-link) [kg].
+
+    Parameters
+    ----------
+    chain : Chain
+        The discretization (joint masses [kg], exit link length [m]).
+    params : Params
+        Drogue mass [kg] (subtracted), hose mass per length [kg/m] and lumping.
+
+    Returns
+    -------
+    float
+        Hose mass in the air [kg]; ``mu L`` for a consistent chain.
+    """
     m = float(np.sum(chain.M)) - params.drogue.mass_kg
     if params.hose.mass_lumping == "split":
         m += 0.5 * params.hose.mass_per_length_kg_m * chain.l[0]
@@ -89,7 +129,21 @@ def _rot(v: np.ndarray, chart: float, inverse: bool = False) -> np.ndarray:
 
 
 def frame(th1: float, th2: float, chart: float = 0.0):
-    """(e, a, b) of a link in S_p."""
+    """(e, a, b) of a link in S_p.
+
+    Parameters
+    ----------
+    th1, th2 : float
+        Pitch and yaw of the link in its chart [rad].
+    chart : float
+        0 for the standard chart, 1 for the alternative one.
+
+    Returns
+    -------
+    e, a, b : array (3,)
+        Unit vector along the link (exit to drogue) and its derivatives with respect to th1 and
+        th2 (``edot = a thd1 + b thd2``; ``|a| = cos th2``, ``|b| = 1``) [-, 1/rad].
+    """
     c1, s1, c2, s2 = math.cos(th1), math.sin(th1), math.cos(th2), math.sin(th2)
     e = np.array([-c1 * c2, -s2, s1 * c2])
     a = np.array([s1 * c2, 0.0, c1 * c2])
@@ -106,12 +160,38 @@ def _angles(e: np.ndarray, chart: float = 0.0) -> tuple[float, float]:
 
 
 def best_chart(e: np.ndarray) -> float:
-    """The chart in which direction e has the smaller |yaw|."""
+    """The chart in which direction e has the smaller |yaw|.
+
+    Parameters
+    ----------
+    e : array (3,)
+        Unit link direction in S_p [-].
+
+    Returns
+    -------
+    float
+        0 (standard) or 1 (alternative).
+    """
     return 0.0 if abs(e[1]) <= abs(e[2]) else 1.0
 
 
 def coordinates(e: np.ndarray, edot: np.ndarray, chart: float) -> tuple[float, float, float, float]:
-    """(th1, th2, thd1, thd2) of a link with direction e and rate edot in a chart."""
+    """(th1, th2, thd1, thd2) of a link with direction e and rate edot in a chart.
+
+    Parameters
+    ----------
+    e : array (3,)
+        Unit link direction in S_p [-].
+    edot : array (3,)
+        Its time derivative [1/s].
+    chart : float
+        0 for the standard chart, 1 for the alternative one.
+
+    Returns
+    -------
+    tuple of float
+        Pitch and yaw [rad] and their rates [rad/s].
+    """
     th1, th2 = _angles(e, chart)
     _, a, b = frame(th1, th2, chart)
     c2 = math.cos(th2)
@@ -120,7 +200,26 @@ def coordinates(e: np.ndarray, edot: np.ndarray, chart: float) -> tuple[float, f
 
 def switch_charts(z: np.ndarray, chain: Chain, switch_yaw: float) -> tuple[np.ndarray, Chain, list[int]]:
     """Move every link whose |yaw| exceeds switch_yaw [rad] to the other chart (exact remap);
-    returns the new state, a new Chain and the links moved."""
+    returns the new state, a new Chain and the links moved.
+
+    Parameters
+    ----------
+    z : array (4n + Z_TAIL,)
+        State: angles [rad], rates [rad/s], L [m], L' [m/s], work states [J]; not modified.
+    chain : Chain
+        Its discretization; not modified.
+    switch_yaw : float
+        |yaw| beyond which a link changes chart [rad].
+
+    Returns
+    -------
+    z : array
+        The same configuration in the new charts.
+    chain : Chain
+        A copy with the new charts.
+    moved : list of int
+        Indices of the links moved.
+    """
     n = chain.n
     z = z.copy()
     chain = Chain(chain.l.copy(), chain.M.copy(), chain.J.copy(), chain.l_nom, chain.chart.copy())
@@ -137,7 +236,24 @@ def switch_charts(z: np.ndarray, chain: Chain, switch_yaw: float) -> tuple[np.nd
 
 
 def split(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chain]:
-    """Split the exit link: new exit link ``l_0 - l_nom`` and a fixed link ``l_nom`` on its line."""
+    """Split the exit link: new exit link ``l_0 - l_nom`` and a fixed link ``l_nom`` on its line.
+
+    Parameters
+    ----------
+    z : array (4n + Z_TAIL,)
+        State: angles [rad], rates [rad/s], L [m], L' [m/s], work states [J].
+    chain : Chain
+        Its discretization (n links).
+    params : Params
+        For the masses [kg] and inertias [kg m^2] of the new mesh.
+
+    Returns
+    -------
+    z : array (4(n+1) + Z_TAIL,)
+        The same configuration on n + 1 links (every joint keeps position and velocity).
+    chain : Chain
+        The new mesh.
+    """
     n = chain.n
     q, qd, tail = z[: 2 * n], z[2 * n: 4 * n], z[4 * n:]
     q2 = np.concatenate([q[:2], q])
@@ -149,7 +265,26 @@ def split(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
 
 def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chain, float]:
     """Merge links 0 and 1 into a straight exit link to old joint 2; returns (z, chain, delta)
-    with delta [m] the free length lost (zero for collinear links)."""
+    with delta [m] the free length lost (zero for collinear links).
+
+    Parameters
+    ----------
+    z : array (4n + Z_TAIL,)
+        State: angles [rad], rates [rad/s], L [m], L' [m/s], work states [J]; n >= 2.
+    chain : Chain
+        Its discretization (n links).
+    params : Params
+        For the masses [kg] and inertias [kg m^2] of the new mesh.
+
+    Returns
+    -------
+    z : array (4(n-1) + Z_TAIL,)
+        State on n - 1 links: joints 2.. keep position and velocity; L and L' follow.
+    chain : Chain
+        The new mesh.
+    delta : float
+        Free hose length lost [m].
+    """
     n = chain.n
     assert n >= 2
     q, qd, tail = z[: 2 * n], z[2 * n: 4 * n], z[4 * n:].copy()
@@ -179,7 +314,15 @@ def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
 
 class ChainModel(HoseModel):
     """A :class:`HoseModel` whose arrays are those of a :class:`Chain` (for the equilibrium
-    solver, the linearization and the fixed-length kernels at L' = 0)."""
+    solver, the linearization and the fixed-length kernels at L' = 0).
+
+    Parameters
+    ----------
+    params : Params
+        The run's parameters; hose length [m] and links are replaced by the chain's.
+    chain : Chain
+        Link lengths [m], joint masses [kg] and link inertias [kg m^2] to use.
+    """
 
     def __init__(self, params: Params, chain: Chain):
         L = float(np.sum(chain.l))
@@ -196,14 +339,41 @@ class ChainModel(HoseModel):
 
 
 def chain_equilibrium(params: Params, chain: Chain) -> tuple[Equilibrium, ChainModel]:
-    """Balance position of the chain as it is (any free length, any mesh), in steady air."""
+    """Balance position of the chain as it is (any free length, any mesh), in steady air.
+
+    Parameters
+    ----------
+    params : Params
+        Hose, drogue, flight and environment.
+    chain : Chain
+        The mesh.
+
+    Returns
+    -------
+    equilibrium : hosedrogue.analysis.equilibrium.Equilibrium
+        The balance position (state [rad], drogue position [m]).
+    model : ChainModel
+        The model it was solved on.
+    """
     model = ChainModel(params, chain)
     return solve_equilibrium(model.params, model=model), model
 
 
 def chain_for_length(params: Params, L: float) -> Chain:
     """The mesh the remesh rules give for free length L grown or shortened from the nominal mesh
-    (exit link in [MERGE_RATIO, SPLIT_RATIO) l_nom, every other link l_nom)."""
+    (exit link in [MERGE_RATIO, SPLIT_RATIO) l_nom, every other link l_nom).
+
+    Parameters
+    ----------
+    params : Params
+        Nominal hose length [m] and links (they fix l_nom), masses and inertias.
+    L : float
+        Free hose length [m].
+
+    Returns
+    -------
+    Chain
+    """
     l_nom = params.hose.length_m / params.hose.links
     m = int(math.floor((L - MERGE_RATIO * l_nom) / l_nom))
     m = max(m, 0)

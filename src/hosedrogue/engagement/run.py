@@ -13,13 +13,24 @@ from ..version import __version__
 from .driver import EngagementResult, simulate_engagement
 from .spec import Reel
 
-#: Keys of run.json's "engagement" object (ENGAGEMENT.md 4).
+#: Keys of run.json's "engagement" object (docs/engagement.md, "What a run reports").
 SUMMARY_KEYS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",
                 "peak_slack_m", "peak_drogue_excursion_m")
 
 
 def run_engagement(scenario) -> EngagementResult:
-    """Simulate an engagement scenario; the result's ``meta`` records what was run."""
+    """Simulate an engagement scenario; the result's ``meta`` records what was run.
+
+    Parameters
+    ----------
+    scenario : hosedrogue.scenarios.Scenario
+        Its ``params``, ``duration_s`` [s] and the ``reel`` / ``probe`` sections in ``extra``
+        (default reel, no probe when absent).
+
+    Returns
+    -------
+    EngagementResult
+    """
     reel = scenario.extra.get("reel", Reel())
     probe = scenario.extra.get("probe")
     result = simulate_engagement(scenario.params, reel, probe, scenario.duration_s)
@@ -39,7 +50,17 @@ def went_slack(result: EngagementResult) -> bool:
     exit-tension spikes when it snaps taut again are not converged with the link count
     (docs/engagement.md; the shipped scenarios' minimum exit tension: locked reel -1.9 kN,
     responsive reel 38 N, of a 1.53 kN trail tension; the constant-tension reel keeps 551 N and
-    all its peaks converge)."""
+    all its peaks converge).
+
+    Parameters
+    ----------
+    result : EngagementResult
+        The run (its exit tension [N]; the first sample is the steady trail tension).
+
+    Returns
+    -------
+    bool
+    """
     T = np.asarray(result.exit_tension_n)
     return bool(T.size and np.min(T) < SLACK_TENSION_FRACTION * T[0])
 
@@ -53,7 +74,18 @@ SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail 
 
 def engagement_summary(result: EngagementResult) -> dict:
     """The run's ``"engagement"`` object: the brief's keys first, then the supporting figures,
-    ``peak_tension_converged`` and ``notes`` (what not to read as converged)."""
+    ``peak_tension_converged`` and ``notes`` (what not to read as converged).
+
+    Parameters
+    ----------
+    result : EngagementResult
+        The run.
+
+    Returns
+    -------
+    dict
+        Outcome keys with their units in the names (``miss_distance_m``, ``peak_probe_load_n``, ...).
+    """
     o = result.outcome
     out = {k: o.get(k) for k in SUMMARY_KEYS}
     out.update({k: v for k, v in o.items() if k not in out})
@@ -64,7 +96,22 @@ def engagement_summary(result: EngagementResult) -> dict:
 
 
 def write_engagement(result: EngagementResult, out_dir: Path, plot: bool = True) -> list[Path]:
-    """Write ``timeseries.csv``, ``run.json`` and (optionally) ``engagement.png`` to out_dir."""
+    """Write ``timeseries.csv``, ``run.json`` and (optionally) ``engagement.png`` to out_dir.
+
+    Parameters
+    ----------
+    result : EngagementResult
+        The run.
+    out_dir : str or pathlib.Path
+        Output folder, created if missing.
+    plot : bool
+        Also write the time-history figure.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [result.to_csv(out_dir / "timeseries.csv")]

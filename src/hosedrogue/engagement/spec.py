@@ -25,27 +25,36 @@ class Reel(_Section):
     #: "locked": fixed length (or the length schedule below); "constant-tension": tau_m = r_d T_set;
     #: "response": constant tension plus a take-up speed loop driven by the slack.
     law: str = field(default="constant-tension", metadata=_choice(*REEL_LAWS))
+    #: drum radius r_d [m] (hose speed r_d w)
     drum_radius_m: float = field(default=0.3, metadata=_num(0.0, 5.0, unit="m"))
-    #: drum plus wound hose, constant: 30 m of hose (4.4 kg/m) at 0.35 m (16 kg m^2) plus the drum
+    #: J_r [kg m^2]: drum plus wound hose, constant: 30 m of hose (4.4 kg/m) at 0.35 m (16 kg m^2) plus the drum
     inertia_kg_m2: float = field(default=20.0, metadata=_num(0.0, 1e5, unit="kg m^2"))
+    #: c_r [N m s]: viscous friction torque per drum speed
     friction_n_m_s: float = field(default=1.0, metadata=_num(0.0, 1e5, lo_open=False, unit="N m s"))
     #: T_set [N]; < 0 means "the steady trail tension at the balance position" (the default)
     tension_set_n: float = field(default=-1.0, metadata=_num(-1.0, 1e6, lo_open=False, unit="N (-1: steady trail tension)"))
+    #: motor torque limit |tau_m| [N m]
     max_torque_n_m: float = field(default=2000.0, metadata=_num(0.0, 1e6, unit="N m"))
+    #: take-up (reel-in) and payout speed limits [m/s], held by the governor
     max_takeup_speed_m_s: float = field(default=3.0, metadata=_num(0.0, 50.0, unit="m/s"))
+    #: payout speed limit [m/s]
     max_payout_speed_m_s: float = field(default=3.0, metadata=_num(0.0, 50.0, unit="m/s"))
-    #: stiffness of the speed governor beyond the speed limits
+    #: stiffness of the speed governor beyond the speed limits [N s/m]
     governor_gain_n_s_m: float = field(default=20000.0, metadata=_num(0.0, 1e8, unit="N s/m"))
-    #: response law: commanded take-up speed per metre of slack beyond the dead band
+    #: response law: commanded take-up speed per metre of slack beyond the dead band [1/s]
     takeup_gain_1_s: float = field(default=4.0, metadata=_num(0.0, 1e3, lo_open=False, unit="1/s"))
+    #: response law: slack [m] below which no take-up speed is commanded
     slack_dead_band_m: float = field(default=0.02, metadata=_num(0.0, 100.0, lo_open=False, unit="m"))
-    #: response law: speed-loop gain (force at the drum rim per m/s of speed error)
+    #: response law: speed-loop gain (force at the drum rim per m/s of speed error) [N s/m]
     speed_gain_n_s_m: float = field(default=3000.0, metadata=_num(0.0, 1e8, lo_open=False, unit="N s/m"))
-    #: locked law: length change of a payout schedule (negative: take up), 0 for a fixed length;
+    #: locked law: length change of a payout schedule [m] (negative: take up), 0 for a fixed length;
     #: speed up to payout_speed_m_s along a half-sine acceleration pulse of peak payout_acceleration_m_s2
     payout_m: float = field(default=0.0, metadata=_num(-1000.0, 1000.0, lo_open=False, unit="m"))
+    #: payout schedule: cruise speed [m/s]
     payout_speed_m_s: float = field(default=1.0, metadata=_num(0.0, 50.0, unit="m/s"))
+    #: payout schedule: peak acceleration [m/s^2]
     payout_acceleration_m_s2: float = field(default=2.0, metadata=_num(0.0, 1000.0, unit="m/s^2"))
+    #: payout schedule: start time [s]
     payout_start_s: float = field(default=0.0, metadata=_num(0.0, 1e6, lo_open=False, unit="s"))
 
     def _check_consistency(self) -> None:
@@ -59,19 +68,29 @@ class Probe(_Section):
     """Prescribed probe-tip path, capture test and probe-drogue coupling (ENGAGEMENT.md 2)."""
 
     _section = "probe"
+    #: False: no probe (the reel alone)
     enabled: bool = field(default=True, metadata=_bool())
-    #: start point: this far aft of the drogue's balance position, plus the offsets
+    #: start point: this far aft of the drogue's balance position [m], plus the offsets
     standoff_m: float = field(default=3.0, metadata=_num(0.0, 100.0, unit="m"))
+    #: lateral (S_p y, right) and vertical (S_p z, down) offsets of the start point [m]
     offset_y_m: float = field(default=0.0, metadata=_num(-10.0, 10.0, lo_open=False, unit="m"))
+    #: vertical offset of the start point (S_p z, down) [m]
     offset_z_m: float = field(default=0.0, metadata=_num(-10.0, 10.0, lo_open=False, unit="m"))
+    #: speed of the probe forward (S_p x) [m/s]
     closure_speed_m_s: float = field(default=1.5, metadata=_num(0.0, 10.0, unit="m/s"))
-    #: after contact the probe goes on this far forward, then holds
+    #: after contact the probe goes on this far forward [m], then holds
     push_m: float = field(default=2.0, metadata=_num(0.0, 50.0, lo_open=False, unit="m"))
+    #: duration of the half-cosine speed ramp that stops the probe at the end of the push [s]
     stop_time_s: float = field(default=1.0, metadata=_num(0.0, 60.0, unit="s"))
+    #: capture test: largest radial miss in the coupler plane [m]
     capture_radius_m: float = field(default=0.305, metadata=_num(0.0, 5.0, unit="m"))
+    #: capture test: closure speed window at the coupler plane [m/s] (lower bound)
     min_closure_speed_m_s: float = field(default=0.5, metadata=_num(0.0, 10.0, lo_open=False, unit="m/s"))
+    #: capture test: upper bound of the closure speed window [m/s]
     max_closure_speed_m_s: float = field(default=3.0, metadata=_num(0.0, 20.0, unit="m/s"))
+    #: probe-drogue coupling once captured: spring stiffness [N/m]
     stiffness_n_m: float = field(default=5000.0, metadata=_num(0.0, 1e7, unit="N/m"))
+    #: probe-drogue coupling: damping [N s/m]
     damping_n_s_m: float = field(default=500.0, metadata=_num(0.0, 1e6, lo_open=False, unit="N s/m"))
 
     def _check_consistency(self) -> None:
@@ -85,7 +104,24 @@ ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe}
 
 
 def section_from_dict(name: str, data: Any):
-    """Build ``Reel`` or ``Probe`` from a scenario table, rejecting unknown fields."""
+    """Build ``Reel`` or ``Probe`` from a scenario table, rejecting unknown fields.
+
+    Parameters
+    ----------
+    name : {"reel", "probe"}
+        The scenario section.
+    data : mapping
+        Its fields (SI units, the unit in every field name).
+
+    Returns
+    -------
+    Reel or Probe
+
+    Raises
+    ------
+    ParameterError
+        ``data`` not a table, an unknown field, or a value out of range.
+    """
     cls = ENGAGEMENT_SECTIONS[name]
     if not isinstance(data, Mapping):
         raise ParameterError(f"{name} = {data!r}: must be a table of fields")
@@ -97,9 +133,32 @@ def section_from_dict(name: str, data: Any):
 
 
 def validate_sections(data: Mapping[str, Any]) -> dict:
-    """The scenario loader's hook: validate ``[reel]``/``[probe]`` now, return them as objects."""
+    """The scenario loader's hook: validate ``[reel]``/``[probe]`` now, return them as objects.
+
+    Parameters
+    ----------
+    data : mapping
+        The scenario's tables; only ``reel`` and ``probe`` are read.
+
+    Returns
+    -------
+    dict
+        ``{"reel": Reel, "probe": Probe}`` for the sections present.
+    """
     return {name: section_from_dict(name, data[name]) for name in ENGAGEMENT_SECTIONS if name in data}
 
 
 def plain(obj) -> dict:
+    """The fields of a dataclass (``Reel``, ``Probe``) as a plain dict, for run.json.
+
+    Parameters
+    ----------
+    obj : dataclass instance
+        The section.
+
+    Returns
+    -------
+    dict
+        Field name -> value (SI units, the unit in the name).
+    """
     return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}

@@ -65,7 +65,21 @@ def lumped_masses(params: Params, lengths: np.ndarray) -> tuple[np.ndarray, floa
 
 def link_inertias(params: Params, lengths: np.ndarray) -> np.ndarray:
     """Link rotational inertias J [kg m^2] (n,): Table 1's fixed value (``link_inertia = "paper"``)
-    or the rod's m l^2 / 12 (``"rod"``) of links of the given lengths [m]."""
+    or the rod's m l^2 / 12 (``"rod"``) of links of the given lengths [m].
+
+    Parameters
+    ----------
+    params : Params
+        ``hose.link_inertia``, ``hose.link_inertia_kg_m2`` [kg m^2] and
+        ``hose.mass_per_length_kg_m`` [kg/m].
+    lengths : array_like (n,)
+        Link lengths [m].
+
+    Returns
+    -------
+    numpy.ndarray (n,)
+        Link inertias [kg m^2].
+    """
     lengths = np.asarray(lengths, dtype=np.float64)
     if params.hose.link_inertia == "paper":
         return np.full(lengths.size, params.hose.link_inertia_kg_m2)

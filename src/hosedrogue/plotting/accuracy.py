@@ -14,8 +14,17 @@ def plot_accuracy(studies: Sequence, tolerances_m=(1e-2, 1e-3)) -> Figure:
     """Drogue-position error against the continuum, lowest-mode frequencies and RMS turbulence
     response against the number of links, one line per mass lumping.
 
-    ``studies``: :class:`~hosedrogue.studies.accuracy.LumpingStudy` objects (one per lumping).
-    Returns a Figure with three panels; units on every axis.
+    Parameters
+    ----------
+    studies : sequence of hosedrogue.studies.accuracy.LumpingStudy
+        One per mass lumping (links, position errors [m], frequencies [rad/s], RMS responses [m]).
+    tolerances_m : sequence of float
+        Error levels drawn as horizontal lines [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three panels; units on every axis.
     """
     fig, axes = new_figure(1, 3, size=(13.0, 4.0))
     ax_err, ax_freq, ax_rms = axes

@@ -37,7 +37,19 @@ def plot_engagement_history(results: Mapping[str, object], rows: Sequence[int] |
     """Time histories of engagement runs side by side (one column per run, shared y per row):
     hose length, take-up speed, exit and drogue-end tension, probe load, slack, drogue x offset,
     coupled flag.
-    A dotted line marks the contact."""
+    A dotted line marks the contact.
+
+    Parameters
+    ----------
+    results : mapping of str to EngagementResult
+        Column title -> run (times [s], SI histories).
+    rows : sequence of int, optional
+        Indices of the rows to draw (of the eight above, in that order); default all.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     names = list(results)
     sel = [_ROWS[i] for i in (rows if rows is not None else range(len(_ROWS)))]
     fig, axes = new_figure(len(sel), len(names), size=(3.3 * len(names) + 0.8, 1.45 * len(sel) + 0.6),
@@ -59,7 +71,21 @@ def plot_engagement_history(results: Mapping[str, object], rows: Sequence[int] |
 
 
 def plot_hose_snapshots(result, times_s: Sequence[float], label: str = "") -> Figure:
-    """A strip of side views (x-z) of the hose at the given times, with the probe tip."""
+    """A strip of side views (x-z) of the hose at the given times, with the probe tip.
+
+    Parameters
+    ----------
+    result : EngagementResult
+        The run (joint and probe positions [m] in S_p).
+    times_s : sequence of float
+        Instants [s]; each panel shows the nearest output time.
+    label : str
+        Figure title (none if empty).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     t = np.asarray(result.t_s)
     idx = [int(np.argmin(np.abs(t - ts))) for ts in times_s]
     shapes = [result.joints_m[i] for i in idx]
@@ -84,7 +110,19 @@ def plot_hose_snapshots(result, times_s: Sequence[float], label: str = "") -> Fi
 
 
 def plot_drogue_region(results: Mapping[str, object], times_s: Sequence[float]) -> Figure:
-    """Side views of the aft 5 m of hose for several runs at the same times (the whip)."""
+    """Side views of the aft 5 m of hose for several runs at the same times (the whip).
+
+    Parameters
+    ----------
+    results : mapping of str to EngagementResult
+        Row label -> run (joint and probe positions [m] in S_p).
+    times_s : sequence of float
+        Instants [s], one column each; each panel shows the nearest output time.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     names = list(results)
     fig, axes = new_figure(len(names), len(times_s), size=(1.9 * len(times_s) + 0.8, 2.0 * len(names) + 0.5),
                            sharex=True, sharey=True, squeeze=False)
@@ -117,7 +155,25 @@ def animate_engagement(results: Mapping[str, object], path: str | Path, fps: int
                        window_s=None, dpi: int = 72) -> Path:
     """GIF of the hose (side view x-z) of several engagement runs overlaid, with the probe tip.
 
-    ``speed`` is simulated seconds per real second (0.5: half speed, to see the whip).
+    Parameters
+    ----------
+    results : mapping of str to EngagementResult
+        Legend label -> run (joint and probe positions [m] in S_p, times [s]).
+    path : str or pathlib.Path
+        The GIF to write (its folder is created).
+    fps : int
+        Frames per real second [1/s].
+    speed : float
+        Simulated seconds per real second [-] (0.5: half speed, to see the whip).
+    window_s : (float, float), optional
+        Start and end of the animated interval [s]; default the first run's whole time span.
+    dpi : int
+        Resolution [dots per inch] of the frames (the figure is 8 x 3.2 inches).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 

@@ -8,7 +8,18 @@ from matplotlib.figure import Figure
 
 def plot_long_runs(study) -> Figure:
     """Three panels: time to blow-up of the paper's model against turbulence intensity, the least
-    damped mode's damping ratio per model option, and the converged model's hour-long run."""
+    damped mode's damping ratio per model option, and the converged model's hour-long run.
+
+    Parameters
+    ----------
+    study : hosedrogue.studies.long_runs.LongRunStudy
+        Blow-up table (intensity, sigma [m/s], stop time [s]), mode table (damping ratio [-],
+        natural frequency [rad/s]) and the stable run (drogue offsets [m] against time [s]).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig = Figure(figsize=(7.0, 8.5), constrained_layout=True)
     ax_b, ax_m, ax_h = fig.subplots(3, 1)
 

@@ -45,7 +45,18 @@ TURBULENCE_DURATION_S = 60.0
 
 
 def observed_orders(errors) -> np.ndarray:
-    """log2 of successive ratios of errors against a known limit, for link counts that double."""
+    """log2 of successive ratios of errors against a known limit, for link counts that double.
+
+    Parameters
+    ----------
+    errors : array_like (k,)
+        Errors at link counts n, 2n, 4n, ... (any unit; signs are dropped).
+
+    Returns
+    -------
+    numpy.ndarray (k - 1,)
+        Observed orders [-].
+    """
     e = np.abs(np.asarray(errors, dtype=float))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.log2(e[:-1] / e[1:])
@@ -53,7 +64,19 @@ def observed_orders(errors) -> np.ndarray:
 
 def difference_orders(values) -> np.ndarray:
     """Observed orders from three successive doublings when the limit is unknown:
-    ``log2(|f(n) - f(2n)| / |f(2n) - f(4n)|)``; shape (k - 2,) for k values (rows for arrays)."""
+    ``log2(|f(n) - f(2n)| / |f(2n) - f(4n)|)``; shape (k - 2,) for k values (rows for arrays).
+
+    Parameters
+    ----------
+    values : array_like (k,) or (k, m)
+        A quantity at link counts n, 2n, 4n, ... (any unit); rows are compared by their
+        Euclidean distance.
+
+    Returns
+    -------
+    numpy.ndarray (k - 2,)
+        Observed orders [-].
+    """
     v = np.asarray(values, dtype=float)
     d = np.abs(np.diff(v, axis=0))
     if d.ndim > 1:
@@ -64,7 +87,20 @@ def difference_orders(values) -> np.ndarray:
 
 def richardson(coarse, fine, order: float):
     """Richardson extrapolation of a quantity from links n (coarse) and 2n (fine) at the given
-    order: ``fine + (fine - coarse) / (2^order - 1)``."""
+    order: ``fine + (fine - coarse) / (2^order - 1)``.
+
+    Parameters
+    ----------
+    coarse, fine : array_like
+        The quantity at n and 2n links (same shape, any unit).
+    order : float
+        Order of convergence in 1/n [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The extrapolated limit, in the unit of the inputs.
+    """
     coarse = np.asarray(coarse, dtype=float)
     fine = np.asarray(fine, dtype=float)
     return fine + (fine - coarse) / (2.0**order - 1.0)
@@ -74,7 +110,7 @@ def richardson(coarse, fine, order: float):
 class FrequencyStudy:
     """Lowest lateral and vertical mode frequencies [rad/s] against link count."""
 
-    links: np.ndarray  #: (k,)
+    links: np.ndarray  #: (k,) link counts
     lateral_rad_s: np.ndarray  #: (k,) damped frequency of the lowest mode seen in P_ny
     vertical_rad_s: np.ndarray  #: (k,) same for P_nz
 
@@ -90,7 +126,20 @@ class FrequencyStudy:
 
 def frequency_convergence(base: Params = STUDY_BASE, links=LINKS) -> FrequencyStudy:
     """Lowest lateral and vertical frequencies of ``base`` (any preset, e.g. ``converged``) at
-    each link count; its orders say whether the preset converges (the brief asks >= 1.8)."""
+    each link count; its orders say whether the preset converges (the brief asks >= 1.8).
+
+    Parameters
+    ----------
+    base : Params
+        The model; only ``hose.links`` is changed.
+    links : sequence of int
+        Link counts (doubling, for the orders).
+
+    Returns
+    -------
+    FrequencyStudy
+        Frequencies [rad/s] per link count.
+    """
     from .convergence import lowest_modes
     from ..analysis.linearize import linearize
 
@@ -108,9 +157,9 @@ class LumpingStudy:
     """Convergence of one mass lumping against the link count; SI units, S_p frame."""
 
     lumping: str  #: "aft" or "split"
-    links: np.ndarray  #: (k,)
-    drogue_position_m: np.ndarray  #: (k, 3) balance position of the drogue
-    continuum_m: np.ndarray  #: (3,) the continuum limit's drogue position
+    links: np.ndarray  #: (k,) link counts
+    drogue_position_m: np.ndarray  #: (k, 3) balance position of the drogue [m]
+    continuum_m: np.ndarray  #: (3,) the continuum limit's drogue position [m]
     frequencies: FrequencyStudy | None  #: lowest lateral / vertical modes (None if not measured)
     rms_response_m: np.ndarray | None  #: (k, 2) RMS lateral, vertical drogue offset in turbulence
     turbulence_wall_s: np.ndarray | None  #: (k,) wall time of the 60 s turbulence run [s]
@@ -157,7 +206,27 @@ class LumpingStudy:
 
 def turbulence_response(params: Params, duration_s: float = TURBULENCE_DURATION_S) -> tuple[np.ndarray, float]:
     """RMS lateral and vertical drogue offset [m] (2,) from the balance position over a run of
-    ``params`` with the paper's turbulence, and the run's wall time [s] (equilibrium excluded)."""
+    ``params`` with the paper's turbulence, and the run's wall time [s] (equilibrium excluded).
+
+    Parameters
+    ----------
+    params : Params
+        The model; its turbulence is replaced by :data:`TURBULENCE`.
+    duration_s : float
+        Length of the run [s].
+
+    Returns
+    -------
+    rms : numpy.ndarray (2,)
+        RMS lateral and vertical drogue offset [m].
+    wall : float
+        Wall time of the run [s].
+
+    Raises
+    ------
+    RuntimeError
+        If the run stops early.
+    """
     from ..model.system import HoseModel
     from ..simulation import simulate
 
@@ -176,7 +245,25 @@ def turbulence_response(params: Params, duration_s: float = TURBULENCE_DURATION_
 def lumping_convergence(lumping: str = "split", links=LINKS, base: Params = STUDY_BASE,
                         continuum: ContinuumShape | None = None, dynamics: bool = True) -> LumpingStudy:
     """The study above for one lumping. ``dynamics=False`` skips the frequencies and the
-    turbulence runs (the balance positions alone take a few seconds)."""
+    turbulence runs (the balance positions alone take a few seconds).
+
+    Parameters
+    ----------
+    lumping : {"aft", "split"}
+        Mass lumping.
+    links : sequence of int
+        Link counts (doubling, for the orders).
+    base : Params
+        The model; lumping and links are changed.
+    continuum : ContinuumShape, optional
+        The continuous hose's balance shape (drogue position [m]); solved if not given.
+    dynamics : bool
+        Also measure the lowest frequencies [rad/s] and the RMS turbulence response [m].
+
+    Returns
+    -------
+    LumpingStudy
+    """
     base = base.replace(hose={"mass_lumping": lumping})
     cont = continuum if continuum is not None else solve_continuum(base)
     pos, rms, wall = [], [], []
@@ -202,7 +289,25 @@ def lumping_convergence(lumping: str = "split", links=LINKS, base: Params = STUD
 def fewest_links(lumping: str, tolerance_m: float, base: Params = STUDY_BASE,
                  continuum: ContinuumShape | None = None, max_links: int = 1000) -> int | None:
     """Fewest links whose steady drogue is within ``tolerance_m`` of the continuum (bisection on
-    a monotone error; None if even ``max_links`` is not enough)."""
+    a monotone error; None if even ``max_links`` is not enough).
+
+    Parameters
+    ----------
+    lumping : {"aft", "split"}
+        Mass lumping.
+    tolerance_m : float
+        Largest distance of the drogue from the continuum's [m].
+    base : Params
+        The model; lumping and links are changed.
+    continuum : ContinuumShape, optional
+        The continuous hose's balance shape; solved if not given.
+    max_links : int
+        Upper end of the search.
+
+    Returns
+    -------
+    int or None
+    """
     base = base.replace(hose={"mass_lumping": lumping})
     cont = continuum if continuum is not None else solve_continuum(base)
 
@@ -229,7 +334,20 @@ def fewest_links(lumping: str, tolerance_m: float, base: Params = STUDY_BASE,
 
 def links_for_tolerance(study: LumpingStudy, tolerance_m: float) -> float:
     """Link count at which the error model ``C / n^p`` fitted to the two finest link counts of
-    ``study`` reaches ``tolerance_m`` (an estimate where running it is impractical)."""
+    ``study`` reaches ``tolerance_m`` (an estimate where running it is impractical).
+
+    Parameters
+    ----------
+    study : LumpingStudy
+        Position errors [m] against link counts.
+    tolerance_m : float
+        Target error [m].
+
+    Returns
+    -------
+    float
+        Estimated link count (not rounded).
+    """
     e = study.position_error_m
     n = study.links.astype(float)
     p = math.log(e[-2] / e[-1]) / math.log(n[-1] / n[-2])
@@ -244,9 +362,9 @@ class ScenarioStepStudy:
 
     steps_s: np.ndarray  #: (k,) RK4 steps [s]
     max_error_m: np.ndarray  #: (k,) max over the run of |drogue - drogue at reference_step_s| [m]
-    reference_step_s: float
+    reference_step_s: float  #: RK4 step of the reference run [s]
     reading_change_m: float  #: max |drogue(scenario reading) - drogue(paper's reading)|, both at the reference step [m]
-    duration_s: float
+    duration_s: float  #: length of the runs [s]
 
 
 def scenario_step_study(scenario: str = "paper-turbulence", steps_s=(0.01, 0.02, 0.025),
@@ -254,7 +372,26 @@ def scenario_step_study(scenario: str = "paper-turbulence", steps_s=(0.01, 0.02,
     """The numbers behind the shipped ``paper-turbulence`` step (docs/convergence.md): RK4 at
     ``steps_s`` with the scenario's gust reading against ``reference_step_s``, and the scenario's
     reading against the paper's (``interpolation = "linear"``, ``smoothing_s = 0``). Every step
-    must divide 0.1 s (the common output interval)."""
+    must divide 0.1 s (the common output interval).
+
+    Parameters
+    ----------
+    scenario : str
+        Shipped scenario name.
+    steps_s : sequence of float
+        RK4 steps to test [s].
+    reference_step_s : float
+        Step of the reference run [s].
+
+    Returns
+    -------
+    ScenarioStepStudy
+
+    Raises
+    ------
+    RuntimeError
+        If a run stops early.
+    """
     from ..scenarios import load_scenario
     from ..simulation import simulate
 

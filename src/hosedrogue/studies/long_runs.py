@@ -42,7 +42,18 @@ HOUR_SCENARIO = "long-turbulence-severe"
 
 
 def model_options(base: Params = PAPER) -> dict[str, Params]:
-    """The model options compared: the paper's, each change alone, and the ``converged`` preset."""
+    """The model options compared: the paper's, each change alone, and the ``converged`` preset.
+
+    Parameters
+    ----------
+    base : Params
+        The paper's model (flight, hose, drogue) the options change.
+
+    Returns
+    -------
+    dict of str to Params
+        Option name -> parameters.
+    """
     damping = preset_data("converged")["hose"]["bending_damping_n_m2_s"]
     return {
         "paper": base,
@@ -55,7 +66,20 @@ def model_options(base: Params = PAPER) -> dict[str, Params]:
 
 def least_damped_mode(params: Params) -> tuple[float, float]:
     """(damping ratio, natural frequency [rad/s]) of the least damped oscillatory mode of the
-    linearization about the balance position (steady air, wake as configured)."""
+    linearization about the balance position (steady air, wake as configured).
+
+    Parameters
+    ----------
+    params : Params
+        The model.
+
+    Returns
+    -------
+    zeta : float
+        Damping ratio [-].
+    omega : float
+        Natural frequency [rad/s].
+    """
     poles = linearize(params).poles
     poles = poles[poles.imag > 0.0]
     zeta = -poles.real / np.abs(poles)
@@ -64,7 +88,18 @@ def least_damped_mode(params: Params) -> tuple[float, float]:
 
 
 def mode_table(options: Mapping[str, Params]) -> pd.DataFrame:
-    """Least damped mode per model option: columns option, damping_ratio, natural_frequency_rad_s."""
+    """Least damped mode per model option: columns option, damping_ratio, natural_frequency_rad_s.
+
+    Parameters
+    ----------
+    options : mapping of str to Params
+        Option name -> model (:func:`model_options`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per option; damping ratio [-], natural frequency [rad/s].
+    """
     rows = []
     for name, params in options.items():
         zeta, omega = least_damped_mode(params)
@@ -73,7 +108,21 @@ def mode_table(options: Mapping[str, Params]) -> pd.DataFrame:
 
 
 def turbulence_to_the_end(params: Params, intensity: str, duration_s: float) -> Params:
-    """``params`` with standard turbulence of ``intensity`` on from 10 s to the end of the run."""
+    """``params`` with standard turbulence of ``intensity`` on from 10 s to the end of the run.
+
+    Parameters
+    ----------
+    params : Params
+        The model.
+    intensity : {"light", "moderate", "severe"}
+        Standard turbulence intensity at the flight altitude.
+    duration_s : float
+        Length of the run [s]; the turbulence lasts ``duration_s - 10`` s (at least 0).
+
+    Returns
+    -------
+    Params
+    """
     return params.replace(turbulence={"enabled": True, "intensity": intensity, "start_s": TURBULENCE_START_S,
                                       "duration_s": max(duration_s - TURBULENCE_START_S, 0.0)})
 
@@ -84,6 +133,22 @@ def blowup_table(params: Params = PAPER, intensities: Sequence[str] = INTENSITIE
 
     Columns: intensity, sigma_m_s, seed, completed, t_end_s (``cap_s`` when the run completed).
     All seeds of one intensity run in one compiled call (:func:`hosedrogue.simulation.batch.simulate_batch`).
+
+    Parameters
+    ----------
+    params : Params
+        The model (open loop).
+    intensities : sequence of str
+        Standard intensities ("light", "moderate", "severe").
+    seeds : sequence of int
+        Turbulence seeds, each run at every intensity.
+    cap_s : float
+        Length of each run [s], > 10 s (the turbulence start).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run: sigma_m_s [m/s], t_end_s [s].
     """
     if not (isinstance(cap_s, (int, float)) and np.isfinite(cap_s) and cap_s > TURBULENCE_START_S):
         raise ParameterError(f"cap_s = {cap_s!r}: must be a finite number > {TURBULENCE_START_S:g} s")
@@ -103,7 +168,17 @@ def blowup_table(params: Params = PAPER, intensities: Sequence[str] = INTENSITIE
 
 def hour_run(duration_s: float | None = None) -> SimulationResult:
     """The shipped scenario ``long-turbulence-severe`` (converged model, an hour of severe
-    turbulence); ``duration_s`` shortens it (turbulence still to the end)."""
+    turbulence); ``duration_s`` shortens it (turbulence still to the end).
+
+    Parameters
+    ----------
+    duration_s : float, optional
+        Simulated length [s]; default the scenario's hour.
+
+    Returns
+    -------
+    SimulationResult
+    """
     from ..scenarios.runner import run_scenario
     from ..scenarios import load_scenario
 
@@ -136,7 +211,25 @@ class LongRunStudy:
 def long_runs_study(intensities: Sequence[str] = INTENSITIES, seeds: Sequence[int] = SEEDS,
                     cap_s: float = CAP_S, hour_duration_s: float | None = None,
                     base: Params = PAPER) -> LongRunStudy:
-    """Run the whole study (about 2-4 minutes of computing at the defaults)."""
+    """Run the whole study (about 2-4 minutes of computing at the defaults).
+
+    Parameters
+    ----------
+    intensities : sequence of str
+        Standard intensities of the blow-up runs.
+    seeds : sequence of int
+        Turbulence seeds of the blow-up runs.
+    cap_s : float
+        Length of the blow-up runs [s].
+    hour_duration_s : float, optional
+        Length of the stable model's run [s]; default an hour.
+    base : Params
+        The paper's model.
+
+    Returns
+    -------
+    LongRunStudy
+    """
     return LongRunStudy(
         blowup=blowup_table(base, intensities, seeds, cap_s),
         modes=mode_table(model_options(base)),
