@@ -1,5 +1,6 @@
-"""The engagement (ENGAGEMENT.md 2, 4; docs/engagement.md): capture and its failure reasons, the
-three shipped scenarios, link-count convergence, scenario validation and the command line."""
+"""The engagement (docs/engagement.md: "Capture", "What a run reports"): capture and its failure
+reasons, the three shipped scenarios, link-count convergence, scenario validation and the command
+line."""
 
 import json
 import subprocess

@@ -1,4 +1,4 @@
-"""The hose of varying length on a reel (ENGAGEMENT.md 1; docs/model.md "Hose of varying length"):
+"""The hose of varying length on a reel (docs/engagement.md "Reel"; docs/model.md §8):
 mass in the air, continuity across remeshes, the energy balance with the reel, payout to the
 balance position of the longer hose, and agreement with the fixed-length model at L' = 0."""
 

@@ -19,7 +19,7 @@ REEL_LAWS = ("locked", "constant-tension", "response")
 
 @dataclass(frozen=True)
 class Reel(_Section):
-    """Hose drum unit: ``J_r w' = tau_m - r_d T_0 - c_r w`` (ENGAGEMENT.md 1; docs/engagement.md)."""
+    """Hose drum unit: ``J_r w' = tau_m - r_d T_0 - c_r w`` (docs/engagement.md, "Reel")."""
 
     _section = "reel"
     #: "locked": fixed length (or the length schedule below); "constant-tension": tau_m = r_d T_set;
@@ -65,7 +65,8 @@ class Reel(_Section):
 
 @dataclass(frozen=True)
 class Probe(_Section):
-    """Prescribed probe-tip path, capture test and probe-drogue coupling (ENGAGEMENT.md 2)."""
+    """Prescribed probe-tip path, capture test and probe-drogue coupling (docs/engagement.md, "Probe", "Capture" and
+    "Coupled phase")."""
 
     _section = "probe"
     #: False: no probe (the reel alone)
