@@ -25,8 +25,6 @@ from .result import segment_energies as _energies
 from .result import segment_outputs as _outputs
 from .spec import Probe, Reel
 
-__all__ = ["EngagementResult", "engagement_parameters", "exit_tension_at_rest", "simulate_engagement"]
-
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
            K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular"}
