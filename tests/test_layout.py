@@ -1,7 +1,12 @@
-"""The package's layout: importing it changes no global state."""
+"""The package's layout: importing it changes no global state, dependencies point one way, and
+modules and functions stay small enough to read (docs/develop.md, "Layers")."""
 
+import ast
 import subprocess
 import sys
+from pathlib import Path
+
+import hosedrogue
 
 IMPORT_ALL = """
 import importlib, pkgutil, sys
@@ -29,8 +34,45 @@ def test_importing_every_module_keeps_the_users_matplotlib_backend():
 def test_one_dependency_direction():
     # the import-linter layers contract in pyproject.toml (docs/develop.md, "Layers"): a module may
     # import only from layers below its own, function-level imports included
-    from pathlib import Path
-
     from importlinter.cli import lint_imports
 
     assert lint_imports(config_filename=str(Path(__file__).parents[1] / "pyproject.toml")) == 0
+
+
+#: Modules of compiled kernels: pure functions of float64 arrays kept together so numba can inline
+#: them into one another; the size rule of docs/develop.md exempts them.
+COMPILED_MODULES = {"model/kernels.py", "model/engagement_kernels.py"}
+MAX_MODULE_LINES = 500  # docs/develop.md, "Layers": a module a reader can hold in view
+MAX_FUNCTION_LINES = 80  # code lines, docstring excluded; compiled kernels aside
+
+
+def _is_compiled(node) -> bool:
+    for d in node.decorator_list:
+        target = d.func if isinstance(d, ast.Call) else d
+        if getattr(target, "id", None) == "njit" or getattr(target, "attr", None) == "njit":
+            return True
+    return False
+
+
+def _code_lines(node) -> int:
+    lines = node.end_lineno - node.lineno + 1
+    body = node.body
+    if body and isinstance(body[0], ast.Expr) and isinstance(getattr(body[0], "value", None), ast.Constant) \
+            and isinstance(body[0].value.value, str):
+        lines -= body[0].end_lineno - body[0].lineno + 1
+    return lines
+
+
+def test_modules_and_functions_stay_small():
+    root = Path(hosedrogue.__file__).parent
+    too_long = []
+    for path in sorted(root.rglob("*.py")):
+        rel = path.relative_to(root).as_posix()
+        text = path.read_text()
+        if rel not in COMPILED_MODULES and len(text.splitlines()) > MAX_MODULE_LINES:
+            too_long.append(f"{rel}: {len(text.splitlines())} lines")
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and not _is_compiled(node):
+                if _code_lines(node) > MAX_FUNCTION_LINES:
+                    too_long.append(f"{rel}::{node.name}: {_code_lines(node)} code lines")
+    assert not too_long, "; ".join(too_long)
