@@ -76,7 +76,7 @@ OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
 def air_velocity(px, py, pz, t, env, gust):
     """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]."""
     V = env[ENV_V]
-    wy, wz = wake_velocity(py, pz, env[ENV_WAKE:ENV_WAKE + 6])
+    wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
     if env[ENV_G_NOW] != 0.0:
         return -V + env[ENV_GU], wy + env[ENV_GV], wz + env[ENV_GW]
     t_eff = t
@@ -147,14 +147,11 @@ def kink(e, k):
 
 
 @njit(**JIT)
-def segment_drag(t, env, gust, q_ct, q_cn, lw, sf, sp, k, e, r, v):
+def segment_drag(q_ct, q_cn, lw, sf, sp, k, e, v, wx, wy, wz):
     """Drag [N] of the piece of link k of length lw [m] at the point sf r_k + sp r_k+1 (sf + sp
-    = 1), from the relative velocity there: tangential -q_ct lw v_t |v_t| n_k and normal
-    -q_cn lw |V_n| V_n, with q_c = rho pi d_o c / 2 and n_k = -e_k."""
-    px = sf * r[k, 0] + sp * r[k + 1, 0]
-    py = sf * r[k, 1] + sp * r[k + 1, 1]
-    pz = sf * r[k, 2] + sp * r[k + 1, 2]
-    wx, wy, wz = air_velocity(px, py, pz, t, env, gust)
+    = 1), in air moving at (wx, wy, wz) [m/s] there: from the relative velocity, tangential
+    -q_ct lw v_t |v_t| n_k and normal -q_cn lw |V_n| V_n, with q_c = rho pi d_o c / 2 and
+    n_k = -e_k."""
     vtx = sf * v[k, 0] + sp * v[k + 1, 0] - wx
     vty = sf * v[k, 1] + sp * v[k + 1, 1] - wy
     vtz = sf * v[k, 2] + sp * v[k + 1, 2] - wz
@@ -205,11 +202,25 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
         else:
             npts = 1
             s0, s1, w = 0.5, 0.5, 1.0
+        # the air's velocity where it is a function of y and z only (the gust the same at every
+        # point, env_at): the gust, then the wake added per point
+        uniform = env[ENV_G_NOW] != 0.0
+        ux = -env[ENV_V] + env[ENV_GU]
+        gv = env[ENV_GV]
+        gw = env[ENV_GW]
         for k in range(n):
             for j in range(npts):
                 sp = s0 if j == 0 else s1
                 sf = 1.0 - sp
-                dx, dy, dz = segment_drag(t, env, gust, q_ct, q_cn, w * l[k], sf, sp, k, e, r, v)
+                px = sf * r[k, 0] + sp * r[k + 1, 0]
+                py = sf * r[k, 1] + sp * r[k + 1, 1]
+                pz = sf * r[k, 2] + sp * r[k + 1, 2]
+                if uniform:
+                    wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
+                    wx, wy, wz = ux, wy + gv, wz + gw
+                else:
+                    wx, wy, wz = air_velocity(px, py, pz, t, env, gust)
+                dx, dy, dz = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx, wy, wz)
                 F[k, 0] += sf * dx
                 F[k, 1] += sf * dy
                 F[k, 2] += sf * dz
