@@ -34,7 +34,7 @@ from hosedrogue.controllers.linear import LinearController  # noqa: E402
 from hosedrogue.model.integrate import rk4_run  # noqa: E402
 from hosedrogue.model.system import HoseModel  # noqa: E402
 from hosedrogue.params import PAPER, Actuator  # noqa: E402
-from hosedrogue.simulation.simulate import loop_arrays  # noqa: E402
+from hosedrogue.simulation.simulate import loop_arrays, output_arrays  # noqa: E402
 
 TURBULENCE = {"enabled": True, "start_s": 0.0, "duration_s": 100.0}
 
@@ -77,7 +77,8 @@ def rk4_wall_time(model, x0, duration_s, repeats=3):
     zs = np.empty((2, x0.size))
     us = np.empty((2, 2))
     loop = loop_arrays(ctrl, np.zeros(2), Actuator(), np.zeros((1, 2)), 1.0)
-    args = (x0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, math.radians(85.0), ts, zs, us)
+    args = (x0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, math.radians(85.0), ts, zs, us,
+            *output_arrays(2, model.n))
     best = math.inf
     for _ in range(repeats):
         t0 = time.perf_counter()

@@ -152,9 +152,18 @@ def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noi
              work, u):
     """One classical RK4 step of the closed loop from (t, z), in place; ``work`` (5, len(z)) is
     scratch (the stages k1..k4 and the trial state). The only compiled RK4 formula."""
+    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                      work[0], u)
+    rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                      noise_dt, ws, work, u)
+
+
+@njit(cache=True)
+def rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                      noise_dt, ws, work, u):
+    """:func:`rk4_step` when ``work[0]`` already holds k1 = dz/dt at (t, z)."""
     nz = z.shape[0]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
-    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, k1, u)
     for i in range(nz):
         tmp[i] = z[i] + 0.5 * h * k1[i]
     closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
@@ -207,38 +216,60 @@ def step_status(z, n, max_yaw):
 
 @njit(cache=True)
 def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-            act, noise, noise_dt, max_yaw, ts, zs, us):
+            act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
-    in ts, zs, us (the force applied at that state). Returns (status, saved count, stop time).
+    in ts, zs, us (the force applied at that state) and its derived outputs in joints (N, n+1, 3)
+    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] (as :func:`~hosedrogue.model.kernels.
+    outputs_series` gives them). Returns (status, saved count, stop time).
 
-    Stops early on a non-finite state (status NONFINITE) or a link yaw beyond ``max_yaw`` [rad]
-    (status YAW_LIMIT); what was saved up to then stays valid.
+    The outputs of a saved state come from the first stage of the step that starts there (one
+    evaluation serves both). Stops early on a non-finite state (status NONFINITE) or a link yaw
+    beyond ``max_yaw`` [rad] (status YAW_LIMIT); what was saved up to then stays valid.
     """
     n = l.shape[0]
-    nx = 4 * n
     z = z0.copy()
     work = np.empty((5, z0.shape[0]))
     u = np.empty(2)
     ws = make_workspace_jit(n)
-    ts[0] = t0
-    zs[0, :] = z
-    applied_force(t0, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
-    us[0, 0] = u[0]
-    us[0, 1] = u[1]
+    save_state(0, t0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow)
     saved = 1
     done = 0
     while done < nsteps:
         last = min(done + save_every, nsteps)
-        status, t = rk4_steps(t0, done + 1, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc,
-                              y_ref, act, noise, noise_dt, max_yaw, ws, work, u)
+        # the first step of the interval reuses k1 of the saved state (work[0])
+        rk4_step_given_k1(t0 + done * h, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
+                          noise, noise_dt, ws, work, u)
+        t = t0 + (done + 1) * h
+        status = step_status(z, n, max_yaw)
+        if status == OK and last > done + 1:
+            status, t = rk4_steps(t0, done + 2, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc,
+                                  Dc, y_ref, act, noise, noise_dt, max_yaw, ws, work, u)
         if status != OK:
             return status, saved, t
         done = last
         if done % save_every == 0:
-            ts[saved] = t
-            zs[saved, :] = z
-            applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
-            us[saved, 0] = u[0]
-            us[saved, 1] = u[1]
+            save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                       noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow)
             saved += 1
     return OK, saved, t0 + nsteps * h
+
+
+@njit(cache=True)
+def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
+    """Row i of the saved series: time, state, applied force, and the outputs of the evaluation
+    of dz/dt at (t, z), which leaves k1 in ``work[0]`` for the step that starts there."""
+    n = l.shape[0]
+    ts[i] = t
+    zs[i, :] = z
+    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+                      ws, work[0], u)
+    joints[i] = ws[4]
+    drogue_vel[i] = ws[5][n]
+    drogue_drag[i] = ws[13]
+    tow[i] = ws[14]
+    # the saved force is measured with drogue_yz (see there), as before the outputs moved here
+    applied_force(t, z, 4 * n, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    us[i, 0] = u[0]
+    us[i, 1] = u[1]
