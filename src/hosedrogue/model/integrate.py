@@ -118,6 +118,14 @@ def applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u):
 
 
 @njit(cache=True)
+def is_open_loop(z, nx, Cc, Dc):
+    """True when the loop commands no force at all: no controller state, no feedthrough and no
+    actuator state (``LinearController.static_zero()`` with an actuator without rate limit)."""
+    return (Cc.shape[1] == 0 and z.shape[0] == nx and Dc[0, 0] == 0.0 and Dc[0, 1] == 0.0
+            and Dc[1, 0] == 0.0 and Dc[1, 1] == 0.0)
+
+
+@njit(cache=True)
 def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
                       noise, noise_dt, ws, dz, u):
     """dz/dt of z = [x, xc, (ua)]; u receives the force applied to the drogue."""
@@ -125,8 +133,14 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
     nx = 4 * n
     # link frames first: the controller measures the drogue from them, the loads reuse them
     link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
-    y, zz = drogue_from_frames(l, ws[0])
-    m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    if is_open_loop(z, nx, Cc, Dc):
+        # no controller: the force is zero whatever the measurement (skip measuring it)
+        u[0] = 0.0
+        u[1] = 0.0
+        m0 = m1 = c0 = c1 = 0.0
+    else:
+        y, zz = drogue_from_frames(l, ws[0])
+        m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
     loads_given_frames(t, z[: 2 * n], z[2 * n: nx], u, l, M, J, ps, env, gust, ws)
     forward_dynamics_ws(l, M, J, ps, ws)
     qdd = ws[15]
