@@ -29,6 +29,11 @@ from .kernels import (
 )
 
 
+#: compilation options of the loop's functions that allocate nothing: without numba's runtime,
+#: i.e. without reference counting (see :data:`hosedrogue.model.kernels.JIT_NO_ALLOC`)
+LOOP_JIT = dict(cache=True, _nrt=False)
+
+
 class LoopArrays(NamedTuple):
     """The controller, actuator and sensor arrays of the closed loop, in the order the kernels
     take them after the model's arrays (:meth:`hosedrogue.model.system.HoseModel.kernel_args`):
@@ -44,7 +49,7 @@ class LoopArrays(NamedTuple):
     noise_dt: float  #: sensor noise sample time [s]
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def drogue_yz(x, l):
     """Drogue (joint n) lateral and vertical position [m] in S_p, as the saved control force
     measures it.
@@ -66,7 +71,7 @@ def drogue_yz(x, l):
     return y, z
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def noise_at(t, noise, noise_dt):
     """Zero-order-held sensor noise sample [m] (2,) at time t."""
     i = int(t / noise_dt)
@@ -77,7 +82,7 @@ def noise_at(t, noise, noise_dt):
     return noise[i, 0], noise[i, 1]
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
     """Commanded force u (2,) [N] for the drogue at lateral y, vertical zz [m] (saturated);
     returns the measured offsets."""
@@ -97,7 +102,7 @@ def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
     return m0, m1
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u):
     """Force acting on the drogue (2,) [N] into u; returns the measured offsets and the
     commanded force (which differs from u only for a rate-limited actuator)."""
@@ -105,7 +110,7 @@ def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u):
     return applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u):
     """:func:`applied_force` for a drogue at lateral y, vertical zz [m]."""
     m0, m1 = control_law(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
@@ -117,7 +122,7 @@ def applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u):
     return m0, m1, c0, c1
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def is_open_loop(z, nx, Cc, Dc):
     """True when the loop commands no force at all: no controller state, no feedthrough and no
     actuator state (``LinearController.static_zero()`` with an actuator without rate limit)."""
@@ -125,7 +130,7 @@ def is_open_loop(z, nx, Cc, Dc):
             and Dc[1, 0] == 0.0 and Dc[1, 1] == 0.0)
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
                       noise, noise_dt, ws, dz, u):
     """dz/dt of z = [x, xc, (ua)]; u receives the force applied to the drogue."""
@@ -161,7 +166,7 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
         dz[nx + i] = acc
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
              work, u):
     """One classical RK4 step of the closed loop from (t, z), in place; ``work`` (5, len(z)) is
@@ -172,7 +177,7 @@ def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noi
                       noise_dt, ws, work, u)
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                       noise_dt, ws, work, u):
     """:func:`rk4_step` when ``work[0]`` already holds k1 = dz/dt at (t, z)."""
@@ -194,7 +199,7 @@ def rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
         z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def rk4_steps(t0, first, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
               noise_dt, max_yaw, ws, work, u):
     """Steps number ``first`` to ``last`` (counted from 1 at t0) of size h [s], in place.
@@ -216,7 +221,7 @@ def rk4_steps(t0, first, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, 
     return OK, t
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def step_status(z, n, max_yaw):
     """OK, or why the state may not go on: non-finite, or a link yaw beyond max_yaw [rad]."""
     for i in range(z.shape[0]):

@@ -44,6 +44,11 @@ from ..environment.wake import wake_velocity
 #: results differ in the last bits between processes) nor "no NaNs/infs" (divergence must
 #: still be detected).
 JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
+#: :data:`JIT` for the kernels of the time loop, which allocate nothing: compiled without numba's
+#: runtime (``_nrt=False``), so taking an array out of the workspace tuple or slicing the state
+#: costs no atomic reference-count update (those were ~1.5 us of a 3 us evaluation at 20
+#: links). Such a kernel cannot allocate: ``np.empty`` in one fails to compile.
+JIT_NO_ALLOC = dict(JIT, _nrt=False)
 
 # ps layout
 (PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD, PS_DRAG_QUAD,
@@ -72,7 +77,7 @@ ENV_SIZE = 17
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def air_velocity(px, py, pz, t, env, gust):
     """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]."""
     V = env[ENV_V]
@@ -101,7 +106,7 @@ C1, C2, C3, C4, C5, C6 = (4.16666666666666019037e-02, -1.38888888888741095749e-0
 SINCOS_KERNEL_MAX = math.pi / 4
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def sin_cos_kernel(x):
     """(sin x, cos x) for |x| <= pi/4 by fdlibm's kernel polynomials: plain arithmetic, which
     the compiler vectorizes over the links (a library call per angle costs ~3x more)."""
@@ -115,7 +120,7 @@ def sin_cos_kernel(x):
     return s, w + (((1.0 - w) - hz) + z * r)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def link_frames(q, n, e, a, b, cs):
     """Fill e, a, b (n,3) and cs (n,4) = [c1, s1, c2, s2] for every link."""
     # the kernel for every angle first (a loop without calls: vectorized), then the library
@@ -143,7 +148,7 @@ def link_frames(q, n, e, a, b, cs):
         b[k, 2] = -s1 * s2
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
     """Joint positions r and velocities v (n+1,3; row 0 = tow point) and each link's
     velocity-product acceleration c (n,3) = l_k d2e_k/dt2 at zero qdd (paper Eq. 16), so that
@@ -166,7 +171,7 @@ def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
             v[k + 1, i] = v[k, i] + lk * (a[k, i] * d1 + b[k, i] * d2)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def kink(e, k):
     """Bend at joint k+1 between links k and k+1: (e_k x e_{k+1}) components, its length
     sin(gamma), and the angle gamma (atan2, accurate near 0)."""
@@ -178,7 +183,7 @@ def kink(e, k):
     return wx, wy, wz, sn, math.atan2(sn, cn)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def segment_drag(q_ct, q_cn, lw, sf, sp, k, e, v, wx, wy, wz):
     """Drag [N] of the piece of link k of length lw [m] at the point sf r_k + sp r_k+1 (sf + sp
     = 1), in air moving at (wx, wy, wz) [m/s] there: from the relative velocity, tangential
@@ -198,7 +203,7 @@ def segment_drag(q_ct, q_cn, lw, sf, sp, k, e, v, wx, wy, wz):
     return -ft * e[k, 0] + fn * vnx, -ft * e[k, 1] + fn * vny, -ft * e[k, 2] + fn * vnz
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def link_omega(k, l, e, v):
     """Angular velocity of link k [rad/s] from its end velocities: omega_k = e_k x de_k/dt with
     de_k/dt = (V_k+1 - V_k) / l_k (omega_k is perpendicular to e_k, MODEL.md 1)."""
@@ -208,7 +213,7 @@ def link_omega(k, l, e, v):
     return (e[k, 1] * dz - e[k, 2] * dy, e[k, 2] * dx - e[k, 0] * dz, e[k, 0] * dy - e[k, 1] * dx)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
@@ -332,7 +337,7 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
             ox, oy, oz = px, py, pz
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def rotational_terms(qd, J, n, cs, Mom, tau):
     """tau (n,2): generalized forces of each link's own rotation - its inertia's velocity terms
     and the moments on it, through the partial angular velocities [0,1,0], [s1,0,c1]."""
@@ -368,7 +373,7 @@ def generalized_forces(l, M, n, a, b, c, F, tau, G, Q):
         Q[2 * k + 1] = lk * (b[k, 0] * G[k, 0] + b[k, 1] * G[k, 1] + b[k, 2] * G[k, 2]) + tau[k, 1]
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def mass_matrix(l, S, J, ps, n, a, b, cs, H):
     """H (2n,2n): S_max(i,j) l_i l_j g_i . g_j plus the links' and drogue's rotational inertia."""
     for j in range(n):
@@ -420,7 +425,7 @@ def make_workspace(n):
 make_workspace_jit = njit(**JIT)(make_workspace)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, tow_force):
     """Solve H qdd = Q in O(n) by an articulated-body recursion for this chain.
 
@@ -511,7 +516,7 @@ def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd
         Az = pz + lk * (a[k, 2] * q1 + b[k, 2] * q2)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """Kinematics and loads of a state into the workspace: link frames ws[0:4], joint positions
     ws[4] and velocities ws[5], velocity-product accelerations ws[6], joint forces ws[7], link
@@ -520,7 +525,7 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
     loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def env_at(t, env, gust, scratch):
     """``env`` copied into ``scratch`` with, when every point sees the same gust (``uniform``),
     the gust at time t looked up once (air_velocity then reads it instead of the record)."""
@@ -537,7 +542,7 @@ def env_at(t, env, gust, scratch):
     return scratch
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """:func:`loads` when the link frames ws[0:4] already hold those of q."""
     n = l.shape[0]
@@ -547,7 +552,7 @@ def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
     """Accelerations (ws[15]) and outputs in the workspace: joint positions ws[4], velocities
     ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
@@ -556,7 +561,7 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
     forward_dynamics_ws(l, M, J, ps, ws)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def forward_dynamics_ws(l, M, J, ps, ws):
     """qdd (ws[15]) and tow-point force (ws[14]) from the loads in the workspace."""
     chain_forward_dynamics(l, M, J, ps[PS_JD], l.shape[0], ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
@@ -565,7 +570,7 @@ def forward_dynamics_ws(l, M, J, ps, ws):
     ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def drogue_from_frames(l, e):
     """Drogue (joint n) lateral and vertical position [m] from the link directions e."""
     y = 0.0
@@ -576,7 +581,7 @@ def drogue_from_frames(l, e):
     return y, z
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
     """State derivative dx (4n) of x = [q, qd], using the workspace ws (no allocation)."""
     n = l.shape[0]
