@@ -93,50 +93,18 @@ def air_velocity(px, py, pz, t, env, gust):
     return -V + gu, wy + gv, wz + gw
 
 
-#: Coefficients of fdlibm's sine and cosine kernels on |x| <= pi/4 (k_sin.c, k_cos.c; as in
-#: musl's __sin, __cos): error below 1 ulp there (0.7 ulp measured; the system library and they
-#: differ in the last bit of ~3 % of angles)
-S1, S2, S3, S4, S5, S6 = (-1.66666666666666324348e-01, 8.33333333332248946124e-03,
-                          -1.98412698298579493134e-04, 2.75573137070700676789e-06,
-                          -2.50507602534068634195e-08, 1.58969099521155010221e-10)
-C1, C2, C3, C4, C5, C6 = (4.16666666666666019037e-02, -1.38888888888741095749e-03,
-                          2.48015872894767294178e-05, -2.75573143513906633035e-07,
-                          2.08757232129817482790e-09, -1.13596475577881948265e-11)
-#: largest |angle| [rad] the kernels cover; beyond it the math library's sin and cos are used
-SINCOS_KERNEL_MAX = math.pi / 4
-
-
-@njit(**JIT_NO_ALLOC)
-def sin_cos_kernel(x):
-    """(sin x, cos x) for |x| <= pi/4 by fdlibm's kernel polynomials: plain arithmetic, which
-    the compiler vectorizes over the links (a library call per angle costs ~3x more)."""
-    z = x * x
-    w = z * z
-    r = S2 + z * (S3 + z * S4) + z * w * (S5 + z * S6)
-    s = x + z * x * (S1 + z * r)
-    r = z * (C1 + z * (C2 + z * C3)) + w * w * (C4 + z * (C5 + z * C6))
-    hz = 0.5 * z
-    w = 1.0 - hz
-    return s, w + (((1.0 - w) - hz) + z * r)
-
-
 @njit(**JIT_NO_ALLOC)
 def link_frames(q, n, e, a, b, cs):
     """Fill e, a, b (n,3) and cs (n,4) = [c1, s1, c2, s2] for every link."""
-    # the kernel for every angle first (a loop without calls: vectorized), then the library
-    # for the angles out of its range (none of a hose in flight: pitch ~0.4, yaw < 0.1 rad)
     for k in range(n):
-        cs[k, 1], cs[k, 0] = sin_cos_kernel(q[2 * k])
-        cs[k, 3], cs[k, 2] = sin_cos_kernel(q[2 * k + 1])
-    for k in range(n):
-        if not abs(q[2 * k]) <= SINCOS_KERNEL_MAX:  # NaN included
-            cs[k, 0] = math.cos(q[2 * k])
-            cs[k, 1] = math.sin(q[2 * k])
-        if not abs(q[2 * k + 1]) <= SINCOS_KERNEL_MAX:
-            cs[k, 2] = math.cos(q[2 * k + 1])
-            cs[k, 3] = math.sin(q[2 * k + 1])
-    for k in range(n):
-        c1, s1, c2, s2 = cs[k, 0], cs[k, 1], cs[k, 2], cs[k, 3]
+        c1 = math.cos(q[2 * k])
+        s1 = math.sin(q[2 * k])
+        c2 = math.cos(q[2 * k + 1])
+        s2 = math.sin(q[2 * k + 1])
+        cs[k, 0] = c1
+        cs[k, 1] = s1
+        cs[k, 2] = c2
+        cs[k, 3] = s2
         e[k, 0] = -c1 * c2
         e[k, 1] = -s2
         e[k, 2] = s1 * c2
