@@ -47,7 +47,9 @@ JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
 #: :data:`JIT` for the kernels of the time loop, which allocate nothing: compiled without numba's
 #: runtime (``_nrt=False``), so taking an array out of the workspace tuple or slicing the state
 #: costs no atomic reference-count update (those were ~1.5 us of a 3 us evaluation at 20
-#: links). Such a kernel cannot allocate: ``np.empty`` in one fails to compile.
+#: links). Such a kernel cannot allocate: ``np.empty`` in one fails to compile. ``_nrt`` is an
+#: underscore option of numba's jit (numba 0.59-0.68 at least); without it the results are the
+#: same, only slower.
 JIT_NO_ALLOC = dict(JIT, _nrt=False)
 
 # ps layout
