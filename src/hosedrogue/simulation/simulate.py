@@ -87,6 +87,7 @@ def simulate(
         raise ParameterError(f"x0: must be a finite array of shape ({4 * n},), got shape {x0.shape}")
     y_ref = equilibrium.drogue_position_m[1:].copy()
 
+    outs = None  # derived outputs: the compiled RK4 loop saves them with the states
     if callable(control) and not isinstance(control, LinearController):
         ts, xs, us, status, t_stop = _run_python_control(model, params, x0, duration_s, control)
     else:
@@ -94,11 +95,14 @@ def simulate(
         noise = _sensor_noise(sensor, duration_s, params.turbulence.seed)
         loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s)
         z0 = closed_loop_state(x0, ctrl, actuator)
-        run = _run_rk4 if params.numerics.integrator == "rk4" else _run_adaptive
-        ts, zs, us, status, t_stop = run(model, z0, duration_s, loop)
+        if params.numerics.integrator == "rk4":
+            ts, zs, us, status, t_stop, outs = _run_rk4(model, z0, duration_s, loop)
+        else:
+            ts, zs, us, status, t_stop = _run_adaptive(model, z0, duration_s, loop)
         xs = zs[:, : 4 * n]
 
-    outs = _derived_outputs(model, ts, xs, us)
+    if outs is None:
+        outs = _derived_outputs(model, ts, xs, us)
     completed = status == K.OK
     message = "completed" if completed else f"stopped at t = {t_stop:.4f} s: {_STATUS_TEXT[status]}"
     return SimulationResult(
@@ -197,9 +201,17 @@ def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
     ts = np.empty(nsave)
     zs = np.empty((nsave, z0.size))
     us = np.empty((nsave, 2))
+    outs = output_arrays(nsave, model.n)
     max_yaw = math.radians(model.params.numerics.max_yaw_deg)
-    status, saved, t_stop = rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw, ts, zs, us)
-    return ts[:saved], zs[:saved], us[:saved], status, t_stop
+    status, saved, t_stop = rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw,
+                                    ts, zs, us, *outs)
+    return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)
+
+
+def output_arrays(count: int, n: int) -> tuple[np.ndarray, ...]:
+    """Empty derived-output arrays of ``count`` saved states of n links: joint positions
+    (count, n+1, 3) [m], drogue velocity [m/s], drogue drag [N], tow-point force [N] (count, 3)."""
+    return np.empty((count, n + 1, 3)), np.empty((count, 3)), np.empty((count, 3)), np.empty((count, 3))
 
 
 def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
@@ -299,12 +311,7 @@ def _run_python_control(model, params, x0, duration_s, control):
 
 
 def _derived_outputs(model: HoseModel, ts, xs, us):
-    n = model.n
-    N = ts.size
-    joints = np.empty((N, n + 1, 3))
-    vel = np.empty((N, 3))
-    drag = np.empty((N, 3))
-    tow = np.empty((N, 3))
+    joints, vel, drag, tow = output_arrays(ts.size, model.n)
     K.outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
                      *model.kernel_args(), joints, vel, drag, tow)
     return joints, vel, drag, tow
