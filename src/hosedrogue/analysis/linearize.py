@@ -60,8 +60,7 @@ def _steady_derivative(model: HoseModel):
 
 def _drogue_yz(model: HoseModel, x: np.ndarray) -> np.ndarray:
     """Drogue lateral and vertical position [m] at state x: the last row of
-    :meth:`HoseModel.joint_positions` (numpy; the compiled ``kernels.drogue_from_frames`` rounds
-    differently, ~1e-16 m, which the finite differences would turn into ~5e-10 changes of C)."""
+    :meth:`HoseModel.joint_positions` (the kernels' one definition)."""
     return model.joint_positions(x[: 2 * model.n])[-1, 1:]
 
 

@@ -35,11 +35,9 @@ from numba import njit
 from .kernels import (
     BENDING_MOMENT,
     JIT,
-    NONFINITE,
     OK,
     PS_BENDING,
     PS_EI,
-    YAW_LIMIT,
     chain_forward_dynamics,
     joint_forces,
     joint_kinematics,
@@ -48,6 +46,7 @@ from .kernels import (
     make_workspace_jit,
     rotational_terms,
 )
+from .integrate import step_status
 
 # --- ep layout -------------------------------------------------------------------------------
 (EP_MU, EP_MD, EP_SPLIT, EP_JLINK, EP_L0,
@@ -400,17 +399,6 @@ def eng_energy(z, n, l, M, J, ps, ep, chart):
 
 
 @njit(**JIT)
-def eng_status(z, n, max_yaw):
-    for i in range(z.shape[0]):
-        if not math.isfinite(z[i]):
-            return NONFINITE
-    for k in range(n):
-        if abs(z[2 * k + 1]) > max_yaw:
-            return YAW_LIMIT
-    return OK
-
-
-@njit(**JIT)
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, max_yaw,
                 switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs):
     """RK4 from (t0, z) (global step index step0) for at most ``nsteps`` steps, in place.
@@ -453,7 +441,7 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         for i in range(nz):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t = t0 + s * h
-        status = eng_status(z, n, max_yaw)
+        status = step_status(z, n, max_yaw)
         if status != OK:
             return status, s, saved
         if (step0 + s) % save_every == 0:

@@ -50,28 +50,6 @@ class LoopArrays(NamedTuple):
 
 
 @njit(**LOOP_JIT)
-def drogue_yz(x, l):
-    """Drogue (joint n) lateral and vertical position [m] in S_p, as the saved control force
-    measures it.
-
-    The model's definition is :func:`hosedrogue.model.kernels.drogue_from_frames`
-    (``sum_k l_k e_k``, which the controller inside the loop uses and which equals the last row
-    of the joint positions bit for bit). This is the same formula in another rounding order
-    (``(l s1) c2`` instead of ``l (s1 c2)``, no fused multiply-add), ~1e-16 m from it, kept only
-    so that saved control forces (runs.csv) stay bit-identical: switching moves peak forces by
-    ~1e-12 relative (paper-turbulence-pid, 16 runs: up to 2.3e-10 N on 99.7 N).
-    """
-    n = l.shape[0]
-    y = 0.0
-    z = 0.0
-    for k in range(n):
-        c2 = math.cos(x[2 * k + 1])
-        y -= l[k] * math.sin(x[2 * k + 1])
-        z += l[k] * math.sin(x[2 * k]) * c2
-    return y, z
-
-
-@njit(**LOOP_JIT)
 def noise_at(t, noise, noise_dt):
     """Zero-order-held sensor noise sample [m] (2,) at time t."""
     i = int(t / noise_dt)
@@ -103,10 +81,20 @@ def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
 
 
 @njit(**LOOP_JIT)
-def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, u):
+def drogue_yz(z, l, ws):
+    """Drogue lateral and vertical position [m] of the hose state at the start of z, through the
+    link frames in the workspace ws (overwritten) and :func:`kernels.drogue_from_frames`."""
+    n = l.shape[0]
+    link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
+    return drogue_from_frames(l, ws[0])
+
+
+@njit(**LOOP_JIT)
+def applied_force(t, z, nx, l, Cc, Dc, y_ref, act, noise, noise_dt, ws, u):
     """Force acting on the drogue (2,) [N] into u; returns the measured offsets and the
-    commanded force (which differs from u only for a rate-limited actuator)."""
-    y, zz = drogue_yz(z[:nx], l)
+    commanded force (which differs from u only for a rate-limited actuator). The workspace ws
+    receives the link frames of z."""
+    y, zz = drogue_yz(z, l, ws)
     return applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
 
 
@@ -288,7 +276,6 @@ def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, n
     drogue_vel[i] = ws[5][n]
     drogue_drag[i] = ws[13]
     tow[i] = ws[14]
-    # the saved force is measured with drogue_yz (see there), as before the outputs moved here
-    applied_force(t, z, 4 * n, l, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    # u is the force applied at (t, z): closed_loop_deriv measured the drogue and set it
     us[i, 0] = u[0]
     us[i, 1] = u[1]

@@ -370,7 +370,19 @@ def mass_matrix(l, S, J, ps, n, a, b, cs, H):
 
 
 def make_workspace(n):
-    """Scratch arrays for one chain of n links, allocated once per run (not per evaluation)."""
+    """Scratch arrays for one chain of n links, allocated once per run (not per evaluation).
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The workspace; the comment on each slot names what it holds (frames, joint positions [m]
+        and velocities [m/s], forces [N], accelerations, ...).
+    """
     return (
         np.empty((n, 3)),  # 0 e
         np.empty((n, 3)),  # 1 a
@@ -541,8 +553,21 @@ def forward_dynamics_ws(l, M, J, ps, ws):
 
 
 @njit(**JIT_NO_ALLOC)
+def chain_positions(l, e, r):
+    """Joint positions r (n+1, 3) [m] in S_p from the link directions e: ``r_k = sum_{j<=k} l_j e_j``
+    (row 0 is the tow point), summed in the order of :func:`joint_kinematics` and
+    :func:`drogue_from_frames`, so every path gives the same bits."""
+    for i in range(3):
+        r[0, i] = 0.0
+    for k in range(l.shape[0]):
+        for i in range(3):
+            r[k + 1, i] = r[k, i] + l[k] * e[k, i]
+
+
+@njit(**JIT_NO_ALLOC)
 def drogue_from_frames(l, e):
-    """Drogue (joint n) lateral and vertical position [m] from the link directions e."""
+    """Drogue (joint n) lateral and vertical position [m] from the link directions e: the one
+    definition of the drogue position from a state (after :func:`link_frames`)."""
     y = 0.0
     z = 0.0
     for k in range(l.shape[0]):

@@ -226,8 +226,11 @@ class HoseModel:
         return Q
 
     def joint_positions(self, q) -> np.ndarray:
-        """Joint positions (n+1, 3) [m] in S_p; row 0 is the tow point."""
-        q = np.asarray(q, dtype=np.float64)
-        th1, th2 = q[0::2], q[1::2]
-        e = np.stack([-np.cos(th1) * np.cos(th2), -np.sin(th2), np.sin(th1) * np.cos(th2)], axis=1)
-        return np.vstack([np.zeros(3), np.cumsum(self.l[:, None] * e, axis=0)])
+        """Joint positions (n+1, 3) [m] in S_p; row 0 is the tow point (the compiled kernels'
+        definition: :func:`kernels.link_frames` then :func:`kernels.chain_positions`)."""
+        q = np.ascontiguousarray(q, dtype=np.float64)
+        ws = K.make_workspace(self.n)
+        K.link_frames(q, self.n, ws[0], ws[1], ws[2], ws[3])
+        r = np.empty((self.n + 1, 3))
+        K.chain_positions(self.l, ws[0], r)
+        return r

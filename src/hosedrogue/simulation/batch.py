@@ -51,7 +51,7 @@ def _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, Ac, Bc, Cc, Dc, y_
             if status != OK:
                 break
             if metrics.in_window_at(t, t_w0, t_w1):
-                yy, zz = drogue_yz(z[:nx], l)
+                yy, zz = drogue_yz(z, l, ws)
                 applied_force_at(t, z, nx, yy, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
                 metrics.accumulate(acc, yy - y_ref[0], zz - y_ref[1], u[0], u[1], radii)
         out[run, 0] = 1.0 if status == OK else 0.0

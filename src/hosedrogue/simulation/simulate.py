@@ -209,8 +209,21 @@ def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
 
 
 def output_arrays(count: int, n: int) -> tuple[np.ndarray, ...]:
-    """Empty derived-output arrays of ``count`` saved states of n links: joint positions
-    (count, n+1, 3) [m], drogue velocity [m/s], drogue drag [N], tow-point force [N] (count, 3)."""
+    """Empty derived-output arrays for the compiled loop to fill.
+
+    Parameters
+    ----------
+    count : int
+        Number of saved states [-].
+    n : int
+        Number of links [-].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Joint positions (count, n+1, 3) [m], drogue velocity [m/s], drogue drag [N] and
+        tow-point force [N] (count, 3 each).
+    """
     return np.empty((count, n + 1, 3)), np.empty((count, 3)), np.empty((count, 3)), np.empty((count, 3))
 
 
@@ -238,9 +251,10 @@ def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
     zs = sol.y.T.copy()
     ts = sol.t.copy()
     us = np.empty((ts.size, 2))
+    ws = K.make_workspace(model.n)
     for i in range(ts.size):
         applied_force(ts[i], zs[i], 4 * n, model.l, loop.Cc, loop.Dc, loop.y_ref, loop.act, loop.noise,
-                      loop.noise_dt, u)
+                      loop.noise_dt, ws, u)
         us[i] = u
     if sol.status == 1:
         return ts, zs, us, K.YAW_LIMIT, float(sol.t_events[0][0])
