@@ -28,6 +28,11 @@ def cli(capsys, *argv):
 
 @pytest.fixture(scope="module")
 def fmu_path(tmp_path_factory):
+    from hosedrogue.interop.fmu import prepare_python_host
+
+    # fmpy runs the FMU in this interpreter: everything the FMU imports must be imported before
+    # (a module first imported inside an FMU call is left unusable by pythonfmu's binary)
+    prepare_python_host(LINKS)
     path = tmp_path_factory.mktemp("fmu") / "hose.fmu"
     assert main(["export-fmu", "--links", str(LINKS), "--out", str(path)]) == 0
     return path

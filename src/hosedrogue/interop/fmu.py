@@ -118,6 +118,32 @@ def constant_gusts(gust_m_s) -> "object":
     return GustRecord(t0_s=0.0, dt_s=1.0, values=np.vstack([g, g]), t_on_s=-math.inf, t_off_s=math.inf)
 
 
+def prepare_python_host(links: int = 2) -> None:
+    """Import and compile everything the FMU runs, in this Python process, before a Python host
+    (fmpy) loads an exported FMU here.
+
+    pythonfmu's binary runs the FMU's Python code inside the host's interpreter when the host is
+    Python itself. Modules that are first imported *during* a call into the FMU are then left
+    unusable afterwards (seen here: ``scipy.optimize`` emptied - "module has no attribute
+    'root'" - and segmentation faults in a later garbage collection, in a fresh fmpy session).
+    Importing the slave's code and running one tiny model first means the FMU's calls import
+    nothing new. Simulink, OpenModelica and other non-Python hosts start their own interpreter and
+    do not need this.
+
+    Parameters
+    ----------
+    links : int
+        Links of the throw-away model that compiles the kernels [-].
+    """
+    from . import fmu_slave  # noqa: F401  the slave class and pythonfmu
+
+    core = HoseDrogueCore(fmu_params(PAPER.replace(hose={"links": links}), PAPER.flight.altitude_m,
+                                     PAPER.flight.airspeed_m_s, PAPER.wake.enabled))
+    core.set_gust((0.0, 0.0, 0.0))
+    core.step(0.0, PAPER.numerics.step_s, (0.0, 0.0))
+    core.outputs()
+
+
 @dataclass
 class StepFailure(Exception):
     """The state stopped being valid during a step (non-finite, or a yaw beyond the limit)."""
