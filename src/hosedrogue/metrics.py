@@ -15,7 +15,7 @@ turbulence the window is the turbulence window ``[start_s, start_s + duration_s)
 (:func:`turbulence_window`); without it the whole run ``[0, inf)``.
 
 Statistics (columns and units: :data:`STATISTIC_UNITS`, :func:`statistic_units`)
-------------------------------------------------------------------------------
+--------------------------------------------------------------------------------
 Displacements ``dy`` (lateral, right) and ``dz`` (vertical, down) are of the drogue from its
 balance position in S_p [m]; ``dr = hypot(dy, dz)`` is the radial displacement [m].
 

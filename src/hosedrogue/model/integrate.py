@@ -35,9 +35,12 @@ LOOP_JIT = dict(cache=True, _nrt=False)
 
 
 class LoopArrays(NamedTuple):
-    """The controller, actuator and sensor arrays of the closed loop, in the order the kernels
-    take them after the model's arrays (:meth:`hosedrogue.model.system.HoseModel.kernel_args`):
-    ``rk4_run(z0, t0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw, ts, zs, us)``."""
+    """The controller, actuator and sensor arrays of the closed loop.
+
+    The kernels take them after the model's arrays
+    (:meth:`hosedrogue.model.system.HoseModel.kernel_args`), e.g.
+    ``rk4_run(z0, t0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw, ts, zs, us)``.
+    """
 
     Ac: np.ndarray  #: controller state matrix (nc, nc) [1/s]
     Bc: np.ndarray  #: controller input matrix (nc, 2); inputs: measured drogue offset [m]
@@ -226,8 +229,9 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
             act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
     in ts, zs, us (the force applied at that state) and its derived outputs in joints (N, n+1, 3)
-    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] (as :func:`~hosedrogue.model.kernels.
-    outputs_series` gives them). Returns (status, saved count, stop time).
+    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] (as
+    :func:`~hosedrogue.model.kernels.outputs_series` gives them). Returns (status, saved count,
+    stop time).
 
     The outputs of a saved state come from the first stage of the step that starts there (one
     evaluation serves both). Stops early on a non-finite state (status NONFINITE) or a link yaw
