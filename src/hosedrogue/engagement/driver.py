@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from ..environment.bow_wave import BowWave
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..params import ParameterError, Params
@@ -23,7 +24,7 @@ from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, ChainModel,
 from .result import EngagementResult, assemble_result
 from .result import segment_energies as _energies
 from .result import segment_outputs as _outputs
-from .spec import Probe, Reel
+from .spec import BowWaveSection, Probe, Reel
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
@@ -31,7 +32,7 @@ _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
 
 
 def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain: Chain,
-                          drogue_eq: np.ndarray) -> np.ndarray:
+                          drogue_eq: np.ndarray, bow_wave: BowWaveSection | None = None) -> np.ndarray:
     """The engagement parameter array of the compiled kernels (``engagement_kernels.EP_*``).
 
     Parameters
@@ -49,6 +50,9 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
         The initial discretization (its nominal link length [m]).
     drogue_eq : array (3,)
         Drogue position at the start [m] in S_p, from which the probe starts.
+    bow_wave : BowWaveSection, optional
+        The receiver's forebody (radius [m], probe offset from the nose [m], shape, nose
+        length [m]); None or disabled: no bow wave.
 
     Returns
     -------
@@ -93,7 +97,34 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
         ep[EK.EP_VC] = 0.0
         ep[EK.EP_P0X] = drogue_eq[0] - 1e3  # parked far aft, never used
     ep[EK.EP_T_CAP] = math.inf
+    set_bow_wave(ep, params, bow_wave)
     return ep
+
+
+def set_bow_wave(ep: np.ndarray, params: Params, bow_wave: BowWaveSection | None) -> None:
+    """Write the bow-wave entries of ``ep`` (``EP_BW*``): shape code, source minus probe tip [m],
+    flux [m^3/s], line length [m]. The source sits still relative to the probe tip; its flux is
+    that of the forebody in the tanker's airspeed (the closure speed, ~1 m/s of 150 m/s, aside).
+
+    Parameters
+    ----------
+    ep : array (EP_SIZE,)
+        Engagement parameters, changed in place.
+    params : Params
+        Its ``flight.airspeed_m_s`` [m/s] is the free stream of the forebody.
+    bow_wave : BowWaveSection or None
+        None or disabled: ``EP_BW`` = off.
+    """
+    if bow_wave is None or not bow_wave.enabled:
+        ep[EK.EP_BW] = EK.BW_OFF
+        return
+    bw = BowWave(airspeed_m_s=params.flight.airspeed_m_s, forebody_radius_m=bow_wave.forebody_radius_m,
+                    probe_offset_m=bow_wave.probe_offset_m, shape=bow_wave.shape,
+                    nose_length_m=bow_wave.nose_length_m)
+    ep[EK.EP_BW] = EK.BW_RANKINE if bow_wave.shape == "rankine" else EK.BW_LINE
+    ep[[EK.EP_BW_DX, EK.EP_BW_DY, EK.EP_BW_DZ]] = bw.source_position_m(np.zeros(3))
+    ep[EK.EP_BW_Q] = bw.flux_m3_s
+    ep[EK.EP_BW_LEN] = bow_wave.nose_length_m
 
 
 def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.ndarray, model) -> float:
@@ -108,8 +139,8 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
     z : array (4n + Z_TAIL,)
         State: hose angles [rad] and rates [rad/s], L [m], L' [m/s], work states [J].
     ep : array (EP_SIZE,)
-        Engagement parameters (:func:`engagement_parameters`); copied, the reel locked and the
-        probe off.
+        Engagement parameters (:func:`engagement_parameters`); copied, the reel locked, the
+        probe and the bow wave off.
     model : hosedrogue.engagement.chain.ChainModel
         Parameter, environment and gust arrays.
 
@@ -122,6 +153,7 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
     e[EK.EP_LAW] = EK.LAW_LOCKED
     e[EK.EP_PAY_DIST] = 0.0
     e[EK.EP_PROBE] = 0.0
+    e[EK.EP_BW] = EK.BW_OFF
     scal = _outputs(np.zeros(1), z[None, :], chain, model, e)[2]
     return float(scal[0, EK.O_T0])
 
@@ -129,7 +161,8 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
 def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duration_s: float,
                         energy: bool = False,
                         equilibrium=None, x0: np.ndarray | None = None, length_rate_m_s: float = 0.0,
-                        gravity_m_s2: float | None = None) -> EngagementResult:
+                        gravity_m_s2: float | None = None,
+                        bow_wave: BowWaveSection | None = None) -> EngagementResult:
     """Simulate an engagement from the balance position at rest (steady air plus the
     ``params.turbulence`` gusts if enabled).
 
@@ -154,6 +187,9 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
         Initial L' [m/s] (positive paying out).
     gravity_m_s2 : float, optional
         Overrides g [m/s^2] (0 for the energy balance without gravity).
+    bow_wave : BowWaveSection, optional
+        The receiver's forebody moving with the probe tip (radius [m], probe offset [m], shape);
+        its perturbation velocity is added to the air at every hose drag point and at the drogue.
 
     Returns
     -------
@@ -168,7 +204,7 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     """
     _check_duration(duration_s)
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2)
-    ep = engagement_parameters(params, reel, probe, chain, drogue_eq)
+    ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
     t_set = reel.tension_set_n
     if t_set < 0:
         t_set = exit_tension_at_rest(params, chain, z, ep, model)

@@ -24,8 +24,8 @@ def run_engagement(scenario) -> EngagementResult:
     Parameters
     ----------
     scenario : hosedrogue.scenarios.Scenario
-        Its ``params``, ``duration_s`` [s] and the ``reel`` / ``probe`` sections in ``extra``
-        (default reel, no probe when absent).
+        Its ``params``, ``duration_s`` [s] and the ``reel`` / ``probe`` / ``bow_wave`` sections in
+        ``extra`` (default reel, no probe, no bow wave when absent).
 
     Returns
     -------
@@ -33,7 +33,8 @@ def run_engagement(scenario) -> EngagementResult:
     """
     reel = scenario.extra.get("reel", Reel())
     probe = scenario.extra.get("probe")
-    result = simulate_engagement(scenario.params, reel, probe, scenario.duration_s)
+    result = simulate_engagement(scenario.params, reel, probe, scenario.duration_s,
+                                 bow_wave=scenario.extra.get("bow_wave"))
     result.meta.update({"scenario": scenario.name, "source": scenario.source, "duration_s": scenario.duration_s,
                         "params": scenario.params.to_dict()})
     return result

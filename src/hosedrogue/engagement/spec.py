@@ -1,4 +1,5 @@
-"""Reel and probe parameters of the engagement (scenario sections ``[reel]`` and ``[probe]``).
+"""Reel, probe and bow-wave parameters of the engagement (scenario sections ``[reel]``, ``[probe]``,
+``[bow_wave]``).
 
 Validated at construction like :mod:`hosedrogue.params`: a wrong field raises a one-line
 :class:`~hosedrogue.errors.ParameterError` naming field, value and allowed range. SI units, the
@@ -12,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from ..errors import ParameterError
-from ..params import _Section, _bool, _choice, _num
+from ..params import _Section, _bool, _choice, _num, _vec3
 
 REEL_LAWS = ("locked", "constant-tension", "response")
 
@@ -101,15 +102,37 @@ class Probe(_Section):
                 f"probe.max_closure_speed_m_s = {self.max_closure_speed_m_s!r}")
 
 
-ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe}
+BOW_WAVE_SHAPES = ("rankine", "source-line")
+
+
+@dataclass(frozen=True)
+class BowWaveSection(_Section):
+    """The receiver's forebody flow moving with the probe tip (docs/engagement.md, "Bow wave";
+    the field of :mod:`hosedrogue.environment.bow_wave`), added to the air at every hose drag point
+    and at the drogue."""
+
+    _section = "bow_wave"
+    #: False: no bow wave (the default)
+    enabled: bool = field(default=False, metadata=_bool())
+    #: fuselage radius R far aft of the nose [m]; source flux pi R^2 V
+    forebody_radius_m: float = field(default=0.75, metadata=_num(0.0, 5.0, unit="m"))
+    #: probe tip relative to the nose (forward, right, down) [m]
+    probe_offset_m: tuple = field(default=(2.5, 0.0, 0.0), metadata=_vec3(-20.0, 20.0, unit="m"))
+    #: "rankine": point source (Rankine half-body); "source-line": uniform line source of nose_length_m
+    shape: str = field(default="rankine", metadata=_choice(*BOW_WAVE_SHAPES))
+    #: length of the source line [m] (shape "source-line")
+    nose_length_m: float = field(default=2.0, metadata=_num(0.0, 50.0, unit="m"))
+
+
+ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe, "bow_wave": BowWaveSection}
 
 
 def section_from_dict(name: str, data: Any):
-    """Build ``Reel`` or ``Probe`` from a scenario table, rejecting unknown fields.
+    """Build ``Reel``, ``Probe`` or ``BowWaveSection`` from a scenario table, rejecting unknown fields.
 
     Parameters
     ----------
-    name : {"reel", "probe"}
+    name : {"reel", "probe", "bow_wave"}
         The scenario section.
     data : mapping
         Its fields (SI units, the unit in every field name).
@@ -134,17 +157,17 @@ def section_from_dict(name: str, data: Any):
 
 
 def validate_sections(data: Mapping[str, Any]) -> dict:
-    """The scenario loader's hook: validate ``[reel]``/``[probe]`` now, return them as objects.
+    """The scenario loader's hook: validate ``[reel]``/``[probe]``/``[bow_wave]`` now, return them as objects.
 
     Parameters
     ----------
     data : mapping
-        The scenario's tables; only ``reel`` and ``probe`` are read.
+        The scenario's tables; only ``reel``, ``probe`` and ``bow_wave`` are read.
 
     Returns
     -------
     dict
-        ``{"reel": Reel, "probe": Probe}`` for the sections present.
+        ``{"reel": Reel, "probe": Probe, "bow_wave": BowWaveSection}`` for the sections present.
     """
     return {name: section_from_dict(name, data[name]) for name in ENGAGEMENT_SECTIONS if name in data}
 

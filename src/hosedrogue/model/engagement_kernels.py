@@ -32,8 +32,19 @@ import math
 import numpy as np
 from numba import njit
 
+from ..environment.bow_wave import line_source_velocity, source_velocity
 from .kernels import (
     BENDING_MOMENT,
+    DRAG_GAUSS2,
+    GAUSS2_OFFSET,
+    PS_CN,
+    PS_CT,
+    PS_DO,
+    PS_DRAG_QUAD,
+    PS_DROGUE_CDA,
+    PS_RHO,
+    air_velocity,
+    segment_drag,
     JIT,
     OK,
     PS_BENDING,
@@ -54,8 +65,12 @@ from .integrate import step_status
  EP_KS, EP_DB, EP_KV,
  EP_PAY_T0, EP_PAY_DIST, EP_PAY_V, EP_PAY_A,
  EP_PROBE, EP_P0X, EP_P0Y, EP_P0Z, EP_VC, EP_PUSH, EP_T_STOP, EP_KP, EP_CP, EP_COUPLED, EP_T_CAP,
- EP_S_CAP, EP_JD) = range(34)
-EP_SIZE = 34
+ EP_S_CAP, EP_JD,
+ EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_Q, EP_BW_LEN) = range(40)
+EP_SIZE = 40
+
+# bow-wave shapes (EP_BW); EP_BW_D* is the source (the line's forward end) minus the probe tip [m]
+BW_OFF, BW_RANKINE, BW_LINE = 0, 1, 2
 
 LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE = 0, 1, 2
 
@@ -237,6 +252,71 @@ def motor_torque(Ld, slack, ep):
 
 
 @njit(**JIT)
+def bow_wave_at(x, y, z, sx, sy, sz, ep):
+    """Bow-wave perturbation velocity [m/s] at (x, y, z) of the source at (sx, sy, sz) [m];
+    zero within 1 mm of the source (inside the forebody, never reached by the hose)."""
+    dx = x - sx
+    dy = y - sy
+    dz = z - sz
+    if dx * dx + dy * dy + dz * dz < 1e-6:
+        return 0.0, 0.0, 0.0
+    if ep[EP_BW] == BW_RANKINE:
+        return source_velocity(x, y, z, sx, sy, sz, ep[EP_BW_Q])
+    return line_source_velocity(x, y, z, sx, sy, sz, ep[EP_BW_LEN], ep[EP_BW_Q])
+
+
+@njit(**JIT)
+def bow_wave_forces(t, l, ps, env, gust, n, e, r, v, F, drogue_drag, ep, px, py, pz):
+    """Add to F (and drogue_drag) the change of the link and drogue drag that the bow wave of a
+    forebody whose probe tip is at (px, py, pz) [m] makes: at each quadrature point of
+    :func:`~hosedrogue.model.kernels.joint_forces`, the drag in the air plus the bow wave minus the
+    drag in the air alone (the non-engagement kernels stay unchanged)."""
+    rho = ps[PS_RHO]
+    if ep[EP_BW] == BW_OFF or rho <= 0.0:
+        return
+    sx = px + ep[EP_BW_DX]
+    sy = py + ep[EP_BW_DY]
+    sz = pz + ep[EP_BW_DZ]
+    q_ct = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CT]
+    q_cn = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CN]
+    if ps[PS_DRAG_QUAD] == DRAG_GAUSS2:
+        npts = 2
+        s0, s1, w = 0.5 - GAUSS2_OFFSET, 0.5 + GAUSS2_OFFSET, 0.5
+    else:
+        npts = 1
+        s0, s1, w = 0.5, 0.5, 1.0
+    for k in range(n):
+        for j in range(npts):
+            sp = s0 if j == 0 else s1
+            sf = 1.0 - sp
+            x = sf * r[k, 0] + sp * r[k + 1, 0]
+            y = sf * r[k, 1] + sp * r[k + 1, 1]
+            z = sf * r[k, 2] + sp * r[k + 1, 2]
+            wx, wy, wz = air_velocity(x, y, z, t, env, gust)
+            bx, by, bz = bow_wave_at(x, y, z, sx, sy, sz, ep)
+            d1 = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx + bx, wy + by, wz + bz)
+            d0 = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx, wy, wz)
+            for i in range(3):
+                F[k, i] += sf * (d1[i] - d0[i])
+                F[k + 1, i] += sp * (d1[i] - d0[i])
+    wx, wy, wz = air_velocity(r[n, 0], r[n, 1], r[n, 2], t, env, gust)
+    bx, by, bz = bow_wave_at(r[n, 0], r[n, 1], r[n, 2], sx, sy, sz, ep)
+    vrx = v[n, 0] - wx - bx
+    vry = v[n, 1] - wy - by
+    vrz = v[n, 2] - wz - bz
+    c = -0.5 * rho * ps[PS_DROGUE_CDA] * math.sqrt(vrx * vrx + vry * vry + vrz * vrz)
+    dx = c * vrx - drogue_drag[0]
+    dy = c * vry - drogue_drag[1]
+    dz = c * vrz - drogue_drag[2]
+    F[n, 0] += dx
+    F[n, 1] += dy
+    F[n, 2] += dz
+    drogue_drag[0] += dx
+    drogue_drag[1] += dy
+    drogue_drag[2] += dz
+
+
+@njit(**JIT)
 def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
     """Accelerations (ws[15] holds qdd, out[O_LDD] holds L'') and the outputs of state z; chart
     (n,) selects each link's angle chart (:func:`apply_charts`)."""
@@ -255,8 +335,9 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
     u0[0] = 0.0
     u0[1] = 0.0
     joint_forces(t, u0, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
-    # probe
+    # probe and its forebody's bow wave
     px, py, pz, vpx, vpy, vpz = probe_state(t, ep)
+    bow_wave_forces(t, l, ps, env, gust, n, e, r, v, F, ws[13], ep, px, py, pz)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
         kp = ep[EP_KP]

@@ -1,0 +1,85 @@
+"""The drogue's steady displacement by the receiver's bow wave (docs/engagement.md, "Bow wave").
+
+The probe tip is held still on the drogue's axis, a given distance aft of the drogue; the hose is
+solved for its balance position in the steady air plus the bow wave of the forebody behind the
+tip (the engagement kernels' forces with the reel locked, so the free length is that of the
+hose). The displacement is the drogue's position minus its balance position without the bow wave.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.optimize
+
+from ..errors import ParameterError
+from ..model import engagement_kernels as EK
+from ..model.kernels import make_workspace
+from ..params import Params
+from .chain import chain_equilibrium, initial_chain
+from .driver import engagement_parameters, set_bow_wave
+from .spec import BowWaveSection, Reel
+
+
+def _accelerations(q, chain, model, ep, z):
+    """qdd [rad/s^2] at hose angles q, at rest, reel locked (L'' = 0)."""
+    n = chain.n
+    z[: 2 * n] = q
+    ws = make_workspace(n)
+    ws2 = make_workspace(n)
+    out = np.empty(EK.O_SIZE)
+    EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
+                    model.gust_values, ep, chain.chart, ws, ws2, np.empty(2), out)
+    return ws[15].copy(), ws[4][n].copy()
+
+
+def bow_wave_displacement(params: Params, bow_wave: BowWaveSection, distances_m) -> np.ndarray:
+    """Steady drogue displacement [m] caused by the bow wave alone, probe held at each distance.
+
+    Parameters
+    ----------
+    params : Params
+        Hose, drogue, flight condition (airspeed [m/s], altitude [m], wake) and links; turbulence
+        is not used (steady air).
+    bow_wave : BowWaveSection
+        The forebody (radius [m], probe offset from the nose [m], shape, nose length [m]); used
+        as if enabled.
+    distances_m : array_like (m,)
+        Distances [m] of the probe tip aft of the drogue along the drogue's axis (its last link
+        at the balance position), each > 0.
+
+    Returns
+    -------
+    array (m, 3)
+        Drogue position with the bow wave minus without it [m] in S_p (x forward, y right, z down).
+
+    Raises
+    ------
+    ParameterError
+        A distance not a finite number > 0, or a balance position not found.
+    """
+    d = np.atleast_1d(np.asarray(distances_m, dtype=np.float64))
+    if not np.all(np.isfinite(d) & (d > 0)):
+        raise ParameterError(f"distances_m = {distances_m!r}: must be finite numbers > 0 m")
+    chain = initial_chain(params)
+    eq, model = chain_equilibrium(params, chain)
+    n = chain.n
+    z = np.concatenate([eq.state, [float(np.sum(chain.l)), 0.0], np.zeros(EK.Z_TAIL - 2)])
+    ep = engagement_parameters(params, Reel(law="locked"), None, chain, eq.drogue_position_m)
+    ep[EK.EP_PROBE] = 0.0  # the tip is held: no capture test, no closure
+    ep[EK.EP_VC] = 0.0
+    set_bow_wave(ep, params, BowWaveSection(enabled=True, forebody_radius_m=bow_wave.forebody_radius_m,
+                                            probe_offset_m=bow_wave.probe_offset_m, shape=bow_wave.shape,
+                                            nose_length_m=bow_wave.nose_length_m))
+    q0 = eq.state[: 2 * n].copy()
+    _, drogue0 = _accelerations(q0, chain, model, np.where(np.arange(ep.size) == EK.EP_BW, 0.0, ep), z.copy())
+    axis = drogue0 - model.joint_positions(q0)[-2]
+    axis /= np.linalg.norm(axis)  # aft along the last link
+    out = np.empty((d.size, 3))
+    for i, dist in enumerate(d):
+        ep[[EK.EP_P0X, EK.EP_P0Y, EK.EP_P0Z]] = drogue0 + dist * axis
+        sol = scipy.optimize.root(lambda q: _accelerations(q, chain, model, ep, z)[0], q0, method="hybr",
+                                  options={"xtol": 1e-12})
+        if not sol.success:
+            raise ParameterError(f"distances_m = {dist!r}: no balance position found ({sol.message})")
+        out[i] = _accelerations(sol.x, chain, model, ep, z)[1] - drogue0
+    return out
