@@ -21,13 +21,14 @@ from .spec import BowWaveSection, Reel
 
 
 def _accelerations(q, chain, model, ep, z):
-    """qdd [rad/s^2] at hose angles q, at rest, reel locked (L'' = 0)."""
+    """qdd [rad/s^2] and the drogue position [m] at hose angles q, at rest, reel locked (L'' = 0),
+    in steady air (the model's gusts never used)."""
     n = chain.n
     z[: 2 * n] = q
     ws = make_workspace(n)
     ws2 = make_workspace(n)
     out = np.empty(EK.O_SIZE)
-    EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
+    EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.steady_env,
                     model.gust_values, ep, chain.chart, ws, ws2, np.empty(2), out)
     return ws[15].copy(), ws[4][n].copy()
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -140,7 +141,8 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
         State: hose angles [rad] and rates [rad/s], L [m], L' [m/s], work states [J].
     ep : array (EP_SIZE,)
         Engagement parameters (:func:`engagement_parameters`); copied, the reel locked, the
-        probe and the bow wave off.
+        probe and the bow wave off, in steady air (the gusts at t = 0 aside, so that the set
+        point does not depend on the turbulence seed).
     model : hosedrogue.engagement.chain.ChainModel
         Parameter, environment and gust arrays.
 
@@ -154,7 +156,8 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
     e[EK.EP_PAY_DIST] = 0.0
     e[EK.EP_PROBE] = 0.0
     e[EK.EP_BW] = EK.BW_OFF
-    scal = _outputs(np.zeros(1), z[None, :], chain, model, e)[2]
+    steady = SimpleNamespace(ps=model.ps, env=model.steady_env, gust_values=model.gust_values)  # no gusts
+    scal = _outputs(np.zeros(1), z[None, :], chain, steady, e)[2]
     return float(scal[0, EK.O_T0])
 
 
