@@ -26,8 +26,10 @@ def add_parser(sub) -> None:
             "(one row per run: peak and RMS lateral/vertical/radial drogue displacement [m] from the balance "
             "position inside the turbulence window, time fraction inside each capture radius [-], peak control "
             "forces [N]), DIR/summary.json and DIR/summary.csv (mean, std, 95 % confidence interval of the "
-            "mean, median, 5th/95th percentiles), DIR/histograms.png and DIR/cdf.png. Running again with the "
-            "same settings resumes an interrupted campaign; results do not depend on --workers."))
+            "mean, median, 5th/95th percentiles), DIR/histograms.png and DIR/cdf.png. An engagement scenario "
+            "([reel]/[probe]) runs the engagement driver and adds the columns result, miss_distance_m, "
+            "closure_speed_m_s, a \"capture\" block (rate, Wilson 95 % interval, by result) and DIR/miss_cdf.png. "
+            "Running again with the same settings resumes an interrupted campaign; results do not depend on --workers."))
     s.add_argument("scenario", metavar="SCENARIO", help="scenario name or TOML file")
     s.add_argument("--runs", metavar="N", type=int, required=True, help="number of runs (seeds) [-], >= 1")
     s.add_argument("--workers", metavar="K", type=int,
@@ -89,6 +91,11 @@ def run(args) -> int:
               f"mean {_fmt(peak['mean'], 'm')} (95 % CI {_fmt(lo, 'm')} to {_fmt(hi, 'm')})")
         inside = ", ".join(f"{r:g} m {_percent(st[capture_column(r)]['mean'])}" for r in radii)
         print(f"  time inside capture radius (mean over runs): {inside}")
+    cap = summary.capture
+    if cap is not None and cap["runs"]:
+        lo, hi = cap["ci95"]
+        by = ", ".join(f"{k} {v}" for k, v in cap["by_result"].items() if v)
+        print(f"capture rate {cap['rate']:.3f} (Wilson 95 %: {lo:.3f}-{hi:.3f}) over {cap['runs']} runs: {by}")
     print(f"{summary.new_runs} runs simulated, {len(summary.runs) - summary.new_runs} resumed")
     for p in (summary.out_dir / "runs.csv", summary.out_dir / "campaign.json", *summary.files):
         print(f"wrote {p}")

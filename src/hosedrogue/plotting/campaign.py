@@ -101,3 +101,33 @@ def plot_cdf(table, controllers: Sequence[str], capture_radii_m: Sequence[float]
     axes[0].set_ylabel("fraction of runs [-]")
     axes[0].legend(loc="lower right", fontsize="small")
     return fig
+
+
+def plot_miss_cdf(miss_m, capture_radius_m: float, title: str = ""):
+    """Empirical CDF of the radial miss at the coupler plane over an engagement campaign's runs.
+
+    Parameters
+    ----------
+    miss_m : array (N,)
+        Radial miss distance [m] of each run that reached the coupler plane (non-finite ignored).
+    capture_radius_m : float
+        Capture radius [m], drawn as a dashed line.
+    title : str
+        Figure title (e.g. the capture rate).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = new_figure(1, 1, size=(6.0, 4.0))
+    x = np.sort(np.asarray(miss_m, dtype=np.float64))
+    x = x[np.isfinite(x)]
+    if x.size:
+        ax.step(np.r_[x[0], x], np.arange(0, x.size + 1) / x.size, where="post", label=f"{x.size} runs")
+    ax.axvline(capture_radius_m, color="0.4", linestyle="--", linewidth=0.8,
+               label=f"capture radius {capture_radius_m:g} m")
+    ax.set_xlabel("radial miss at the coupler plane [m]")
+    ax.set_ylabel("fraction of runs [-]")
+    ax.legend(loc="lower right", fontsize="small")
+    ax.set_title(title or "Empirical CDF of the miss distance")
+    return fig

@@ -21,6 +21,10 @@ Files in the output folder ``DIR``
     displacement record for the rest of its window); ``count`` says how many.
 ``histograms.png``, ``cdf.png``
     Distributions of the per-run statistics, one colour per controller.
+``miss_cdf.png``, and ``"capture"`` in summary.json
+    Engagement scenarios (``[reel]``/``[probe]``, run by the engagement driver): the miss-distance
+    CDF and the capture rate with its Wilson 95 % interval; runs.csv then also holds ``result``,
+    ``miss_distance_m`` and ``closure_speed_m_s`` (docs/engagement.md, "Docking statistics").
 ``runs/run_XXXXX.csv``
     With ``keep_timeseries``: each run's time series, written by the worker that ran it
     (``run_XXXXX_CONTROLLER.csv`` with ``compare_controller``).
@@ -63,8 +67,8 @@ from . import executor
 from .executor import IN_FLIGHT_PER_WORKER, SYNCHRONOUS
 from .seeds import run_seed
 from .statistics import CampaignSummary, summarize_campaign
-from .store import (AppendLog, check_same_settings, make_settings, read_runs, read_settings, run_columns,
-                    todo, write_atomic)
+from .store import (ENGAGEMENT_SECTIONS, AppendLog, check_same_settings, make_settings, read_runs, read_settings,
+                    run_columns, todo, write_atomic)
 
 __all__ = ["CampaignSummary", "DEFAULT_CAPTURE_RADII_M", "RunTask", "SYNCHRONOUS", "run_campaign", "run_seed",
            "run_task", "statistics_window", "summarize_run"]
@@ -179,6 +183,16 @@ def run_task(task: RunTask) -> dict:
     """
     start = time.perf_counter()
     scenario = dataclasses.replace(task.scenario.with_overrides(seed=task.seed), controller=task.controller)
+    if scenario.extra.keys() & ENGAGEMENT_SECTIONS:
+        row = _engagement_row(task, scenario)
+    else:
+        row = _run_row(task, scenario)
+    row["_wall_s"] = time.perf_counter() - start
+    return row
+
+
+def _run_row(task: RunTask, scenario) -> dict:
+    """Simulate a (non-engagement) run; its row, the time series written if asked."""
     result = run_scenario(scenario)
     row = {
         "run": task.index,
@@ -189,13 +203,64 @@ def run_task(task: RunTask) -> dict:
         **summarize_run(result, task.window_s, task.capture_radii_m),
         "message": result.message,
     }
-    if task.timeseries_path:
-        path = Path(task.timeseries_path)
+    _write_series(result, task.timeseries_path)
+    return row
+
+
+def _write_series(result, path: str | None) -> None:
+    """Write the run's time series to ``path`` atomically (nothing if None)."""
+    if path:
+        path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(path.name + ".tmp")
         result.to_csv(tmp)
         os.replace(tmp, path)
-    row["_wall_s"] = time.perf_counter() - start
+
+
+def capture_category(outcome: dict, completed: bool) -> str:
+    """The ``result`` column of an engagement run: "captured", "miss", "failed latch",
+    "no contact" (the probe never reached the coupler plane) or "stopped" (a failed state).
+
+    Parameters
+    ----------
+    outcome : dict
+        The run's outcome (its ``result``: "captured", "miss: ...", "failed latch: ...", ...).
+    completed : bool
+        Whether the run completed.
+
+    Returns
+    -------
+    str
+    """
+    text = str(outcome.get("result", ""))
+    head = text.split(":", 1)[0]
+    if head in ("captured", "miss", "failed latch"):
+        return head
+    return "no contact" if completed else "stopped"
+
+
+def _engagement_row(task: RunTask, scenario) -> dict:
+    """Simulate an engagement run (:func:`hosedrogue.engagement.run.run_engagement`); its row:
+    the drogue statistics (no control force) and the capture test's result, miss [m] and
+    closure speed [m/s] (NaN without contact)."""
+    from ..engagement.run import run_engagement
+
+    result = run_engagement(scenario)
+    out = result.outcome
+    t = np.asarray(result.t_s)
+    row = {
+        "run": task.index,
+        "controller": task.controller,
+        "seed": task.seed,
+        "completed": bool(result.completed),
+        "t_end_s": float(t[-1]) if t.size else 0.0,
+        **window_statistics(t, result.drogue_offset_m, np.zeros((t.size, 2)), task.window_s, task.capture_radii_m),
+        "result": capture_category(out, result.completed),
+        "miss_distance_m": math.nan if out.get("miss_distance_m") is None else float(out["miss_distance_m"]),
+        "closure_speed_m_s": math.nan if out.get("closure_speed_m_s") is None else float(out["closure_speed_m_s"]),
+        "message": f"{out.get('result')}; {result.message}",
+    }
+    _write_series(result, task.timeseries_path)
     return row
 
 
@@ -272,16 +337,17 @@ def run_campaign(
     settings = make_settings(scenario, runs, seed, radii, compare_controller, controllers, window)
     old = _previous_settings(out, settings)
 
-    pending = todo(read_runs(out / "runs.csv", radii) if old is not None else [], runs, controllers)
+    engagement = bool(scenario.extra.keys() & ENGAGEMENT_SECTIONS)
+    pending = todo(read_runs(out / "runs.csv", radii, engagement) if old is not None else [], runs, controllers)
     with executor.dask_client(client, workers, scheduler, use_dask and bool(pending)) as dask_client:
         # nothing is written before this point: bad input and an unreachable scheduler leave no trace
         out.mkdir(parents=True, exist_ok=True)
         if old is None:
             write_atomic(out / "campaign.json", json.dumps(settings, indent=2) + "\n")
-        log = AppendLog(out / "runs.csv", run_columns(radii), lock=True)
+        log = AppendLog(out / "runs.csv", run_columns(radii, engagement), lock=True)
         try:
             # again under the lock: the rows are now final
-            remaining = todo(read_runs(out / "runs.csv", radii), runs, controllers)
+            remaining = todo(read_runs(out / "runs.csv", radii, engagement), runs, controllers)
             series_dir = (out / "runs").resolve() if keep_timeseries else None
             tasks = _tasks(scenario, remaining, seed, window, radii, series_dir, compare_controller)
             if remaining:

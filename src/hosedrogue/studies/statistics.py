@@ -20,9 +20,12 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..metrics import statistic_units
-from ..plotting.campaign import plot_cdf, plot_histograms
+from ..plotting.campaign import plot_cdf, plot_histograms, plot_miss_cdf
 from ..plotting.figures import save_figure
-from .store import csv_line, read_runs, read_settings, run_columns, write_atomic
+from .store import csv_line, is_engagement, read_runs, read_settings, run_columns, write_atomic
+
+#: Order of the engagement results in ``by_result`` (:func:`hosedrogue.studies.campaign.capture_category`)
+RESULTS = ("captured", "miss", "failed latch", "no contact", "stopped")
 
 
 @dataclass(frozen=True)
@@ -41,10 +44,13 @@ class CampaignSummary:
     completed_fraction: dict  #: controller -> fraction of its runs that completed [-]
     files: tuple  #: the files written (summary.json, summary.csv, figures)
     new_runs: int  #: runs executed by this call (the rest were resumed from runs.csv)
+    #: engagement campaigns: rate, Wilson ci95, runs, by_result (:func:`capture_summary`); else None
+    capture: dict | None = None
 
     def to_dict(self) -> dict:
         """The content of summary.json."""
-        return {
+        out = {} if self.capture is None else {"capture": self.capture}
+        return out | {
             "campaign": self.settings,
             "controllers": {
                 c: {
@@ -93,6 +99,63 @@ def describe(values: np.ndarray, confidence: float = 0.95) -> dict:
     return out
 
 
+def wilson_interval(successes: int, n: int, confidence: float = 0.95) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion.
+
+    From its definition: the proportions p whose score test ``|k/n - p| <= z sqrt(p (1 - p) / n)``
+    does not reject, z the two-sided normal quantile. Squaring gives a quadratic in p with roots
+    ``(phat + z^2/(2n) +- z sqrt(phat (1 - phat)/n + z^2/(4 n^2))) / (1 + z^2/n)``.
+
+    Parameters
+    ----------
+    successes : int
+        Number of successes k [-], 0 <= k <= n.
+    n : int
+        Number of trials [-], >= 1.
+    confidence : float
+        Confidence level [-], in (0, 1).
+
+    Returns
+    -------
+    (float, float)
+        Lower and upper bound of the proportion [-].
+    """
+    from scipy import stats
+
+    if not (isinstance(n, (int, np.integer)) and n >= 1 and 0 <= successes <= n):
+        raise ParameterError(f"successes, n = {successes!r}, {n!r}: need integers 0 <= successes <= n, n >= 1")
+    z = float(stats.norm.ppf(0.5 + confidence / 2))
+    phat = successes / n
+    denom = 1.0 + z * z / n
+    centre = (phat + z * z / (2 * n)) / denom
+    half = z / denom * math.sqrt(phat * (1.0 - phat) / n + z * z / (4.0 * n * n))
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def capture_summary(results) -> dict:
+    """The ``"capture"`` block of an engagement campaign's summary.json.
+
+    Parameters
+    ----------
+    results : sequence of str
+        Each run's ``result`` (:data:`RESULTS`).
+
+    Returns
+    -------
+    dict
+        ``rate`` (captured / runs [-]), ``ci95`` (Wilson, [low, high] [-]), ``runs`` and
+        ``by_result`` (result -> count).
+    """
+    results = list(results)
+    n = len(results)
+    by = {r: results.count(r) for r in RESULTS}
+    by.update({r: results.count(r) for r in sorted(set(results) - set(RESULTS))})
+    if n == 0:
+        return {"rate": None, "ci95": [None, None], "runs": 0, "by_result": by}
+    k = by["captured"]
+    return {"rate": k / n, "ci95": list(wilson_interval(k, n)), "runs": n, "by_result": by}
+
+
 def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_runs: int = 0,
                        plots: bool = True) -> CampaignSummary:
     """Compute the statistics from ``out_dir/runs.csv`` and write summary.json, summary.csv and the
@@ -122,11 +185,12 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     radii = settings["capture_radii_m"]
     controllers = settings["controllers"]
     units = statistic_units(radii)
-    rows = read_runs(out / "runs.csv", radii)
+    engagement = is_engagement(settings)
+    rows = read_runs(out / "runs.csv", radii, engagement)
     order = {c: k for k, c in enumerate(controllers)}
     rows.sort(key=lambda r: (order.get(r["controller"], len(order)), r["run"]))
     rows = _first_row_per_run(rows)
-    table = pd.DataFrame(rows, columns=run_columns(radii))
+    table = pd.DataFrame(rows, columns=run_columns(radii, engagement))
 
     statistics, completed = {}, {}
     csv_rows = []
@@ -143,7 +207,8 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
                              "ci95_high": d["ci95_mean"][1], "median": d["median"], "p05": d["p05"],
                              "p95": d["p95"], "completed_fraction": completed[c]})
     files = []
-    summary = CampaignSummary(out, settings, table, statistics, completed, (), new_runs)
+    capture = capture_summary(table["result"]) if engagement else None
+    summary = CampaignSummary(out, settings, table, statistics, completed, (), new_runs, capture)
     write_atomic(out / "summary.json", json.dumps(summary.to_dict(), indent=2) + "\n")
     files.append(out / "summary.json")
     columns = list(csv_rows[0]) if csv_rows else []
@@ -154,7 +219,18 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     if plots and len(table):
         files.append(save_figure(plot_histograms(table, controllers, radii), out / "histograms.png"))
         files.append(save_figure(plot_cdf(table, controllers, radii), out / "cdf.png"))
+        if engagement:
+            files.append(save_figure(_miss_figure(table, settings, capture), out / "miss_cdf.png"))
     return dataclasses.replace(summary, files=tuple(files))
+
+
+def _miss_figure(table, settings: dict, capture: dict):
+    """The miss-distance CDF of an engagement campaign, its capture radius from the scenario."""
+    radius = ((settings["scenario"].get("extra") or {}).get("probe") or {}).get("capture_radius_m", 0.305)
+    lo, hi = capture["ci95"]
+    title = (f"capture rate {capture['rate']:.3f} (Wilson 95 %: {lo:.3f}-{hi:.3f}) over {capture['runs']} runs"
+             if capture["runs"] else "")
+    return plot_miss_cdf(table["miss_distance_m"].to_numpy(dtype=np.float64), radius, title)
 
 
 def _first_row_per_run(rows: list[dict]) -> list[dict]:

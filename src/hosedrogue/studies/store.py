@@ -32,23 +32,46 @@ COMPARED_SETTINGS = ("scenario", "runs", "seed", "capture_radii_m", "compare_con
                      "controllers", "duration_s")
 
 _KEY_COLUMNS = ("run", "controller", "seed", "completed", "t_end_s")
+#: Columns of an engagement campaign's runs.csv: the capture test's result ("captured", "miss",
+#: "failed latch", "no contact", "stopped"), radial miss [m] and closure speed [m/s] at the coupler plane
+ENGAGEMENT_COLUMNS = ("result", "miss_distance_m", "closure_speed_m_s")
+#: Sections that make a scenario an engagement scenario (run by the engagement driver)
+ENGAGEMENT_SECTIONS = frozenset({"reel", "probe"})
 
 
-def run_columns(capture_radii_m: Sequence[float]) -> list[str]:
+def is_engagement(settings: dict) -> bool:
+    """Whether campaign settings (:func:`make_settings`) are those of an engagement scenario.
+
+    Parameters
+    ----------
+    settings : dict
+        Content of campaign.json.
+
+    Returns
+    -------
+    bool
+    """
+    return bool(set((settings.get("scenario") or {}).get("extra") or {}) & ENGAGEMENT_SECTIONS)
+
+
+def run_columns(capture_radii_m: Sequence[float], engagement: bool = False) -> list[str]:
     """The columns of ``runs.csv``.
 
     Parameters
     ----------
     capture_radii_m : sequence of float
         Capture radii [m].
+    engagement : bool
+        An engagement campaign: also :data:`ENGAGEMENT_COLUMNS` (before the message).
 
     Returns
     -------
     list of str
         Run index, controller, seed, completed, stop time [s], the statistics of
-        :func:`hosedrogue.metrics.statistic_units`, message.
+        :func:`hosedrogue.metrics.statistic_units`, the engagement columns, message.
     """
-    return [*_KEY_COLUMNS, *statistic_units(capture_radii_m), "message"]
+    extra = ENGAGEMENT_COLUMNS if engagement else ()
+    return [*_KEY_COLUMNS, *statistic_units(capture_radii_m), *extra, "message"]
 
 
 # --- campaign.json -------------------------------------------------------------------------------
@@ -220,12 +243,13 @@ def _parse_value(column: str, text: str) -> Any:
         if text not in ("true", "false"):
             raise ValueError(f"completed = {text!r}")
         return text == "true"
-    if column in ("controller", "message"):
+    if column in ("controller", "message", "result"):
         return text
     return float(text)
 
 
-def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTURE_RADII_M) -> list[dict]:
+def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTURE_RADII_M,
+              engagement: bool = False) -> list[dict]:
     """Rows of a ``runs.csv`` as typed dicts, in file order; a partial last line is ignored.
 
     Parameters
@@ -234,6 +258,8 @@ def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTU
         The runs.csv file (missing: no rows).
     capture_radii_m : sequence of float
         The campaign's capture radii [m] (they name columns).
+    engagement : bool
+        An engagement campaign (:func:`run_columns`).
 
     Returns
     -------
@@ -241,7 +267,7 @@ def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTU
         Column -> value (int, bool, str or float).
     """
     path = Path(path)
-    columns = run_columns(capture_radii_m)
+    columns = run_columns(capture_radii_m, engagement)
     data = path.read_text() if path.exists() else ""
     if data and not data.endswith("\n"):
         data = data[: data.rfind("\n") + 1]
