@@ -83,8 +83,8 @@ def bounded_int(name: str, lo: int, hi: int):
     return parse
 
 
-def add_flight_options(sp: argparse.ArgumentParser, links: bool = True) -> None:
-    """Add --altitude, --airspeed, (--links), --config, --no-wake.
+def add_flight_options(sp: argparse.ArgumentParser, links: bool = True, condition: bool = True) -> None:
+    """Add (--altitude, --airspeed), (--links), --config, --no-wake.
 
     Parameters
     ----------
@@ -92,11 +92,14 @@ def add_flight_options(sp: argparse.ArgumentParser, links: bool = True) -> None:
         The sub-command's parser.
     links : bool
         Also add --links.
+    condition : bool
+        Also add --altitude and --airspeed (a command that takes grids of them does not).
     """
-    sp.add_argument("--altitude", metavar="M", type=finite_float("--altitude", 0, 20000, "m"),
-                    help="flight altitude [m], 0-20000 (default: paper, 8000 m)")
-    sp.add_argument("--airspeed", metavar="M_PER_S", type=finite_float("--airspeed", 1e-9, 400, "m/s"),
-                    help="true airspeed [m/s], > 0 (default: paper, 150 m/s)")
+    if condition:
+        sp.add_argument("--altitude", metavar="M", type=finite_float("--altitude", 0, 20000, "m"),
+                        help="flight altitude [m], 0-20000 (default: paper, 8000 m)")
+        sp.add_argument("--airspeed", metavar="M_PER_S", type=finite_float("--airspeed", 1e-9, 400, "m/s"),
+                        help="true airspeed [m/s], > 0 (default: paper, 150 m/s)")
     if links:
         sp.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
                         help="number of rigid links of the hose [-], >= 1 (default 20)")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .options import EXIT_INCOMPLETE, bounded_int, finite_float, params_from_args, prepare_out
+from .options import EXIT_INCOMPLETE, add_flight_options, finite_float, params_from_args, prepare_out
 
 NAME = "sweep"
 
@@ -26,11 +26,7 @@ def add_parser(sub) -> None:
                    help="altitudes [m] (default 2000 4000 6000 8000 10000)")
     s.add_argument("--airspeeds", metavar="M_PER_S", type=finite_float("--airspeeds", 1e-9, 400, "m/s"), nargs="+",
                    help="airspeeds [m/s] (default 100 to 250 in steps of 10)")
-    s.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
-                   help="number of links [-] (default 20)")
-    s.add_argument("--config", metavar="PRESET|FILE",
-                   help="a shipped model preset (e.g. 'converged') or a TOML file of parameter overrides")
-    s.add_argument("--no-wake", action="store_true", help="switch the tanker wake off")
+    add_flight_options(s, condition=False)
     s.add_argument("--out", metavar="DIR", default="out/sweep", help="output folder (default out/sweep)")
     s.set_defaults(func=run)
 
