@@ -35,15 +35,10 @@ from numba import njit
 from ..environment.bow_wave import line_source_velocity, source_velocity
 from .kernels import (
     BENDING_MOMENT,
-    DRAG_GAUSS2,
-    GAUSS2_OFFSET,
-    PS_CN,
-    PS_CT,
-    PS_DO,
-    PS_DRAG_QUAD,
     PS_DROGUE_CDA,
     PS_RHO,
     air_velocity,
+    drag_rule,
     segment_drag,
     JIT,
     OK,
@@ -277,14 +272,7 @@ def bow_wave_forces(t, l, ps, env, gust, n, e, r, v, F, drogue_drag, ep, px, py,
     sx = px + ep[EP_BW_DX]
     sy = py + ep[EP_BW_DY]
     sz = pz + ep[EP_BW_DZ]
-    q_ct = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CT]
-    q_cn = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CN]
-    if ps[PS_DRAG_QUAD] == DRAG_GAUSS2:
-        npts = 2
-        s0, s1, w = 0.5 - GAUSS2_OFFSET, 0.5 + GAUSS2_OFFSET, 0.5
-    else:
-        npts = 1
-        s0, s1, w = 0.5, 0.5, 1.0
+    q_ct, q_cn, npts, s0, s1, w = drag_rule(ps, rho)
     for k in range(n):
         for j in range(npts):
             sp = s0 if j == 0 else s1

@@ -184,6 +184,22 @@ def link_omega(k, l, e, v):
 
 
 @njit(**JIT_NO_ALLOC)
+def drag_rule(ps, rho):
+    """The link drag's factors and quadrature: ``(q_ct, q_cn, npts, s0, s1, w)``.
+
+    ``q_ct``, ``q_cn`` = 1/2 rho pi d_o c_t (c_n) [kg/m^2], the drag per unit length over the
+    squared speed; the ``npts`` points at s0, s1 (0 fore joint, 1 aft joint) carry weight w each.
+    A point load at s goes (1 - s) to the fore joint and s to the aft joint, which is exactly
+    what that load's partial velocities give (the point moves as (1 - s) V_k + s V_k+1).
+    """
+    q_ct = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CT]
+    q_cn = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CN]
+    if ps[PS_DRAG_QUAD] == DRAG_GAUSS2:
+        return q_ct, q_cn, 2, 0.5 - GAUSS2_OFFSET, 0.5 + GAUSS2_OFFSET, 0.5
+    return q_ct, q_cn, 1, 0.5, 0.5, 1.0
+
+
+@njit(**JIT_NO_ALLOC)
 def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
@@ -198,17 +214,7 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
             Mom[k, i] = 0.0
         F[k + 1, 2] += M[k] * g
     if rho > 0.0:
-        q_ct = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CT]
-        q_cn = 0.5 * rho * math.pi * ps[PS_DO] * ps[PS_CN]
-        # quadrature along each link: points s (0 fore joint, 1 aft joint) and weights w; a
-        # point load at s goes (1 - s) to the fore joint and s to the aft joint, which is exactly
-        # what that load's partial velocities give (the point moves as (1 - s) V_k + s V_k+1)
-        if ps[PS_DRAG_QUAD] == DRAG_GAUSS2:
-            npts = 2
-            s0, s1, w = 0.5 - GAUSS2_OFFSET, 0.5 + GAUSS2_OFFSET, 0.5
-        else:
-            npts = 1
-            s0, s1, w = 0.5, 0.5, 1.0
+        q_ct, q_cn, npts, s0, s1, w = drag_rule(ps, rho)
         # the air's velocity where it is a function of y and z only (the gust the same at every
         # point, env_at): the gust, then the wake added per point
         uniform = env[ENV_G_NOW] != 0.0
