@@ -19,6 +19,15 @@ import numpy as np
 _SUFFIX_UNITS = (("_m_s", "m/s"), ("_rad_s", "rad/s"), ("_rad", "rad"), ("_m", "m"), ("_n", "N"), ("_s", "s"))
 
 
+def _save(data: dict, path: str | Path) -> Path:
+    """Write ``data`` as a compressed version-5 .mat file, 1-D arrays as columns (MATLAB's time series)."""
+    from scipy.io import savemat
+
+    path = Path(path)
+    savemat(path, data, do_compression=True, oned_as="column")
+    return path
+
+
 def unit_of(name: str) -> str:
     """The SI unit of a signal from its name's suffix (``"1"`` when it has none).
 
@@ -117,11 +126,7 @@ def write_simulation_mat(result, path: str | Path) -> Path:
     Path
         The written file.
     """
-    from scipy.io import savemat
-
-    path = Path(path)
-    savemat(path, simulation_mat_dict(result), do_compression=True, oned_as="column")
-    return path
+    return _save(simulation_mat_dict(result), path)
 
 
 def linear_mat_dict(lm, channels, table2: dict) -> dict:
@@ -197,8 +202,4 @@ def write_linear_mat(lm, channels, table2: dict, path: str | Path) -> Path:
     Path
         The written file.
     """
-    from scipy.io import savemat
-
-    path = Path(path)
-    savemat(path, linear_mat_dict(lm, channels, table2), do_compression=True, oned_as="column")
-    return path
+    return _save(linear_mat_dict(lm, channels, table2), path)
