@@ -12,6 +12,7 @@ from hosedrogue.engagement.driver import engagement_parameters
 from hosedrogue.engagement.spec import BowWaveSection, Reel, section_from_dict
 from hosedrogue.environment.bow_wave import BowWave
 from hosedrogue.errors import ParameterError
+from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import engagement_kernels as EK
 from hosedrogue.model import kernels as K
 from hosedrogue.model.kernels import make_workspace
@@ -41,7 +42,7 @@ def test_kernel_drogue_drag_matches_the_field():
     z = np.concatenate([eq.state, [np.sum(chain.l), 0.0], np.zeros(EK.Z_TAIL - 2)])
     ws, ws2 = make_workspace(n), make_workspace(n)
     EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
-                    model.gust_values, ep, chain.chart, ws, ws2, np.empty(2), np.empty(EK.O_SIZE))
+                    model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), np.empty(EK.O_SIZE))
     drogue = ws[4][n]
     air = np.array(K.air_velocity(*drogue, 0.0, model.env, model.gust_values))
 

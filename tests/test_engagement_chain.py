@@ -10,6 +10,7 @@ import pytest
 from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.engagement.chain import ChainModel, chain_arrays, chain_equilibrium, chain_for_length
 from hosedrogue.engagement.driver import engagement_parameters
+from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import engagement_kernels as EK
 from hosedrogue.model import kernels as K
 from hosedrogue.params import PAPER
@@ -149,7 +150,7 @@ def test_fixed_length_limit_matches_paper_kernels(rng, hose):
     ws, ws2 = K.make_workspace(chain.n), K.make_workspace(chain.n)
     out = np.empty(EK.O_SIZE)
     EK.eng_evaluate(0.0, z, chain.n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
-                    model.gust_values, ep, chain.chart, ws, ws2, np.empty(2), out)
+                    model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), out)
     assert np.max(np.abs(ws[15] - ref)) < 1e-9 * np.max(np.abs(ref))
 
 
@@ -189,7 +190,7 @@ def test_angle_charts_describe_the_same_motion(rng):
         ws, ws2 = K.make_workspace(n), K.make_workspace(n)
         out = np.empty(EK.O_SIZE)
         EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
-                        model.gust_values, ep, chart, ws, ws2, np.empty(2), out)
+                        model.gust_values, ep, chart, no_loop(), ws, ws2, np.empty(2), out)
         qdd = ws[15]
         # joint accelerations from the link accelerations (A = L'' e_0 + sum l (a qdd1 + b qdd2) + c)
         A = np.cumsum(chain.l[:, None] * (ws[1] * qdd[0::2, None] + ws[2] * qdd[1::2, None]) + ws[6], axis=0)

@@ -167,3 +167,50 @@ def lqr_controller_for(lm: LinearModel, design: str = "balanced", Q=None, R=None
     if design == "integral":
         return lqr_design_for(lm, Q, R).controller
     raise ValueError(f"design must be one of {LQR_DESIGNS}, got {design!r}")
+
+
+def design_controller(kind: str, options: dict, params, model=None, equilibrium=None) -> LinearController | None:
+    """A scenario's drogue controller: the one design used by the fixed-length scenarios
+    (:func:`hosedrogue.scenarios.runner.build_controller`) and the engagement.
+
+    PID: the paper's gains (Eq. 33) unless ``lateral``/``vertical`` are given. LQR: the paper's
+    LQR read on the balanced states of each 2nd-order channel (``design = "balanced"``, default)
+    or the integral-action reading (``design = "integral"``), designed on the linearization of
+    the fixed-length model of ``params`` about its balance position, with the paper's Q and R
+    unless ``q_diag``/``r_diag`` are given.
+
+    Parameters
+    ----------
+    kind : {"none", "pid", "lqr"}
+        Controller type.
+    options : dict
+        PID ``lateral``/``vertical`` = [K_P [N/m], K_I [N/(m s)], K_D [N s/m], N [rad/s]]; LQR
+        ``design``, ``q_diag`` and ``r_diag`` [1/N^2].
+    params : Params
+        The flight condition and model (steady air; the turbulence is not used).
+    model : HoseModel, optional
+        The fixed-length model of ``params`` (built if missing; LQR only).
+    equilibrium : Equilibrium, optional
+        Its balance position (solved if missing; LQR only).
+
+    Returns
+    -------
+    LinearController or None
+        Measured drogue offset [m] -> control force [N]; None for ``kind = "none"``.
+    """
+    if kind == "none":
+        return None
+    from .pid import PIDGains
+
+    if kind == "pid":
+        gains = {ch: PIDGains(*options[ch]) if ch in options else PAPER_PID[ch] for ch in ("lateral", "vertical")}
+        return pid_controller(gains["lateral"], gains["vertical"])
+    from ..analysis.equilibrium import solve_equilibrium
+    from ..analysis.linearize import linearize
+    from ..model.system import HoseModel
+
+    model = HoseModel(params) if model is None else model
+    equilibrium = solve_equilibrium(params, model=model) if equilibrium is None else equilibrium
+    Q = np.diag(options["q_diag"]) if "q_diag" in options else None
+    R = np.diag(options["r_diag"]) if "r_diag" in options else None
+    return lqr_controller_for(linearize(params, equilibrium, model), options.get("design", "balanced"), Q, R)

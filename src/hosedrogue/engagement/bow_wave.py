@@ -17,6 +17,7 @@ from ..model.kernels import make_workspace
 from ..params import Params
 from .chain import chain_equilibrium, initial_chain
 from .driver import engagement_parameters, set_bow_wave
+from .loop import no_loop
 from .spec import BowWaveSection, Reel
 
 
@@ -29,7 +30,7 @@ def _accelerations(q, chain, model, ep, z):
     ws2 = make_workspace(n)
     out = np.empty(EK.O_SIZE)
     EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.steady_env,
-                    model.gust_values, ep, chain.chart, ws, ws2, np.empty(2), out)
+                    model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), out)
     return ws[15].copy(), ws[4][n].copy()
 
 

@@ -19,13 +19,14 @@ import numpy as np
 from ..environment.bow_wave import BowWave
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
-from ..params import ParameterError, Params
+from ..params import Actuator, ParameterError, Params, Sensor
 from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, ChainModel, chain_equilibrium, initial_chain,
                     merge, split, switch_charts)
 from .result import EngagementResult, assemble_result
 from .result import segment_energies as _energies
 from .result import segment_outputs as _outputs
-from .spec import BowWaveSection, Probe, Reel
+from .loop import drogue_history, extra_states, loop_arrays, set_pilot
+from .spec import BowWaveSection, Pilot, Probe, Reel
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
@@ -156,6 +157,7 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
     e[EK.EP_PAY_DIST] = 0.0
     e[EK.EP_PROBE] = 0.0
     e[EK.EP_BW] = EK.BW_OFF
+    e[EK.EP_CTRL] = 0.0  # no control force: the drogue at its balance position needs none
     steady = SimpleNamespace(ps=model.ps, env=model.steady_env, gust_values=model.gust_values)  # no gusts
     scal = _outputs(np.zeros(1), z[None, :], chain, steady, e)[2]
     return float(scal[0, EK.O_T0])
@@ -165,7 +167,9 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
                         energy: bool = False,
                         equilibrium=None, x0: np.ndarray | None = None, length_rate_m_s: float = 0.0,
                         gravity_m_s2: float | None = None,
-                        bow_wave: BowWaveSection | None = None) -> EngagementResult:
+                        bow_wave: BowWaveSection | None = None, control=None,
+                        actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
+                        pilot: Pilot | None = None) -> EngagementResult:
     """Simulate an engagement from the balance position at rest (steady air plus the
     ``params.turbulence`` gusts if enabled).
 
@@ -193,6 +197,17 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     bow_wave : BowWaveSection, optional
         The receiver's forebody moving with the probe tip (radius [m], probe offset [m], shape);
         its perturbation velocity is added to the air at every hose drag point and at the drogue.
+    control : LinearController, optional
+        Drogue controller: measured drogue offset [m] from its balance position at the start ->
+        force [N] at the drogue, until capture (docs/engagement.md, "Drogue controller during
+        the approach").
+    actuator : Actuator
+        Force [N] and rate [N/s] limits of the control force (the fixed-length loop's semantics).
+    sensor : Sensor
+        Noise [m] on the measured drogue offset, sample time [s].
+    pilot : Pilot, optional
+        Flies the probe's lateral and vertical position toward the delayed drogue
+        (docs/engagement.md, "Pilot model"); needs a probe.
 
     Returns
     -------
@@ -208,6 +223,11 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     _check_duration(duration_s)
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
+    if pilot is not None and pilot.enabled and (probe is None or not probe.enabled):
+        raise ParameterError("pilot.enabled = True: the pilot flies the probe; give an enabled probe")
+    set_pilot(ep, pilot, params.numerics.step_s)
+    z = np.concatenate([z, extra_states(ep, control, actuator, pilot)])
+    loop = loop_arrays(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed)
     t_set = reel.tension_set_n
     if t_set < 0:
         t_set = exit_tension_at_rest(params, chain, z, ep, model)
@@ -215,11 +235,12 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     outcome: dict[str, Any] = {"result": "no contact", "miss_distance_m": None, "closure_speed_m_s": None}
     if probe is None or not probe.enabled:
         outcome["result"] = "no probe"
-    run = _Run(z=z, chain=chain, ep=ep, outcome=outcome,
+    run = _Run(z=z, chain=chain, ep=ep, outcome=outcome, loop=loop,
+               hist=drogue_history(ep, int(round(duration_s / params.numerics.step_s))),
                segments=[(chain, ep.copy(), np.array([0.0]), z[None, :].copy())])
     status, message = _integrate(run, params, probe, model, duration_s)
     return assemble_result(params, run.segments, run.events, run.outcome, model, drogue_eq, energy,
-                           status == K.OK, message, run.delta_total, t_set, reel, probe)
+                           status == K.OK, message, run.delta_total, t_set, reel, probe, loop=loop)
 
 
 def _check_duration(duration_s) -> None:
@@ -260,6 +281,8 @@ class _Run:
     ep: np.ndarray
     outcome: dict
     segments: list
+    loop: Any  #: the controller's LoopArrays (empty without a controller)
+    hist: np.ndarray  #: the drogue history the pilot's delay reads (loop.drogue_history)
     events: list = field(default_factory=list)
     step: int = 0
     t: float = 0.0
@@ -300,7 +323,7 @@ def _segment(run: _Run, model, h: float, every: int, remaining: int, max_yaw: fl
     Jw = chain.J.copy()
     code, done, saved = EK.eng_segment(
         z, run.t, run.step, h, remaining, every, chain.n, lw, Mw, Jw, model.ps, model.env, model.gust_values,
-        run.ep, chain.chart, max_yaw, math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom,
+        run.ep, chain.chart, run.loop, run.hist, max_yaw, math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom,
         MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs)
     run.step += done
     run.t = run.step * h
@@ -312,7 +335,7 @@ def _segment(run: _Run, model, h: float, every: int, remaining: int, max_yaw: fl
 def _at(run: _Run, model):
     """Outputs and energies of the current state (see :func:`.result.segment_outputs`)."""
     z1 = run.z[None, :]
-    return _outputs(np.array([run.t]), z1, run.chain, model, run.ep), _energies(z1, run.chain, model, run.ep)[0]
+    return _outputs(np.array([run.t]), z1, run.chain, model, run.ep, run.loop), _energies(z1, run.chain, model, run.ep)[0]
 
 
 def _switch_charts(run: _Run, model) -> None:
@@ -365,7 +388,7 @@ def _plane_crossing(run: _Run, zprev: np.ndarray, h: float, model) -> tuple[floa
     """Radial miss [m] and closure speed [m/s] where the probe tip crossed the coupler plane
     (linear between the last two steps), and the step fraction of the crossing."""
     joints, jvel, scal = _outputs(np.array([run.t - h, run.t]), np.stack([zprev, run.z]), run.chain, model,
-                                  run.ep)[:3]
+                                  run.ep, run.loop)[:3]
     d = np.empty(2)
     radial = np.empty((2, 3))
     vclose = np.empty(2)

@@ -41,6 +41,7 @@ class EngagementResult:
     drogue_velocity_m_s: np.ndarray  #: (N, 3) drogue velocity [m/s]
     tow_force_n: np.ndarray  #: (N, 3) force of the hose on the exit [N]
     motor_torque_n_m: np.ndarray  #: (N,) reel motor torque tau_m [N m]
+    control_force_n: np.ndarray  #: (N, 2) drogue controller's force at the drogue, lateral y and vertical z [N]
     miss_distance_series_m: np.ndarray  #: (N,) radial probe-to-coupler distance in the coupler plane [m]
     plane_distance_m: np.ndarray  #: (N,) probe tip aft of the coupler plane [m] (positive before contact)
     closure_speed_series_m_s: np.ndarray  #: (N,) probe speed toward the coupler plane relative to the drogue [m/s]
@@ -89,6 +90,7 @@ class EngagementResult:
             "closure_speed_m_s": self.closure_speed_series_m_s,
             "slack_m": self.slack_m,
             "motor_torque_n_m": self.motor_torque_n_m,
+            "u_y_n": self.control_force_n[:, 0], "u_z_n": self.control_force_n[:, 1],
             "links": self.links,
             "coupled": self.coupled.astype(int),
         }
@@ -114,7 +116,7 @@ class EngagementResult:
         return path
 
 
-def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.ndarray):
+def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.ndarray, loop=None):
     """The compiled outputs of states ``zs`` of one discretization.
 
     Parameters
@@ -129,6 +131,9 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
         Parameter, environment and gust arrays.
     ep : array (EP_SIZE,)
         Engagement parameters (:func:`hosedrogue.engagement.driver.engagement_parameters`).
+    loop : LoopArrays, optional
+        The drogue controller's arrays (:func:`hosedrogue.engagement.loop.loop_arrays`); needed
+        when ``ep[EP_CTRL]`` is set, else an empty loop is used.
 
     Returns
     -------
@@ -149,8 +154,12 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     scal = np.empty((N, EK.O_SIZE))
     tow = np.empty((N, 3))
     tdrog = np.empty(N)
+    if loop is None:
+        from .loop import no_loop
+
+        loop = no_loop()
     EK.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
-                   chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, joints, jvel, scal, tow, tdrog)
+                   chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, loop, joints, jvel, scal, tow, tdrog)
     return joints, jvel, scal, tow, tdrog
 
 
@@ -203,18 +212,18 @@ def _hose_masses(zs, chain: Chain, ep, params: Params) -> np.ndarray:
     return np.array(masses)
 
 
-def _segment_columns(params: Params, segment, model, energy: bool) -> tuple[dict, np.ndarray, np.ndarray]:
+def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tuple[dict, np.ndarray, np.ndarray]:
     """One segment's columns (keys of :func:`assemble_result`), joint positions and velocities."""
     chain, ep, ts, zs = segment
     n = chain.n
-    joints, jvel, scal, tow, tdrog = segment_outputs(ts, zs, chain, model, ep)
+    joints, jvel, scal, tow, tdrog = segment_outputs(ts, zs, chain, model, ep, loop)
     dpl, miss, vclose = _coupler_geometry(joints, jvel, scal)
     cols = {"t": ts, "L": zs[:, 4 * n + EK.Z_L], "Ld": zs[:, 4 * n + EK.Z_LD], "T0": scal[:, EK.O_T0],
             "Td": tdrog, "fp": scal[:, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "pp": scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]],
             "cp": np.full(ts.size, ep[EK.EP_COUPLED] != 0.0), "slack": scal[:, EK.O_SLACK],
             "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, EK.O_TAU],
             "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
-            "mass": _hose_masses(zs, chain, ep, params)}
+            "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [EK.O_UY, EK.O_UZ]]}
     if energy:
         en = segment_energies(zs, chain, model, ep)
         cols["E"] = np.column_stack([en, zs[:, 4 * n + EK.Z_WM:4 * n + EK.Z_WP + 1]])
@@ -238,12 +247,13 @@ def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float)
         "length_lost_at_merges_m": float(delta_total),
         "tension_set_n": float(t_set),
         "remesh_events": sum(1 for e in events if e["kind"] in ("split", "merge")),
+        "peak_control_force_n": float(np.max(np.linalg.norm(cat["u"], axis=1))),
     }
 
 
 def assemble_result(params: Params, segments: list, events: list, outcome: dict, model, drogue_eq: np.ndarray,
                     energy: bool, completed: bool, message: str, delta_total: float, t_set: float,
-                    reel, probe) -> EngagementResult:
+                    reel, probe, loop=None) -> EngagementResult:
     """Evaluate the outputs of every segment and build the run's result.
 
     Parameters
@@ -274,6 +284,8 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         The drum unit.
     probe : Probe or None
         The receiver's probe.
+    loop : LoopArrays, optional
+        The drogue controller's arrays (see :func:`segment_outputs`).
 
     Returns
     -------
@@ -284,7 +296,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     cols: dict = {}
     joints_all, jvel_all = [], []
     for segment in segments:
-        seg, joints, jvel = _segment_columns(params, segment, model, energy)
+        seg, joints, jvel = _segment_columns(params, segment, model, energy, loop)
         for k, v in seg.items():
             cols.setdefault(k, []).append(v)
         joints_all.extend(list(joints))
@@ -301,7 +313,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         t_s=cat["t"], hose_length_m=cat["L"], reel_speed_m_s=-cat["Ld"], exit_tension_n=cat["T0"],
         drogue_tension_n=cat["Td"], probe_force_n=cat["fp"], probe_position_m=cat["pp"], coupled=cat["cp"],
         slack_m=cat["slack"], drogue_position_m=cat["rd"], drogue_velocity_m_s=cat["vd"], tow_force_n=cat["tow"],
-        motor_torque_n_m=cat["tau"], miss_distance_series_m=cat["miss"], plane_distance_m=cat["dplane"],
+        motor_torque_n_m=cat["tau"], control_force_n=cat["u"], miss_distance_series_m=cat["miss"], plane_distance_m=cat["dplane"],
         closure_speed_series_m_s=cat["vclose"],
         links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
         energy=en_dict, events=events, outcome=outcome, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),

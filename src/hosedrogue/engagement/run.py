@@ -9,13 +9,45 @@ from pathlib import Path
 
 import numpy as np
 
+from ..params import Actuator, Sensor
 from ..version import __version__
 from .driver import EngagementResult, simulate_engagement
 from .spec import Reel
 
 #: Keys of run.json's "engagement" object (docs/engagement.md, "What a run reports").
 SUMMARY_KEYS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",
-                "peak_slack_m", "peak_drogue_excursion_m")
+                "peak_slack_m", "peak_drogue_excursion_m", "peak_control_force_n")
+
+#: Designed drogue controllers of this process, by design key (:func:`engagement_controller`).
+_DESIGNS: dict = {}
+
+
+def engagement_controller(scenario):
+    """The scenario's drogue controller, designed as the fixed-length scenarios design it
+    (:func:`hosedrogue.controllers.design.design_controller` on the fixed-length model of the
+    same parameters, which is the engagement's initial chain), once per process: the design is
+    kept by its key (parameters without the turbulence, which the design does not use; controller
+    type and options), so a campaign designs it once per worker, and every run gets the same one.
+
+    Parameters
+    ----------
+    scenario : hosedrogue.scenarios.Scenario
+        Its ``controller`` ("none", "pid", "lqr"), ``controller_options`` and ``params``.
+
+    Returns
+    -------
+    LinearController or None
+        Measured drogue offset [m] -> force [N]; None for "none".
+    """
+    if scenario.controller == "none":
+        return None
+    steady = {k: v for k, v in scenario.params.to_dict().items() if k != "turbulence"}
+    key = json.dumps([steady, scenario.controller, scenario.controller_options], sort_keys=True, default=repr)
+    if key not in _DESIGNS:
+        from ..controllers.design import design_controller
+
+        _DESIGNS[key] = design_controller(scenario.controller, scenario.controller_options, scenario.params)
+    return _DESIGNS[key]
 
 
 def run_engagement(scenario) -> EngagementResult:
@@ -24,8 +56,9 @@ def run_engagement(scenario) -> EngagementResult:
     Parameters
     ----------
     scenario : hosedrogue.scenarios.Scenario
-        Its ``params``, ``duration_s`` [s] and the ``reel`` / ``probe`` / ``bow_wave`` sections in
-        ``extra`` (default reel, no probe, no bow wave when absent).
+        Its ``params``, ``duration_s`` [s], the ``reel`` / ``probe`` / ``bow_wave`` / ``pilot``
+        sections in ``extra`` (default reel, no probe, no bow wave, no pilot when absent) and its
+        ``controller`` with ``actuator`` and ``sensor`` (:func:`engagement_controller`).
 
     Returns
     -------
@@ -33,11 +66,23 @@ def run_engagement(scenario) -> EngagementResult:
     """
     reel = scenario.extra.get("reel", Reel())
     probe = scenario.extra.get("probe")
+    pilot = scenario.extra.get("pilot")
     result = simulate_engagement(scenario.params, reel, probe, scenario.duration_s,
-                                 bow_wave=scenario.extra.get("bow_wave"))
+                                 bow_wave=scenario.extra.get("bow_wave"), control=engagement_controller(scenario),
+                                 actuator=Actuator(**scenario.actuator), sensor=Sensor(**scenario.sensor),
+                                 pilot=pilot)
     result.meta.update({"scenario": scenario.name, "source": scenario.source, "duration_s": scenario.duration_s,
+                        "controller": scenario.controller, "controller_options": scenario.controller_options,
+                        "actuator": scenario.actuator, "sensor": scenario.sensor,
+                        "pilot": None if pilot is None else _plain(pilot),
                         "params": scenario.params.to_dict()})
     return result
+
+
+def _plain(section) -> dict:
+    from .spec import plain
+
+    return plain(section)
 
 
 #: The hose counts as gone slack when its exit tension falls below this fraction of the steady

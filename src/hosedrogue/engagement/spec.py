@@ -1,5 +1,5 @@
-"""Reel, probe and bow-wave parameters of the engagement (scenario sections ``[reel]``, ``[probe]``,
-``[bow_wave]``).
+"""Reel, probe, bow-wave and pilot parameters of the engagement (scenario sections ``[reel]``,
+``[probe]``, ``[bow_wave]``, ``[pilot]``).
 
 Validated at construction like :mod:`hosedrogue.params`: a wrong field raises a one-line
 :class:`~hosedrogue.errors.ParameterError` naming field, value and allowed range. SI units, the
@@ -124,7 +124,29 @@ class BowWaveSection(_Section):
     nose_length_m: float = field(default=2.0, metadata=_num(0.0, 50.0, unit="m"))
 
 
-ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe, "bow_wave": BowWaveSection}
+@dataclass(frozen=True)
+class Pilot(_Section):
+    """The receiver's pilot flying the probe's lateral and vertical position toward the drogue
+    seen one reaction time ago, through a lag, with bounded speed and acceleration; the axial
+    closure stays the prescribed one (docs/engagement.md, "Pilot model": equations, defaults and
+    their reasons)."""
+
+    _section = "pilot"
+    #: False: the probe flies the prescribed straight line (the default)
+    enabled: bool = field(default=False, metadata=_bool())
+    #: reaction time tau [s]: the pilot sees the drogue's position this long ago (exact delay)
+    reaction_time_s: float = field(default=0.3, metadata=_num(0.0, 2.0, unit="s"))
+    #: lag T_L [s]: commanded speed (aim - p) / T_L, the crossover model's 1 / omega_c
+    lag_s: float = field(default=0.5, metadata=_num(0.0, 10.0, unit="s"))
+    #: time constant tau_v [s] of the receiver's speed following the command (small next to the lag)
+    velocity_time_constant_s: float = field(default=0.1, metadata=_num(0.0, 10.0, unit="s"))
+    #: bound on the lateral and vertical speed [m/s] (each axis)
+    max_speed_m_s: float = field(default=1.0, metadata=_num(0.0, 20.0, unit="m/s"))
+    #: bound on the lateral and vertical acceleration [m/s^2] (each axis)
+    max_acceleration_m_s2: float = field(default=2.0, metadata=_num(0.0, 50.0, unit="m/s^2"))
+
+
+ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe, "bow_wave": BowWaveSection, "pilot": Pilot}
 
 
 def section_from_dict(name: str, data: Any):
@@ -132,14 +154,14 @@ def section_from_dict(name: str, data: Any):
 
     Parameters
     ----------
-    name : {"reel", "probe", "bow_wave"}
+    name : {"reel", "probe", "bow_wave", "pilot"}
         The scenario section.
     data : mapping
         Its fields (SI units, the unit in every field name).
 
     Returns
     -------
-    Reel or Probe
+    Reel, Probe, BowWaveSection or Pilot
 
     Raises
     ------
@@ -162,14 +184,25 @@ def validate_sections(data: Mapping[str, Any]) -> dict:
     Parameters
     ----------
     data : mapping
-        The scenario's tables; only ``reel``, ``probe`` and ``bow_wave`` are read.
+        The scenario's tables; only ``reel``, ``probe``, ``bow_wave`` and ``pilot`` are read.
 
     Returns
     -------
     dict
-        ``{"reel": Reel, "probe": Probe, "bow_wave": BowWaveSection}`` for the sections present.
+        ``{"reel": Reel, "probe": Probe, "bow_wave": BowWaveSection, "pilot": Pilot}`` for the
+        sections present.
+
+    Raises
+    ------
+    ParameterError
+        A bad section (:func:`section_from_dict`), or an enabled ``[pilot]`` without an enabled
+        ``[probe]``.
     """
-    return {name: section_from_dict(name, data[name]) for name in ENGAGEMENT_SECTIONS if name in data}
+    out = {name: section_from_dict(name, data[name]) for name in ENGAGEMENT_SECTIONS if name in data}
+    pilot, probe = out.get("pilot"), out.get("probe")
+    if pilot is not None and pilot.enabled and (probe is None or not probe.enabled):
+        raise ParameterError("pilot.enabled = True: the pilot flies the probe; give an enabled [probe] section")
+    return out
 
 
 def plain(obj) -> dict:

@@ -52,7 +52,7 @@ from .kernels import (
     make_workspace_jit,
     rotational_terms,
 )
-from .integrate import step_status
+from .integrate import actuator_rates, applied_force_at, controller_rates, step_status
 
 # --- ep layout -------------------------------------------------------------------------------
 (EP_MU, EP_MD, EP_SPLIT, EP_JLINK, EP_L0,
@@ -61,8 +61,13 @@ from .integrate import step_status
  EP_PAY_T0, EP_PAY_DIST, EP_PAY_V, EP_PAY_A,
  EP_PROBE, EP_P0X, EP_P0Y, EP_P0Z, EP_VC, EP_PUSH, EP_T_STOP, EP_KP, EP_CP, EP_COUPLED, EP_T_CAP,
  EP_S_CAP, EP_JD,
- EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_Q, EP_BW_LEN) = range(40)
-EP_SIZE = 40
+ EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_Q, EP_BW_LEN,
+ EP_CTRL, EP_NPIL, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV, EP_PIL_VMAX, EP_PIL_AMAX, EP_H) = range(48)
+EP_SIZE = 48
+# EP_CTRL: 1 with a drogue controller in the loop (its states follow the pilot's, see below);
+# EP_NPIL: number of pilot states (0 or PIL_STATES); EP_PIL_*: the pilot's reaction time [s], lag
+# [s], velocity time constant [s], speed [m/s] and acceleration [m/s^2] bounds; EP_H: the RK4
+# step [s] (the index of the drogue history the pilot's delay reads)
 
 # bow-wave shapes (EP_BW); EP_BW_D* is the source (the line's forward end) minus the probe tip [m]
 BW_OFF, BW_RANKINE, BW_LINE = 0, 1, 2
@@ -72,11 +77,19 @@ LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE = 0, 1, 2
 # state tail (after the 4n hose entries)
 Z_L, Z_LD, Z_WM, Z_WF, Z_WX, Z_WFLUX, Z_WP = range(7)
 Z_TAIL = 7
+# after the tail: the pilot's states (if any: probe tip y, z [m] and their rates [m/s]), then the
+# controller's states and, for a rate-limited actuator, the applied force [N] - the layout of
+# hosedrogue.model.integrate's closed loop with x = everything before the controller
+PIL_Y, PIL_Z, PIL_VY, PIL_VZ = range(4)
+PIL_STATES = 4
 
 # out layout (scalars of one evaluation)
 (O_T0, O_LDD, O_TAU, O_SLACK, O_PX, O_PY, O_PZ, O_FPX, O_FPY, O_FPZ, O_VPX, O_VPY, O_VPZ,
- O_PMOTOR, O_PFRIC, O_PEXIT, O_PFLUX, O_PPROBE) = range(18)
-O_SIZE = 18
+ O_PMOTOR, O_PFRIC, O_PEXIT, O_PFLUX, O_PPROBE,
+ O_UY, O_UZ, O_MY, O_MZ, O_CY, O_CZ) = range(24)
+O_SIZE = 24
+# O_UY, O_UZ: control force applied at the drogue [N]; O_MY, O_MZ: the measured drogue offsets
+# [m]; O_CY, O_CZ: the commanded force [N] (differs from the applied one for a rate-limited actuator)
 
 # segment stop codes (besides kernels.OK / NONFINITE / YAW_LIMIT)
 SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13
@@ -193,6 +206,87 @@ def probe_state(t, ep):
 
 
 @njit(**JIT)
+def probe_tip(t, z, n, ep):
+    """Probe-tip position and velocity [m, m/s] at time t and state z: :func:`probe_state`, whose
+    lateral and vertical motion the pilot's states replace when a pilot flies the probe."""
+    px, py, pz, vpx, vpy, vpz = probe_state(t, ep)
+    if ep[EP_NPIL] != 0.0:
+        b = 4 * n + Z_TAIL
+        py = z[b + PIL_Y]
+        pz = z[b + PIL_Z]
+        vpy = z[b + PIL_VY]
+        vpz = z[b + PIL_VZ]
+    return px, py, pz, vpx, vpy, vpz
+
+
+@njit(**JIT)
+def delayed_drogue(tq, hist, h):
+    """Drogue lateral and vertical position [m] at time tq >= 0 from the history ``hist`` (rows:
+    global RK4 steps; y, z, y', z' [m, m/s]) by cubic Hermite interpolation between the steps
+    (O(h^4), below the RK4 error); a row not yet written (NaN) is never used."""
+    x = tq / h
+    k = int(math.floor(x))
+    last = hist.shape[0] - 1
+    if k < 0:
+        k = 0
+    if k >= last:
+        return hist[last, 0], hist[last, 1]
+    s = x - k
+    if s < 1e-9 or not math.isfinite(hist[k + 1, 0]):
+        return hist[k, 0], hist[k, 1]
+    s2 = s * s
+    s3 = s2 * s
+    h00 = 2.0 * s3 - 3.0 * s2 + 1.0
+    h10 = s3 - 2.0 * s2 + s
+    h01 = -2.0 * s3 + 3.0 * s2
+    h11 = s3 - s2
+    y = h00 * hist[k, 0] + h10 * h * hist[k, 2] + h01 * hist[k + 1, 0] + h11 * h * hist[k + 1, 2]
+    zz = h00 * hist[k, 1] + h10 * h * hist[k, 3] + h01 * hist[k + 1, 1] + h11 * h * hist[k + 1, 3]
+    return y, zz
+
+
+@njit(**JIT)
+def pilot_rates(t, z, n, ep, hist, dz):
+    """dz/dt of the pilot's states (docs/engagement.md, "Pilot model"): per axis the aim is the
+    drogue's position one reaction time ago (before t = 0 the start point: the pilot starts to
+    chase the drogue at t = 0), the commanded speed ``(aim - p) / lag`` clipped to the speed
+    bound, and the acceleration ``(v_cmd - v) / tau_v`` clipped to the acceleration bound. Once
+    coupled the pilot holds station (v_cmd = 0): the drogue is on the probe."""
+    b = 4 * n + Z_TAIL
+    tq = t - ep[EP_PIL_DELAY]
+    if tq < 0.0:
+        ay = ep[EP_P0Y]
+        az = ep[EP_P0Z]
+    else:
+        ay, az = delayed_drogue(tq, hist, ep[EP_H])
+    vmax = ep[EP_PIL_VMAX]
+    amax = ep[EP_PIL_AMAX]
+    for i in range(2):
+        aim = ay if i == 0 else az
+        p = z[b + PIL_Y + i]
+        v = z[b + PIL_VY + i]
+        vcmd = 0.0
+        if ep[EP_COUPLED] == 0.0:
+            vcmd = min(max((aim - p) / ep[EP_PIL_LAG], -vmax), vmax)
+        dz[b + PIL_Y + i] = v
+        dz[b + PIL_VY + i] = min(max((vcmd - v) / ep[EP_PIL_TV], -amax), amax)
+
+
+@njit(**JIT)
+def drogue_motion(z, n, l, M, J, ep, chart, ws):
+    """Drogue (joint n) y, z [m] and y', z' [m/s] of state z (kinematics only, into ws)."""
+    set_variable_link(z[4 * n + Z_L], n, l, M, J, ep)
+    q = z[: 2 * n]
+    qd = z[2 * n: 4 * n]
+    e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
+    link_frames(q, n, e, a, b, cs)
+    apply_charts(n, chart, e, a, b)
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    patch_kinematics(z[4 * n + Z_LD], n, e, a, b, qd, v, c)
+    return r[n, 1], r[n, 2], v[n, 1], v[n, 2]
+
+
+@njit(**JIT)
 def schedule_acceleration(t, ep):
     """L'' [m/s^2] of the locked reel's length schedule: pays out ``pay_dist`` (negative: takes up)
     from ``pay_t0`` at up to ``pay_v``, speeding up and slowing down along half-sine acceleration
@@ -305,9 +399,11 @@ def bow_wave_forces(t, l, ps, env, gust, n, e, r, v, F, drogue_drag, ep, px, py,
 
 
 @njit(**JIT)
-def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
+def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out):
     """Accelerations (ws[15] holds qdd, out[O_LDD] holds L'') and the outputs of state z; chart
-    (n,) selects each link's angle chart (:func:`apply_charts`)."""
+    (n,) selects each link's angle chart (:func:`apply_charts`); ``loop`` the drogue controller's
+    :class:`~hosedrogue.model.integrate.LoopArrays` (used if ``ep[EP_CTRL]``; its force acts at
+    the drogue as in the fixed-length model until the probe couples, then it is off)."""
     L = z[4 * n + Z_L]
     Ld = z[4 * n + Z_LD]
     set_variable_link(L, n, l, M, J, ep)
@@ -319,12 +415,23 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     rotate_rows(n, chart, c, False)  # joint_kinematics writes l d2e/dt2 in the standard chart
     patch_kinematics(Ld, n, e, a, b, qd, v, c)
-    u0 = ws2[13][:2]  # no control force (the probe acts on the drogue below)
+    u0 = ws2[13][:2]  # the control force at the drogue (ws2[13] is free: the unit-L'' solve has no drag)
     u0[0] = 0.0
     u0[1] = 0.0
+    m0 = m1 = c0 = c1 = 0.0
+    if ep[EP_CTRL] != 0.0 and ep[EP_COUPLED] == 0.0:
+        nx = 4 * n + Z_TAIL + int(ep[EP_NPIL])
+        m0, m1, c0, c1 = applied_force_at(t, z, nx, r[n, 1], r[n, 2], loop.Cc, loop.Dc, loop.y_ref, loop.act,
+                                          loop.noise, loop.noise_dt, u0)
+    out[O_UY] = u0[0]
+    out[O_UZ] = u0[1]
+    out[O_MY] = m0
+    out[O_MZ] = m1
+    out[O_CY] = c0
+    out[O_CZ] = c1
     joint_forces(t, u0, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
     # probe and its forebody's bow wave
-    px, py, pz, vpx, vpy, vpz = probe_state(t, ep)
+    px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
     bow_wave_forces(t, l, ps, env, gust, n, e, r, v, F, ws[13], ep, px, py, pz)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
@@ -408,9 +515,9 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out):
 
 
 @njit(**JIT)
-def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, dz):
-    """dz/dt of the engagement state z."""
-    eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
+def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz):
+    """dz/dt of the engagement state z (``hist``: the drogue history the pilot's delay reads)."""
+    eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
     qdd = ws[15]
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
@@ -423,6 +530,17 @@ def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, dz):
     dz[b + Z_WX] = out[O_PEXIT]
     dz[b + Z_WFLUX] = out[O_PFLUX]
     dz[b + Z_WP] = out[O_PPROBE]
+    npil = int(ep[EP_NPIL])
+    if npil != 0:
+        pilot_rates(t, z, n, ep, hist, dz)
+    if ep[EP_CTRL] != 0.0:
+        nx = b + Z_TAIL + npil
+        if ep[EP_COUPLED] == 0.0:
+            actuator_rates(out[O_CY], out[O_CZ], z, nx + loop.Ac.shape[0], loop.act, dz)
+            controller_rates(out[O_MY], out[O_MZ], z, nx, loop.Ac, loop.Bc, dz)
+        else:  # coupled: the controller (and actuator) states are frozen
+            for i in range(nx, z.shape[0]):
+                dz[i] = 0.0
 
 
 @njit(**JIT)
@@ -430,7 +548,7 @@ def plane_distance(z, n, l, ws, t, ep):
     """Signed distance [m] of the probe tip aft of the coupler plane (through joint n, normal to
     the last link, e_{n-1} pointing aft); positive before contact. Uses ws[0], ws[4] as filled by
     :func:`eng_evaluate` for z."""
-    px, py, pz, _, _, _ = probe_state(t, ep)
+    px, py, pz, _, _, _ = probe_tip(t, z, n, ep)
     e = ws[0]
     r = ws[4]
     k = n - 1
@@ -468,14 +586,16 @@ def eng_energy(z, n, l, M, J, ps, ep, chart):
 
 
 @njit(**JIT)
-def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, max_yaw,
-                switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs):
+def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
+                max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs):
     """RK4 from (t0, z) (global step index step0) for at most ``nsteps`` steps, in place.
 
     Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
     the step at which the exit link's length leaves [merge_at, split_at] (SPLIT / MERGE), the probe
     tip crosses the coupler plane before coupling (PLANE; zprev then holds the state before the
     step), or the state fails (NONFINITE / YAW_LIMIT). Returns (status, steps done, saved count).
+    With a pilot (``ep[EP_NPIL]``) the drogue's y, z, y', z' after every global step k go to
+    ``hist[k]`` (row 0 at the start), for the pilot's delayed view of the drogue.
     """
     nz = z.shape[0]
     k1 = np.empty(nz)
@@ -489,30 +609,36 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     out = np.empty(O_SIZE)
     saved = 0
     probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
+    piloted = ep[EP_NPIL] != 0.0
+    if piloted and step0 == 0:
+        hist[0, 0], hist[0, 1], hist[0, 2], hist[0, 3] = drogue_motion(z, n, l, M, J, ep, chart, ws)
     d_before = 0.0
     if probing:
-        eng_evaluate(t0, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
+        eng_evaluate(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         d_before = plane_distance(z, n, l, ws, t0, ep)
     for s in range(1, nsteps + 1):
         t = t0 + (s - 1) * h
         for i in range(nz):
             zprev[i] = z[i]
-        eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k1)
+        eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
         for i in range(nz):
             tmp[i] = z[i] + 0.5 * h * k1[i]
-        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k2)
+        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k2)
         for i in range(nz):
             tmp[i] = z[i] + 0.5 * h * k2[i]
-        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k3)
+        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k3)
         for i in range(nz):
             tmp[i] = z[i] + h * k3[i]
-        eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out, k4)
+        eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
         for i in range(nz):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t = t0 + s * h
         status = step_status(z, n, max_yaw)
         if status != OK:
             return status, s, saved
+        if piloted:
+            hist[step0 + s, 0], hist[step0 + s, 1], hist[step0 + s, 2], hist[step0 + s, 3] = drogue_motion(
+                z, n, l, M, J, ep, chart, ws)
         if (step0 + s) % save_every == 0:
             ts[saved] = t
             zs[saved, :] = z
@@ -526,7 +652,7 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         if allow_merge and l[0] < merge_at:
             return MERGE, s, saved
         if probing:
-            eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
+            eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
             d = plane_distance(z, n, l, ws, t, ep)
             if d_before > 0.0 and d <= 0.0:
                 return PLANE, s, saved
@@ -535,7 +661,7 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
 
 
 @njit(**JIT)
-def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, joints, jvel, scal, tow, tension_drogue):
+def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
     (N, O_SIZE), tow-point force (N, 3) and the tension in the last link [N] (N,)."""
     ws = make_workspace_jit(n)
@@ -543,7 +669,7 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, joints, jvel, scal
     dM = np.empty(2)
     out = np.empty(O_SIZE)
     for i in range(ts.shape[0]):
-        eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, ws, ws2, dM, out)
+        eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         joints[i] = ws[4]
         jvel[i] = ws[5]
         scal[i] = out

@@ -143,18 +143,57 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
         dz[2 * n + i] = qdd[i]
-    nc = Ac.shape[0]
-    na = nx + nc
+    actuator_rates(c0, c1, z, nx + Ac.shape[0], act, dz)
+    controller_rates(m0, m1, z, nx, Ac, Bc, dz)
+
+
+@njit(**LOOP_JIT)
+def actuator_rates(c0, c1, z, na, act, dz):
+    """dz/dt of a rate-limited actuator's applied force ``ua = z[na:na+2]`` [N] (nothing if the
+    state ends at ``na``): ``ua' = clip((u_cmd - ua) / time_constant, -rate, rate)`` for the
+    commanded force (c0, c1) [N]. Also used by the engagement kernels."""
     if z.shape[0] > na:
         rate = act[2]
         for i in range(2):
             r = ((c0 if i == 0 else c1) - z[na + i]) / act[3]
             dz[na + i] = min(max(r, -rate), rate)
+
+
+@njit(**LOOP_JIT)
+def controller_rates(m0, m1, z, nx, Ac, Bc, dz):
+    """dz/dt of the controller state ``xc = z[nx:nx+nc]``: ``Ac xc + Bc m`` for the measured
+    offsets m = (m0, m1) [m]. Also used by the engagement kernels."""
+    nc = Ac.shape[0]
     for i in range(nc):
         acc = Bc[i, 0] * m0 + Bc[i, 1] * m1
         for j in range(nc):
             acc += Ac[i, j] * z[nx + j]
         dz[nx + i] = acc
+
+
+def sensor_noise(sensor, duration_s: float, seed: int) -> np.ndarray:
+    """Sensor noise samples [m] (k, 2) of a run, zero-order held for ``sensor.sample_time_s``
+    (``(1, 2)`` zeros without noise); an independent stream of the turbulence seed, so the sensor
+    noise does not shift the gust draws of the same seed.
+
+    Parameters
+    ----------
+    sensor : hosedrogue.params.Sensor
+        Noise standard deviation [m] and sample time [s].
+    duration_s : float
+        Simulated time [s] the samples cover.
+    seed : int
+        The run's turbulence seed.
+
+    Returns
+    -------
+    array (k, 2)
+    """
+    count = int(math.ceil(duration_s / sensor.sample_time_s)) + 2
+    if sensor.noise_std_m == 0.0:
+        return np.zeros((1, 2))
+    rng = np.random.Generator(np.random.PCG64(np.random.SeedSequence([seed, 1])))
+    return sensor.noise_std_m * rng.standard_normal((count, 2))
 
 
 @njit(**LOOP_JIT)

@@ -66,19 +66,9 @@ def build_controller(scenario: Scenario, model: HoseModel, eq: Equilibrium):
     LinearController or None
         Measured drogue offset [m] -> control force [N]; None for ``controller = "none"``.
     """
-    if scenario.controller == "none":
-        return None
-    from ..analysis.linearize import linearize
-    from ..controllers.design import lqr_controller_for
-    from ..controllers.pid import PAPER_PID, PIDGains, pid_controller
+    from ..controllers.design import design_controller
 
-    opts = scenario.controller_options
-    if scenario.controller == "pid":
-        gains = {ch: PIDGains(*opts[ch]) if ch in opts else PAPER_PID[ch] for ch in ("lateral", "vertical")}
-        return pid_controller(gains["lateral"], gains["vertical"])
-    Q = np.diag(opts["q_diag"]) if "q_diag" in opts else None
-    R = np.diag(opts["r_diag"]) if "r_diag" in opts else None
-    return lqr_controller_for(linearize(scenario.params, eq, model), opts.get("design", "balanced"), Q, R)
+    return design_controller(scenario.controller, scenario.controller_options, scenario.params, model, eq)
 
 
 def run_scenario(scenario: Scenario) -> SimulationResult:

@@ -18,7 +18,7 @@ import scipy.integrate
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..model import kernels as K
-from ..model.integrate import LoopArrays, applied_force, closed_loop_deriv, rk4_run
+from ..model.integrate import LoopArrays, applied_force, closed_loop_deriv, rk4_run, sensor_noise
 from ..model.system import HoseModel
 from ..params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..results import SimulationResult
@@ -92,7 +92,7 @@ def simulate(
         ts, xs, us, status, t_stop = _run_python_control(model, params, x0, duration_s, control)
     else:
         ctrl = control if control is not None else LinearController.static_zero()
-        noise = _sensor_noise(sensor, duration_s, params.turbulence.seed)
+        noise = sensor_noise(sensor, duration_s, params.turbulence.seed)
         loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s)
         z0 = closed_loop_state(x0, ctrl, actuator)
         if params.numerics.integrator == "rk4":
@@ -161,15 +161,6 @@ def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator
     array
     """
     return np.concatenate([x0, np.zeros(ctrl.n_states + (2 if actuator.rate_limited else 0))])
-
-
-def _sensor_noise(sensor: Sensor, duration_s: float, seed: int) -> np.ndarray:
-    count = int(math.ceil(duration_s / sensor.sample_time_s)) + 2
-    if sensor.noise_std_m == 0.0:
-        return np.zeros((1, 2))
-    # an independent stream: the sensor noise must not shift the gust draws of the same seed
-    rng = np.random.Generator(np.random.PCG64(np.random.SeedSequence([seed, 1])))
-    return sensor.noise_std_m * rng.standard_normal((count, 2))
 
 
 def fixed_steps(params: Params, duration_s: float) -> tuple[float, int]:

@@ -240,9 +240,10 @@ def capture_category(outcome: dict, completed: bool) -> str:
 
 
 def _engagement_row(task: RunTask, scenario) -> dict:
-    """Simulate an engagement run (:func:`hosedrogue.engagement.run.run_engagement`); its row:
-    the drogue statistics (no control force) and the capture test's result, miss [m] and
-    closure speed [m/s] (NaN without contact)."""
+    """Simulate an engagement run (:func:`hosedrogue.engagement.run.run_engagement`, which runs
+    the scenario's drogue controller, designed once per process); its row: the drogue and
+    control-force statistics and the capture test's result, miss [m] and closure speed [m/s]
+    (NaN without contact)."""
     from ..engagement.run import run_engagement
 
     result = run_engagement(scenario)
@@ -254,7 +255,7 @@ def _engagement_row(task: RunTask, scenario) -> dict:
         "seed": task.seed,
         "completed": bool(result.completed),
         "t_end_s": float(t[-1]) if t.size else 0.0,
-        **window_statistics(t, result.drogue_offset_m, np.zeros((t.size, 2)), task.window_s, task.capture_radii_m),
+        **window_statistics(t, result.drogue_offset_m, result.control_force_n, task.window_s, task.capture_radii_m),
         "result": capture_category(out, result.completed),
         "miss_distance_m": math.nan if out.get("miss_distance_m") is None else float(out["miss_distance_m"]),
         "closure_speed_m_s": math.nan if out.get("closure_speed_m_s") is None else float(out["closure_speed_m_s"]),

@@ -1,0 +1,149 @@
+"""What the engagement adds to its state after the 7 tail entries: the pilot's states and the
+drogue controller's (docs/engagement.md, "Drogue controller during the approach" and "Pilot
+model").
+
+The state is ``z = [q, qd, L, L', 5 work states, pilot (4, if flown), xc, (ua)]``: after the
+pilot's states the layout is the fixed-length closed loop's ``[x, xc, (ua)]``
+(:mod:`hosedrogue.model.integrate`) with ``x`` everything before the controller, so the one
+control law (:func:`~hosedrogue.model.integrate.control_law`) and the one actuator law serve both.
+The remesh (:mod:`.chain`) keeps everything after the hose entries unchanged, so it carries them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..controllers.linear import LinearController
+from ..model import engagement_kernels as EK
+from ..model.integrate import LoopArrays, sensor_noise
+from ..params import Actuator, ParameterError, Sensor
+from .spec import Pilot
+
+
+def loop_arrays(control: LinearController | None, y_ref: np.ndarray, actuator: Actuator, sensor: Sensor,
+                duration_s: float, seed: int) -> LoopArrays:
+    """The controller, actuator and sensor arrays of the kernels (empty without a controller).
+
+    Parameters
+    ----------
+    control : LinearController or None
+        Measured drogue offset [m] -> force [N]; None: no control force.
+    y_ref : array (2,)
+        Drogue balance position [y, z] [m] the offset is measured from.
+    actuator : Actuator
+        Force [N] and rate [N/s] limits, time constant [s] (the fixed-length semantics).
+    sensor : Sensor
+        Noise [m] on the measured offset and its sample time [s].
+    duration_s : float
+        Simulated time [s] the noise samples cover.
+    seed : int
+        Turbulence seed (the noise is an independent stream of it, as in the fixed-length loop).
+
+    Returns
+    -------
+    LoopArrays
+    """
+    def c(a, shape):
+        return np.ascontiguousarray(np.asarray(a, dtype=np.float64).reshape(shape))
+
+    if control is None:
+        return LoopArrays(np.zeros((0, 0)), np.zeros((0, 2)), np.zeros((2, 0)), np.zeros((2, 2)),
+                          c(y_ref, (2,)), actuator.as_array(), np.zeros((1, 2)), 1.0)
+    nc = control.n_states
+    return LoopArrays(c(control.A, (nc, nc)), c(control.B, (nc, 2)), c(control.C, (2, nc)), c(control.D, (2, 2)),
+                      c(y_ref, (2,)), actuator.as_array(), c(sensor_noise(sensor, duration_s, seed), (-1, 2)),
+                      float(sensor.sample_time_s))
+
+
+def no_loop() -> LoopArrays:
+    """The loop arrays of a run without a drogue controller (the kernels take them all the same).
+
+    Returns
+    -------
+    LoopArrays
+    """
+    return loop_arrays(None, np.zeros(2), Actuator(), Sensor(), 1.0, 0)
+
+
+def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Actuator,
+                 pilot: Pilot | None) -> np.ndarray:
+    """The initial pilot, controller and actuator states; sets ``EP_CTRL`` and ``EP_NPIL``.
+
+    Parameters
+    ----------
+    ep : array (EP_SIZE,)
+        Engagement parameters (the probe's start point ``EP_P0Y``, ``EP_P0Z`` [m]), changed in place.
+    control : LinearController or None
+        The drogue controller (states start at zero).
+    actuator : Actuator
+        A rate-limited one adds the applied force [N] (starting at zero).
+    pilot : Pilot or None
+        An enabled pilot adds the probe tip's y, z [m] (at the start point) and rates (zero).
+
+    Returns
+    -------
+    array
+        The states after the 7 tail entries.
+    """
+    parts = []
+    ep[EK.EP_NPIL] = 0.0
+    if pilot is not None and pilot.enabled:
+        ep[EK.EP_NPIL] = EK.PIL_STATES
+        parts.append([ep[EK.EP_P0Y], ep[EK.EP_P0Z], 0.0, 0.0])
+    ep[EK.EP_CTRL] = 0.0 if control is None else 1.0
+    if control is not None:
+        parts.append(np.zeros(control.n_states + (2 if actuator.rate_limited else 0)))
+    return np.concatenate([np.asarray(p, dtype=np.float64) for p in parts]) if parts else np.zeros(0)
+
+
+def set_pilot(ep: np.ndarray, pilot: Pilot | None, step_s: float) -> None:
+    """Write the pilot's entries of ``ep`` (``EP_PIL_*``, ``EP_H``).
+
+    Parameters
+    ----------
+    ep : array (EP_SIZE,)
+        Engagement parameters, changed in place.
+    pilot : Pilot or None
+        Reaction time [s], lag [s], velocity time constant [s], speed [m/s] and acceleration
+        [m/s^2] bounds; None or disabled: nothing to write.
+    step_s : float
+        The RK4 step [s] (the drogue history has one row per step).
+
+    Raises
+    ------
+    ParameterError
+        A reaction time shorter than one step (the delayed drogue would be read ahead of the
+        history written so far).
+    """
+    ep[EK.EP_H] = step_s
+    if pilot is None or not pilot.enabled:
+        return
+    if pilot.reaction_time_s < step_s:
+        raise ParameterError(f"pilot.reaction_time_s = {pilot.reaction_time_s!r}: must be at least the RK4 step "
+                             f"numerics.step_s = {step_s!r} s")
+    ep[EK.EP_PIL_DELAY] = pilot.reaction_time_s
+    ep[EK.EP_PIL_LAG] = pilot.lag_s
+    ep[EK.EP_PIL_TV] = pilot.velocity_time_constant_s
+    ep[EK.EP_PIL_VMAX] = pilot.max_speed_m_s
+    ep[EK.EP_PIL_AMAX] = pilot.max_acceleration_m_s2
+
+
+def drogue_history(ep: np.ndarray, total_steps: int) -> np.ndarray:
+    """The drogue history the pilot's delay reads: one row per global RK4 step (y, z [m], y', z'
+    [m/s]), NaN until written; a (1, 4) placeholder without a pilot.
+
+    Parameters
+    ----------
+    ep : array (EP_SIZE,)
+        Engagement parameters (``EP_NPIL``).
+    total_steps : int
+        Steps of the run.
+
+    Returns
+    -------
+    array (total_steps + 1, 4) or (1, 4)
+    """
+    rows = total_steps + 1 if ep[EK.EP_NPIL] != 0.0 else 1
+    return np.full((rows, 4), math.nan)
