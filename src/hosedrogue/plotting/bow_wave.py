@@ -74,6 +74,8 @@ def _radius_panel(ax, radii_m, far_displacement_m, far_distance_m, level_m, radi
         axis.set_major_formatter(ScalarFormatter())
         axis.set_minor_formatter(NullFormatter())
     ax.set_xticks(R)
+    mm = far * 1e3
+    ax.set_yticks([v for v in (0.2, 0.3, 0.5, 1.0, 2.0, 3.0, 5.0, 10.0, 20.0) if 0.9 * mm.min() <= v <= 1.1 * mm.max()])
     ax.set_xlabel("forebody radius R [m]")
     ax.set_ylabel(f"drogue displacement at {far_distance_m:g} m [mm]")
     ax.grid(True, which="both", alpha=0.3)
