@@ -40,6 +40,10 @@ FIGURES = {
     "fig-long-runs": "fig_long_runs.png",
     "fig-engagement-history": "fig_engagement_history.png",
     "fig-engagement-snapshots": "fig_engagement_snapshots.png",
+    "fig-docking-bow-wave": "fig_docking_bow_wave.png",
+    "fig-docking-capture": "fig_docking_capture.png",
+    "fig-docking-miss": "fig_docking_miss_cdf.png",
+    "fig-docking-approach": "fig_docking_approach.png",
 }
 
 #: Every table of the report: HTML id -> CSV file.
@@ -70,6 +74,8 @@ TABLES = {
     "table-long-runs-stable": "long_runs_stable_run.csv",
     "table-engagement": "engagement_outcomes.csv",
     "table-engagement-doubling": "engagement_outcomes.csv",
+    "table-docking-capture": "docking_capture.csv",
+    "table-docking-radii": "docking_bow_wave_radii.csv",
 }
 
 #: The data behind each figure.
@@ -81,11 +87,13 @@ FIGURE_DATA = [
     "accuracy_links.csv", "accuracy_continuum.csv", "long_runs_blowup.csv", "long_runs_modes.csv",
     "long_runs_stable_run.csv",
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
+    "docking_bow_wave_field.csv", "docking_bow_wave_displacement.csv", "docking_runs.csv", "docking_approach.csv",
 ]
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
 SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
-            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation", "accuracy", "long-runs", "engagement"]
+            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation", "accuracy", "long-runs", "engagement",
+            "docking"]
 
 
 @pytest.fixture(scope="module")
@@ -209,6 +217,58 @@ def test_engagement_section_marks_the_fast_runs(report):
     section = section[:section.index("</section>")]
     assert 'id="engagement-fast"' in section and f"{headline['engagement']['links']} links" in section
     assert "not converged" in section
+
+
+def test_docking_section_counts_every_run_once(report):
+    """The fast docking section: every campaign of the grid (level x controller x bow wave) ran
+    its runs, each counted once (by_result adds up to runs, in report.json, in the capture CSV and
+    in the runs CSV), every rate lies in its Wilson interval, and the bow-wave numbers are the
+    steady displacement's (tests/test_engagement_bow_wave.py). Nothing here depends on the
+    controller changing the numbers."""
+    import pandas as pd
+
+    from hosedrogue.report.docking import CONTROLLERS, LEVELS
+
+    out, headline, page = report
+    dock = headline["docking"]
+    runs = dock["runs_per_cell"]
+    assert dock["fast"] is True and runs >= 2
+    assert len(dock["capture"]) == len(LEVELS) * len(CONTROLLERS) * 2
+    for name, cap in dock["capture"].items():
+        assert cap["runs"] == runs and sum(cap["by_result"].values()) == runs, name
+        assert cap["ci95"][0] <= cap["rate"] <= cap["ci95"][1], name
+        assert (out / "docking" / "campaigns" / name / "summary.json").is_file(), name
+    table = pd.read_csv(out / "docking_capture.csv")
+    counts = table[[c for c in table.columns if c.startswith("n_")]].sum(axis=1)
+    assert (counts == table["runs"]).all() and (table["runs"] == runs).all()
+    assert ((table["ci95_low"] <= table["rate"]) & (table["rate"] <= table["ci95_high"])).all()
+    per_cell = pd.read_csv(out / "docking_runs.csv").groupby(["level", "controller", "bow_wave"]).size()
+    assert len(per_cell) == len(table) and (per_cell == runs).all()
+    bw = dock["bow_wave"]
+    assert bw["displacement_at_0.5_m_mm"] == pytest.approx(49.6, rel=0.02)
+    assert bw["displacement_at_10_m_mm"] == pytest.approx(2.6, rel=0.05)
+    assert 0.4 < bw["radius_for_1_mm_at_10_m_m"] < 0.5  # 1 mm at 10 m only for small forebodies
+    section = page[page.index('<section id="docking"'):]
+    section = section[:section.index("</section>")]
+    assert 'id="docking-fast"' in section and f"{runs} runs per cell" in section
+    assert "significant" in section and "Wilson" in section
+
+
+def test_docking_cell_scenarios_round_trip(tmp_path):
+    """The scenario file written for one campaign cell loads as approach-LEVEL with the cell's
+    controller and bow-wave setting, and nothing else changed."""
+    import dataclasses
+
+    from hosedrogue.report.docking_runs import scenario_toml
+    from hosedrogue.scenarios import load_scenario
+
+    path = tmp_path / "scenario.toml"
+    path.write_text(scenario_toml("severe", "lqr", False))
+    sc, ref = load_scenario(str(path)), load_scenario("approach-severe")
+    assert sc.controller == "lqr" and sc.extra["bow_wave"].enabled is False
+    assert sc.params == ref.params and sc.duration_s == ref.duration_s
+    assert sc.extra["probe"] == ref.extra["probe"] and sc.extra["reel"] == ref.extra["reel"]
+    assert dataclasses.replace(sc.extra["bow_wave"], enabled=True) == ref.extra["bow_wave"]
 
 
 def test_paper_pid_reproduces_table3_on_the_papers_models(report):
@@ -410,3 +470,34 @@ def test_plot_accuracy():
         freqs = FrequencyStudy(links, 1.55 - 0.05 / links, 2.04 - 0.05 / links)
         studies.append(LumpingStudy(lumping, links, pos, cont, freqs, np.full((3, 2), 0.15), np.full(3, 0.3)))
     _check_figure(plot_accuracy(studies))
+
+
+def test_plot_docking_figures():
+    import pandas as pd
+
+    from hosedrogue.plotting.docking import plot_approach_from_behind, plot_capture_rates, plot_miss_cdfs
+
+    rows = [dict(level=lev, sigma_m_s=s, controller=c, bow_wave=b, rate=r, ci95_low=max(r - 0.2, 0.0),
+                 ci95_high=min(r + 0.2, 1.0))
+            for lev, s, r in (("light", 0.74, 0.9), ("severe", 5.9, 0.3)) for c in ("none", "pid") for b in (True, False)]
+    _check_figure(plot_capture_rates(pd.DataFrame(rows), ("none", "pid"), ("light", "severe")))
+    rng = np.random.default_rng(1)
+    _check_figure(plot_miss_cdfs({"light": {"none": rng.uniform(0, 0.4, 20), "pid": np.r_[rng.uniform(0, 0.3, 19), np.nan]}},
+                                 0.305))
+    t = np.linspace(0.0, 3.0, 50)
+    path = {"probe_yz_m": np.tile([0.4, 5.5], (50, 1)), "drogue_yz_m": np.c_[0.4 + 0.1 * np.sin(t), 5.5 + 0.05 * t],
+            "contact_probe_yz_m": np.array([0.4, 5.5]), "contact_drogue_yz_m": np.array([0.41, 5.65])}
+    from hosedrogue.plotting.bow_wave import plot_bow_wave
+
+    x, z = np.linspace(-4.0, 2.0, 13), np.linspace(-1.0, 1.0, 7)
+    vel = np.ones((7, 13, 3)) * np.linspace(0.1, 2.0, 13)[None, :, None]
+    d = np.geomspace(0.3, 20.0, 6)
+    disp = np.c_[0.3 * d**-2, 0.0 * d, d**-2] * 0.05
+    fig = (plot_bow_wave(x, z, vel, d, disp, outline_m=np.c_[np.linspace(-4, -2.4, 9), np.linspace(-0.7, 0.7, 9)],
+                                stagnation_m=(-2.5, 0.0), source_distance_m=d + 2.9, level_m=1e-3,
+                                radii_m=np.array([0.3, 0.6, 1.0]), far_displacement_m=np.array([4e-4, 1.7e-3, 4.6e-3]),
+                                radius_limit_m=0.46))
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert len(panels) == 3 and all(UNIT.search(ax.get_xlabel()) and UNIT.search(ax.get_ylabel()) for ax in panels)
+    _check_figure(plot_approach_from_behind({"none": path, "pid": {k: v for k, v in path.items() if "contact" not in k}},
+                                            0.305))

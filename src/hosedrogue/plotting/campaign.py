@@ -103,6 +103,32 @@ def plot_cdf(table, controllers: Sequence[str], capture_radii_m: Sequence[float]
     return fig
 
 
+def draw_miss_cdf(ax, miss_m, label: str = "{n} runs", **kw) -> int:
+    """Draw the empirical CDF of the radial miss on ``ax`` (one step line).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    miss_m : array (N,)
+        Radial miss distance [m] of each run that reached the coupler plane (non-finite ignored).
+    label : str
+        Legend text; ``{n}`` becomes the number of finite misses.
+    **kw
+        Passed to ``Axes.step`` (colour, line style).
+
+    Returns
+    -------
+    int
+        The number of finite misses drawn.
+    """
+    x = np.sort(np.asarray(miss_m, dtype=np.float64))
+    x = x[np.isfinite(x)]
+    if x.size:
+        ax.step(np.r_[x[0], x], np.arange(0, x.size + 1) / x.size, where="post", label=label.format(n=x.size), **kw)
+    return int(x.size)
+
+
 def plot_miss_cdf(miss_m, capture_radius_m: float, title: str = ""):
     """Empirical CDF of the radial miss at the coupler plane over an engagement campaign's runs.
 
@@ -120,10 +146,7 @@ def plot_miss_cdf(miss_m, capture_radius_m: float, title: str = ""):
     matplotlib.figure.Figure
     """
     fig, ax = new_figure(1, 1, size=(6.0, 4.0))
-    x = np.sort(np.asarray(miss_m, dtype=np.float64))
-    x = x[np.isfinite(x)]
-    if x.size:
-        ax.step(np.r_[x[0], x], np.arange(0, x.size + 1) / x.size, where="post", label=f"{x.size} runs")
+    draw_miss_cdf(ax, miss_m)
     ax.axvline(capture_radius_m, color="0.4", linestyle="--", linewidth=0.8,
                label=f"capture radius {capture_radius_m:g} m")
     ax.set_xlabel("radial miss at the coupler plane [m]")

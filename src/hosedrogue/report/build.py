@@ -18,7 +18,7 @@ from typing import Callable
 from ..version import __version__
 from . import (accuracy, closed_loop, comparison, controllers, convergence, differences, hose_views, linear,
                long_runs, parameters, sweep, turbulence_speeds)
-from . import engagement
+from . import docking, engagement
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -63,6 +63,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("animation", "animation", hose_views.build_animation, needs=("closed_loop",)),
     Section("long_runs", "long runs (issue 15)", long_runs.build),
     Section("engagement", "engagement (issue 12)", engagement.build),
+    Section("docking", "docking statistics and bow wave", docking.build),
 )
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.

@@ -51,6 +51,9 @@ class ReportSettings:
         RK4 steps of the ``paper-turbulence`` step study [s] (each must divide 0.1 s).
     accuracy_reference_step_s : float
         Reference step of that study [s].
+    docking_runs : int
+        Runs (turbulence seeds) per campaign of the docking section's grid (turbulence level x
+        controller x bow wave).
     """
 
     name: str
@@ -72,6 +75,7 @@ class ReportSettings:
     accuracy_links: tuple
     accuracy_steps_s: tuple
     accuracy_reference_step_s: float
+    docking_runs: int
 
 
 #: The reference version of the report.
@@ -95,6 +99,7 @@ FULL = ReportSettings(
     accuracy_links=(5, 10, 20, 40, 80, 160),
     accuracy_steps_s=(0.01, 0.02, 0.025),
     accuracy_reference_step_s=0.000625,
+    docking_runs=200,
 )
 
 #: The fast version (``--fast``): coarser grids, shorter runs; the page says so prominently.
@@ -118,4 +123,5 @@ FAST = ReportSettings(
     accuracy_links=(5, 10, 20),
     accuracy_steps_s=(0.02,),
     accuracy_reference_step_s=0.005,
+    docking_runs=8,
 )

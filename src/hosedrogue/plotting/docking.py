@@ -1,0 +1,133 @@
+"""Figures of the report's "Docking" section: capture rate against turbulence intensity, the
+miss-distance CDFs per intensity and one approach seen from behind (the bow-wave figure is
+:func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
+
+``table`` is the section's capture table (a pandas DataFrame, one row per campaign) with the
+columns ``level``, ``sigma_m_s``, ``controller``, ``bow_wave`` (bool), ``rate``, ``ci95_low`` and
+``ci95_high``.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from .base import new_figure
+from .campaign import draw_miss_cdf
+
+#: Line style per bow-wave setting.
+_BOW_STYLE = {True: "-", False: "--"}
+
+
+def plot_capture_rates(table, controllers: Sequence[str], levels: Sequence[str]):
+    """Capture rate against the turbulence intensity, one colour per controller, solid with the
+    bow wave and dashed without it, Wilson 95 % intervals as error bars.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per campaign (module docstring); rates and interval bounds [-].
+    controllers : sequence of str
+        Controllers, in legend order.
+    levels : sequence of str
+        Turbulence levels in the order of the x axis (their ``sigma_m_s`` [m/s] is the position).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = new_figure(1, 1, size=(9.0, 4.5))
+    colours = {c: f"C{i}" for i, c in enumerate(controllers)}
+    sigmas = [float(table.loc[table["level"] == lev, "sigma_m_s"].iloc[0]) for lev in levels]
+    spread = 0.015 * (max(sigmas) - min(sigmas) or 1.0)  # side by side, so the bars do not overlap
+    k = 0
+    for bow in (True, False):
+        for c in controllers:
+            sub = table[(table["controller"] == c) & (table["bow_wave"] == bow)]
+            sub = sub.set_index("level").reindex([lev for lev in levels if lev in set(sub["level"])])
+            if sub.empty:
+                continue
+            x = sub["sigma_m_s"].to_numpy(dtype=float) + (k - 2.5) * spread
+            y = sub["rate"].to_numpy(dtype=float)
+            err = np.vstack([y - sub["ci95_low"].to_numpy(dtype=float), sub["ci95_high"].to_numpy(dtype=float) - y])
+            ax.errorbar(x, y, yerr=err, color=colours[c], ls=_BOW_STYLE[bow], marker="o", ms=4, capsize=3,
+                        label=f"{c}, bow wave {'on' if bow else 'off'}")
+            k += 1
+    ax.set_xticks(sigmas, [f"{s:.2f}\n{lev}" for s, lev in zip(sigmas, levels)])
+    ax.set_xlabel("turbulence intensity σ_w at 8000 m [m/s]")
+    ax.set_ylabel("capture rate [-]")
+    ax.set_ylim(-0.02, 1.05)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="small", loc="center left", bbox_to_anchor=(1.02, 0.5))
+    ax.set_title("capture rate (Wilson 95 % intervals)")
+    return fig
+
+
+def plot_miss_cdfs(miss_m: Mapping[str, Mapping[str, np.ndarray]], capture_radius_m: float):
+    """Empirical CDFs of the radial miss, one panel per turbulence level, one line per controller.
+
+    Parameters
+    ----------
+    miss_m : mapping
+        ``level -> controller -> array`` of the radial miss [m] at the coupler plane of each run
+        (non-finite values, runs without contact, ignored).
+    capture_radius_m : float
+        Capture radius [m], drawn as a dashed line.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, axes = new_figure(1, len(miss_m), size=(4.2 * len(miss_m), 3.8), sharey=True, squeeze=False)
+    for ax, (level, by_controller) in zip(axes[0], miss_m.items()):
+        for i, (c, miss) in enumerate(by_controller.items()):
+            draw_miss_cdf(ax, miss, label=f"{c} ({{n}} runs)", color=f"C{i}", ls=("-", "--", ":")[i % 3])
+        ax.axvline(capture_radius_m, color="0.4", linestyle="--", linewidth=0.8,
+                   label=f"capture radius {capture_radius_m:g} m")
+        ax.set_xlabel("radial miss at the coupler plane [m]")
+        ax.set_title(f"{level} turbulence, bow wave on")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="lower right", fontsize="small")
+    axes[0][0].set_ylabel("fraction of runs [-]")
+    return fig
+
+
+def plot_approach_from_behind(paths: Mapping[str, Mapping[str, np.ndarray]], capture_radius_m: float):
+    """Probe-tip and drogue paths in the y-z plane up to contact, seen from behind (y right, z
+    down), the capture circle around the drogue at contact and the contact point.
+
+    Parameters
+    ----------
+    paths : mapping
+        ``label -> {"probe_yz_m": (N, 2), "drogue_yz_m": (N, 2), "contact_probe_yz_m": (2,),
+        "contact_drogue_yz_m": (2,)}``: positions [m] in S_p (y right, z down) from the start to
+        contact; the contact entries may be absent (no contact).
+    capture_radius_m : float
+        Capture radius [m], drawn around the drogue at contact.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, axes = new_figure(1, len(paths), size=(4.6 * len(paths), 4.6), squeeze=False)
+    phi = np.linspace(0.0, 2.0 * np.pi, 181)
+    for ax, (label, p) in zip(axes[0], paths.items()):
+        d, pr = np.asarray(p["drogue_yz_m"]), np.asarray(p["probe_yz_m"])
+        ax.plot(d[:, 0], d[:, 1], "C0-", lw=1.2, label="drogue")
+        ax.plot(d[0, 0], d[0, 1], "C0s", ms=5, label="drogue at start")
+        ax.plot(pr[:, 0], pr[:, 1], "C3-", lw=1.2, marker="^", markevery=[0], label="probe tip")
+        if "contact_drogue_yz_m" in p:
+            cd, cp = np.asarray(p["contact_drogue_yz_m"]), np.asarray(p["contact_probe_yz_m"])
+            ax.plot(cd[0] + capture_radius_m * np.cos(phi), cd[1] + capture_radius_m * np.sin(phi), "0.3", ls="--",
+                    lw=0.9, label=f"capture radius {capture_radius_m:g} m at contact")
+            ax.plot(*cd, "C0o", ms=6, label="drogue at contact")
+            ax.plot(*cp, "kx", ms=9, mew=2, label="contact point (probe tip)")
+        ax.set_xlabel("right y [m]")
+        ax.set_ylabel("down z [m]")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.invert_yaxis()
+        ax.grid(True, alpha=0.3)
+        ax.set_title("pilot flies the probe, no controller" if label == "pilot" else f"controller {label}")
+        ax.legend(fontsize="x-small", loc="upper right")
+    return fig

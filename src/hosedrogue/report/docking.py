@@ -1,0 +1,352 @@
+"""Report section "Docking": the receiver's bow wave, the capture rate of the approach scenarios
+against the turbulence intensity (campaigns per level x controller x bow wave), the miss-distance
+CDFs and one approach seen from behind (docs/engagement.md, "Bow wave", "Approach scenarios",
+"Docking statistics").
+
+The computations are in :mod:`.docking_runs`; this module writes the CSVs, the figures (through
+:mod:`hosedrogue.plotting.bow_wave` and :mod:`hosedrogue.plotting.docking`), the HTML section with
+every number read from the results, and ``report.json["docking"]``. The campaigns are kept in
+``docking/campaigns/<cell>/`` of the report folder (each with its scenario.toml, runs.csv and
+summary.json). The fast version runs :attr:`ReportSettings.docking_runs` runs per cell in this
+process; the full version 200 per cell on :data:`.docking_runs.WORKERS` dask workers.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .docking_runs import (CAMPAIGN_SEED, CONTROLLERS, FAR_M, LEVEL_M, LEVELS, NEAR_M, WORKERS, approach_paths,
+                           bow_wave_study, run_grid)
+from .markup import esc, figure_html, fmt, html_table
+
+if TYPE_CHECKING:
+    from .settings import ReportSettings
+    from .writer import ReportFolder
+
+__all__ = ["DockingSectionResult", "build", "CONTROLLERS", "LEVELS"]
+
+#: Public CFD figures of the drogue's bow-wave displacement inside 1 m of the probe [m].
+PUBLIC_NEAR_M = (0.1, 0.4)
+
+#: Campaign folders, relative to the report folder.
+CAMPAIGNS = "docking/campaigns"
+
+
+@dataclass(frozen=True)
+class DockingSectionResult:
+    """The capture table and the bow-wave numbers of the section."""
+
+    capture: dict  #: cell name -> capture block (rate [-], ci95 [-], runs, by_result)
+    runs_per_cell: int  #: runs per campaign
+    bow_wave: dict  #: the ``report.json["docking"]["bow_wave"]`` block (mm and m in the keys)
+    wall_time_s: float  #: the section's wall time [s]
+
+
+def _capture_frame(cells):
+    import pandas as pd
+
+    rows = []
+    for c in cells:
+        cap = c.capture
+        rows.append(dict(level=c.level, sigma_m_s=c.sigma_m_s, controller=c.controller, bow_wave=c.bow_wave,
+                         runs=cap["runs"], rate=cap["rate"], ci95_low=cap["ci95"][0], ci95_high=cap["ci95"][1],
+                         **{f"n_{k.replace(' ', '_')}": v for k, v in cap["by_result"].items()},
+                         median_miss_m=float(np.nanmedian(c.runs["miss_distance_m"]))
+                         if np.isfinite(c.runs["miss_distance_m"]).any() else float("nan")))
+    df = pd.DataFrame(rows)
+    counts = df[[k for k in df.columns if k.startswith("n_")]].sum(axis=1)
+    if not (counts == df["runs"]).all():  # each run counted once
+        raise RuntimeError("docking: the result counts do not add up to the runs of every cell")
+    return df
+
+
+def _runs_frame(cells):
+    import pandas as pd
+
+    frames = []
+    for c in cells:
+        df = c.runs[["run", "seed", "completed", "result", "miss_distance_m", "closure_speed_m_s"]].copy()
+        df.insert(0, "bow_wave", c.bow_wave)
+        df.insert(0, "controller", c.controller)
+        df.insert(0, "level", c.level)
+        frames.append(df)
+    return pd.concat(frames, ignore_index=True)
+
+
+def _bow_wave_outputs(out, bw) -> None:
+    import pandas as pd
+
+    from ..plotting.bow_wave import plot_bow_wave
+
+    r = bw.distances_m + bw.source_ahead_of_tip_m
+    disp = pd.DataFrame(dict(probe_distance_m=bw.distances_m, source_distance_m=r,
+                             forward_m=bw.displacement_m[:, 0], right_m=bw.displacement_m[:, 1],
+                             down_m=bw.displacement_m[:, 2], total_m=np.linalg.norm(bw.displacement_m, axis=1)))
+    out.csv(disp, "docking_bow_wave_displacement.csv")
+    out.csv(pd.DataFrame({"forebody_radius_m": bw.radii_m, f"total_at_{NEAR_M:g}_m_m": bw.radii_displacement_m[:, 0],
+                          f"total_at_{FAR_M:g}_m_m": bw.radii_displacement_m[:, 1]}), "docking_bow_wave_radii.csv")
+    X, Z = np.meshgrid(bw.x_m, bw.z_m)
+    out.csv(pd.DataFrame(dict(x_m=X.ravel(), z_m=Z.ravel(), u_m_s=bw.velocity_m_s[..., 0].ravel(),
+                              w_m_s=bw.velocity_m_s[..., 2].ravel())), "docking_bow_wave_field.csv")
+    out.figure(plot_bow_wave(bw.x_m, bw.z_m, bw.velocity_m_s, bw.distances_m, bw.displacement_m, outline_m=bw.outline_m,
+                             stagnation_m=bw.stagnation_m, source_distance_m=r, level_m=LEVEL_M, radii_m=bw.radii_m,
+                             far_displacement_m=bw.radii_displacement_m[:, 1], far_distance_m=FAR_M,
+                             radius_limit_m=bw.radius_limit_m), "fig_docking_bow_wave.png")
+
+
+def _approach_outputs(out, paths: dict, radius: float) -> None:
+    import pandas as pd
+
+    from ..plotting.docking import plot_approach_from_behind
+
+    rows = [pd.DataFrame(dict(controller=c, t_s=p["t_s"], probe_y_m=p["probe_yz_m"][:, 0],
+                              probe_z_m=p["probe_yz_m"][:, 1], drogue_y_m=p["drogue_yz_m"][:, 0],
+                              drogue_z_m=p["drogue_yz_m"][:, 1])) for c, p in paths.items()]
+    out.csv(pd.concat(rows, ignore_index=True), "docking_approach.csv")
+    out.figure(plot_approach_from_behind(paths, radius), "fig_docking_approach.png")
+
+
+def _compare(df, a: dict, b: dict) -> dict:
+    """Rates and intervals of two cells (``a``, ``b``: column -> value selecting one row each)."""
+    def row(sel):
+        m = np.ones(len(df), bool)
+        for k, v in sel.items():
+            m &= (df[k] == v).to_numpy()
+        return df[m].iloc[0]
+
+    ra, rb = row(a), row(b)
+    overlap = not (ra["ci95_low"] > rb["ci95_high"] or rb["ci95_low"] > ra["ci95_high"])
+    return {"rate_a": float(ra["rate"]), "ci95_a": [float(ra["ci95_low"]), float(ra["ci95_high"])],
+            "rate_b": float(rb["rate"]), "ci95_b": [float(rb["ci95_low"]), float(rb["ci95_high"])],
+            "a_higher": bool(ra["rate"] > rb["rate"]), "significant": not overlap}
+
+
+def _comparisons(df) -> dict:
+    levels = [lev for lev in LEVELS if lev in set(df["level"])]
+    out = {"light_vs_severe": _compare(df, dict(level=levels[0], controller="none", bow_wave=True),
+                                       dict(level=levels[-1], controller="none", bow_wave=True))}
+    mid = "moderate" if "moderate" in levels else levels[0]
+    for c in CONTROLLERS[1:]:
+        out[f"{c}_vs_none_{mid}"] = _compare(df, dict(level=mid, controller=c, bow_wave=True),
+                                             dict(level=mid, controller="none", bow_wave=True))
+    out[f"bow_off_vs_on_{mid}"] = _compare(df, dict(level=mid, controller="none", bow_wave=False),
+                                           dict(level=mid, controller="none", bow_wave=True))
+    return out
+
+
+def _rate(r: float, ci) -> str:
+    return f"{r:.3f} [{ci[0]:.3f}, {ci[1]:.3f}]"
+
+
+def _verdict(cmp: dict, a: str, b: str) -> str:
+    rel = "higher than" if cmp["a_higher"] else ("equal to" if cmp["rate_a"] == cmp["rate_b"] else "lower than")
+    sig = ("the 95 % intervals do not overlap: significant" if cmp["significant"]
+           else "overlapping 95 % intervals: not significant")
+    return (f"{a} {_rate(cmp['rate_a'], cmp['ci95_a'])} is {rel} {b} {_rate(cmp['rate_b'], cmp['ci95_b'])} ({sig})")
+
+
+def _capture_html(df) -> str:
+    rows = []
+    for _, r in df.iterrows():
+        name = f"{r['level']}-{r['controller']}-bow-{'on' if r['bow_wave'] else 'off'}"
+        link = f'<a href="{CAMPAIGNS}/{name}/summary.json">{esc(name)}</a>'
+        by = ", ".join(f"{k[2:].replace('_', ' ')} {int(r[k])}" for k in df.columns if k.startswith("n_") and r[k])
+        rows.append((("html", link), r["level"], fmt(r["sigma_m_s"], 3), r["controller"],
+                     "on" if r["bow_wave"] else "off", f"{r['rate']:.3f}", f"{r['ci95_low']:.3f} - {r['ci95_high']:.3f}",
+                     int(r["runs"]), by, fmt(r["median_miss_m"], 3)))
+    return html_table(["campaign", "turbulence", "σ_w [m/s]", "controller", "bow wave", "capture rate [-]",
+                       "Wilson 95 % interval [-]", "runs", "by result", "median miss [m]"], rows,
+                      table_id="table-docking-capture")
+
+
+def _bow_html(bw) -> str:
+    rows = [(fmt(R, 3), fmt(near * 1e3, 3), fmt(far * 1e3, 3))
+            for R, (near, far) in zip(bw.radii_m, bw.radii_displacement_m)]
+    table = html_table(["forebody radius R [m]", f"displacement at {NEAR_M:g} m [mm]",
+                        f"displacement at {FAR_M:g} m [mm]"], rows, table_id="table-docking-radii")
+    ratio = bw.radii_displacement_m[-1, 1] / bw.radii_displacement_m[0, 1]
+    r2 = (bw.radii_m[-1] / bw.radii_m[0]) ** 2
+    return (
+        f"<p><b>Bow wave.</b> The receiver's forebody (Rankine half-body of radius {fmt(bw.radius_m, 3)} m, probe tip "
+        f"{fmt(-bw.stagnation_m[0], 3)} m ahead of its nose) displaces the air ahead of it with the flux π R² V of a "
+        f"source {fmt(bw.source_ahead_of_tip_m, 4)} m behind the tip. Held on the drogue's axis (150 m/s, 8000 m, wake "
+        f"on, the approach scenarios' converged 20-link model), the probe moves the drogue's balance position by "
+        f"{fmt(bw.near_m * 1e3, 3)} mm at {NEAR_M:g} m and {fmt(bw.far_m * 1e3, 3)} mm at {FAR_M:g} m. Far away the "
+        "displacement follows the bow-wave speed at the drogue, which falls as R²/r² (r from the source): "
+        f"from R = {fmt(bw.radii_m[0], 3)} m to {fmt(bw.radii_m[-1], 3)} m the displacement at {FAR_M:g} m grows "
+        f"{ratio:.1f} times against R² = {r2:.1f} times. So the requirement of less than "
+        f"{LEVEL_M * 1e3:g} mm at {FAR_M:g} m holds only for forebodies smaller than R = "
+        f"{bw.radius_limit_m:.2f} m (here R = {fmt(bw.radius_m, 3)} m: "
+        f"{'met' if bw.far_m < LEVEL_M else 'not met'}). The {fmt(bw.near_m * 1e3, 3)} mm at {NEAR_M:g} m is "
+        f"{'below' if bw.near_m < PUBLIC_NEAR_M[0] else 'within'} the {PUBLIC_NEAR_M[0]:g}-{PUBLIC_NEAR_M[1]:g} m "
+        "that public CFD studies report inside 1 m: their receivers carry the probe closer to a larger nose "
+        "(docs/engagement.md, \"Bow wave\").</p>" + table)
+
+
+def _approach_text(paths: dict) -> str:
+    parts = []
+    for c, p in paths.items():
+        o = p["outcome"]
+        parts.append(f"controller {esc(c)}: {esc(o['result'])}, miss {fmt(o.get('miss_distance_m'), 3)} m at "
+                     f"t = {fmt(o.get('contact_time_s'), 3)} s")
+    return "; ".join(parts) + "."
+
+
+def _prose(df, cmp: dict, runs: int, times: dict) -> str:
+    mid = next(k.split("_vs_none_")[1] for k in cmp if "_vs_none_" in k)
+    ctrl = "; ".join(_verdict(cmp[f"{c}_vs_none_{mid}"], c, "none") for c in CONTROLLERS[1:])
+    levels = [lev for lev in LEVELS if lev in set(df["level"])]
+    text = (
+        f"<p><b>What was run.</b> Campaigns of the shipped approach scenarios (approach-{', approach-'.join(levels)}:"
+        " 150 m/s, 8000 m, tanker wake on, MIL-F-8785C Dryden turbulence of the level at 8000 m, the converged "
+        "model at 20 links, RK4 at 5 ms; the probe closes at 1 m/s from 3 m behind the drogue's balance position "
+        f"and is captured within 0.305 m) for every controller ({', '.join(CONTROLLERS)}) with the bow wave on and "
+        f"off: {runs} runs per cell, run i with the turbulence seed run_seed({CAMPAIGN_SEED}, i) in every cell (the "
+        "same records across controllers and bow-wave settings). Each campaign is kept in "
+        f"<code>{CAMPAIGNS}/&lt;cell&gt;/</code>. Wall time: campaigns {times['campaigns_s']:.1f} s, bow-wave study "
+        f"{times['bow_wave_s']:.1f} s, approach runs {times['approach_s']:.1f} s; the whole section {times['section_s']:.1f} s.</p>"
+        f"<p><b>Turbulence.</b> Without a controller and with the bow wave on, "
+        f"{_verdict(cmp['light_vs_severe'], levels[0], levels[-1])}.</p>"
+        f"<p><b>Controllers in {mid} turbulence</b> (bow wave on): {ctrl}.")
+    off = cmp[f"bow_off_vs_on_{mid}"]
+    return text + f" <b>Bow wave</b> ({mid}, no controller): {_verdict(off, 'off', 'on')}.</p>"
+
+
+def _html(st: "_Study") -> str:
+    fast = (f'<p class=diff id="docking-fast">FAST VERSION of this section: {st.runs} runs per campaign, not '
+            "the full report's 200; the rates and intervals are rough.</p>" if st.fast else "")
+    radius = st.radius_m
+    return (
+        '<section id="docking"><h2>Beyond the paper: docking statistics and the bow wave</h2>' + fast
+        + _bow_html(st.bow)
+        + figure_html("fig-docking-bow-wave", "fig_docking_bow_wave.png", "The receiver's bow wave",
+                      "Left: perturbation speed (colour, log scale) and velocity (arrows) in the vertical plane "
+                      "through the probe (tip at the origin), the forebody's dividing streamline and its nose (the "
+                      "stagnation point). Middle: the drogue's steady displacement against the probe distance, "
+                      f"components and total, with the 1/r² asymptote and the {LEVEL_M * 1e3:g} mm level. Right: "
+                      f"the displacement at {FAR_M:g} m against the forebody radius, with the R² scaling.",
+                      ("docking_bow_wave_field.csv", "docking_bow_wave_displacement.csv", "docking_bow_wave_radii.csv"))
+        + _prose(st.table, st.comparisons, st.runs, st.times)
+        + _capture_html(st.table)
+        + figure_html("fig-docking-capture", "fig_docking_capture.png", "Capture rate against turbulence intensity",
+                      "One colour per controller, solid with the bow wave, dashed without; Wilson 95 % intervals "
+                      "(markers side by side at each intensity).", ("docking_capture.csv",))
+        + figure_html("fig-docking-miss", "fig_docking_miss_cdf.png", "Miss distance",
+                      f"Empirical CDF of the radial miss at the coupler plane per turbulence level (bow wave on), "
+                      f"one line per controller; dashed: the capture radius {radius:g} m.", ("docking_runs.csv",))
+        + figure_html("fig-docking-approach", "fig_docking_approach.png", "An approach seen from behind",
+                      f"approach-moderate, seed {st.approach_seed}: the probe tip's and the drogue's paths in the "
+                      "y-z plane (looking forward along x) from the start to contact, the capture circle around the "
+                      f"drogue at contact and the contact point. {_approach_text(st.paths)}", ("docking_approach.csv",))
+        + "</section>")
+
+
+@dataclass(frozen=True)
+class _Study:
+    """What the section computed."""
+
+    bow: object  #: docking_runs.BowWaveStudy
+    cells: list  #: docking_runs.CampaignCell per campaign
+    table: object  #: pandas.DataFrame, one row per campaign
+    comparisons: dict  #: the section's statements (rates, intervals, significance)
+    paths: dict  #: run label (controller or "pilot") -> approach path (docking_runs.approach_paths)
+    runs: int  #: runs per campaign
+    times: dict  #: wall times [s] of the parts
+    radius_m: float  #: capture radius [m]
+    approach_seed: int  #: turbulence seed of the approach figure
+    fast: bool
+
+
+def _study(out, settings) -> _Study:
+    from ..scenarios import load_scenario
+    from .docking_runs import APPROACH_RUNS, APPROACH_SEED
+
+    fast = settings.name == "fast"
+    t0 = time.perf_counter()
+    out.status("docking: bow wave")
+    bow = bow_wave_study()
+    t1 = time.perf_counter()
+    cells, campaigns_s = run_grid(out.dir / CAMPAIGNS, settings.docking_runs, workers=None if fast else WORKERS,
+                                  status=out.status)
+    t2 = time.perf_counter()
+    out.status("docking: approach runs")
+    paths = approach_paths(runs=tuple(APPROACH_RUNS), seed=APPROACH_SEED)
+    t3 = time.perf_counter()
+    table = _capture_frame(cells)
+    radius = float(load_scenario("approach-moderate").extra["probe"].capture_radius_m)
+    times = {"bow_wave_s": t1 - t0, "campaigns_s": campaigns_s, "approach_s": t3 - t2}
+    return _Study(bow, cells, table, _comparisons(table), paths, settings.docking_runs, times, radius,
+                  APPROACH_SEED, fast)
+
+
+def _figures(out, st: _Study) -> None:
+    from ..plotting.docking import plot_capture_rates, plot_miss_cdfs
+
+    _bow_wave_outputs(out, st.bow)
+    out.csv(st.table, "docking_capture.csv")
+    out.csv(_runs_frame(st.cells), "docking_runs.csv")
+    levels = [lev for lev in LEVELS if lev in set(st.table["level"])]
+    out.figure(plot_capture_rates(st.table, CONTROLLERS, levels), "fig_docking_capture.png")
+    miss = {lev: {c.controller: c.runs["miss_distance_m"].to_numpy(dtype=float) for c in st.cells
+                  if c.level == lev and c.bow_wave} for lev in levels}
+    out.figure(plot_miss_cdfs(miss, st.radius_m), "fig_docking_miss_cdf.png")
+    _approach_outputs(out, st.paths, st.radius_m)
+
+
+def _record(st: _Study) -> dict:
+    bw = st.bow
+    return {
+        "fast": st.fast, "runs_per_cell": st.runs, "controllers": list(CONTROLLERS), "campaign_seed": CAMPAIGN_SEED,
+        "bow_wave": {f"displacement_at_{NEAR_M:g}_m_mm": bw.near_m * 1e3, f"displacement_at_{FAR_M:g}_m_mm": bw.far_m * 1e3,
+                     "forebody_radius_m": bw.radius_m,
+                     f"radius_for_{LEVEL_M * 1e3:g}_mm_at_{FAR_M:g}_m_m": bw.radius_limit_m,
+                     "radii_m": list(bw.radii_m), f"radii_displacement_at_{FAR_M:g}_m_mm": list(bw.radii_displacement_m[:, 1] * 1e3)},
+        "capture": {c.name: {"sigma_m_s": c.sigma_m_s, **c.capture} for c in st.cells},
+        "comparisons": st.comparisons,
+        "approach": {c: {k: p["outcome"][k] for k in ("miss_distance_m", "closure_speed_m_s", "contact_time_s")
+                         if p["outcome"].get(k) is not None} | {"captured": p["outcome"]["result"] == "captured"}
+                     for c, p in st.paths.items()},
+        "wall_times_s": st.times,
+    }
+
+
+def _summary(st: _Study) -> str:
+    cmp = st.comparisons["light_vs_severe"]
+    return (f"Docking ({st.runs} runs per campaign{', fast version' if st.fast else ''}): without a controller the "
+            f"capture rate is {cmp['rate_a']:.2f} in light and {cmp['rate_b']:.2f} in severe turbulence "
+            f"({'significant' if cmp['significant'] else 'overlapping 95 % intervals'}); the bow wave moves the "
+            f"drogue {st.bow.near_m * 1e3:.0f} mm at {NEAR_M:g} m and {st.bow.far_m * 1e3:.1f} mm at {FAR_M:g} m "
+            f"(< {LEVEL_M * 1e3:g} mm at {FAR_M:g} m needs a forebody radius below {st.bow.radius_limit_m:.2f} m).")
+
+
+def build(out: ReportFolder, settings: ReportSettings) -> DockingSectionResult:
+    """Run the bow-wave study, the campaigns and the approach runs, and write the section.
+
+    Parameters
+    ----------
+    out : hosedrogue.report.writer.ReportFolder
+        The report being written.
+    settings : hosedrogue.report.settings.ReportSettings
+        ``docking_runs``: runs per campaign; ``name == "fast"``: the campaigns run in this process
+        instead of on :data:`.docking_runs.WORKERS` dask workers.
+
+    Returns
+    -------
+    DockingSectionResult
+        The capture blocks per campaign, the runs per campaign, the bow-wave numbers and the
+        section's wall time [s].
+    """
+    t0 = time.perf_counter()
+    st = _study(out, settings)
+    _figures(out, st)
+    st.times["section_s"] = time.perf_counter() - t0
+    record = _record(st)
+    out.section("docking", "docking", _html(st))
+    out.summarize(_summary(st))
+    out.record("docking", record)
+    return DockingSectionResult(capture=record["capture"], runs_per_cell=st.runs, bow_wave=record["bow_wave"],
+                                wall_time_s=record["wall_times_s"]["section_s"])
