@@ -18,7 +18,7 @@ CPU time per run is the CPU time (user + system) of the worker processes over th
 divided by the runs: it includes their start-up and numba's cache loading, a few seconds in all.
 The first campaign is preceded by a 4-run warm-up that fills numba's cache (compile time).
 
-Run:  .venv/bin/python benchmarks/campaign.py                 (~25 min on 2 cores)
+Run:  .venv/bin/python benchmarks/campaign.py                 (~6 min on 2 cores, idle)
       .venv/bin/python benchmarks/campaign.py --runs 100 --memory-runs 1000   (a smaller version)
 """
 
