@@ -171,6 +171,7 @@ OPTION_UNITS = {
                "--r": "[1/N^2]"},
     "simulate": {"--duration": "[s]", "--seed": "[-]"},
     "sweep": {"--altitudes": "[m]", "--airspeeds": "[m/s]", "--links": "[-]"},
+    "bow-wave": {"--distances": "[m]", "--radius": "[m]", "--offset": "[m]"},
     "montecarlo": {"--runs": "[-]", "--workers": "[-]", "--seed": "[-]", "--duration": "[s]",
                    "--capture-radii": "[m]"},
 }

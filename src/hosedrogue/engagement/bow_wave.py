@@ -34,6 +34,71 @@ def _accelerations(q, chain, model, ep, z):
     return ws[15].copy(), ws[4][n].copy()
 
 
+def _distances(distances_m) -> np.ndarray:
+    d = np.atleast_1d(np.asarray(distances_m, dtype=np.float64))
+    if not np.all(np.isfinite(d) & (d > 0)):
+        raise ParameterError(f"distances_m = {distances_m!r}: must be finite numbers > 0 m")
+    return d
+
+
+def _enabled(bow_wave: BowWaveSection) -> BowWaveSection:
+    return BowWaveSection(enabled=True, forebody_radius_m=bow_wave.forebody_radius_m,
+                          probe_offset_m=bow_wave.probe_offset_m, shape=bow_wave.shape,
+                          nose_length_m=bow_wave.nose_length_m)
+
+
+def _probe_line(params: Params):
+    """The balance position without the bow wave and the drogue's axis along which the probe is held:
+    chain, model, engagement parameters (reel locked, probe held, bow wave off), full state, hose
+    angles [rad], drogue position [m] and the unit vector aft along the last link."""
+    chain = initial_chain(params)
+    eq, model = chain_equilibrium(params, chain)
+    n = chain.n
+    z = np.concatenate([eq.state, [float(np.sum(chain.l)), 0.0], np.zeros(EK.Z_TAIL - 2)])
+    ep = engagement_parameters(params, Reel(law="locked"), None, chain, eq.drogue_position_m)
+    ep[EK.EP_PROBE] = 0.0  # the tip is held: no capture test, no closure
+    ep[EK.EP_VC] = 0.0
+    q0 = eq.state[: 2 * n].copy()
+    _, drogue0 = _accelerations(q0, chain, model, ep, z.copy())
+    axis = drogue0 - model.joint_positions(q0)[-2]
+    axis /= np.linalg.norm(axis)  # aft along the last link
+    return chain, model, ep, z, q0, drogue0, axis
+
+
+def bow_wave_speed_at_drogue(params: Params, bow_wave: BowWaveSection, distances_m) -> np.ndarray:
+    """Speed [m/s] of the bow wave's perturbation at the drogue's balance position (without the
+    bow wave), probe tip held at each distance aft of it on the drogue's axis: the wind change
+    that moves the drogue in :func:`bow_wave_displacement`.
+
+    Parameters
+    ----------
+    params : Params
+        Hose, drogue, flight condition (airspeed [m/s], altitude [m], wake) and links.
+    bow_wave : BowWaveSection
+        The forebody (radius [m], probe offset from the nose [m], shape, nose length [m]).
+    distances_m : array_like (m,)
+        Distances [m] of the probe tip aft of the drogue, each > 0.
+
+    Returns
+    -------
+    array (m,)
+        |u| [m/s] of the perturbation velocity at the undisplaced drogue.
+
+    Raises
+    ------
+    ParameterError
+        A distance not a finite number > 0, or a balance position not found.
+    """
+    from ..environment.bow_wave import BowWave
+
+    d = _distances(distances_m)
+    drogue0, axis = _probe_line(params)[5:]
+    field = BowWave(airspeed_m_s=params.flight.airspeed_m_s, forebody_radius_m=bow_wave.forebody_radius_m,
+                    probe_offset_m=bow_wave.probe_offset_m, shape=bow_wave.shape,
+                    nose_length_m=bow_wave.nose_length_m)
+    return np.array([np.linalg.norm(field.velocity(drogue0[None, :], drogue0 + di * axis)) for di in d])
+
+
 def bow_wave_displacement(params: Params, bow_wave: BowWaveSection, distances_m) -> np.ndarray:
     """Steady drogue displacement [m] caused by the bow wave alone, probe held at each distance.
 
@@ -59,23 +124,9 @@ def bow_wave_displacement(params: Params, bow_wave: BowWaveSection, distances_m)
     ParameterError
         A distance not a finite number > 0, or a balance position not found.
     """
-    d = np.atleast_1d(np.asarray(distances_m, dtype=np.float64))
-    if not np.all(np.isfinite(d) & (d > 0)):
-        raise ParameterError(f"distances_m = {distances_m!r}: must be finite numbers > 0 m")
-    chain = initial_chain(params)
-    eq, model = chain_equilibrium(params, chain)
-    n = chain.n
-    z = np.concatenate([eq.state, [float(np.sum(chain.l)), 0.0], np.zeros(EK.Z_TAIL - 2)])
-    ep = engagement_parameters(params, Reel(law="locked"), None, chain, eq.drogue_position_m)
-    ep[EK.EP_PROBE] = 0.0  # the tip is held: no capture test, no closure
-    ep[EK.EP_VC] = 0.0
-    set_bow_wave(ep, params, BowWaveSection(enabled=True, forebody_radius_m=bow_wave.forebody_radius_m,
-                                            probe_offset_m=bow_wave.probe_offset_m, shape=bow_wave.shape,
-                                            nose_length_m=bow_wave.nose_length_m))
-    q0 = eq.state[: 2 * n].copy()
-    _, drogue0 = _accelerations(q0, chain, model, np.where(np.arange(ep.size) == EK.EP_BW, 0.0, ep), z.copy())
-    axis = drogue0 - model.joint_positions(q0)[-2]
-    axis /= np.linalg.norm(axis)  # aft along the last link
+    d = _distances(distances_m)
+    chain, model, ep, z, q0, drogue0, axis = _probe_line(params)
+    set_bow_wave(ep, params, _enabled(bow_wave))
     out = np.empty((d.size, 3))
     for i, dist in enumerate(d):
         ep[[EK.EP_P0X, EK.EP_P0Y, EK.EP_P0Z]] = drogue0 + dist * axis
