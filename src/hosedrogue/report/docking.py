@@ -56,7 +56,11 @@ def _capture_frame(cells):
                          runs=cap["runs"], rate=cap["rate"], ci95_low=cap["ci95"][0], ci95_high=cap["ci95"][1],
                          **{f"n_{k.replace(' ', '_')}": v for k, v in cap["by_result"].items()},
                          median_miss_m=float(np.nanmedian(c.runs["miss_distance_m"]))
-                         if np.isfinite(c.runs["miss_distance_m"]).any() else float("nan")))
+                         if np.isfinite(c.runs["miss_distance_m"]).any() else float("nan"),
+                         # the controllers' forces are unlimited here: what the capture rate costs
+                         median_peak_force_n=float(np.median(c.runs["peak_u_n"])),
+                         p95_peak_force_n=float(np.percentile(c.runs["peak_u_n"], 95)),
+                         max_peak_force_n=float(np.max(c.runs["peak_u_n"]))))
     df = pd.DataFrame(rows)
     counts = df[[k for k in df.columns if k.startswith("n_")]].sum(axis=1)
     if not (counts == df["runs"]).all():  # each run counted once
@@ -69,7 +73,7 @@ def _runs_frame(cells):
 
     frames = []
     for c in cells:
-        df = c.runs[["run", "seed", "completed", "result", "miss_distance_m", "closure_speed_m_s"]].copy()
+        df = c.runs[["run", "seed", "completed", "result", "miss_distance_m", "closure_speed_m_s", "peak_u_n"]].copy()
         df.insert(0, "bow_wave", c.bow_wave)
         df.insert(0, "controller", c.controller)
         df.insert(0, "level", c.level)
@@ -157,9 +161,11 @@ def _capture_html(df) -> str:
         by = ", ".join(f"{k[2:].replace('_', ' ')} {int(r[k])}" for k in df.columns if k.startswith("n_") and r[k])
         rows.append((("html", link), r["level"], fmt(r["sigma_m_s"], 3), r["controller"],
                      "on" if r["bow_wave"] else "off", f"{r['rate']:.3f}", f"{r['ci95_low']:.3f} - {r['ci95_high']:.3f}",
-                     int(r["runs"]), by, fmt(r["median_miss_m"], 3)))
+                     int(r["runs"]), by, fmt(r["median_miss_m"], 3),
+                     " / ".join(f"{r[k]:.0f}" for k in ("median_peak_force_n", "p95_peak_force_n", "max_peak_force_n"))))
     return html_table(["campaign", "turbulence", "σ_w [m/s]", "controller", "bow wave", "capture rate [-]",
-                       "Wilson 95 % interval [-]", "runs", "by result", "median miss [m]"], rows,
+                       "Wilson 95 % interval [-]", "runs", "by result", "median miss [m]",
+                       "peak control force: median / 95th percentile / max [N]"], rows,
                       table_id="table-docking-capture")
 
 
@@ -212,6 +218,13 @@ def _prose(df, cmp: dict, runs: int, times: dict) -> str:
         f"<p><b>Turbulence.</b> Without a controller and with the bow wave on, "
         f"{_verdict(cmp['light_vs_severe'], levels[0], levels[-1])}.</p>"
         f"<p><b>Controllers in {mid} turbulence</b> (bow wave on): {ctrl}.")
+    on = df[df["bow_wave"] & (df["controller"] != "none")]
+    if len(on):
+        worst = on.loc[on["p95_peak_force_n"].idxmax()]
+        text += (" The controllers' forces are not limited (the scenarios have no <code>[actuator]</code> limits: the "
+                 "paper's ideal force at the drogue): the 95th percentile of the runs' peak force reaches "
+                 f"{worst['p95_peak_force_n']:.0f} N ({esc(worst['controller'])}, {esc(worst['level'])}; table). With an "
+                 "actuator limit (<code>[actuator] max_force_n</code>) the rates would be lower where the forces exceed it.")
     off = cmp[f"bow_off_vs_on_{mid}"]
     return text + f" <b>Bow wave</b> ({mid}, no controller): {_verdict(off, 'off', 'on')}.</p>"
 
