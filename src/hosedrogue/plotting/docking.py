@@ -4,7 +4,7 @@ miss-distance CDFs per intensity and one approach seen from behind (the bow-wave
 
 ``table`` is the section's capture table (a pandas DataFrame, one row per campaign) with the
 columns ``level``, ``sigma_m_s``, ``controller``, ``bow_wave`` (bool), ``rate``, ``ci95_low`` and
-``ci95_high``.
+``ci95_high``, and optionally ``pilot`` (bool: the pilot model flew the probe).
 """
 
 from __future__ import annotations
@@ -22,7 +22,8 @@ _BOW_STYLE = {True: "-", False: "--"}
 
 def plot_capture_rates(table, controllers: Sequence[str], levels: Sequence[str]):
     """Capture rate against the turbulence intensity, one colour per controller, solid with the
-    bow wave and dashed without it, Wilson 95 % intervals as error bars.
+    bow wave and dashed without it, Wilson 95 % intervals as error bars; the pilot's rows (column
+    ``pilot`` true), if any, in a colour of their own.
 
     Parameters
     ----------
@@ -41,19 +42,23 @@ def plot_capture_rates(table, controllers: Sequence[str], levels: Sequence[str])
     colours = {c: f"C{i}" for i, c in enumerate(controllers)}
     sigmas = [float(table.loc[table["level"] == lev, "sigma_m_s"].iloc[0]) for lev in levels]
     spread = 0.015 * (max(sigmas) - min(sigmas) or 1.0)  # side by side, so the bars do not overlap
-    k = 0
-    for bow in (True, False):
-        for c in controllers:
-            sub = table[(table["controller"] == c) & (table["bow_wave"] == bow)]
-            sub = sub.set_index("level").reindex([lev for lev in levels if lev in set(sub["level"])])
-            if sub.empty:
-                continue
-            x = sub["sigma_m_s"].to_numpy(dtype=float) + (k - 2.5) * spread
-            y = sub["rate"].to_numpy(dtype=float)
-            err = np.vstack([y - sub["ci95_low"].to_numpy(dtype=float), sub["ci95_high"].to_numpy(dtype=float) - y])
-            ax.errorbar(x, y, yerr=err, color=colours[c], ls=_BOW_STYLE[bow], marker="o", ms=4, capsize=3,
-                        label=f"{c}, bow wave {'on' if bow else 'off'}")
-            k += 1
+    pilot = table["pilot"].to_numpy(bool) if "pilot" in table else np.zeros(len(table), bool)
+    lines = [(c, bow, False) for bow in (True, False) for c in controllers]
+    if pilot.any():
+        lines.insert(len(controllers), ("none", True, True))
+        colours["pilot"] = f"C{len(controllers)}"
+    for k, (c, bow, piloted) in enumerate(lines):
+        sub = table[(table["controller"] == c) & (table["bow_wave"] == bow) & (pilot == piloted)]
+        sub = sub.set_index("level").reindex([lev for lev in levels if lev in set(sub["level"])])
+        if sub.empty:
+            continue
+        x = sub["sigma_m_s"].to_numpy(dtype=float) + (k - (len(lines) - 1) / 2) * spread
+        y = sub["rate"].to_numpy(dtype=float)
+        err = np.vstack([y - sub["ci95_low"].to_numpy(dtype=float), sub["ci95_high"].to_numpy(dtype=float) - y])
+        ax.errorbar(x, y, yerr=err, color=colours["pilot" if piloted else c], ls=_BOW_STYLE[bow],
+                    marker="s" if piloted else "o", ms=4, capsize=3,
+                    label=("pilot flies the probe, no controller" if piloted else c)
+                    + f", bow wave {'on' if bow else 'off'}")
     ax.set_xticks(sigmas, [f"{s:.2f}\n{lev}" for s, lev in zip(sigmas, levels)])
     ax.set_xlabel("turbulence intensity σ_w at 8000 m [m/s]")
     ax.set_ylabel("capture rate [-]")
@@ -131,3 +136,4 @@ def plot_approach_from_behind(paths: Mapping[str, Mapping[str, np.ndarray]], cap
         ax.set_title("pilot flies the probe, no controller" if label == "pilot" else f"controller {label}")
         ax.legend(fontsize="x-small", loc="upper right")
     return fig
+
