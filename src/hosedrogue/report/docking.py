@@ -217,7 +217,7 @@ def _prose(df, cmp: dict, runs: int, times: dict) -> str:
         "model at 20 links, RK4 at 5 ms; the probe closes at 1 m/s from 3 m behind the drogue's balance position "
         f"and is captured within 0.305 m) for every drogue controller ({', '.join(CONTROLLERS)}) with the bow wave "
         f"on and off, and with the pilot model flying the probe ({PILOT}: no drogue controller, bow wave on): {runs} "
-        "runs per cell, run i with the turbulence seed run_seed({CAMPAIGN_SEED}, i) in every cell (the "
+        f"runs per cell, run i with the turbulence seed run_seed({CAMPAIGN_SEED}, i) in every cell (the "
         "same records across controllers and bow-wave settings). Each campaign is kept in "
         f"<code>{CAMPAIGNS}/&lt;cell&gt;/</code>. Wall time: campaigns {times['campaigns_s']:.1f} s, bow-wave study "
         f"{times['bow_wave_s']:.1f} s, approach runs {times['approach_s']:.1f} s; the whole section {times['section_s']:.1f} s.</p>"
