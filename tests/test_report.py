@@ -44,6 +44,7 @@ FIGURES = {
     "fig-docking-capture": "fig_docking_capture.png",
     "fig-docking-miss": "fig_docking_miss_cdf.png",
     "fig-docking-approach": "fig_docking_approach.png",
+    "fig-docking-closure-speed": "fig_docking_closure_speed.png",
 }
 
 #: Every table of the report: HTML id -> CSV file.
@@ -76,6 +77,7 @@ TABLES = {
     "table-engagement-doubling": "engagement_outcomes.csv",
     "table-docking-capture": "docking_capture.csv",
     "table-docking-radii": "docking_bow_wave_radii.csv",
+    "table-docking-closure-speed": "docking_closure_speed.csv",
 }
 
 #: The data behind each figure.
@@ -88,6 +90,7 @@ FIGURE_DATA = [
     "long_runs_stable_run.csv",
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
     "docking_bow_wave_field.csv", "docking_bow_wave_displacement.csv", "docking_runs.csv", "docking_approach.csv",
+    "docking_closure_speed.csv", "docking_closure_speed_runs.csv",
 ]
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
@@ -255,6 +258,7 @@ def test_docking_section_counts_every_run_once(report):
     section = page[page.index('<section id="docking"'):]
     section = section[:section.index("</section>")]
     assert 'id="docking-fast"' in section and f"{runs} runs per cell" in section
+    assert f"run_seed({dock['campaign_seed']}, i)" in section  # read, not the f-string's braces
     assert "significant" in section and "Wilson" in section
 
 
@@ -273,6 +277,43 @@ def test_docking_cell_scenarios_round_trip(tmp_path):
     assert sc.params == ref.params and sc.duration_s == ref.duration_s
     assert sc.extra["probe"] == ref.extra["probe"] and sc.extra["reel"] == ref.extra["reel"]
     assert dataclasses.replace(sc.extra["bow_wave"], enabled=True) == ref.extra["bow_wave"]
+
+
+def test_docking_closure_speed_counts_every_run_once(report):
+    """The fast closure-speed study: each (controller, speed) cell counted every run once, its rate
+    lies in its Wilson interval, the duration lets the probe path finish at every speed, and the
+    shipped speed's cell is the main grid's campaign itself (same folder, same capture block), not
+    a rerun that merely agrees."""
+    import pandas as pd
+
+    from hosedrogue.report.docking_speed import FAST_CLOSURE_SPEEDS_M_S, SPEED_CONTROLLERS
+
+    out, headline, page = report
+    dock = headline["docking"]
+    spd = dock["closure_speed"]
+    runs = dock["runs_per_cell"]
+    assert spd["speeds_m_s"] == sorted(FAST_CLOSURE_SPEEDS_M_S) and spd["controllers"] == list(SPEED_CONTROLLERS)
+    assert len(spd["cells"]) == len(FAST_CLOSURE_SPEEDS_M_S) * len(SPEED_CONTROLLERS)
+    for key, cell in spd["cells"].items():
+        assert cell["runs"] == runs and sum(cell["by_result"].values()) == runs, key
+        assert cell["ci95"][0] <= cell["rate"] <= cell["ci95"][1], key
+        # 3 m of standoff at v, then the 1 m push (cruise, then 1 s half-cosine stop); rounded up to 0.1 s
+        v = cell["probe_speed_m_s"]
+        assert cell["duration_s"] >= 3.0 / v + max(1.0 - 0.5 * v, 0.0) / v + 1.0, key
+        assert (out / "docking" / "campaigns" / cell["campaign"] / "summary.json").is_file(), key
+    for c in SPEED_CONTROLLERS:
+        ref = spd["cells"][f"{c}-v1"]
+        assert ref["campaign"] == f"moderate-{c}-bow-on" and ref["duration_s"] == 4.5
+        grid = dock["capture"][f"moderate-{c}-bow-on"]
+        assert {k: ref[k] for k in ("rate", "ci95", "runs", "by_result")} == \
+            {k: grid[k] for k in ("rate", "ci95", "runs", "by_result")}
+    table = pd.read_csv(out / "docking_closure_speed.csv")
+    assert (table[[k for k in table.columns if k.startswith("n_")]].sum(axis=1) == table["runs"]).all()
+    per_cell = pd.read_csv(out / "docking_closure_speed_runs.csv").groupby(["controller", "probe_speed_m_s"]).size()
+    assert len(per_cell) == len(table) and (per_cell == runs).all()
+    section = page[page.index('<section id="docking"'):]
+    section = section[:section.index("</section>")]
+    assert "<b>Closure speed.</b>" in section and "latch minimum" in section and "<b>Pilot.</b>" in section
 
 
 def test_docking_closure_speed_cell_scenarios(tmp_path):
@@ -507,7 +548,8 @@ def test_plot_accuracy():
 def test_plot_docking_figures():
     import pandas as pd
 
-    from hosedrogue.plotting.docking import plot_approach_from_behind, plot_capture_rates, plot_miss_cdfs
+    from hosedrogue.plotting.docking import (plot_approach_from_behind, plot_capture_rates, plot_closure_speed,
+                                             plot_miss_cdfs)
 
     rows = [dict(level=lev, sigma_m_s=s, controller=c, bow_wave=b, rate=r, ci95_low=max(r - 0.2, 0.0),
                  ci95_high=min(r + 0.2, 1.0))
@@ -519,6 +561,11 @@ def test_plot_docking_figures():
     fig = plot_capture_rates(pd.DataFrame(rows), ("none", "pid"), ("light", "severe"))
     _check_figure(fig)
     assert any("pilot" in t.get_text() for t in fig.axes[0].get_legend().get_texts())
+    speeds = pd.DataFrame([dict(controller=c, probe_speed_m_s=v, rate=r, ci95_low=r / 2, ci95_high=(1 + r) / 2,
+                                failed_latch_fraction=1.0 - r, coupler_speed_p05_m_s=0.9 * v,
+                                coupler_speed_median_m_s=0.95 * v, coupler_speed_p95_m_s=v)
+                           for c in ("none", "pid") for v, r in ((0.5, 0.1), (1.0, 0.6), (2.0, 0.8))])
+    _check_figure(plot_closure_speed(speeds, ("none", "pid"), 0.5))
     rng = np.random.default_rng(1)
     _check_figure(plot_miss_cdfs({"light": {"none": rng.uniform(0, 0.4, 20), "pid": np.r_[rng.uniform(0, 0.3, 19), np.nan]}},
                                  0.305))

@@ -1,6 +1,6 @@
 """Figures of the report's "Docking" section: capture rate against turbulence intensity, the
-miss-distance CDFs per intensity and one approach seen from behind (the bow-wave figure is
-:func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
+miss-distance CDFs per intensity, one approach seen from behind and the capture rate against the
+closure speed (the bow-wave figure is :func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
 
 ``table`` is the section's capture table (a pandas DataFrame, one row per campaign) with the
 columns ``level``, ``sigma_m_s``, ``controller``, ``bow_wave`` (bool), ``rate``, ``ci95_low`` and
@@ -137,3 +137,55 @@ def plot_approach_from_behind(paths: Mapping[str, Mapping[str, np.ndarray]], cap
         ax.legend(fontsize="x-small", loc="upper right")
     return fig
 
+
+def plot_closure_speed(table, controllers: Sequence[str], min_closure_speed_m_s: float):
+    """Capture rate and failed-latch fraction against the probe's closure speed (left), and the
+    closure speed at the coupler against the probe's (right), one colour per controller.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per (controller, speed): ``controller``, ``probe_speed_m_s`` [m/s], ``rate``,
+        ``ci95_low``, ``ci95_high``, ``failed_latch_fraction`` [-] and
+        ``coupler_speed_p05_m_s``, ``coupler_speed_median_m_s``, ``coupler_speed_p95_m_s`` [m/s].
+    controllers : sequence of str
+        Controllers, in legend order.
+    min_closure_speed_m_s : float
+        The latch window's minimum closure speed at the coupler [m/s], drawn as a line.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (ax, bx) = new_figure(1, 2, size=(11.0, 4.3))
+    speeds = np.array(sorted(set(table["probe_speed_m_s"])), dtype=float)
+    spread = 0.012 * (speeds.max() - speeds.min() or 1.0)  # side by side, so the bars do not overlap
+    for k, c in enumerate(controllers):
+        sub = table[table["controller"] == c].sort_values("probe_speed_m_s")
+        if sub.empty:
+            continue
+        v = sub["probe_speed_m_s"].to_numpy(dtype=float)
+        x = v + (k - (len(controllers) - 1) / 2) * spread
+        y = sub["rate"].to_numpy(dtype=float)
+        err = np.vstack([y - sub["ci95_low"].to_numpy(dtype=float), sub["ci95_high"].to_numpy(dtype=float) - y])
+        ax.errorbar(x, y, yerr=err, color=f"C{k}", marker="o", ms=4, capsize=3, label=f"{c}: capture rate")
+        ax.plot(x, sub["failed_latch_fraction"].to_numpy(dtype=float), color=f"C{k}", ls=":", marker="x",
+                label=f"{c}: failed latches")
+        med = sub["coupler_speed_median_m_s"].to_numpy(dtype=float)
+        cerr = np.vstack([med - sub["coupler_speed_p05_m_s"].to_numpy(dtype=float),
+                          sub["coupler_speed_p95_m_s"].to_numpy(dtype=float) - med])
+        bx.errorbar(x, med, yerr=cerr, color=f"C{k}", marker="o", ms=4, capsize=3, ls="none",
+                    label=f"{c} (median, 5th-95th percentile)")
+    bx.plot(speeds, speeds, color="0.6", lw=0.8, label="equal to the probe's")
+    bx.axhline(min_closure_speed_m_s, color="C3", ls="--", lw=0.9, label=f"latch minimum {min_closure_speed_m_s:g} m/s")
+    ax.set_ylim(-0.02, 1.05)
+    ax.set_ylabel("fraction of runs [-]")
+    ax.set_title("capture rate (Wilson 95 %) and failed latches")
+    bx.set_ylabel("closure speed at the coupler [m/s]")
+    bx.set_title("closure speed at contact")
+    for a in (ax, bx):
+        a.set_xticks(speeds)
+        a.set_xlabel("probe closure speed [m/s]")
+        a.grid(True, alpha=0.3)
+        a.legend(fontsize="x-small", loc="best")
+    return fig

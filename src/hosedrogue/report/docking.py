@@ -1,7 +1,8 @@
 """Report section "Docking": the receiver's bow wave, the capture rate of the approach scenarios
 against the turbulence intensity (campaigns per level x controller x bow wave, and the pilot model
-flying the probe with the bow wave on), the miss-distance CDFs and one approach seen from behind
-docs/engagement.md, "Bow wave", "Approach scenarios", "Docking statistics").
+flying the probe with the bow wave on), the miss-distance CDFs, one approach seen from behind and
+the capture rate against the closure speed (:mod:`.docking_speed`; docs/engagement.md, "Bow wave",
+"Approach scenarios", "Docking statistics").
 
 The computations are in :mod:`.docking_runs`; this module writes the CSVs, the figures (through
 :mod:`hosedrogue.plotting.bow_wave` and :mod:`hosedrogue.plotting.docking`), the HTML section with
@@ -19,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import docking_speed as speed
 from .docking_runs import (CAMPAIGN_SEED, CONTROLLERS, FAR_M, LEVEL_M, LEVELS, NEAR_M, PILOT, WORKERS, approach_paths,
                            bow_wave_study, grid_specs, run_grid)
 from .markup import esc, figure_html, fmt, html_table
@@ -265,6 +267,7 @@ def _html(st: "_Study") -> str:
                       f"Empirical CDF of the radial miss at the coupler plane per turbulence level (bow wave on), "
                       f"one line per controller and the pilot; dashed: the capture radius {radius:g} m.",
                       ("docking_runs.csv",))
+        + speed.speed_html(st.speed_table, st.speed_findings, st.probe)
         + figure_html("fig-docking-approach", "fig_docking_approach.png", "An approach seen from behind",
                       f"approach-moderate, seed {st.approach_seed}: the probe tip's and the drogue's paths in the "
                       "y-z plane (looking forward along x) from the start to contact, the capture circle around the "
@@ -286,6 +289,11 @@ class _Study:
     radius_m: float  #: capture radius [m]
     approach_seed: int  #: turbulence seed of the approach figure
     fast: bool
+    probe: object  #: the approach scenarios' engagement.spec.Probe
+    speed_specs: list  #: docking_runs.CellSpec of the closure-speed study
+    speed_cells: list  #: their campaigns (the grid's where the scenario is the same)
+    speed_table: object  #: docking_speed.speed_frame
+    speed_findings: dict  #: docking_speed.speed_findings
 
 
 def _study(out, settings) -> _Study:
@@ -297,8 +305,11 @@ def _study(out, settings) -> _Study:
     out.status("docking: bow wave")
     bow = bow_wave_study()
     t1 = time.perf_counter()
-    cells, campaigns_s = run_grid(out.dir / CAMPAIGNS, settings.docking_runs, grid_specs(),
+    grid = grid_specs()
+    speeds = speed.speed_specs(speed.FAST_CLOSURE_SPEEDS_M_S if fast else speed.CLOSURE_SPEEDS_M_S)
+    every, campaigns_s = run_grid(out.dir / CAMPAIGNS, settings.docking_runs, grid + speeds,
                                   workers=None if fast else WORKERS, status=out.status)
+    cells, speed_cells = every[:len(grid)], every[len(grid):]
     t2 = time.perf_counter()
     out.status("docking: approach runs")
     paths = approach_paths(runs=tuple(APPROACH_RUNS), seed=APPROACH_SEED)
@@ -306,8 +317,10 @@ def _study(out, settings) -> _Study:
     table = _capture_frame(cells)
     probe = load_scenario("approach-moderate").extra["probe"]
     times = {"bow_wave_s": t1 - t0, "campaigns_s": campaigns_s, "approach_s": t3 - t2}
+    speed_table = speed.speed_frame(speeds, speed_cells)
     return _Study(bow, cells, table, _comparisons(table), paths, settings.docking_runs, times,
-                  float(probe.capture_radius_m), APPROACH_SEED, fast)
+                  float(probe.capture_radius_m), APPROACH_SEED, fast, probe, speeds, speed_cells, speed_table,
+                  speed.speed_findings(speed_table, probe.min_closure_speed_m_s))
 
 
 def _figures(out, st: _Study) -> None:
@@ -322,6 +335,7 @@ def _figures(out, st: _Study) -> None:
                   if c.level == lev and c.bow_wave} for lev in levels}
     out.figure(plot_miss_cdfs(miss, st.radius_m), "fig_docking_miss_cdf.png")
     _approach_outputs(out, st.paths, st.radius_m)
+    speed.write_speed_outputs(out, st.speed_table, st.speed_specs, st.speed_cells, st.probe.min_closure_speed_m_s)
 
 
 def _record(st: _Study) -> dict:
@@ -334,6 +348,7 @@ def _record(st: _Study) -> dict:
                      "radii_m": list(bw.radii_m), f"radii_displacement_at_{FAR_M:g}_m_mm": list(bw.radii_displacement_m[:, 1] * 1e3)},
         "capture": {c.name: {"sigma_m_s": c.sigma_m_s, **c.capture} for c in st.cells},
         "pilot_cells": [c.name for c in st.cells if c.pilot],
+        "closure_speed": speed.speed_record(st.speed_table, st.speed_findings),
         "comparisons": st.comparisons,
         "approach": {c: {k: p["outcome"][k] for k in ("miss_distance_m", "closure_speed_m_s", "contact_time_s")
                          if p["outcome"].get(k) is not None} | {"captured": p["outcome"]["result"] == "captured"}
