@@ -44,6 +44,7 @@ FIGURES = {
     "fig-docking-capture": "fig_docking_capture.png",
     "fig-docking-miss": "fig_docking_miss_cdf.png",
     "fig-docking-approach": "fig_docking_approach.png",
+    "fig-docking-closure-speed": "fig_docking_closure_speed.png",
 }
 
 #: Every table of the report: HTML id -> CSV file.
@@ -76,6 +77,7 @@ TABLES = {
     "table-engagement-doubling": "engagement_outcomes.csv",
     "table-docking-capture": "docking_capture.csv",
     "table-docking-radii": "docking_bow_wave_radii.csv",
+    "table-docking-closure-speed": "docking_closure_speed.csv",
 }
 
 #: The data behind each figure.
@@ -88,6 +90,7 @@ FIGURE_DATA = [
     "long_runs_stable_run.csv",
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
     "docking_bow_wave_field.csv", "docking_bow_wave_displacement.csv", "docking_runs.csv", "docking_approach.csv",
+    "docking_closure_speed.csv", "docking_closure_speed_runs.csv",
 ]
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
@@ -220,20 +223,24 @@ def test_engagement_section_marks_the_fast_runs(report):
 
 
 def test_docking_section_counts_every_run_once(report):
-    """The fast docking section: every campaign of the grid (level x controller x bow wave) ran
-    its runs, each counted once (by_result adds up to runs, in report.json, in the capture CSV and
-    in the runs CSV), every rate lies in its Wilson interval, and the bow-wave numbers are the
-    steady displacement's (tests/test_engagement_bow_wave.py). Nothing here depends on the
-    controller changing the numbers."""
+    """The fast docking section: every campaign of the grid (level x controller x bow wave, and the
+    pilot's cell per level with the bow wave on) ran its runs, each counted once (by_result adds up
+    to runs, in report.json, in the capture CSV and in the runs CSV), every rate lies in its Wilson
+    interval, and the bow-wave numbers are the steady displacement's
+    (tests/test_engagement_bow_wave.py). Nothing here depends on the controller changing the
+    numbers."""
     import pandas as pd
 
     from hosedrogue.report.docking import CONTROLLERS, LEVELS
+    from hosedrogue.report.docking_runs import PILOT
 
     out, headline, page = report
     dock = headline["docking"]
     runs = dock["runs_per_cell"]
     assert dock["fast"] is True and runs >= 2
-    assert len(dock["capture"]) == len(LEVELS) * len(CONTROLLERS) * 2
+    assert len(dock["capture"]) == len(LEVELS) * len(CONTROLLERS) * 2 + len(LEVELS)
+    assert dock["pilot_cells"] == [f"{lev}-{PILOT}-bow-on" for lev in LEVELS]
+    assert all(f"{PILOT}_vs_none_{lev}" in dock["comparisons"] for lev in LEVELS)
     for name, cap in dock["capture"].items():
         assert cap["runs"] == runs and sum(cap["by_result"].values()) == runs, name
         assert cap["ci95"][0] <= cap["rate"] <= cap["ci95"][1], name
@@ -242,7 +249,7 @@ def test_docking_section_counts_every_run_once(report):
     counts = table[[c for c in table.columns if c.startswith("n_")]].sum(axis=1)
     assert (counts == table["runs"]).all() and (table["runs"] == runs).all()
     assert ((table["ci95_low"] <= table["rate"]) & (table["rate"] <= table["ci95_high"])).all()
-    per_cell = pd.read_csv(out / "docking_runs.csv").groupby(["level", "controller", "bow_wave"]).size()
+    per_cell = pd.read_csv(out / "docking_runs.csv").groupby(["level", "controller", "pilot", "bow_wave"]).size()
     assert len(per_cell) == len(table) and (per_cell == runs).all()
     bw = dock["bow_wave"]
     assert bw["displacement_at_0.5_m_mm"] == pytest.approx(49.6, rel=0.02)
@@ -251,6 +258,7 @@ def test_docking_section_counts_every_run_once(report):
     section = page[page.index('<section id="docking"'):]
     section = section[:section.index("</section>")]
     assert 'id="docking-fast"' in section and f"{runs} runs per cell" in section
+    assert f"run_seed({dock['campaign_seed']}, i)" in section  # read, not the f-string's braces
     assert "significant" in section and "Wilson" in section
 
 
@@ -269,6 +277,71 @@ def test_docking_cell_scenarios_round_trip(tmp_path):
     assert sc.params == ref.params and sc.duration_s == ref.duration_s
     assert sc.extra["probe"] == ref.extra["probe"] and sc.extra["reel"] == ref.extra["reel"]
     assert dataclasses.replace(sc.extra["bow_wave"], enabled=True) == ref.extra["bow_wave"]
+
+
+def test_docking_closure_speed_counts_every_run_once(report):
+    """The fast closure-speed study: each (controller, speed) cell counted every run once, its rate
+    lies in its Wilson interval, the duration lets the probe path finish at every speed, and the
+    shipped speed's cell is the main grid's campaign itself (same folder, same capture block), not
+    a rerun that merely agrees."""
+    import pandas as pd
+
+    from hosedrogue.report.docking_speed import FAST_CLOSURE_SPEEDS_M_S, SPEED_CONTROLLERS
+
+    out, headline, page = report
+    dock = headline["docking"]
+    spd = dock["closure_speed"]
+    runs = dock["runs_per_cell"]
+    assert spd["speeds_m_s"] == sorted(FAST_CLOSURE_SPEEDS_M_S) and spd["controllers"] == list(SPEED_CONTROLLERS)
+    assert len(spd["cells"]) == len(FAST_CLOSURE_SPEEDS_M_S) * len(SPEED_CONTROLLERS)
+    for key, cell in spd["cells"].items():
+        assert cell["runs"] == runs and sum(cell["by_result"].values()) == runs, key
+        assert cell["ci95"][0] <= cell["rate"] <= cell["ci95"][1], key
+        # 3 m of standoff at v, then the 1 m push (cruise, then 1 s half-cosine stop); rounded up to 0.1 s
+        v = cell["probe_speed_m_s"]
+        assert cell["duration_s"] >= 3.0 / v + max(1.0 - 0.5 * v, 0.0) / v + 1.0, key
+        assert (out / "docking" / "campaigns" / cell["campaign"] / "summary.json").is_file(), key
+    for c in SPEED_CONTROLLERS:
+        ref = spd["cells"][f"{c}-v1"]
+        assert ref["campaign"] == f"moderate-{c}-bow-on" and ref["duration_s"] == 4.5
+        grid = dock["capture"][f"moderate-{c}-bow-on"]
+        assert {k: ref[k] for k in ("rate", "ci95", "runs", "by_result")} == \
+            {k: grid[k] for k in ("rate", "ci95", "runs", "by_result")}
+    table = pd.read_csv(out / "docking_closure_speed.csv")
+    assert (table[[k for k in table.columns if k.startswith("n_")]].sum(axis=1) == table["runs"]).all()
+    per_cell = pd.read_csv(out / "docking_closure_speed_runs.csv").groupby(["controller", "probe_speed_m_s"]).size()
+    assert len(per_cell) == len(table) and (per_cell == runs).all()
+    section = page[page.index('<section id="docking"'):]
+    section = section[:section.index("</section>")]
+    assert "<b>Closure speed.</b>" in section and "latch minimum" in section and "<b>Pilot.</b>" in section
+
+
+def test_docking_closure_speed_cell_scenarios(tmp_path):
+    """A closure-speed cell's scenario is approach-moderate with the probe's speed and a duration
+    (and turbulence window) following it; at the shipped 1 m/s it is the shipped scenario exactly,
+    so run_grid runs that campaign once. The pilot's cell enables the pilot and nothing else."""
+    import dataclasses
+
+    from hosedrogue.report.docking_runs import CellSpec, _same_scenario, scenario_data, scenario_toml
+    from hosedrogue.scenarios import load_scenario
+
+    ref = load_scenario("approach-moderate")
+    assert _same_scenario(scenario_data(CellSpec("moderate", "pid", True, False, 1.0)),
+                          scenario_data(CellSpec("moderate", "pid", True)))
+    assert not _same_scenario(scenario_data(CellSpec("moderate", "pid", True, False, 0.5)),
+                              scenario_data(CellSpec("moderate", "pid", True)))
+    path = tmp_path / "scenario.toml"
+    path.write_text(scenario_toml("moderate", "none", True, False, 0.5))
+    sc = load_scenario(str(path))
+    assert sc.extra["probe"] == dataclasses.replace(ref.extra["probe"], closure_speed_m_s=0.5)
+    # 6 s to the balance position, then the 1 m push: 1.5 s cruising 0.75 m at 0.5 m/s and the 1 s
+    # half-cosine stop covering 0.25 m; 8.5 s is a whole number of 0.1 s, so no rounding
+    assert sc.duration_s == 8.5
+    assert sc.params.turbulence.duration_s == sc.duration_s
+    path.write_text(scenario_toml("severe", "none", True, pilot=True))
+    sc, ref = load_scenario(str(path)), load_scenario("approach-severe")
+    assert sc.extra["pilot"].enabled and sc.controller == "none" and sc.params == ref.params
+    assert sc.extra["probe"] == ref.extra["probe"] and sc.duration_s == ref.duration_s
 
 
 def test_paper_pid_reproduces_table3_on_the_papers_models(report):
@@ -475,12 +548,24 @@ def test_plot_accuracy():
 def test_plot_docking_figures():
     import pandas as pd
 
-    from hosedrogue.plotting.docking import plot_approach_from_behind, plot_capture_rates, plot_miss_cdfs
+    from hosedrogue.plotting.docking import (plot_approach_from_behind, plot_capture_rates, plot_closure_speed,
+                                             plot_miss_cdfs)
 
     rows = [dict(level=lev, sigma_m_s=s, controller=c, bow_wave=b, rate=r, ci95_low=max(r - 0.2, 0.0),
                  ci95_high=min(r + 0.2, 1.0))
             for lev, s, r in (("light", 0.74, 0.9), ("severe", 5.9, 0.3)) for c in ("none", "pid") for b in (True, False)]
     _check_figure(plot_capture_rates(pd.DataFrame(rows), ("none", "pid"), ("light", "severe")))
+    rows = [{**r, "pilot": False} for r in rows] + [dict(level=lev, sigma_m_s=s, controller="none", bow_wave=True,
+                                                         rate=0.5, ci95_low=0.3, ci95_high=0.7, pilot=True)
+                                                    for lev, s in (("light", 0.74), ("severe", 5.9))]
+    fig = plot_capture_rates(pd.DataFrame(rows), ("none", "pid"), ("light", "severe"))
+    _check_figure(fig)
+    assert any("pilot" in t.get_text() for t in fig.axes[0].get_legend().get_texts())
+    speeds = pd.DataFrame([dict(controller=c, probe_speed_m_s=v, rate=r, ci95_low=r / 2, ci95_high=(1 + r) / 2,
+                                failed_latch_fraction=1.0 - r, coupler_speed_p05_m_s=0.9 * v,
+                                coupler_speed_median_m_s=0.95 * v, coupler_speed_p95_m_s=v)
+                           for c in ("none", "pid") for v, r in ((0.5, 0.1), (1.0, 0.6), (2.0, 0.8))])
+    _check_figure(plot_closure_speed(speeds, ("none", "pid"), 0.5))
     rng = np.random.default_rng(1)
     _check_figure(plot_miss_cdfs({"light": {"none": rng.uniform(0, 0.4, 20), "pid": np.r_[rng.uniform(0, 0.3, 19), np.nan]}},
                                  0.305))

@@ -1,10 +1,10 @@
 """Figures of the report's "Docking" section: capture rate against turbulence intensity, the
-miss-distance CDFs per intensity and one approach seen from behind (the bow-wave figure is
-:func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
+miss-distance CDFs per intensity, one approach seen from behind and the capture rate against the
+closure speed (the bow-wave figure is :func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
 
 ``table`` is the section's capture table (a pandas DataFrame, one row per campaign) with the
 columns ``level``, ``sigma_m_s``, ``controller``, ``bow_wave`` (bool), ``rate``, ``ci95_low`` and
-``ci95_high``.
+``ci95_high``, and optionally ``pilot`` (bool: the pilot model flew the probe).
 """
 
 from __future__ import annotations
@@ -22,7 +22,8 @@ _BOW_STYLE = {True: "-", False: "--"}
 
 def plot_capture_rates(table, controllers: Sequence[str], levels: Sequence[str]):
     """Capture rate against the turbulence intensity, one colour per controller, solid with the
-    bow wave and dashed without it, Wilson 95 % intervals as error bars.
+    bow wave and dashed without it, Wilson 95 % intervals as error bars; the pilot's rows (column
+    ``pilot`` true), if any, in a colour of their own.
 
     Parameters
     ----------
@@ -41,19 +42,23 @@ def plot_capture_rates(table, controllers: Sequence[str], levels: Sequence[str])
     colours = {c: f"C{i}" for i, c in enumerate(controllers)}
     sigmas = [float(table.loc[table["level"] == lev, "sigma_m_s"].iloc[0]) for lev in levels]
     spread = 0.015 * (max(sigmas) - min(sigmas) or 1.0)  # side by side, so the bars do not overlap
-    k = 0
-    for bow in (True, False):
-        for c in controllers:
-            sub = table[(table["controller"] == c) & (table["bow_wave"] == bow)]
-            sub = sub.set_index("level").reindex([lev for lev in levels if lev in set(sub["level"])])
-            if sub.empty:
-                continue
-            x = sub["sigma_m_s"].to_numpy(dtype=float) + (k - 2.5) * spread
-            y = sub["rate"].to_numpy(dtype=float)
-            err = np.vstack([y - sub["ci95_low"].to_numpy(dtype=float), sub["ci95_high"].to_numpy(dtype=float) - y])
-            ax.errorbar(x, y, yerr=err, color=colours[c], ls=_BOW_STYLE[bow], marker="o", ms=4, capsize=3,
-                        label=f"{c}, bow wave {'on' if bow else 'off'}")
-            k += 1
+    pilot = table["pilot"].to_numpy(bool) if "pilot" in table else np.zeros(len(table), bool)
+    lines = [(c, bow, False) for bow in (True, False) for c in controllers]
+    if pilot.any():
+        lines.insert(len(controllers), ("none", True, True))
+        colours["pilot"] = f"C{len(controllers)}"
+    for k, (c, bow, piloted) in enumerate(lines):
+        sub = table[(table["controller"] == c) & (table["bow_wave"] == bow) & (pilot == piloted)]
+        sub = sub.set_index("level").reindex([lev for lev in levels if lev in set(sub["level"])])
+        if sub.empty:
+            continue
+        x = sub["sigma_m_s"].to_numpy(dtype=float) + (k - (len(lines) - 1) / 2) * spread
+        y = sub["rate"].to_numpy(dtype=float)
+        err = np.vstack([y - sub["ci95_low"].to_numpy(dtype=float), sub["ci95_high"].to_numpy(dtype=float) - y])
+        ax.errorbar(x, y, yerr=err, color=colours["pilot" if piloted else c], ls=_BOW_STYLE[bow],
+                    marker="s" if piloted else "o", ms=4, capsize=3,
+                    label=("pilot flies the probe, no controller" if piloted else c)
+                    + f", bow wave {'on' if bow else 'off'}")
     ax.set_xticks(sigmas, [f"{s:.2f}\n{lev}" for s, lev in zip(sigmas, levels)])
     ax.set_xlabel("turbulence intensity σ_w at 8000 m [m/s]")
     ax.set_ylabel("capture rate [-]")
@@ -130,4 +135,57 @@ def plot_approach_from_behind(paths: Mapping[str, Mapping[str, np.ndarray]], cap
         ax.grid(True, alpha=0.3)
         ax.set_title("pilot flies the probe, no controller" if label == "pilot" else f"controller {label}")
         ax.legend(fontsize="x-small", loc="upper right")
+    return fig
+
+
+def plot_closure_speed(table, controllers: Sequence[str], min_closure_speed_m_s: float):
+    """Capture rate and failed-latch fraction against the probe's closure speed (left), and the
+    closure speed at the coupler against the probe's (right), one colour per controller.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per (controller, speed): ``controller``, ``probe_speed_m_s`` [m/s], ``rate``,
+        ``ci95_low``, ``ci95_high``, ``failed_latch_fraction`` [-] and
+        ``coupler_speed_p05_m_s``, ``coupler_speed_median_m_s``, ``coupler_speed_p95_m_s`` [m/s].
+    controllers : sequence of str
+        Controllers, in legend order.
+    min_closure_speed_m_s : float
+        The latch window's minimum closure speed at the coupler [m/s], drawn as a line.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (ax, bx) = new_figure(1, 2, size=(11.0, 4.3))
+    speeds = np.array(sorted(set(table["probe_speed_m_s"])), dtype=float)
+    spread = 0.012 * (speeds.max() - speeds.min() or 1.0)  # side by side, so the bars do not overlap
+    for k, c in enumerate(controllers):
+        sub = table[table["controller"] == c].sort_values("probe_speed_m_s")
+        if sub.empty:
+            continue
+        v = sub["probe_speed_m_s"].to_numpy(dtype=float)
+        x = v + (k - (len(controllers) - 1) / 2) * spread
+        y = sub["rate"].to_numpy(dtype=float)
+        err = np.vstack([y - sub["ci95_low"].to_numpy(dtype=float), sub["ci95_high"].to_numpy(dtype=float) - y])
+        ax.errorbar(x, y, yerr=err, color=f"C{k}", marker="o", ms=4, capsize=3, label=f"{c}: capture rate")
+        ax.plot(x, sub["failed_latch_fraction"].to_numpy(dtype=float), color=f"C{k}", ls=":", marker="x",
+                label=f"{c}: failed latches")
+        med = sub["coupler_speed_median_m_s"].to_numpy(dtype=float)
+        cerr = np.vstack([med - sub["coupler_speed_p05_m_s"].to_numpy(dtype=float),
+                          sub["coupler_speed_p95_m_s"].to_numpy(dtype=float) - med])
+        bx.errorbar(x, med, yerr=cerr, color=f"C{k}", marker="o", ms=4, capsize=3, ls="none",
+                    label=f"{c} (median, 5th-95th percentile)")
+    bx.plot(speeds, speeds, color="0.6", lw=0.8, label="equal to the probe's")
+    bx.axhline(min_closure_speed_m_s, color="C3", ls="--", lw=0.9, label=f"latch minimum {min_closure_speed_m_s:g} m/s")
+    ax.set_ylim(-0.02, 1.05)
+    ax.set_ylabel("fraction of runs [-]")
+    ax.set_title("capture rate (Wilson 95 %) and failed latches")
+    bx.set_ylabel("closure speed at the coupler [m/s]")
+    bx.set_title("closure speed at contact")
+    for a in (ax, bx):
+        a.set_xticks(speeds)
+        a.set_xlabel("probe closure speed [m/s]")
+        a.grid(True, alpha=0.3)
+        a.legend(fontsize="x-small", loc="best")
     return fig

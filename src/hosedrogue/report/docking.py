@@ -1,7 +1,8 @@
 """Report section "Docking": the receiver's bow wave, the capture rate of the approach scenarios
-against the turbulence intensity (campaigns per level x controller x bow wave), the miss-distance
-CDFs and one approach seen from behind (docs/engagement.md, "Bow wave", "Approach scenarios",
-"Docking statistics").
+against the turbulence intensity (campaigns per level x controller x bow wave, and the pilot model
+flying the probe with the bow wave on), the miss-distance CDFs, one approach seen from behind and
+the capture rate against the closure speed (:mod:`.docking_speed`; docs/engagement.md, "Bow wave",
+"Approach scenarios", "Docking statistics").
 
 The computations are in :mod:`.docking_runs`; this module writes the CSVs, the figures (through
 :mod:`hosedrogue.plotting.bow_wave` and :mod:`hosedrogue.plotting.docking`), the HTML section with
@@ -19,8 +20,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .docking_runs import (CAMPAIGN_SEED, CONTROLLERS, FAR_M, LEVEL_M, LEVELS, NEAR_M, WORKERS, approach_paths,
-                           bow_wave_study, run_grid)
+from . import docking_speed as speed
+from .docking_runs import (CAMPAIGN_SEED, CONTROLLERS, FAR_M, LEVEL_M, LEVELS, NEAR_M, PILOT, WORKERS, approach_paths,
+                           bow_wave_study, grid_specs, run_grid)
 from .markup import esc, figure_html, fmt, html_table
 
 if TYPE_CHECKING:
@@ -52,8 +54,8 @@ def _capture_frame(cells):
     rows = []
     for c in cells:
         cap = c.capture
-        rows.append(dict(level=c.level, sigma_m_s=c.sigma_m_s, controller=c.controller, bow_wave=c.bow_wave,
-                         runs=cap["runs"], rate=cap["rate"], ci95_low=cap["ci95"][0], ci95_high=cap["ci95"][1],
+        rows.append(dict(campaign=c.name, level=c.level, sigma_m_s=c.sigma_m_s, controller=c.controller,
+                         pilot=c.pilot, bow_wave=c.bow_wave, runs=cap["runs"], rate=cap["rate"], ci95_low=cap["ci95"][0], ci95_high=cap["ci95"][1],
                          **{f"n_{k.replace(' ', '_')}": v for k, v in cap["by_result"].items()},
                          median_miss_m=float(np.nanmedian(c.runs["miss_distance_m"]))
                          if np.isfinite(c.runs["miss_distance_m"]).any() else float("nan"),
@@ -75,8 +77,10 @@ def _runs_frame(cells):
     for c in cells:
         df = c.runs[["run", "seed", "completed", "result", "miss_distance_m", "closure_speed_m_s", "peak_u_n"]].copy()
         df.insert(0, "bow_wave", c.bow_wave)
+        df.insert(0, "pilot", c.pilot)
         df.insert(0, "controller", c.controller)
         df.insert(0, "level", c.level)
+        df.insert(0, "campaign", c.name)
         frames.append(df)
     return pd.concat(frames, ignore_index=True)
 
@@ -131,14 +135,17 @@ def _compare(df, a: dict, b: dict) -> dict:
 
 def _comparisons(df) -> dict:
     levels = [lev for lev in LEVELS if lev in set(df["level"])]
-    out = {"light_vs_severe": _compare(df, dict(level=levels[0], controller="none", bow_wave=True),
-                                       dict(level=levels[-1], controller="none", bow_wave=True))}
+    out = {"light_vs_severe": _compare(df, dict(level=levels[0], controller="none", bow_wave=True, pilot=False),
+                                       dict(level=levels[-1], controller="none", bow_wave=True, pilot=False))}
     mid = "moderate" if "moderate" in levels else levels[0]
     for c in CONTROLLERS[1:]:
-        out[f"{c}_vs_none_{mid}"] = _compare(df, dict(level=mid, controller=c, bow_wave=True),
-                                             dict(level=mid, controller="none", bow_wave=True))
-    out[f"bow_off_vs_on_{mid}"] = _compare(df, dict(level=mid, controller="none", bow_wave=False),
-                                           dict(level=mid, controller="none", bow_wave=True))
+        out[f"{c}_vs_none_{mid}"] = _compare(df, dict(level=mid, controller=c, bow_wave=True, pilot=False),
+                                             dict(level=mid, controller="none", bow_wave=True, pilot=False))
+    out[f"bow_off_vs_on_{mid}"] = _compare(df, dict(level=mid, controller="none", bow_wave=False, pilot=False),
+                                           dict(level=mid, controller="none", bow_wave=True, pilot=False))
+    for lev in sorted(set(df.loc[df["pilot"], "level"]), key=levels.index):  # the pilot against the straight line
+        out[f"{PILOT}_vs_none_{lev}"] = _compare(df, dict(level=lev, controller="none", bow_wave=True, pilot=True),
+                                                 dict(level=lev, controller="none", bow_wave=True, pilot=False))
     return out
 
 
@@ -156,10 +163,10 @@ def _verdict(cmp: dict, a: str, b: str) -> str:
 def _capture_html(df) -> str:
     rows = []
     for _, r in df.iterrows():
-        name = f"{r['level']}-{r['controller']}-bow-{'on' if r['bow_wave'] else 'off'}"
-        link = f'<a href="{CAMPAIGNS}/{name}/summary.json">{esc(name)}</a>'
+        link = f'<a href="{CAMPAIGNS}/{r["campaign"]}/summary.json">{esc(r["campaign"])}</a>'
         by = ", ".join(f"{k[2:].replace('_', ' ')} {int(r[k])}" for k in df.columns if k.startswith("n_") and r[k])
-        rows.append((("html", link), r["level"], fmt(r["sigma_m_s"], 3), r["controller"],
+        who = f"{r['controller']}, {PILOT} flies the probe" if r["pilot"] else r["controller"]
+        rows.append((("html", link), r["level"], fmt(r["sigma_m_s"], 3), who,
                      "on" if r["bow_wave"] else "off", f"{r['rate']:.3f}", f"{r['ci95_low']:.3f} - {r['ci95_high']:.3f}",
                      int(r["runs"]), by, fmt(r["median_miss_m"], 3),
                      " / ".join(f"{r[k]:.0f}" for k in ("median_peak_force_n", "p95_peak_force_n", "max_peak_force_n"))))
@@ -210,8 +217,9 @@ def _prose(df, cmp: dict, runs: int, times: dict) -> str:
         f"<p><b>What was run.</b> Campaigns of the shipped approach scenarios (approach-{', approach-'.join(levels)}:"
         " 150 m/s, 8000 m, tanker wake on, MIL-F-8785C Dryden turbulence of the level at 8000 m, the converged "
         "model at 20 links, RK4 at 5 ms; the probe closes at 1 m/s from 3 m behind the drogue's balance position "
-        f"and is captured within 0.305 m) for every controller ({', '.join(CONTROLLERS)}) with the bow wave on and "
-        f"off: {runs} runs per cell, run i with the turbulence seed run_seed({CAMPAIGN_SEED}, i) in every cell (the "
+        f"and is captured within 0.305 m) for every drogue controller ({', '.join(CONTROLLERS)}) with the bow wave "
+        f"on and off, and with the pilot model flying the probe ({PILOT}: no drogue controller, bow wave on): {runs} "
+        f"runs per cell, run i with the turbulence seed run_seed({CAMPAIGN_SEED}, i) in every cell (the "
         "same records across controllers and bow-wave settings). Each campaign is kept in "
         f"<code>{CAMPAIGNS}/&lt;cell&gt;/</code>. Wall time: campaigns {times['campaigns_s']:.1f} s, bow-wave study "
         f"{times['bow_wave_s']:.1f} s, approach runs {times['approach_s']:.1f} s; the whole section {times['section_s']:.1f} s.</p>"
@@ -226,7 +234,13 @@ def _prose(df, cmp: dict, runs: int, times: dict) -> str:
                  f"{worst['p95_peak_force_n']:.0f} N ({esc(worst['controller'])}, {esc(worst['level'])}; table). With an "
                  "actuator limit (<code>[actuator] max_force_n</code>) the rates would be lower where the forces exceed it.")
     off = cmp[f"bow_off_vs_on_{mid}"]
-    return text + f" <b>Bow wave</b> ({mid}, no controller): {_verdict(off, 'off', 'on')}.</p>"
+    text += f" <b>Bow wave</b> ({mid}, no controller): {_verdict(off, 'off', 'on')}.</p>"
+    pilot = [(k.split("_vs_none_")[1], v) for k, v in cmp.items() if k.startswith(f"{PILOT}_vs_none_")]
+    if pilot:
+        text += ("<p><b>Pilot.</b> The pilot model flying the probe toward the drogue it sees one reaction time "
+                 "late (no drogue controller, bow wave on) against the straight-line probe on the same seeds: "
+                 + "; ".join(_verdict(v, f"{lev}: pilot", "straight line") for lev, v in pilot) + ".</p>")
+    return text
 
 
 def _html(st: "_Study") -> str:
@@ -246,11 +260,14 @@ def _html(st: "_Study") -> str:
         + _prose(st.table, st.comparisons, st.runs, st.times)
         + _capture_html(st.table)
         + figure_html("fig-docking-capture", "fig_docking_capture.png", "Capture rate against turbulence intensity",
-                      "One colour per controller, solid with the bow wave, dashed without; Wilson 95 % intervals "
-                      "(markers side by side at each intensity).", ("docking_capture.csv",))
+                      "One colour per controller, solid with the bow wave, dashed without, and the pilot model "
+                      "flying the probe (no controller, bow wave on; squares); Wilson 95 % intervals (markers side "
+                      "by side at each intensity).", ("docking_capture.csv",))
         + figure_html("fig-docking-miss", "fig_docking_miss_cdf.png", "Miss distance",
                       f"Empirical CDF of the radial miss at the coupler plane per turbulence level (bow wave on), "
-                      f"one line per controller; dashed: the capture radius {radius:g} m.", ("docking_runs.csv",))
+                      f"one line per controller and the pilot; dashed: the capture radius {radius:g} m.",
+                      ("docking_runs.csv",))
+        + speed.speed_html(st.speed_table, st.speed_findings, st.probe)
         + figure_html("fig-docking-approach", "fig_docking_approach.png", "An approach seen from behind",
                       f"approach-moderate, seed {st.approach_seed}: the probe tip's and the drogue's paths in the "
                       "y-z plane (looking forward along x) from the start to contact, the capture circle around the "
@@ -272,6 +289,11 @@ class _Study:
     radius_m: float  #: capture radius [m]
     approach_seed: int  #: turbulence seed of the approach figure
     fast: bool
+    probe: object  #: the approach scenarios' engagement.spec.Probe
+    speed_specs: list  #: docking_runs.CellSpec of the closure-speed study
+    speed_cells: list  #: their campaigns (the grid's where the scenario is the same)
+    speed_table: object  #: docking_speed.speed_frame
+    speed_findings: dict  #: docking_speed.speed_findings
 
 
 def _study(out, settings) -> _Study:
@@ -283,17 +305,22 @@ def _study(out, settings) -> _Study:
     out.status("docking: bow wave")
     bow = bow_wave_study()
     t1 = time.perf_counter()
-    cells, campaigns_s = run_grid(out.dir / CAMPAIGNS, settings.docking_runs, workers=None if fast else WORKERS,
-                                  status=out.status)
+    grid = grid_specs()
+    speeds = speed.speed_specs(speed.FAST_CLOSURE_SPEEDS_M_S if fast else speed.CLOSURE_SPEEDS_M_S)
+    every, campaigns_s = run_grid(out.dir / CAMPAIGNS, settings.docking_runs, grid + speeds,
+                                  workers=None if fast else WORKERS, status=out.status)
+    cells, speed_cells = every[:len(grid)], every[len(grid):]
     t2 = time.perf_counter()
     out.status("docking: approach runs")
     paths = approach_paths(runs=tuple(APPROACH_RUNS), seed=APPROACH_SEED)
     t3 = time.perf_counter()
     table = _capture_frame(cells)
-    radius = float(load_scenario("approach-moderate").extra["probe"].capture_radius_m)
+    probe = load_scenario("approach-moderate").extra["probe"]
     times = {"bow_wave_s": t1 - t0, "campaigns_s": campaigns_s, "approach_s": t3 - t2}
-    return _Study(bow, cells, table, _comparisons(table), paths, settings.docking_runs, times, radius,
-                  APPROACH_SEED, fast)
+    speed_table = speed.speed_frame(speeds, speed_cells)
+    return _Study(bow, cells, table, _comparisons(table), paths, settings.docking_runs, times,
+                  float(probe.capture_radius_m), APPROACH_SEED, fast, probe, speeds, speed_cells, speed_table,
+                  speed.speed_findings(speed_table, probe.min_closure_speed_m_s))
 
 
 def _figures(out, st: _Study) -> None:
@@ -304,10 +331,11 @@ def _figures(out, st: _Study) -> None:
     out.csv(_runs_frame(st.cells), "docking_runs.csv")
     levels = [lev for lev in LEVELS if lev in set(st.table["level"])]
     out.figure(plot_capture_rates(st.table, CONTROLLERS, levels), "fig_docking_capture.png")
-    miss = {lev: {c.controller: c.runs["miss_distance_m"].to_numpy(dtype=float) for c in st.cells
+    miss = {lev: {PILOT if c.pilot else c.controller: c.runs["miss_distance_m"].to_numpy(dtype=float) for c in st.cells
                   if c.level == lev and c.bow_wave} for lev in levels}
     out.figure(plot_miss_cdfs(miss, st.radius_m), "fig_docking_miss_cdf.png")
     _approach_outputs(out, st.paths, st.radius_m)
+    speed.write_speed_outputs(out, st.speed_table, st.speed_specs, st.speed_cells, st.probe.min_closure_speed_m_s)
 
 
 def _record(st: _Study) -> dict:
@@ -319,6 +347,8 @@ def _record(st: _Study) -> dict:
                      f"radius_for_{LEVEL_M * 1e3:g}_mm_at_{FAR_M:g}_m_m": bw.radius_limit_m,
                      "radii_m": list(bw.radii_m), f"radii_displacement_at_{FAR_M:g}_m_mm": list(bw.radii_displacement_m[:, 1] * 1e3)},
         "capture": {c.name: {"sigma_m_s": c.sigma_m_s, **c.capture} for c in st.cells},
+        "pilot_cells": [c.name for c in st.cells if c.pilot],
+        "closure_speed": speed.speed_record(st.speed_table, st.speed_findings),
         "comparisons": st.comparisons,
         "approach": {c: {k: p["outcome"][k] for k in ("miss_distance_m", "closure_speed_m_s", "contact_time_s")
                          if p["outcome"].get(k) is not None} | {"captured": p["outcome"]["result"] == "captured"}

@@ -6,7 +6,11 @@ The campaigns run through :func:`hosedrogue.studies.campaign.run_campaign`, whic
 scenario by name or file: each cell's scenario (the shipped ``approach-LEVEL`` with
 ``[controller] type`` and ``[bow_wave] enabled`` set) is written as ``scenario.toml`` into the
 cell's campaign folder and run from there. Every cell uses the same campaign seed, so run ``i``
-sees the same turbulence record in every cell of a level (common random numbers).
+sees the same turbulence record in every cell of a level (common random numbers). A cell is a
+:class:`CellSpec`: besides the drogue controller and the bow wave it may let the pilot model fly
+the probe (:data:`PILOT`) or change the probe's closure speed (with the scenario's duration, and
+its turbulence window, following the speed: :func:`approach_duration_s`); two cells whose scenarios
+are the same are run once (:func:`run_grid`).
 """
 
 from __future__ import annotations
@@ -21,12 +25,18 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CONTROLLERS", "LEVELS", "CampaignCell", "BowWaveStudy", "bow_wave_study", "run_grid",
-           "approach_paths", "APPROACH_RUNS", "cell_name", "scenario_toml"]
+__all__ = ["CONTROLLERS", "LEVELS", "PILOT", "CellSpec", "CampaignCell", "BowWaveStudy", "bow_wave_study", "run_grid",
+           "grid_specs", "approach_paths", "APPROACH_RUNS", "cell_name", "scenario_toml", "scenario_data",
+           "approach_duration_s"]
 
 #: Controllers of the campaigns and of the approach figure, in the order of the legends (the
 #: paper's gains; each acts on the drogue during the approach and is off once coupled).
 CONTROLLERS = ("none", "pid", "lqr")
+
+#: The pilot model flying the probe (docs/engagement.md, "Pilot model", its defaults) with no drogue
+#: controller: not a drogue controller but a row of the grid beside them, bow wave on only (cells
+#: ``<level>-pilot-bow-on``), so the receiver's own chase compares with the drogue's station keeping.
+PILOT = "pilot"
 
 #: Runs of the approach figure: label -> (controller, pilot flies the probe). "pilot": no drogue
 #: controller, the probe flown by the pilot model's defaults (docs/engagement.md, "Pilot model").
@@ -54,23 +64,101 @@ WORKERS = 2
 APPROACH_SEED = 2018
 
 
-def cell_name(level: str, controller: str, bow_wave: bool) -> str:
-    """Folder name of one campaign, e.g. ``moderate-pid-bow-on``.
+def cell_name(level: str, controller: str, bow_wave: bool, pilot: bool = False,
+              closure_speed_m_s: float | None = None) -> str:
+    """Folder name of one campaign, e.g. ``moderate-pid-bow-on``, ``moderate-pilot-bow-on`` or
+    ``moderate-none-bow-on-v0.5``.
 
     Parameters
     ----------
     level : str
         Turbulence level ("light", "moderate", "severe").
     controller : str
-        Controller type ("none", "pid", "lqr").
+        Drogue controller type ("none", "pid", "lqr").
     bow_wave : bool
         Bow wave on.
+    pilot : bool
+        The pilot model flies the probe (named ``pilot`` in place of the controller "none").
+    closure_speed_m_s : float or None
+        The probe's closure speed [m/s] when it is not the scenario's own (suffix ``-v<speed>``).
 
     Returns
     -------
     str
     """
-    return f"{level}-{controller}-bow-{'on' if bow_wave else 'off'}"
+    who = (PILOT if controller == "none" else f"{controller}-{PILOT}") if pilot else controller
+    name = f"{level}-{who}-bow-{'on' if bow_wave else 'off'}"
+    return name if closure_speed_m_s is None else f"{name}-v{closure_speed_m_s:g}"
+
+
+@dataclass(frozen=True)
+class CellSpec:
+    """What one campaign of the grid runs: ``approach-LEVEL`` with these changes."""
+
+    level: str  #: turbulence level
+    controller: str = "none"  #: drogue controller type
+    bow_wave: bool = True  #: bow wave on
+    pilot: bool = False  #: the pilot model flies the probe
+    closure_speed_m_s: float | None = None  #: probe closure speed [m/s]; None: the scenario's own
+
+    @property
+    def name(self) -> str:
+        """The cell's folder name."""
+        return cell_name(self.level, self.controller, self.bow_wave, self.pilot, self.closure_speed_m_s)
+
+
+def grid_specs(levels=LEVELS, controllers=CONTROLLERS, pilot_levels=LEVELS) -> list[CellSpec]:
+    """The main grid: level x controller x bow wave (on, off), and the pilot's cell (bow wave on)
+    for each of ``pilot_levels``, in table order.
+
+    Parameters
+    ----------
+    levels : sequence of str
+        Turbulence levels.
+    controllers : sequence of str
+        Drogue controller types.
+    pilot_levels : sequence of str
+        Levels that get a pilot cell (empty: none).
+
+    Returns
+    -------
+    list of CellSpec
+    """
+    specs = []
+    for level in levels:
+        specs += [CellSpec(level, c, True) for c in controllers]
+        if level in pilot_levels:
+            specs.append(CellSpec(level, "none", True, pilot=True))
+        specs += [CellSpec(level, c, False) for c in controllers]
+    return specs
+
+
+def approach_duration_s(probe, closure_speed_m_s: float) -> float:
+    """Scenario duration for a closure speed: the time at which the prescribed probe path stops if
+    contact is at the balance position, rounded up to 0.1 s.
+
+    The probe reaches the balance position after ``standoff_m / v``; once coupled it cruises
+    ``max(push_m - v stop_time_s / 2, 0)`` and stops over ``stop_time_s`` (the half-cosine ramp
+    covers ``v stop_time_s / 2``). The shipped approach scenarios' 4.5 s is this at 1 m/s (3 m, 1 m
+    of push, 1 s stop), so the 1 m/s cell is the shipped scenario. The push is the margin for
+    contact: a drogue up to ``push_m + v stop_time_s / 2`` (1.5 m at 1 m/s) ahead of its balance
+    position is still met; a run that is not would be counted "no contact".
+
+    Parameters
+    ----------
+    probe : hosedrogue.engagement.spec.Probe
+        The scenario's probe: ``standoff_m`` [m], ``push_m`` [m], ``stop_time_s`` [s].
+    closure_speed_m_s : float
+        Probe closure speed v [m/s], > 0.
+
+    Returns
+    -------
+    float
+        Duration [s].
+    """
+    v = float(closure_speed_m_s)
+    after = max(probe.push_m - 0.5 * v * probe.stop_time_s, 0.0) / v + probe.stop_time_s
+    return math.ceil(round((probe.standoff_m / v + after) * 10.0, 6)) / 10.0
 
 
 def _toml_value(v) -> str:
@@ -85,32 +173,70 @@ def _toml_value(v) -> str:
     return repr(v)
 
 
-def scenario_toml(level: str, controller: str, bow_wave: bool) -> str:
-    """The TOML text of one cell's scenario: ``approach-LEVEL`` with the controller and the bow wave set.
+def scenario_data(spec: CellSpec) -> dict:
+    """The scenario tables of one cell: ``approach-LEVEL`` with the cell's controller, bow wave,
+    pilot and closure speed (with the duration and the turbulence window of
+    :func:`approach_duration_s`), the scenario's name left as shipped.
+
+    Parameters
+    ----------
+    spec : CellSpec
+        The cell.
+
+    Returns
+    -------
+    dict
+        Table name -> {key: value}, as read from a scenario file.
+    """
+    from ..scenarios import load_scenario, resolve
+
+    _, data = resolve(f"approach-{spec.level}")
+    data = {k: dict(v) for k, v in data.items()}
+    data["controller"] = {"type": spec.controller}
+    data.setdefault("bow_wave", {})["enabled"] = bool(spec.bow_wave)
+    if spec.pilot:
+        data["pilot"] = {"enabled": True}  # the pilot model's defaults
+    if spec.closure_speed_m_s is not None:
+        duration = approach_duration_s(load_scenario(f"approach-{spec.level}").extra["probe"], spec.closure_speed_m_s)
+        data.setdefault("probe", {})["closure_speed_m_s"] = float(spec.closure_speed_m_s)
+        data["scenario"]["duration_s"] = duration
+        data["turbulence"]["duration_s"] = duration  # gusts to the end of the run
+    return data
+
+
+def scenario_toml(level: str, controller: str, bow_wave: bool, pilot: bool = False,
+                  closure_speed_m_s: float | None = None) -> str:
+    """The TOML text of one cell's scenario (:func:`scenario_data`, named after the cell).
 
     Parameters
     ----------
     level : str
         Turbulence level.
     controller : str
-        Controller type.
+        Drogue controller type.
     bow_wave : bool
         Bow wave on.
+    pilot : bool
+        The pilot model flies the probe.
+    closure_speed_m_s : float or None
+        Probe closure speed [m/s]; None: the scenario's own.
 
     Returns
     -------
     str
         A scenario file (tables of scalars and lists only, as the shipped one).
     """
-    from ..scenarios import resolve
-
-    _, data = resolve(f"approach-{level}")
-    data = {k: dict(v) for k, v in data.items()}
-    data["scenario"]["name"] = f"approach-{cell_name(level, controller, bow_wave)}"
-    data["controller"] = {"type": controller}
-    data.setdefault("bow_wave", {})["enabled"] = bool(bow_wave)
-    lines = [f"# approach-{level} with controller {controller!r} and the bow wave "
-             f"{'on' if bow_wave else 'off'} (written by hosedrogue reproduce, section Docking)"]
+    spec = CellSpec(level, controller, bow_wave, pilot, closure_speed_m_s)
+    data = scenario_data(spec)
+    data["scenario"]["name"] = f"approach-{spec.name}"
+    if closure_speed_m_s is not None:
+        data["scenario"]["description"] += f"; here the probe closes at {closure_speed_m_s:g} m/s"
+    what = [f"controller {controller!r}", f"the bow wave {'on' if bow_wave else 'off'}"]
+    if pilot:
+        what.append("the pilot model flying the probe")
+    if closure_speed_m_s is not None:
+        what.append(f"closure speed {closure_speed_m_s:g} m/s for {data['scenario']['duration_s']:g} s")
+    lines = [f"# approach-{level} with {', '.join(what)} (written by hosedrogue reproduce, section Docking)"]
     for name, table in data.items():
         lines.append(f"\n[{name}]")
         lines += [f"{k} = {_toml_value(v)}" for k, v in table.items()]
@@ -128,11 +254,14 @@ class CampaignCell:
     capture: dict  #: the summary's capture block: rate [-], ci95 [-], runs, by_result
     runs: object  #: pandas.DataFrame of the campaign's runs.csv
     folder: Path  #: the campaign folder
+    pilot: bool = False  #: the pilot model flew the probe
+    closure_speed_m_s: float = 1.0  #: the probe's closure speed [m/s]
+    duration_s: float = 4.5  #: the scenario's duration [s]
 
     @property
     def name(self) -> str:
-        """The cell's folder name."""
-        return cell_name(self.level, self.controller, self.bow_wave)
+        """The campaign's folder name (a cell whose scenario is another cell's shares its campaign)."""
+        return self.folder.name
 
 
 def _check_counts(cell: CampaignCell, runs: int) -> None:
@@ -145,9 +274,20 @@ def _check_counts(cell: CampaignCell, runs: int) -> None:
         raise RuntimeError(f"campaign {cell.name}: rate {cap['rate']} outside its interval {cap['ci95']}")
 
 
-def run_grid(folder: Path, runs: int, levels=LEVELS, controllers=CONTROLLERS, workers: int | None = WORKERS,
+def _same_scenario(a: dict, b: dict) -> bool:
+    """Two cells' scenario tables are the same apart from the scenario's name."""
+    def strip(d):
+        return {k: ({kk: vv for kk, vv in v.items() if kk != "name"} if k == "scenario" else v) for k, v in d.items()}
+    return strip(a) == strip(b)
+
+
+def run_grid(folder: Path, runs: int, specs=None, workers: int | None = WORKERS,
              status=None) -> tuple[list[CampaignCell], float]:
-    """Run the campaigns of every (level, controller, bow wave) cell afresh into ``folder/<cell>/``.
+    """Run the campaign of every cell afresh into ``folder/<cell>/``, on one dask cluster.
+
+    A cell whose scenario (:func:`scenario_data`) is that of an earlier cell is not run again:
+    it is that cell's campaign (e.g. the closure speed 1 m/s of approach-moderate is the main
+    grid's ``moderate-none-bow-on``).
 
     Parameters
     ----------
@@ -155,10 +295,8 @@ def run_grid(folder: Path, runs: int, levels=LEVELS, controllers=CONTROLLERS, wo
         Parent folder of the campaigns; removed and rewritten.
     runs : int
         Runs (turbulence seeds) per cell.
-    levels : sequence of str
-        Turbulence levels.
-    controllers : sequence of str
-        Controller types.
+    specs : sequence of CellSpec, optional
+        The cells; default :func:`grid_specs`.
     workers : int or None
         Dask worker processes shared by all cells; None: run in this process (no dask).
     status : callable, optional
@@ -167,32 +305,41 @@ def run_grid(folder: Path, runs: int, levels=LEVELS, controllers=CONTROLLERS, wo
     Returns
     -------
     (list of CampaignCell, float)
-        The cells, and the campaigns' wall time [s].
+        One cell per spec, in their order (the same object for cells of the same scenario), and
+        the campaigns' wall time [s].
     """
     from ..scenarios import load_scenario
     from ..studies import executor
     from ..studies.campaign import run_campaign
 
+    specs = grid_specs() if specs is None else list(specs)
     shutil.rmtree(folder, ignore_errors=True)
     t0 = time.perf_counter()
+    done: list[tuple[dict, CampaignCell]] = []
     cells = []
     with executor.dask_client(None, workers, None, workers is not None) as client:
-        for level in levels:
-            sigma = float(load_scenario(f"approach-{level}").params.turbulence.sigma_m_s[2])
-            for bow in (True, False):
-                for c in controllers:
-                    name = cell_name(level, c, bow)
-                    if status:
-                        status(f"docking campaign {name}")
-                    cell_dir = folder / name
-                    cell_dir.mkdir(parents=True)
-                    (cell_dir / "scenario.toml").write_text(scenario_toml(level, c, bow))
-                    summary = run_campaign(str(cell_dir / "scenario.toml"), runs, cell_dir, seed=CAMPAIGN_SEED,
-                                           progress=False, client=client,
-                                           scheduler=None if client is not None else executor.SYNCHRONOUS)
-                    cell = CampaignCell(level, c, bow, sigma, summary.capture, summary.runs, cell_dir)
-                    _check_counts(cell, runs)
-                    cells.append(cell)
+        for spec in specs:
+            data = scenario_data(spec)
+            same = next((cell for d, cell in done if _same_scenario(d, data)), None)
+            if same is not None:
+                cells.append(same)
+                continue
+            if status:
+                status(f"docking campaign {spec.name}")
+            cell_dir = folder / spec.name
+            cell_dir.mkdir(parents=True)
+            (cell_dir / "scenario.toml").write_text(scenario_toml(spec.level, spec.controller, spec.bow_wave,
+                                                                  spec.pilot, spec.closure_speed_m_s))
+            summary = run_campaign(str(cell_dir / "scenario.toml"), runs, cell_dir, seed=CAMPAIGN_SEED,
+                                   progress=False, client=client,
+                                   scheduler=None if client is not None else executor.SYNCHRONOUS)
+            sc = load_scenario(str(cell_dir / "scenario.toml"))
+            cell = CampaignCell(spec.level, spec.controller, spec.bow_wave,
+                                float(sc.params.turbulence.sigma_m_s[2]), summary.capture, summary.runs, cell_dir,
+                                spec.pilot, float(sc.extra["probe"].closure_speed_m_s), float(sc.duration_s))
+            _check_counts(cell, runs)
+            done.append((data, cell))
+            cells.append(cell)
     return cells, time.perf_counter() - t0
 
 
