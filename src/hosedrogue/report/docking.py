@@ -209,15 +209,26 @@ def _approach_text(paths: dict) -> str:
     return "; ".join(parts) + "."
 
 
+def _setup_text() -> str:
+    """The approach scenarios' set-up, read from the shipped approach-moderate."""
+    from ..scenarios import load_scenario
+
+    sc = load_scenario("approach-moderate")
+    p, probe = sc.params, sc.extra["probe"]
+    return (f" {p.flight.airspeed_m_s:g} m/s, {p.flight.altitude_m:g} m, tanker wake {'on' if p.wake.enabled else 'off'}, "
+            f"MIL-F-8785C Dryden turbulence of the level at {p.flight.altitude_m:g} m, the link model at "
+            f"{p.hose.links} links ({p.hose.mass_lumping} lumping, {p.hose.bending} bending), RK4 at {p.numerics.step_s * 1e3:g} ms; the probe closes at "
+            f"{probe.closure_speed_m_s:g} m/s from {probe.standoff_m:g} m behind the drogue's balance position and is "
+            f"captured within {probe.capture_radius_m:g} m")
+
+
 def _prose(df, cmp: dict, runs: int, times: dict) -> str:
     mid = next(k.split("_vs_none_")[1] for k in cmp if "_vs_none_" in k)
     ctrl = "; ".join(_verdict(cmp[f"{c}_vs_none_{mid}"], c, "none") for c in CONTROLLERS[1:])
     levels = [lev for lev in LEVELS if lev in set(df["level"])]
     text = (
         f"<p><b>What was run.</b> Campaigns of the shipped approach scenarios (approach-{', approach-'.join(levels)}:"
-        " 150 m/s, 8000 m, tanker wake on, MIL-F-8785C Dryden turbulence of the level at 8000 m, the converged "
-        "model at 20 links, RK4 at 5 ms; the probe closes at 1 m/s from 3 m behind the drogue's balance position "
-        f"and is captured within 0.305 m) for every drogue controller ({', '.join(CONTROLLERS)}) with the bow wave "
+        f"{_setup_text()}) for every drogue controller ({', '.join(CONTROLLERS)}) with the bow wave "
         f"on and off, and with the pilot model flying the probe ({PILOT}: no drogue controller, bow wave on): {runs} "
         f"runs per cell, run i with the turbulence seed run_seed({CAMPAIGN_SEED}, i) in every cell (the "
         "same records across controllers and bow-wave settings). Each campaign is kept in "
