@@ -273,8 +273,10 @@ def pilot_rates(t, z, n, ep, hist, dz):
 
 
 @njit(**JIT)
-def drogue_motion(z, n, l, M, J, ep, chart, ws):
-    """Drogue (joint n) y, z [m] and y', z' [m/s] of state z (kinematics only, into ws)."""
+def chain_kinematics(z, n, l, M, J, ep, chart, ws):
+    """Set the exit link's length from L and write the frames (ws[0:4]), joint positions (ws[4]),
+    velocities (ws[5]) and velocity-product accelerations (ws[6]) of state z, the reel's L' terms
+    included (the accelerations in the standard chart: no ``rotate_rows``)."""
     set_variable_link(z[4 * n + Z_L], n, l, M, J, ep)
     q = z[: 2 * n]
     qd = z[2 * n: 4 * n]
@@ -283,6 +285,13 @@ def drogue_motion(z, n, l, M, J, ep, chart, ws):
     apply_charts(n, chart, e, a, b)
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     patch_kinematics(z[4 * n + Z_LD], n, e, a, b, qd, v, c)
+
+
+@njit(**JIT)
+def drogue_motion(z, n, l, M, J, ep, chart, ws):
+    """Drogue (joint n) y, z [m] and y', z' [m/s] of state z (kinematics only, into ws)."""
+    chain_kinematics(z, n, l, M, J, ep, chart, ws)
+    r, v = ws[4], ws[5]
     return r[n, 1], r[n, 2], v[n, 1], v[n, 2]
 
 
@@ -558,17 +567,11 @@ def plane_distance(z, n, l, ws, t, ep):
 @njit(**JIT)
 def eng_energy(z, n, l, M, J, ps, ep, chart):
     """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z."""
-    L = z[4 * n + Z_L]
     Ld = z[4 * n + Z_LD]
-    set_variable_link(L, n, l, M, J, ep)
-    ws = make_workspace_jit(n)
-    q = z[: 2 * n]
     qd = z[2 * n: 4 * n]
-    e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
-    link_frames(q, n, e, a, b, cs)
-    apply_charts(n, chart, e, a, b)
-    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
-    patch_kinematics(Ld, n, e, a, b, qd, v, c)
+    ws = make_workspace_jit(n)
+    chain_kinematics(z, n, l, M, J, ep, chart, ws)
+    e, cs, v = ws[0], ws[3], ws[5]
     T = 0.0
     for k in range(n):
         T += 0.5 * M[k] * (v[k + 1, 0] ** 2 + v[k + 1, 1] ** 2 + v[k + 1, 2] ** 2)

@@ -22,7 +22,7 @@ import numpy as np
 
 from . import docking_speed as speed
 from .docking_runs import (CAMPAIGN_SEED, CONTROLLERS, FAR_M, LEVEL_M, LEVELS, NEAR_M, PILOT, WORKERS, approach_paths,
-                           bow_wave_study, grid_specs, run_grid)
+                           bow_wave_study, by_result_text, grid_specs, run_grid)
 from .markup import esc, figure_html, fmt, html_table
 
 if TYPE_CHECKING:
@@ -164,7 +164,7 @@ def _capture_html(df) -> str:
     rows = []
     for _, r in df.iterrows():
         link = f'<a href="{CAMPAIGNS}/{r["campaign"]}/summary.json">{esc(r["campaign"])}</a>'
-        by = ", ".join(f"{k[2:].replace('_', ' ')} {int(r[k])}" for k in df.columns if k.startswith("n_") and r[k])
+        by = by_result_text(r, df.columns)
         who = f"{r['controller']}, {PILOT} flies the probe" if r["pilot"] else r["controller"]
         rows.append((("html", link), r["level"], fmt(r["sigma_m_s"], 3), who,
                      "on" if r["bow_wave"] else "off", f"{r['rate']:.3f}", f"{r['ci95_low']:.3f} - {r['ci95_high']:.3f}",

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .docking_runs import CellSpec
+from .docking_runs import CellSpec, by_result_text
 from .markup import esc, figure_html, fmt, html_table
 
 __all__ = ["CLOSURE_SPEEDS_M_S", "FAST_CLOSURE_SPEEDS_M_S", "SPEED_LEVEL", "SPEED_CONTROLLERS", "speed_specs",
@@ -206,7 +206,7 @@ def speed_html(df, findings: dict, probe) -> str:
     rows = []
     for _, r in df.iterrows():
         link = f'<a href="docking/campaigns/{r["campaign"]}/summary.json">{esc(r["campaign"])}</a>'
-        by = ", ".join(f"{k[2:].replace('_', ' ')} {int(r[k])}" for k in df.columns if k.startswith("n_") and r[k])
+        by = by_result_text(r, df.columns)
         rows.append((r["controller"], f"{r['probe_speed_m_s']:g}", f"{r['duration_s']:g}", ("html", link),
                      int(r["runs"]), f"{r['rate']:.3f}", f"{r['ci95_low']:.3f} - {r['ci95_high']:.3f}", by,
                      " / ".join(fmt(r[f"coupler_speed_{k}_m_s"], 3) for k in ("p05", "median", "p95")),
