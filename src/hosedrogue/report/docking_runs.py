@@ -9,8 +9,8 @@ cell's campaign folder and run from there. Every cell uses the same campaign see
 sees the same turbulence record in every cell of a level (common random numbers). A cell is a
 :class:`CellSpec`: besides the drogue controller and the bow wave it may let the pilot model fly
 the probe (:data:`PILOT`) or change the probe's closure speed (with the scenario's duration, and
-its turbulence window, following the speed: :func:`approach_duration_s`); two cells whose scenarios
-are the same are run once (:func:`run_grid`).
+its turbulence window, following the speed: :func:`approach_duration_s`) or limit the controller's
+force (``[actuator] max_force_n``); two cells whose scenarios are the same are run once (:func:`run_grid`).
 """
 
 from __future__ import annotations
@@ -65,9 +65,9 @@ APPROACH_SEED = 2018
 
 
 def cell_name(level: str, controller: str, bow_wave: bool, pilot: bool = False,
-              closure_speed_m_s: float | None = None) -> str:
-    """Folder name of one campaign, e.g. ``moderate-pid-bow-on``, ``moderate-pilot-bow-on`` or
-    ``moderate-none-bow-on-v0.5``.
+              closure_speed_m_s: float | None = None, max_force_n: float | None = None) -> str:
+    """Folder name of one campaign, e.g. ``moderate-pid-bow-on``, ``moderate-pilot-bow-on``,
+    ``moderate-none-bow-on-v0.5`` or ``moderate-pid-bow-on-f100``.
 
     Parameters
     ----------
@@ -81,6 +81,8 @@ def cell_name(level: str, controller: str, bow_wave: bool, pilot: bool = False,
         The pilot model flies the probe (named ``pilot`` in place of the controller "none").
     closure_speed_m_s : float or None
         The probe's closure speed [m/s] when it is not the scenario's own (suffix ``-v<speed>``).
+    max_force_n : float or None
+        The actuator's force limit per axis [N] (suffix ``-f<limit>``); None: unlimited.
 
     Returns
     -------
@@ -88,7 +90,8 @@ def cell_name(level: str, controller: str, bow_wave: bool, pilot: bool = False,
     """
     who = (PILOT if controller == "none" else f"{controller}-{PILOT}") if pilot else controller
     name = f"{level}-{who}-bow-{'on' if bow_wave else 'off'}"
-    return name if closure_speed_m_s is None else f"{name}-v{closure_speed_m_s:g}"
+    name = name if closure_speed_m_s is None else f"{name}-v{closure_speed_m_s:g}"
+    return name if max_force_n is None else f"{name}-f{max_force_n:g}"
 
 
 @dataclass(frozen=True)
@@ -100,11 +103,13 @@ class CellSpec:
     bow_wave: bool = True  #: bow wave on
     pilot: bool = False  #: the pilot model flies the probe
     closure_speed_m_s: float | None = None  #: probe closure speed [m/s]; None: the scenario's own
+    max_force_n: float | None = None  #: ``[actuator] max_force_n``, per axis [N]; None: unlimited
 
     @property
     def name(self) -> str:
         """The cell's folder name."""
-        return cell_name(self.level, self.controller, self.bow_wave, self.pilot, self.closure_speed_m_s)
+        return cell_name(self.level, self.controller, self.bow_wave, self.pilot, self.closure_speed_m_s,
+                         self.max_force_n)
 
 
 def grid_specs(levels=LEVELS, controllers=CONTROLLERS, pilot_levels=LEVELS) -> list[CellSpec]:
@@ -175,8 +180,8 @@ def _toml_value(v) -> str:
 
 def scenario_data(spec: CellSpec) -> dict:
     """The scenario tables of one cell: ``approach-LEVEL`` with the cell's controller, bow wave,
-    pilot and closure speed (with the duration and the turbulence window of
-    :func:`approach_duration_s`), the scenario's name left as shipped.
+    pilot, closure speed (with the duration and the turbulence window of
+    :func:`approach_duration_s`) and force limit, the scenario's name left as shipped.
 
     Parameters
     ----------
@@ -201,11 +206,13 @@ def scenario_data(spec: CellSpec) -> dict:
         data.setdefault("probe", {})["closure_speed_m_s"] = float(spec.closure_speed_m_s)
         data["scenario"]["duration_s"] = duration
         data["turbulence"]["duration_s"] = duration  # gusts to the end of the run
+    if spec.max_force_n is not None:
+        data["actuator"] = {"max_force_n": float(spec.max_force_n)}
     return data
 
 
 def scenario_toml(level: str, controller: str, bow_wave: bool, pilot: bool = False,
-                  closure_speed_m_s: float | None = None) -> str:
+                  closure_speed_m_s: float | None = None, max_force_n: float | None = None) -> str:
     """The TOML text of one cell's scenario (:func:`scenario_data`, named after the cell).
 
     Parameters
@@ -220,13 +227,15 @@ def scenario_toml(level: str, controller: str, bow_wave: bool, pilot: bool = Fal
         The pilot model flies the probe.
     closure_speed_m_s : float or None
         Probe closure speed [m/s]; None: the scenario's own.
+    max_force_n : float or None
+        The actuator's force limit per axis [N]; None: unlimited.
 
     Returns
     -------
     str
         A scenario file (tables of scalars and lists only, as the shipped one).
     """
-    spec = CellSpec(level, controller, bow_wave, pilot, closure_speed_m_s)
+    spec = CellSpec(level, controller, bow_wave, pilot, closure_speed_m_s, max_force_n)
     data = scenario_data(spec)
     data["scenario"]["name"] = f"approach-{spec.name}"
     if closure_speed_m_s is not None:
@@ -236,6 +245,8 @@ def scenario_toml(level: str, controller: str, bow_wave: bool, pilot: bool = Fal
         what.append("the pilot model flying the probe")
     if closure_speed_m_s is not None:
         what.append(f"closure speed {closure_speed_m_s:g} m/s for {data['scenario']['duration_s']:g} s")
+    if max_force_n is not None:
+        what.append(f"the force limited to {max_force_n:g} N per axis")
     lines = [f"# approach-{level} with {', '.join(what)} (written by hosedrogue reproduce, section Docking)"]
     for name, table in data.items():
         lines.append(f"\n[{name}]")
@@ -346,7 +357,7 @@ def run_grid(folder: Path, runs: int, specs=None, workers: int | None = WORKERS,
             cell_dir = folder / spec.name
             cell_dir.mkdir(parents=True)
             (cell_dir / "scenario.toml").write_text(scenario_toml(spec.level, spec.controller, spec.bow_wave,
-                                                                  spec.pilot, spec.closure_speed_m_s))
+                                                                  spec.pilot, spec.closure_speed_m_s, spec.max_force_n))
             summary = run_campaign(str(cell_dir / "scenario.toml"), runs, cell_dir, seed=CAMPAIGN_SEED,
                                    progress=False, client=client,
                                    scheduler=None if client is not None else executor.SYNCHRONOUS)
