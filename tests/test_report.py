@@ -45,6 +45,7 @@ FIGURES = {
     "fig-docking-miss": "fig_docking_miss_cdf.png",
     "fig-docking-approach": "fig_docking_approach.png",
     "fig-docking-closure-speed": "fig_docking_closure_speed.png",
+    "fig-docking-force-limit": "fig_docking_force_limit.png",
 }
 
 #: Every table of the report: HTML id -> CSV file.
@@ -78,6 +79,7 @@ TABLES = {
     "table-docking-capture": "docking_capture.csv",
     "table-docking-radii": "docking_bow_wave_radii.csv",
     "table-docking-closure-speed": "docking_closure_speed.csv",
+    "table-docking-force-limit": "docking_force_limit.csv",
 }
 
 #: The data behind each figure.
@@ -90,7 +92,8 @@ FIGURE_DATA = [
     "long_runs_stable_run.csv",
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
     "docking_bow_wave_field.csv", "docking_bow_wave_displacement.csv", "docking_runs.csv", "docking_approach.csv",
-    "docking_closure_speed.csv", "docking_closure_speed_runs.csv",
+    "docking_closure_speed.csv", "docking_closure_speed_runs.csv", "docking_force_limit.csv",
+    "docking_force_limit_runs.csv",
 ]
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
@@ -314,6 +317,58 @@ def test_docking_closure_speed_counts_every_run_once(report):
     section = page[page.index('<section id="docking"'):]
     section = section[:section.index("</section>")]
     assert "<b>Closure speed.</b>" in section and "latch minimum" in section and "<b>Pilot.</b>" in section
+
+
+def test_docking_force_limit_counts_every_run_once_and_applies_the_limit(report):
+    """The fast force-limit study: each cell counted every run once and its rate lies in its Wilson
+    interval; the unlimited and no-controller points are the main grid's campaigns themselves; in
+    every run of a limited cell the per-axis peak force is at most the limit and the magnitude at
+    most sqrt(2) times it, while the unlimited cell's forces exceed the smallest limit (so the limit
+    binds and the saturated fraction is not zero there); the figure is written."""
+    import pandas as pd
+
+    from hosedrogue.report.docking_force import (FAST_FORCE_CONTROLLERS, FAST_FORCE_LEVELS, FAST_FORCE_LIMITS_N,
+                                                 FIGURE_PNG)
+    from hosedrogue.scenarios import load_scenario
+
+    out, headline, page = report
+    dock = headline["docking"]
+    fl = dock["force_limit"]
+    runs = dock["runs_per_cell"]
+    assert fl["limits_n"] == sorted(FAST_FORCE_LIMITS_N) and fl["levels"] == list(FAST_FORCE_LEVELS)
+    assert fl["controllers"] == list(FAST_FORCE_CONTROLLERS)
+    n_cells = len(FAST_FORCE_LEVELS) * (1 + len(FAST_FORCE_CONTROLLERS) * (len(FAST_FORCE_LIMITS_N) + 1))
+    assert len(fl["cells"]) == n_cells
+    for key, cell in fl["cells"].items():
+        assert cell["runs"] == runs and sum(cell["by_result"].values()) == runs, key
+        assert cell["ci95"][0] <= cell["rate"] <= cell["ci95"][1], key
+    # the clip returns the limit itself and runs.csv writes floats with repr, so the per-axis peak
+    # is exactly <= the limit; 1e-12 only absorbs a rounding in hypot for the magnitude
+    tol = 1e-12
+    for lev in FAST_FORCE_LEVELS:
+        assert fl["cells"][f"{lev}-none"]["campaign"] == f"{lev}-none-bow-on"
+        for c in FAST_FORCE_CONTROLLERS:
+            free = fl["cells"][f"{lev}-{c}-unlimited"]
+            assert free["campaign"] == f"{lev}-{c}-bow-on" and free["saturated_fraction"] is None
+            assert {k: free[k] for k in ("rate", "ci95", "runs", "by_result")} == \
+                {k: dock["capture"][free["campaign"]][k] for k in ("rate", "ci95", "runs", "by_result")}
+            assert free["peak_axis_force_max_n"] > min(FAST_FORCE_LIMITS_N)
+            for limit in FAST_FORCE_LIMITS_N:
+                cell = fl["cells"][f"{lev}-{c}-f{limit:g}"]
+                folder = out / "docking" / "campaigns" / cell["campaign"]
+                assert load_scenario(str(folder / "scenario.toml")).actuator == {"max_force_n": limit}
+                r = pd.read_csv(folder / "runs.csv")
+                assert (r[["peak_u_hor_n", "peak_u_ver_n"]].max(axis=1) <= limit * (1 + tol)).all(), cell
+                assert (r["peak_u_n"] <= np.sqrt(2.0) * limit * (1 + tol)).all(), cell
+                assert 0.0 <= cell["saturated_fraction"] <= 1.0
+            assert fl["cells"][f"{lev}-{c}-f{min(FAST_FORCE_LIMITS_N):g}"]["saturated_fraction"] > 0.0
+    table = pd.read_csv(out / "docking_force_limit.csv")
+    assert len(table) == n_cells
+    assert (table[[k for k in table.columns if k.startswith("n_")]].sum(axis=1) == table["runs"]).all()
+    assert (out / FIGURE_PNG).stat().st_size > 10_000
+    section = page[page.index('<section id="docking"'):]
+    section = section[:section.index("</section>")]
+    assert "<b>Force limit.</b>" in section and 'id="fig-docking-force-limit"' in section
 
 
 def test_docking_closure_speed_cell_scenarios(tmp_path):

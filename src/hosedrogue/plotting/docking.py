@@ -1,6 +1,7 @@
 """Figures of the report's "Docking" section: capture rate against turbulence intensity, the
 miss-distance CDFs per intensity, one approach seen from behind and the capture rate against the
-closure speed (the bow-wave figure is :func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
+closure speed and against the actuator's force limit (the bow-wave figure is
+:func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
 
 ``table`` is the section's capture table (a pandas DataFrame, one row per campaign) with the
 columns ``level``, ``sigma_m_s``, ``controller``, ``bow_wave`` (bool), ``rate``, ``ci95_low`` and
@@ -188,4 +189,66 @@ def plot_closure_speed(table, controllers: Sequence[str], min_closure_speed_m_s:
         a.set_xlabel("probe closure speed [m/s]")
         a.grid(True, alpha=0.3)
         a.legend(fontsize="x-small", loc="best")
+    return fig
+
+
+def plot_force_limit(table):
+    """Capture rate against the actuator's force limit per axis (left, log x, the unlimited point at
+    the right edge) with each level's no-controller interval as a band, and the fraction of runs
+    whose force saturated (right); one colour per turbulence level, one line style per controller.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per cell: ``level``, ``controller`` ("none" for the band), ``max_force_n`` [N]
+        (inf: unlimited), ``rate``, ``ci95_low``, ``ci95_high`` and ``saturated_fraction`` [-].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (ax, bx) = new_figure(1, 2, size=(11.5, 4.5))
+    finite = np.isfinite(table["max_force_n"].to_numpy(dtype=float))
+    limits = np.array(sorted(set(table.loc[finite, "max_force_n"])), dtype=float)
+    x_free = limits.max() * (limits.max() / limits.min()) ** (1.0 / max(len(limits) - 1, 1)) * 1.4  # right edge
+    levels = list(dict.fromkeys(table["level"]))
+    controllers = [c for c in dict.fromkeys(table["controller"]) if c != "none"]
+    styles = ("-", "--", ":", "-.")
+    n_lines = len(levels) * len(controllers)
+    for i, level in enumerate(levels):
+        colour = f"C{i}"
+        none = table[(table["level"] == level) & (table["controller"] == "none")]
+        if len(none):
+            r = none.iloc[0]
+            ax.axhspan(r["ci95_low"], r["ci95_high"], color=colour, alpha=0.12, lw=0)
+            ax.axhline(r["rate"], color=colour, lw=0.8, ls=":", label=f"{level}, no controller (band: 95 %)")
+        for j, c in enumerate(controllers):
+            sub = table[(table["level"] == level) & (table["controller"] == c)].sort_values("max_force_n")
+            shift = 1.04 ** (i * len(controllers) + j - (n_lines - 1) / 2)  # side by side in log x
+            lim = sub[np.isfinite(sub["max_force_n"])]
+            x = np.append(lim["max_force_n"].to_numpy(dtype=float), [x_free] * (len(sub) - len(lim))) * shift
+            y = sub["rate"].to_numpy(dtype=float)
+            err = np.vstack([y - sub["ci95_low"].to_numpy(dtype=float), sub["ci95_high"].to_numpy(dtype=float) - y])
+            k, ls, mk = len(lim), styles[j % len(styles)], "os^v"[j % 4]
+            ax.errorbar(x[:k], y[:k], yerr=err[:, :k], color=colour, ls=ls, marker=mk, ms=4, capsize=3,
+                        label=f"{level}, {c}")
+            if len(sub) > k:  # the unlimited point, joined by a thin dotted line (no limits between)
+                ax.errorbar(x[k:], y[k:], yerr=err[:, k:], color=colour, ls="none", marker=mk, ms=4, capsize=3)
+                ax.plot(x[k - 1:k + 1], y[k - 1:k + 1], color=colour, ls=":", lw=0.8)
+            bx.plot(x[:k], lim["saturated_fraction"].to_numpy(dtype=float), color=colour, ls=ls, marker=mk, ms=4,
+                    label=f"{level}, {c}")
+    ax.set_ylim(-0.02, 1.05)
+    ax.set_ylabel("capture rate [-]")
+    ax.set_title("capture rate (Wilson 95 %)")
+    bx.set_ylim(-0.02, 1.05)
+    bx.set_ylabel("fraction of runs saturated [-]")
+    bx.set_title("runs whose per-axis force reached the limit")
+    for a, ticks in ((ax, np.append(limits, x_free)), (bx, limits)):
+        a.set_xscale("log")
+        a.set_xticks(ticks, [f"{v:g}" for v in limits] + (["unlimited"] if len(ticks) > len(limits) else []))
+        a.minorticks_off()
+        a.set_xlabel("actuator force limit per axis [N]")
+        a.grid(True, alpha=0.3)
+        a.legend(fontsize="x-small", loc="best")
+    bx.set_xlim(ax.get_xlim())  # the same limits at the same places in both panels
     return fig

@@ -1,7 +1,8 @@
 """Report section "Docking": the receiver's bow wave, the capture rate of the approach scenarios
 against the turbulence intensity (campaigns per level x controller x bow wave, and the pilot model
 flying the probe with the bow wave on), the miss-distance CDFs, one approach seen from behind and
-the capture rate against the closure speed (:mod:`.docking_speed`; docs/engagement.md, "Bow wave",
+the capture rate against the closure speed (:mod:`.docking_speed`) and against the controllers'
+force limit (:mod:`.docking_force`; docs/engagement.md, "Bow wave",
 "Approach scenarios", "Docking statistics").
 
 The computations are in :mod:`.docking_runs`; this module writes the CSVs, the figures (through
@@ -20,6 +21,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import docking_force as force
 from . import docking_speed as speed
 from .docking_runs import (CAMPAIGN_SEED, CONTROLLERS, FAR_M, LEVEL_M, LEVELS, NEAR_M, PILOT, WORKERS, approach_paths,
                            bow_wave_study, by_result_text, grid_specs, run_grid)
@@ -242,8 +244,8 @@ def _prose(df, cmp: dict, runs: int, times: dict) -> str:
         worst = on.loc[on["p95_peak_force_n"].idxmax()]
         text += (" The controllers' forces are not limited (the scenarios have no <code>[actuator]</code> limits: the "
                  "paper's ideal force at the drogue): the 95th percentile of the runs' peak force reaches "
-                 f"{worst['p95_peak_force_n']:.0f} N ({esc(worst['controller'])}, {esc(worst['level'])}; table). With an "
-                 "actuator limit (<code>[actuator] max_force_n</code>) the rates would be lower where the forces exceed it.")
+                 f"{worst['p95_peak_force_n']:.0f} N ({esc(worst['controller'])}, {esc(worst['level'])}; table). What an "
+                 "actuator limit (<code>[actuator] max_force_n</code>) costs is the force-limit study below.")
     off = cmp[f"bow_off_vs_on_{mid}"]
     text += f" <b>Bow wave</b> ({mid}, no controller): {_verdict(off, 'off', 'on')}.</p>"
     pilot = [(k.split("_vs_none_")[1], v) for k, v in cmp.items() if k.startswith(f"{PILOT}_vs_none_")]
@@ -279,6 +281,7 @@ def _html(st: "_Study") -> str:
                       f"one line per controller and the pilot; dashed: the capture radius {radius:g} m.",
                       ("docking_runs.csv",))
         + speed.speed_html(st.speed_table, st.speed_findings, st.probe)
+        + force.force_html(st.force_table, st.force_findings)
         + figure_html("fig-docking-approach", "fig_docking_approach.png", "An approach seen from behind",
                       f"approach-moderate, seed {st.approach_seed}: the probe tip's and the drogue's paths in the "
                       "y-z plane (looking forward along x) from the start to contact, the capture circle around the "
@@ -305,6 +308,10 @@ class _Study:
     speed_cells: list  #: their campaigns (the grid's where the scenario is the same)
     speed_table: object  #: docking_speed.speed_frame
     speed_findings: dict  #: docking_speed.speed_findings
+    force_specs: list  #: docking_runs.CellSpec of the force-limit study
+    force_cells: list  #: their campaigns (the grid's for the unlimited and no-controller cells)
+    force_table: object  #: docking_force.force_frame
+    force_findings: dict  #: docking_force.force_findings
 
 
 def _study(out, settings) -> _Study:
@@ -318,9 +325,12 @@ def _study(out, settings) -> _Study:
     t1 = time.perf_counter()
     grid = grid_specs()
     speeds = speed.speed_specs(speed.FAST_CLOSURE_SPEEDS_M_S if fast else speed.CLOSURE_SPEEDS_M_S)
-    every, campaigns_s = run_grid(out.dir / CAMPAIGNS, settings.docking_runs, grid + speeds,
+    forces = (force.force_specs(force.FAST_FORCE_LIMITS_N, force.FAST_FORCE_LEVELS, force.FAST_FORCE_CONTROLLERS)
+              if fast else force.force_specs())
+    every, campaigns_s = run_grid(out.dir / CAMPAIGNS, settings.docking_runs, grid + speeds + forces,
                                   workers=None if fast else WORKERS, status=out.status)
-    cells, speed_cells = every[:len(grid)], every[len(grid):]
+    cells, speed_cells = every[:len(grid)], every[len(grid):len(grid) + len(speeds)]
+    force_cells = every[len(grid) + len(speeds):]
     t2 = time.perf_counter()
     out.status("docking: approach runs")
     paths = approach_paths(runs=tuple(APPROACH_RUNS), seed=APPROACH_SEED)
@@ -329,9 +339,11 @@ def _study(out, settings) -> _Study:
     probe = load_scenario("approach-moderate").extra["probe"]
     times = {"bow_wave_s": t1 - t0, "campaigns_s": campaigns_s, "approach_s": t3 - t2}
     speed_table = speed.speed_frame(speeds, speed_cells)
+    force_table = force.force_frame(forces, force_cells)
     return _Study(bow, cells, table, _comparisons(table), paths, settings.docking_runs, times,
                   float(probe.capture_radius_m), APPROACH_SEED, fast, probe, speeds, speed_cells, speed_table,
-                  speed.speed_findings(speed_table, probe.min_closure_speed_m_s))
+                  speed.speed_findings(speed_table, probe.min_closure_speed_m_s), forces, force_cells, force_table,
+                  force.force_findings(force_table))
 
 
 def _figures(out, st: _Study) -> None:
@@ -347,6 +359,7 @@ def _figures(out, st: _Study) -> None:
     out.figure(plot_miss_cdfs(miss, st.radius_m), "fig_docking_miss_cdf.png")
     _approach_outputs(out, st.paths, st.radius_m)
     speed.write_speed_outputs(out, st.speed_table, st.speed_specs, st.speed_cells, st.probe.min_closure_speed_m_s)
+    force.write_force_outputs(out, st.force_table, st.force_specs, st.force_cells)
 
 
 def _record(st: _Study) -> dict:
@@ -360,6 +373,7 @@ def _record(st: _Study) -> dict:
         "capture": {c.name: {"sigma_m_s": c.sigma_m_s, **c.capture} for c in st.cells},
         "pilot_cells": [c.name for c in st.cells if c.pilot],
         "closure_speed": speed.speed_record(st.speed_table, st.speed_findings),
+        "force_limit": force.force_record(st.force_table, st.force_findings),
         "comparisons": st.comparisons,
         "approach": {c: {k: p["outcome"][k] for k in ("miss_distance_m", "closure_speed_m_s", "contact_time_s")
                          if p["outcome"].get(k) is not None} | {"captured": p["outcome"]["result"] == "captured"}
