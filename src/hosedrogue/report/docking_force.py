@@ -168,8 +168,9 @@ def force_findings(df) -> dict:
             low = lim.iloc[0]
             out[f"{level}-{c}"] = {
                 "level": level, "controller": c, "unlimited": _rate_of(free), "none": _rate_of(none),
-                "overlap_from_n": None if first is None else float(lim.iloc[first]["max_force_n"]),
-                "overlap_saturated_fraction": None if first is None else float(lim.iloc[first]["saturated_fraction"]),
+                "overlap_reached": first is not None,  # report.json holds no nulls: the two keys below only then
+                **({} if first is None else {"overlap_from_n": float(lim.iloc[first]["max_force_n"]),
+                                             "overlap_saturated_fraction": float(lim.iloc[first]["saturated_fraction"])}),
                 "smallest_n": float(low["max_force_n"]), "smallest": _rate_of(low),
                 "smallest_saturated_fraction": float(low["saturated_fraction"]),
                 "smallest_vs_none": {"higher": bool(low["rate"] > none["rate"]),
@@ -184,18 +185,18 @@ def _rate(d: dict) -> str:
 
 def _finding_text(f: dict) -> str:
     who = f"{f['level']}, {f['controller'].upper()}"
-    if f["overlap_from_n"] is None:
+    if not f["overlap_reached"]:
         overlap = "the largest limit's interval does not overlap the unlimited one"
     elif f["overlap_from_n"] == f["smallest_n"]:
         overlap = "every limit's interval, down to the smallest, overlaps the unlimited one"
     else:
         overlap = (f"from {f['overlap_from_n']:g} N up every limit's interval overlaps the unlimited one "
-                   f"({100 * f['overlap_saturated_fraction']:.0f} % of the runs saturated at {f['overlap_from_n']:g} N)")
+                   f"({100 * f['overlap_saturated_fraction']:.1f} % of the runs saturated at {f['overlap_from_n']:g} N)")
     sv = f["smallest_vs_none"]
     rel = "above" if sv["higher"] else "not above"
     sig = "intervals apart" if sv["significant"] else "overlapping intervals"
     return (f"{who}: unlimited {_rate(f['unlimited'])}; {overlap}; at {f['smallest_n']:g} N "
-            f"{_rate(f['smallest'])} with {100 * f['smallest_saturated_fraction']:.0f} % of the runs saturated, "
+            f"{_rate(f['smallest'])} with {100 * f['smallest_saturated_fraction']:.1f} % of the runs saturated, "
             f"{rel} no controller's {_rate(f['none'])} ({sig}).")
 
 
@@ -271,20 +272,21 @@ def force_record(df, findings: dict) -> dict:
     -------
     dict
         levels, controllers, limits [N], saturation tolerance [-], cells ("<level>-<controller>-f<limit>",
-        "-unlimited" or "<level>-none" -> campaign, limit [N] or None, rate, ci95, runs, by_result,
-        saturated fraction or None), findings.
+        "-unlimited" or "<level>-none" -> campaign, limited, rate, ci95, runs, by_result, largest per-axis
+        peak [N], and where limited the limit [N] and the saturated fraction), findings.
     """
     cells = {}
     for _, r in df.iterrows():
         finite = math.isfinite(r["max_force_n"])
         key = f"{r['level']}-{r['controller']}" + ("" if r["controller"] == "none" else
                                                    f"-f{r['max_force_n']:g}" if finite else "-unlimited")
-        cells[key] = {"campaign": r["campaign"], "max_force_n": float(r["max_force_n"]) if finite else None,
+        cells[key] = {"campaign": r["campaign"], "limited": finite,
                       "rate": float(r["rate"]), "ci95": [float(r["ci95_low"]), float(r["ci95_high"])],
                       "runs": int(r["runs"]),
                       "by_result": {k[2:].replace("_", " "): int(r[k]) for k in df.columns if k.startswith("n_")},
-                      "saturated_fraction": float(r["saturated_fraction"]) if finite else None,
                       "peak_axis_force_max_n": float(r["peak_axis_force_max_n"])}
+        if finite:  # report.json holds no nulls or infinities: the limit's keys only where there is one
+            cells[key].update(max_force_n=float(r["max_force_n"]), saturated_fraction=float(r["saturated_fraction"]))
     return {"levels": list(dict.fromkeys(df["level"])), "bow_wave": True,
             "controllers": [c for c in dict.fromkeys(df["controller"]) if c != "none"],
             "limits_n": sorted(float(f) for f in set(df["max_force_n"]) if math.isfinite(f)),
