@@ -24,7 +24,8 @@ import numpy as np
 from . import docking_force as force
 from . import docking_speed as speed
 from .docking_runs import (CAMPAIGN_SEED, CONTROLLERS, FAR_M, LEVEL_M, LEVELS, NEAR_M, PILOT, WORKERS, approach_paths,
-                           bow_wave_study, by_result_text, grid_specs, run_grid)
+                           bow_wave_study, grid_specs, run_grid)
+from .docking_cells import CAMPAIGNS, by_result_text
 from .markup import esc, figure_html, fmt, html_table
 
 if TYPE_CHECKING:
@@ -37,7 +38,6 @@ __all__ = ["DockingSectionResult", "build", "CONTROLLERS", "LEVELS"]
 PUBLIC_NEAR_M = (0.1, 0.4)
 
 #: Campaign folders, relative to the report folder.
-CAMPAIGNS = "docking/campaigns"
 
 
 @dataclass(frozen=True)

@@ -27,8 +27,9 @@ import math
 
 import numpy as np
 
-from .docking_runs import CellSpec, by_result_text
-from .markup import esc, figure_html, fmt, html_table
+from .docking_cells import capture_cells, capture_record
+from .docking_runs import CellSpec
+from .markup import figure_html, fmt, html_table
 
 __all__ = ["FORCE_LIMITS_N", "FAST_FORCE_LIMITS_N", "FORCE_LEVELS", "FAST_FORCE_LEVELS", "FORCE_CONTROLLERS",
            "FAST_FORCE_CONTROLLERS", "SATURATION_TOLERANCE", "force_specs", "force_frame", "force_findings",
@@ -238,11 +239,9 @@ def force_html(df, findings: dict) -> str:
     """
     rows = []
     for _, r in df.iterrows():
-        link = f'<a href="docking/campaigns/{r["campaign"]}/summary.json">{esc(r["campaign"])}</a>'
         limit = f"{r['max_force_n']:g}" if math.isfinite(r["max_force_n"]) else "unlimited"
-        rows.append((r["level"], r["controller"], limit if r["controller"] != "none" else "-", ("html", link),
-                     int(r["runs"]), f"{r['rate']:.3f}", f"{r['ci95_low']:.3f} - {r['ci95_high']:.3f}",
-                     by_result_text(r, df.columns), fmt(r["saturated_fraction"], 3),
+        rows.append((r["level"], r["controller"], limit if r["controller"] != "none" else "-",
+                     *capture_cells(r, df.columns), fmt(r["saturated_fraction"], 3),
                      " / ".join(f"{r[k]:.0f}" for k in ("peak_axis_force_median_n", "peak_axis_force_p95_n",
                                                         "peak_axis_force_max_n"))))
     table = html_table(["turbulence", "controller", "force limit per axis [N]", "campaign", "runs",
@@ -280,10 +279,7 @@ def force_record(df, findings: dict) -> dict:
         finite = math.isfinite(r["max_force_n"])
         key = f"{r['level']}-{r['controller']}" + ("" if r["controller"] == "none" else
                                                    f"-f{r['max_force_n']:g}" if finite else "-unlimited")
-        cells[key] = {"campaign": r["campaign"], "limited": finite,
-                      "rate": float(r["rate"]), "ci95": [float(r["ci95_low"]), float(r["ci95_high"])],
-                      "runs": int(r["runs"]),
-                      "by_result": {k[2:].replace("_", " "): int(r[k]) for k in df.columns if k.startswith("n_")},
+        cells[key] = {**capture_record(r, df.columns), "limited": finite,
                       "peak_axis_force_max_n": float(r["peak_axis_force_max_n"])}
         if finite:  # report.json holds no nulls or infinities: the limit's keys only where there is one
             cells[key].update(max_force_n=float(r["max_force_n"]), saturated_fraction=float(r["saturated_fraction"]))

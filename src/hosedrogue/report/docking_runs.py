@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["by_result_text", "CONTROLLERS", "LEVELS", "PILOT", "CellSpec", "CampaignCell", "BowWaveStudy", "bow_wave_study", "run_grid",
+__all__ = ["CONTROLLERS", "LEVELS", "PILOT", "CellSpec", "CampaignCell", "BowWaveStudy", "bow_wave_study", "run_grid",
            "grid_specs", "approach_paths", "APPROACH_RUNS", "cell_name", "scenario_toml", "scenario_data",
            "approach_duration_s"]
 
@@ -273,23 +273,6 @@ class CampaignCell:
     def name(self) -> str:
         """The campaign's folder name (a cell whose scenario is another cell's shares its campaign)."""
         return self.folder.name
-
-
-def by_result_text(row, columns) -> str:
-    """The non-zero ``n_<result>`` counts of one table row, e.g. "captured 87, miss 113".
-
-    Parameters
-    ----------
-    row : mapping
-        One row of a capture table (counts in columns ``n_captured``, ``n_miss``, ...).
-    columns : iterable of str
-        The table's columns.
-
-    Returns
-    -------
-    str
-    """
-    return ", ".join(f"{k[2:].replace('_', ' ')} {int(row[k])}" for k in columns if k.startswith("n_") and row[k])
 
 
 def _check_counts(cell: CampaignCell, runs: int) -> None:

@@ -19,8 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .docking_runs import CellSpec, by_result_text
-from .markup import esc, figure_html, fmt, html_table
+from .docking_cells import capture_cells, capture_record
+from .docking_runs import CellSpec
+from .markup import figure_html, fmt, html_table
 
 __all__ = ["CLOSURE_SPEEDS_M_S", "FAST_CLOSURE_SPEEDS_M_S", "SPEED_LEVEL", "SPEED_CONTROLLERS", "speed_specs",
            "speed_frame", "speed_findings", "speed_html", "speed_record", "write_speed_outputs"]
@@ -205,10 +206,7 @@ def speed_html(df, findings: dict, probe) -> str:
     min_latch_m_s = probe.min_closure_speed_m_s
     rows = []
     for _, r in df.iterrows():
-        link = f'<a href="docking/campaigns/{r["campaign"]}/summary.json">{esc(r["campaign"])}</a>'
-        by = by_result_text(r, df.columns)
-        rows.append((r["controller"], f"{r['probe_speed_m_s']:g}", f"{r['duration_s']:g}", ("html", link),
-                     int(r["runs"]), f"{r['rate']:.3f}", f"{r['ci95_low']:.3f} - {r['ci95_high']:.3f}", by,
+        rows.append((r["controller"], f"{r['probe_speed_m_s']:g}", f"{r['duration_s']:g}", *capture_cells(r, df.columns),
                      " / ".join(fmt(r[f"coupler_speed_{k}_m_s"], 3) for k in ("p05", "median", "p95")),
                      fmt(r["median_miss_m"], 3)))
     table = html_table(["controller", "probe closure speed [m/s]", "duration [s]", "campaign", "runs",
@@ -242,11 +240,9 @@ def speed_record(df, findings: dict) -> dict:
     """
     cells = {}
     for _, r in df.iterrows():
-        by = {k[2:].replace("_", " "): int(r[k]) for k in df.columns if k.startswith("n_")}
         cells[f"{r['controller']}-v{r['probe_speed_m_s']:g}"] = {
-            "campaign": r["campaign"], "probe_speed_m_s": float(r["probe_speed_m_s"]), "duration_s": float(r["duration_s"]),
-            "rate": float(r["rate"]), "ci95": [float(r["ci95_low"]), float(r["ci95_high"])], "runs": int(r["runs"]),
-            "by_result": by, "failed_latch_fraction": float(r["failed_latch_fraction"]),
+            **capture_record(r, df.columns), "probe_speed_m_s": float(r["probe_speed_m_s"]),
+            "duration_s": float(r["duration_s"]), "failed_latch_fraction": float(r["failed_latch_fraction"]),
             "coupler_speed_median_m_s": float(r["coupler_speed_median_m_s"])}
     return {"level": SPEED_LEVEL, "bow_wave": True, "controllers": list(SPEED_CONTROLLERS),
             "speeds_m_s": sorted(set(float(v) for v in df["probe_speed_m_s"])), "cells": cells, "findings": findings}
