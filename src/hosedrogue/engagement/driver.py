@@ -25,7 +25,7 @@ from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, ChainModel,
 from .result import EngagementResult, assemble_result
 from .result import segment_energies as _energies
 from .result import segment_outputs as _outputs
-from .loop import drogue_history, extra_states, loop_arrays, set_pilot
+from .loop import drogue_history, engagement_loop, extra_states, set_pilot
 from .spec import BowWaveSection, Pilot, Probe, Reel
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
@@ -227,7 +227,7 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
         raise ParameterError("pilot.enabled = True: the pilot flies the probe; give an enabled probe")
     set_pilot(ep, pilot, params.numerics.step_s)
     z = np.concatenate([z, extra_states(ep, control, actuator, pilot)])
-    loop = loop_arrays(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed)
+    loop = engagement_loop(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed)
     t_set = reel.tension_set_n
     if t_set < 0:
         t_set = exit_tension_at_rest(params, chain, z, ep, model)

@@ -17,14 +17,15 @@ import numpy as np
 
 from ..controllers.linear import LinearController
 from ..model import engagement_kernels as EK
-from ..model.integrate import LoopArrays, sensor_noise
+from ..model.integrate import LoopArrays, loop_arrays, loop_states, sensor_noise
 from ..params import Actuator, ParameterError, Sensor
 from .spec import Pilot
 
 
-def loop_arrays(control: LinearController | None, y_ref: np.ndarray, actuator: Actuator, sensor: Sensor,
-                duration_s: float, seed: int) -> LoopArrays:
-    """The controller, actuator and sensor arrays of the kernels (empty without a controller).
+def engagement_loop(control: LinearController | None, y_ref: np.ndarray, actuator: Actuator, sensor: Sensor,
+                    duration_s: float, seed: int) -> LoopArrays:
+    """The controller, actuator and sensor arrays of the kernels (:func:`~hosedrogue.model.integrate.loop_arrays`;
+    a zero controller without noise when there is none: ``EP_CTRL`` keeps the kernels from using it).
 
     Parameters
     ----------
@@ -45,16 +46,9 @@ def loop_arrays(control: LinearController | None, y_ref: np.ndarray, actuator: A
     -------
     LoopArrays
     """
-    def c(a, shape):
-        return np.ascontiguousarray(np.asarray(a, dtype=np.float64).reshape(shape))
-
     if control is None:
-        return LoopArrays(np.zeros((0, 0)), np.zeros((0, 2)), np.zeros((2, 0)), np.zeros((2, 2)),
-                          c(y_ref, (2,)), actuator.as_array(), np.zeros((1, 2)), 1.0)
-    nc = control.n_states
-    return LoopArrays(c(control.A, (nc, nc)), c(control.B, (nc, 2)), c(control.C, (2, nc)), c(control.D, (2, 2)),
-                      c(y_ref, (2,)), actuator.as_array(), c(sensor_noise(sensor, duration_s, seed), (-1, 2)),
-                      float(sensor.sample_time_s))
+        return loop_arrays(LinearController.static_zero(), y_ref, actuator, np.zeros((1, 2)), 1.0)
+    return loop_arrays(control, y_ref, actuator, sensor_noise(sensor, duration_s, seed), sensor.sample_time_s)
 
 
 def no_loop() -> LoopArrays:
@@ -64,7 +58,7 @@ def no_loop() -> LoopArrays:
     -------
     LoopArrays
     """
-    return loop_arrays(None, np.zeros(2), Actuator(), Sensor(), 1.0, 0)
+    return engagement_loop(None, np.zeros(2), Actuator(), Sensor(), 1.0, 0)
 
 
 def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Actuator,
@@ -94,7 +88,7 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
         parts.append([ep[EK.EP_P0Y], ep[EK.EP_P0Z], 0.0, 0.0])
     ep[EK.EP_CTRL] = 0.0 if control is None else 1.0
     if control is not None:
-        parts.append(np.zeros(control.n_states + (2 if actuator.rate_limited else 0)))
+        parts.append(loop_states(control, actuator))
     return np.concatenate([np.asarray(p, dtype=np.float64) for p in parts]) if parts else np.zeros(0)
 
 

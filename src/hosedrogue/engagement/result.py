@@ -132,7 +132,7 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     ep : array (EP_SIZE,)
         Engagement parameters (:func:`hosedrogue.engagement.driver.engagement_parameters`).
     loop : LoopArrays, optional
-        The drogue controller's arrays (:func:`hosedrogue.engagement.loop.loop_arrays`); needed
+        The drogue controller's arrays (:func:`hosedrogue.engagement.loop.engagement_loop`); needed
         when ``ep[EP_CTRL]`` is set, else an empty loop is used.
 
     Returns

@@ -171,6 +171,54 @@ def controller_rates(m0, m1, z, nx, Ac, Bc, dz):
         dz[nx + i] = acc
 
 
+def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float) -> LoopArrays:
+    """The closed loop's controller, actuator and sensor arrays for the kernels (C-contiguous
+    float64 of the shapes :class:`LoopArrays` lists), for the fixed-length and the engagement loops.
+
+    Parameters
+    ----------
+    ctrl : hosedrogue.controllers.linear.LinearController
+        Controller from drogue offset [m] to force [N] (its ``A, B, C, D`` and ``n_states``;
+        ``LinearController.static_zero()`` for none).
+    y_ref : array (2,)
+        Drogue balance position [y, z] [m].
+    actuator : hosedrogue.params.Actuator
+        Force [N] and rate [N/s] limits.
+    noise : array (k, 2)
+        Sensor noise samples [m] (``(1, 2)`` zeros for none; :func:`sensor_noise`).
+    noise_dt_s : float
+        Time each noise sample is held [s].
+
+    Returns
+    -------
+    LoopArrays
+    """
+    def c(a, shape):
+        return np.ascontiguousarray(np.asarray(a, dtype=np.float64).reshape(shape))
+
+    nc = ctrl.n_states
+    return LoopArrays(c(ctrl.A, (nc, nc)), c(ctrl.B, (nc, 2)), c(ctrl.C, (2, nc)), c(ctrl.D, (2, 2)), c(y_ref, (2,)),
+                      actuator.as_array(), c(noise, (-1, 2)), float(noise_dt_s))
+
+
+def loop_states(ctrl, actuator) -> np.ndarray:
+    """The loop's initial states after the plant's: the controller's (zero) and, for a
+    rate-limited actuator, the applied force [N] (zero).
+
+    Parameters
+    ----------
+    ctrl : hosedrogue.controllers.linear.LinearController
+        Controller (its ``n_states``).
+    actuator : hosedrogue.params.Actuator
+        Its ``rate_limited``.
+
+    Returns
+    -------
+    array (n_states [+ 2],)
+    """
+    return np.zeros(ctrl.n_states + (2 if actuator.rate_limited else 0))
+
+
 def sensor_noise(sensor, duration_s: float, seed: int) -> np.ndarray:
     """Sensor noise samples [m] (k, 2) of a run, zero-order held for ``sensor.sample_time_s``
     (``(1, 2)`` zeros without noise); an independent stream of the turbulence seed, so the sensor

@@ -20,11 +20,11 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..environment.turbulence import generate_gusts
 from ..metrics import SUMMARY_COLUMNS, capture_column
-from ..model.integrate import applied_force_at, drogue_yz, rk4_steps
+from ..model.integrate import applied_force_at, drogue_yz, loop_arrays, rk4_steps
 from ..model.kernels import OK, make_workspace_jit
 from ..model.system import HoseModel
 from ..params import Actuator, ParameterError, Params
-from .simulate import closed_loop_state, fixed_steps, loop_arrays
+from .simulate import closed_loop_state, fixed_steps
 
 _NFIXED = len(SUMMARY_COLUMNS)
 

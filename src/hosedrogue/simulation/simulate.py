@@ -3,7 +3,7 @@ Runge-Kutta (DOP853) for cross-checks, open loop, with a linear controller in th
 any Python control-force function ``u(t, x)``.
 
 The compiled paths hand the kernels the model's arrays (:meth:`HoseModel.kernel_args`) and the
-closed loop's (:func:`loop_arrays`); the Python-control path is the only Python RK4
+closed loop's (:func:`hosedrogue.model.integrate.loop_arrays`); the Python-control path is the only Python RK4
 (:func:`rk4_step_python`, the formula of the compiled step).
 """
 
@@ -18,7 +18,8 @@ import scipy.integrate
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..model import kernels as K
-from ..model.integrate import LoopArrays, applied_force, closed_loop_deriv, rk4_run, sensor_noise
+from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
+                               sensor_noise)
 from ..model.system import HoseModel
 from ..params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..results import SimulationResult
@@ -120,30 +121,6 @@ def simulate(
     )
 
 
-def loop_arrays(ctrl: LinearController, y_ref: np.ndarray, actuator: Actuator, noise: np.ndarray,
-                noise_dt_s: float) -> LoopArrays:
-    """The closed loop's controller, actuator and sensor arrays for the kernels.
-
-    Parameters
-    ----------
-    ctrl : LinearController
-        Controller from drogue offset [m] to force [N].
-    y_ref : array (2,)
-        Drogue balance position [y, z] [m].
-    actuator : Actuator
-        Force [N] and rate [N/s] limits.
-    noise : array (k, 2)
-        Sensor noise samples [m] (``(1, 2)`` zeros for none).
-    noise_dt_s : float
-        Time each noise sample is held [s].
-
-    Returns
-    -------
-    LoopArrays
-    """
-    return LoopArrays(ctrl.A, ctrl.B, ctrl.C, ctrl.D, y_ref, actuator.as_array(), noise, float(noise_dt_s))
-
-
 def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator) -> np.ndarray:
     """The closed-loop initial state ``[x0, xc = 0, (ua = 0)]``.
 
@@ -160,7 +137,7 @@ def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator
     -------
     array
     """
-    return np.concatenate([x0, np.zeros(ctrl.n_states + (2 if actuator.rate_limited else 0))])
+    return np.concatenate([x0, loop_states(ctrl, actuator)])
 
 
 def fixed_steps(params: Params, duration_s: float) -> tuple[float, int]:
