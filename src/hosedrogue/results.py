@@ -11,6 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from .version import __version__
+
 
 @dataclass(frozen=True)
 class SimulationResult:
@@ -94,3 +96,26 @@ class SimulationResult:
         from .plotting.figures import plot_displacement
 
         return plot_displacement(self, **kwargs)
+
+
+def run_header(result) -> dict:
+    """The first entries of a run's ``run.json``, common to every driver: package, version,
+    completed, message, end time [s] and the drogue's balance position [m].
+
+    Parameters
+    ----------
+    result : SimulationResult or hosedrogue.engagement.result.EngagementResult
+        The run (its ``completed``, ``message``, ``t_s`` [s] and ``equilibrium_m`` [m]).
+
+    Returns
+    -------
+    dict
+    """
+    return {
+        "package": "hosedrogue",
+        "version": __version__,
+        "completed": result.completed,
+        "message": result.message,
+        "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
+        "equilibrium_drogue_position_m": np.asarray(result.equilibrium_m).tolist(),
+    }

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..params import Actuator, Sensor
-from ..version import __version__
+from ..results import run_header
 from .driver import EngagementResult, simulate_engagement
 from .spec import Reel
 
@@ -164,12 +164,7 @@ def write_engagement(result: EngagementResult, out_dir: Path, plot: bool = True)
     meta = dict(result.meta)
     events = meta.pop("events", [])
     doc = {
-        "package": "hosedrogue",
-        "version": __version__,
-        "completed": result.completed,
-        "message": result.message,
-        "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
-        "equilibrium_drogue_position_m": np.asarray(result.equilibrium_m).tolist(),
+        **run_header(result),
         "engagement": engagement_summary(result),
         "events": events,
         **meta,

@@ -8,11 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..version import __version__
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..model.system import HoseModel
 from ..params import Actuator, Sensor
-from ..results import SimulationResult
+from ..results import SimulationResult, run_header
 from ..simulation import simulate
 from . import Scenario
 
@@ -143,15 +142,7 @@ def write_run(result: SimulationResult, out_dir: Path, plot: bool = True) -> lis
     """
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [result.to_csv(out_dir / "timeseries.csv")]
-    meta = {
-        "package": "hosedrogue",
-        "version": __version__,
-        "completed": result.completed,
-        "message": result.message,
-        "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
-        "equilibrium_drogue_position_m": result.equilibrium_m.tolist(),
-        **result.meta,
-    }
+    meta = {**run_header(result), **result.meta}
     (out_dir / "run.json").write_text(json.dumps(meta, indent=2) + "\n")
     paths.append(out_dir / "run.json")
     if plot and result.t_s.size > 1:
