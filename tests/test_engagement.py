@@ -141,6 +141,30 @@ def test_whipping_runs_say_their_tension_peak_is_not_converged(shipped):
         assert bool(s["notes"]) == whips and (not whips or "not converged" in s["notes"][0])
 
 
+# --- the reel's end stops ------------------------------------------------------------------------
+def test_reel_end_stop_ends_the_run_incomplete():
+    """The constant-tension reel holds no length: a shorter hose has less drag and weight, so its
+    tension falls below the set point and the motor reels in further. In moderate turbulence
+    (approach-moderate without probe and bow wave) it reaches its fully-reeled-in end stop
+    (min_length_m = 1 m) after 18 s (measured), and the run stops there, incomplete, saying why
+    and keeping what it computed; before the end stops existed the free length went negative
+    (-37 m at 60 s) and the run claimed to be complete."""
+    sc = load_scenario("approach-moderate")
+    reel = Reel(law="constant-tension")
+    r = simulate_engagement(sc.params.replace(turbulence={"duration_s": 40.0}), reel, None, 40.0)
+    assert not r.completed
+    assert "end stops" in r.message and "L = " in r.message
+    # stopped within a step of the stop: at most the 3 m/s take-up limit times the 5 ms step
+    L = np.asarray(r.hose_length_m)
+    assert reel.min_length_m - 3.0 * sc.params.numerics.step_s <= L.min() and L[0] == pytest.approx(16.0)
+    assert 1.0 < r.t_s[-1] < 40.0
+
+
+def test_hose_outside_the_reel_range_is_refused():
+    with pytest.raises(ParameterError, match="between the reel's end stops"):
+        simulate_engagement(small(), Reel(max_length_m=10.0), None, 1.0)
+
+
 # --- input validation and the command line --------------------------------------------------------
 BAD = [
     ("[reel]\ndrum_radius_m = -0.3\n", "reel.drum_radius_m = -0.3: must be a finite number in (0, 5] m"),
@@ -150,6 +174,7 @@ BAD = [
     ("[probe]\nmin_closure_speed_m_s = 2.0\nmax_closure_speed_m_s = 1.0\n",
      "probe.min_closure_speed_m_s = 2.0: must be below probe.max_closure_speed_m_s = 1.0"),
     ("[reel]\nlaw = \"response\"\npayout_m = 2.0\n", "reel.payout_m = 2.0: a payout schedule needs reel.law = 'locked'"),
+    ("[reel]\nmin_length_m = 20.0\nmax_length_m = 10.0\n", "reel.min_length_m = 20.0: must be below reel.max_length_m = 10.0"),
 ]
 
 

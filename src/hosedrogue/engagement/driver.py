@@ -30,7 +30,9 @@ from .spec import BowWaveSection, Pilot, Probe, Reel
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
-           K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular"}
+           K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
+           EK.REEL_END: "the free hose length left the reel's range between its end stops (fully reeled in or "
+                        "fully paid out)"}
 
 
 def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain: Chain,
@@ -85,6 +87,8 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
     ep[EK.EP_PAY_DIST] = reel.payout_m
     ep[EK.EP_PAY_V] = reel.payout_speed_m_s
     ep[EK.EP_PAY_A] = reel.payout_acceleration_m_s2
+    ep[EK.EP_L_MIN] = reel.min_length_m
+    ep[EK.EP_L_MAX] = reel.max_length_m
     if probe is not None and probe.enabled:
         ep[EK.EP_PROBE] = 1.0
         ep[EK.EP_P0X] = drogue_eq[0] - probe.standoff_m
@@ -223,6 +227,10 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     _check_duration(duration_s)
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
+    L0 = z[4 * chain.n + EK.Z_L]
+    if not reel.min_length_m <= L0 <= reel.max_length_m:
+        raise ParameterError(f"hose.length_m = {L0!r}: the free length must lie between the reel's end stops "
+                             f"reel.min_length_m = {reel.min_length_m!r} and reel.max_length_m = {reel.max_length_m!r} m")
     if pilot is not None and pilot.enabled and (probe is None or not probe.enabled):
         raise ParameterError("pilot.enabled = True: the pilot flies the probe; give an enabled probe")
     set_pilot(ep, pilot, params.numerics.step_s)
@@ -301,6 +309,10 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
         code, zprev = _segment(run, model, h, every, total_steps - run.step, max_yaw)
         if code in (K.NONFINITE, K.YAW_LIMIT):
             return code, f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
+        if code == EK.REEL_END:
+            L = run.z[4 * run.chain.n + EK.Z_L]
+            return code, (f"stopped at t = {run.t:.4f} s: {_STATUS[code]}: L = {L:.3f} m, range "
+                          f"[{run.ep[EK.EP_L_MIN]:g}, {run.ep[EK.EP_L_MAX]:g}] m")
         if code == EK.CHART:
             _switch_charts(run, model)
         elif code in (EK.SPLIT, EK.MERGE):

@@ -57,8 +57,17 @@ class Reel(_Section):
     payout_acceleration_m_s2: float = field(default=2.0, metadata=_num(0.0, 1000.0, unit="m/s^2"))
     #: payout schedule: start time [s]
     payout_start_s: float = field(default=0.0, metadata=_num(0.0, 1e6, lo_open=False, unit="s"))
+    #: the drum's end stops: the free hose length [m] fully reeled in (the drogue at the hose
+    #: exit) and fully paid out (30 m, the hose the drum inertia above counts); a run whose free
+    #: length leaves [min_length_m, max_length_m] stops there, marked incomplete
+    min_length_m: float = field(default=1.0, metadata=_num(0.0, 1000.0, unit="m"))
+    #: fully paid out [m]
+    max_length_m: float = field(default=30.0, metadata=_num(0.0, 1000.0, unit="m"))
 
     def _check_consistency(self) -> None:
+        if not self.min_length_m < self.max_length_m:
+            raise ParameterError(f"reel.min_length_m = {self.min_length_m!r}: must be below reel.max_length_m = "
+                                 f"{self.max_length_m!r} m")
         if self.payout_m != 0.0 and self.law != "locked":
             raise ParameterError(
                 f"reel.payout_m = {self.payout_m!r}: a payout schedule needs reel.law = 'locked' (got {self.law!r})")

@@ -62,12 +62,14 @@ from .integrate import actuator_rates, applied_force_at, controller_rates, step_
  EP_PROBE, EP_P0X, EP_P0Y, EP_P0Z, EP_VC, EP_PUSH, EP_T_STOP, EP_KP, EP_CP, EP_COUPLED, EP_T_CAP,
  EP_S_CAP, EP_JD,
  EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_Q, EP_BW_LEN,
- EP_CTRL, EP_NPIL, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV, EP_PIL_VMAX, EP_PIL_AMAX, EP_H) = range(48)
-EP_SIZE = 48
+ EP_CTRL, EP_NPIL, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV, EP_PIL_VMAX, EP_PIL_AMAX, EP_H,
+ EP_L_MIN, EP_L_MAX) = range(50)
+EP_SIZE = 50
 # EP_CTRL: 1 with a drogue controller in the loop (its states follow the pilot's, see below);
 # EP_NPIL: number of pilot states (0 or PIL_STATES); EP_PIL_*: the pilot's reaction time [s], lag
 # [s], velocity time constant [s], speed [m/s] and acceleration [m/s^2] bounds; EP_H: the RK4
-# step [s] (the index of the drogue history the pilot's delay reads)
+# step [s] (the index of the drogue history the pilot's delay reads); EP_L_MIN, EP_L_MAX: the free
+# hose length's range [m] between the drum's end stops (fully reeled in, fully paid out)
 
 # bow-wave shapes (EP_BW); EP_BW_D* is the source (the line's forward end) minus the probe tip [m]
 BW_OFF, BW_RANKINE, BW_LINE = 0, 1, 2
@@ -93,6 +95,8 @@ O_SIZE = 24
 
 # segment stop codes (besides kernels.OK / NONFINITE / YAW_LIMIT)
 SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13
+# failure code: the free hose length left [EP_L_MIN, EP_L_MAX] (the reel reached an end stop)
+REEL_END = 20
 
 
 @njit(**JIT)
@@ -596,7 +600,8 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
     the step at which the exit link's length leaves [merge_at, split_at] (SPLIT / MERGE), the probe
     tip crosses the coupler plane before coupling (PLANE; zprev then holds the state before the
-    step), or the state fails (NONFINITE / YAW_LIMIT). Returns (status, steps done, saved count).
+    step), or the state fails (NONFINITE / YAW_LIMIT, or REEL_END: the free length left the reel's
+    range). Returns (status, steps done, saved count).
     With a pilot (``ep[EP_NPIL]``) the drogue's y, z, y', z' after every global step k go to
     ``hist[k]`` (row 0 at the start), for the pilot's delayed view of the drogue.
     """
@@ -639,6 +644,9 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         status = step_status(z, n, max_yaw)
         if status != OK:
             return status, s, saved
+        L = z[4 * n + Z_L]
+        if L < ep[EP_L_MIN] or L > ep[EP_L_MAX]:
+            return REEL_END, s, saved
         if piloted:
             hist[step0 + s, 0], hist[step0 + s, 1], hist[step0 + s, 2], hist[step0 + s, 3] = drogue_motion(
                 z, n, l, M, J, ep, chart, ws)
