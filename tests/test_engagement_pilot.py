@@ -78,6 +78,8 @@ def test_offset_probe_converges_onto_the_drogue_line():
     rel = r.probe_position_m[:, 1:] - r.drogue_position_m[:, 1:]
     at3 = np.searchsorted(r.t_s, 3.0)
     assert np.max(np.abs(rel[at3])) < 1e-3
+    # measured 3 um: the pilot has settled long before contact at ~3.3 s; 0.1 mm is 0.03 % of
+    # the capture radius, far above the RK4 error and far below any visible miss
     assert r.outcome["result"] == "captured" and r.outcome["miss_distance_m"] < 1e-4
 
 
