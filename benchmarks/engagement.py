@@ -30,16 +30,16 @@ def timed(params, reel, probe, duration_s, repeats=3):
     best = math.inf
     for _ in range(repeats):
         t0 = time.perf_counter()
-        r = simulate_engagement(params, reel, probe, duration_s)
+        r = simulate_engagement(params, duration_s, reel=reel, probe=probe)
         best = min(best, time.perf_counter() - t0)
     return best, r
 
 
 def main():
     sc = load_scenario("engage-response")
-    reel, probe = sc.extra["reel"], sc.extra["probe"]
+    reel, probe = sc.engagement.reel, sc.engagement.probe
     t0 = time.perf_counter()
-    simulate_engagement(sc.params, reel, probe, 0.5)
+    simulate_engagement(sc.params, 0.5, reel=reel, probe=probe)
     print(f"compile + first short run: {time.perf_counter() - t0:.1f} s")
     n, h = sc.params.hose.links, sc.params.numerics.step_s
     for links, step in ((n, h), (2 * n, h / 2)):

@@ -124,17 +124,17 @@ def test_run_seeds_depend_on_campaign_seed_and_index_only():
 
 # --- bad input -----------------------------------------------------------------------------------
 BAD = [
-    (dict(runs=0), "--runs"),
-    (dict(runs=2.5), "--runs"),
-    (dict(workers=0), "--workers"),
-    (dict(seed=-1), "--seed"),
-    (dict(capture_radii_m=(0.0,)), "--capture-radii"),
-    (dict(capture_radii_m=(0.1, -0.3)), "--capture-radii"),
-    (dict(capture_radii_m=()), "--capture-radii"),
-    (dict(capture_radii_m=(0.1, 0.1)), "--capture-radii"),
-    (dict(duration_s=0.0), "--duration"),
-    (dict(compare_controller=True), "--compare-controller"),
-    (dict(workers=2, scheduler="tcp://127.0.0.1:1"), "--workers"),
+    (dict(runs=0), "runs"),
+    (dict(runs=2.5), "runs"),
+    (dict(workers=0), "workers"),
+    (dict(seed=-1), "seed"),
+    (dict(capture_radii_m=(0.0,)), "capture_radii_m"),
+    (dict(capture_radii_m=(0.1, -0.3)), "capture_radii_m"),
+    (dict(capture_radii_m=()), "capture_radii_m"),
+    (dict(capture_radii_m=(0.1, 0.1)), "capture_radii_m"),
+    (dict(duration_s=0.0), "duration_s"),
+    (dict(compare_controller=True), "compare_controller"),
+    (dict(workers=2, scheduler="tcp://127.0.0.1:1"), "workers"),
     (dict(scenario="no-such-scenario"), "no-such-scenario"),
 ]
 
@@ -157,7 +157,7 @@ def test_unreachable_scheduler_leaves_no_output(tiny, tmp_path, monkeypatch):
     pytest.importorskip("distributed")
     monkeypatch.setattr(executor, "CONNECT_TIMEOUT_S", 1.0)
     out = tmp_path / "out"
-    with pytest.raises(ParameterError, match="--scheduler"):
+    with pytest.raises(ParameterError, match="scheduler"):
         run_campaign(tiny, 2, out, scheduler="tcp://127.0.0.1:9", progress=False)
     assert not out.exists()
 
@@ -362,7 +362,7 @@ def test_columns_read_like_the_batch_module():
 
 def test_without_dask_the_default_runs_here_and_workers_are_refused(reference, tiny, tmp_path, monkeypatch):
     monkeypatch.setattr(executor, "dask_available", lambda: False)
-    with pytest.raises(ParameterError, match="--workers = 2: needs dask"):
+    with pytest.raises(ParameterError, match="workers = 2: needs dask"):
         run_campaign(tiny, 8, tmp_path / "two", workers=2, progress=False)
     assert not (tmp_path / "two").exists()
     with pytest.warns(RuntimeWarning, match="in this process"):

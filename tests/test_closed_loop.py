@@ -76,14 +76,17 @@ def test_actuator_limits_and_sensor_noise():
     import dataclasses
 
     sc = load_scenario("paper-turbulence-pid").with_overrides(duration_s=16.0)
-    limited = dataclasses.replace(sc, actuator={"max_force_n": 20.0, "max_rate_n_s": 200.0})
+    from hosedrogue.sections import Actuator, Sensor
+
+    limited = dataclasses.replace(sc, loop=dataclasses.replace(sc.loop, actuator=Actuator(max_force_n=20.0,
+                                                                                        max_rate_n_s=200.0)))
     res = run_scenario(limited)
     assert res.completed
     assert np.max(np.abs(res.control_n)) <= 20.0 + 1e-9
     rate = np.abs(np.diff(res.control_n, axis=0)) / np.diff(res.t_s)[:, None]
     assert rate.max() <= 200.0 * 1.01
     assert rate.max() > 100.0  # the limit is active, not vacuous
-    noisy = dataclasses.replace(sc, sensor={"noise_std_m": 0.002})
+    noisy = dataclasses.replace(sc, loop=dataclasses.replace(sc.loop, sensor=Sensor(noise_std_m=0.002)))
     a, b = run_scenario(noisy), run_scenario(noisy)
     assert np.array_equal(a.control_n, b.control_n)
     assert not np.array_equal(a.control_n, run_scenario(sc).control_n)
@@ -97,8 +100,11 @@ def test_paper_lqr_with_actuator_limits_and_sensor_noise(runs):
     import dataclasses
 
     sc = load_scenario("paper-turbulence-lqr")
-    res = run_scenario(dataclasses.replace(sc, actuator={"max_force_n": 40.0, "max_rate_n_s": 500.0},
-                                           sensor={"noise_std_m": 0.002}))
+    from hosedrogue.sections import Actuator, Sensor
+
+    loop = dataclasses.replace(sc.loop, actuator=Actuator(max_force_n=40.0, max_rate_n_s=500.0),
+                               sensor=Sensor(noise_std_m=0.002))
+    res = run_scenario(dataclasses.replace(sc, loop=loop))
     assert res.completed
     assert np.max(np.abs(res.control_n)) <= 40.0 + 1e-9
     assert np.all(peaks(runs["paper-turbulence"]) / peaks(res) > 3.0)

@@ -56,12 +56,16 @@ def documented_parameters(doc: str | None) -> set[str]:
 
 
 def field_comments(cls) -> set[str]:
-    """Dataclass fields documented by a ``#:`` comment on or above their line."""
+    """Dataclass fields documented by a ``#:`` comment on or above their line (in the class or a
+    dataclass it derives from)."""
+    found = set()
+    for base in cls.__mro__[1:]:
+        if dataclasses.is_dataclass(base):
+            found |= field_comments(base)
     try:
         lines = inspect.getsource(cls).splitlines()
     except (OSError, TypeError):
-        return set()
-    found = set()
+        return found
     for i, line in enumerate(lines):
         m = re.match(r"\s*(\w+)\s*:", line)
         if m and ("#:" in line or (i and lines[i - 1].strip().startswith("#:"))):

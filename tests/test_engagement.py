@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from hosedrogue.engagement import Probe, Reel, simulate_engagement
-from hosedrogue.engagement.run import SUMMARY_KEYS, run_engagement
+from hosedrogue.results import SUMMARY_KEYS
+from hosedrogue.scenarios.runner import run as run_engagement
 from hosedrogue.errors import ParameterError
 from hosedrogue.params import PAPER
 from hosedrogue.scenarios import load_scenario
@@ -36,7 +37,7 @@ def test_capture_on_target():
     """Aimed at the balance position the probe tip meets the coupler (miss at round-off: 1e-9 m)
     at the closure speed projected on the last link (1.5 m/s times the cosine of its ~15 deg
     inclination: between 1.4 and 1.5 m/s), 2 s after starting 3 m behind."""
-    r = simulate_engagement(small(), Reel(law="constant-tension"), Probe(), 4.0)
+    r = simulate_engagement(small(), 4.0, reel=Reel(law="constant-tension"), probe=Probe())
     o = r.outcome
     assert o["result"] == "captured"
     assert o["miss_distance_m"] < 1e-9
@@ -53,7 +54,7 @@ def test_capture_on_target():
 def test_miss_ends_the_run_with_its_reason(probe, expect):
     """A lateral offset of 0.5 m > the 0.305 m capture radius misses; 0.3 m/s is below the 0.5 m/s
     latch minimum; 2.5 m/s above a 2 m/s maximum. The run ends at the contact and says why."""
-    r = simulate_engagement(small(), Reel(law="locked"), probe, 6.0)
+    r = simulate_engagement(small(), 6.0, reel=Reel(law="locked"), probe=probe)
     assert r.outcome["result"].startswith(expect), r.outcome["result"]
     assert not r.coupled.any()
     assert r.t_s[-1] < 6.0 - 0.1
@@ -104,7 +105,7 @@ def _doubled_links(law):
     p = sc.params
     n = 2 * p.hose.links
     p = p.replace(hose={"links": n}, numerics={"step_s": p.numerics.step_s / 2, "output_every": 2 * p.numerics.output_every})
-    return simulate_engagement(p, sc.extra["reel"], sc.extra["probe"], sc.duration_s)
+    return simulate_engagement(p, sc.duration_s, reel=sc.engagement.reel, probe=sc.engagement.probe)
 
 
 @pytest.fixture(scope="module")
@@ -131,10 +132,8 @@ def test_whipping_runs_say_their_tension_peak_is_not_converged(shipped):
     responsive reel, not with the constant-tension one (measured minimum exit tension at 160 links:
     locked -1.9 kN, response 38 N, constant tension 551 N, of a 1.53 kN trail tension); run.json
     then says that the exit-tension peak is not converged."""
-    from hosedrogue.engagement.run import engagement_summary
-
     for law, r in shipped.items():
-        s = engagement_summary(r)
+        s = r.summary()
         whips = law != "constant-tension"
         assert (r.outcome["min_exit_tension_n"] < 0.1 * r.exit_tension_n[0]) == whips, law
         assert s["peak_tension_converged"] is (not whips)
@@ -151,7 +150,7 @@ def test_reel_end_stop_ends_the_run_incomplete():
     (-37 m at 60 s) and the run claimed to be complete."""
     sc = load_scenario("approach-moderate")
     reel = Reel(law="constant-tension")
-    r = simulate_engagement(sc.params.replace(turbulence={"duration_s": 40.0}), reel, None, 40.0)
+    r = simulate_engagement(sc.params.replace(turbulence={"duration_s": 40.0}), 40.0, reel=reel, probe=None)
     assert not r.completed
     assert "end stops" in r.message and "L = " in r.message
     # stopped within a step of the stop: at most the 3 m/s take-up limit times the 5 ms step
@@ -162,7 +161,7 @@ def test_reel_end_stop_ends_the_run_incomplete():
 
 def test_hose_outside_the_reel_range_is_refused():
     with pytest.raises(ParameterError, match="between the reel's end stops"):
-        simulate_engagement(small(), Reel(max_length_m=10.0), None, 1.0)
+        simulate_engagement(small(), 1.0, reel=Reel(max_length_m=10.0), probe=None)
 
 
 # --- input validation and the command line --------------------------------------------------------

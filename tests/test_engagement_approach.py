@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from hosedrogue.engagement.bow_wave import bow_wave_displacement
-from hosedrogue.engagement.run import run_engagement
+from hosedrogue.scenarios.runner import run as run_engagement
 from hosedrogue.scenarios import load_scenario
 from hosedrogue.standards import standard_intensity
 
@@ -22,16 +22,14 @@ def test_approach_scenarios_load(level):
     assert (p.flight.airspeed_m_s, p.flight.altitude_m, p.wake.enabled) == (150.0, 8000.0, True)
     assert p.turbulence.enabled
     assert p.turbulence.sigma_m_s == pytest.approx(standard_intensity(level, 8000.0))
-    assert sc.extra["bow_wave"].enabled
-    assert sc.extra["probe"].closure_speed_m_s == 1.0 and sc.extra["probe"].standoff_m == 3.0
+    assert sc.engagement.bow_wave.enabled
+    assert sc.engagement.probe.closure_speed_m_s == 1.0 and sc.engagement.probe.standoff_m == 3.0
     assert (p.hose.drag_quadrature, p.hose.link_inertia, p.hose.mass_lumping) == ("gauss2", "rod", "split")
 
 
 def _variant(sc, turbulence, bow_wave):
-    extra = dict(sc.extra)
-    if not bow_wave:
-        extra.pop("bow_wave")
-    return dataclasses.replace(sc, params=sc.params.replace(turbulence={"enabled": turbulence}), extra=extra)
+    engagement = sc.engagement if bow_wave else dataclasses.replace(sc.engagement, bow_wave=None)
+    return dataclasses.replace(sc, params=sc.params.replace(turbulence={"enabled": turbulence}), engagement=engagement)
 
 
 @pytest.fixture(scope="module")
@@ -50,7 +48,7 @@ def test_steady_air_without_bow_wave_meets_the_drogue_dead_centre(moderate):
 def test_bow_wave_pushes_the_drogue_off_the_probe_line(moderate):
     sc, runs = moderate
     out = runs[(False, True)]
-    d = bow_wave_displacement(sc.params, sc.extra["bow_wave"], [0.5])[0]
+    d = bow_wave_displacement(sc.params, sc.engagement.bow_wave, [0.5])[0]
     radial = np.hypot(d[1], d[2])  # off the probe's line (along x): 46.8 mm
     # measured 43.5 mm: the drogue lags the bow wave that grows as the probe closes at 1 m/s, and
     # at contact the tip is nearer than 0.5 m; within a factor 2 of the steady value either way

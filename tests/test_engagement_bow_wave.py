@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 from hosedrogue.engagement.bow_wave import bow_wave_displacement
 from hosedrogue.engagement.chain import chain_equilibrium, initial_chain
 from hosedrogue.engagement.driver import engagement_parameters
-from hosedrogue.engagement.spec import BowWaveSection, Reel, section_from_dict
+from hosedrogue.sections import BowWave as BowWaveSection, Reel
 from hosedrogue.environment.bow_wave import BowWave
 from hosedrogue.errors import ParameterError
 from hosedrogue.engagement.loop import no_loop
@@ -73,14 +73,14 @@ def test_steady_displacement_near_and_far(displacement):
 
 
 def test_bow_wave_section_validation():
-    assert section_from_dict("bow_wave", {"enabled": True, "shape": "source-line"}).shape == "source-line"
+    assert BowWaveSection.from_mapping({"enabled": True, "shape": "source-line"}).shape == "source-line"
     for bad, field in (({"forebody_radius_m": 0.0}, "bow_wave.forebody_radius_m = 0.0"),
                        ({"probe_offset_m": [1.0, 2.0]}, "bow_wave.probe_offset_m"),
                        ({"shape": "ogive"}, "bow_wave.shape = 'ogive'"),
                        ({"nose_length_m": -1.0}, "bow_wave.nose_length_m = -1.0"),
                        ({"radius": 1.0}, "bow_wave.radius: unknown field")):
         with pytest.raises(ParameterError, match=field.replace("[", r"\[").replace("(", r"\(")) as err:
-            section_from_dict("bow_wave", bad)
+            BowWaveSection.from_mapping(bad)
         assert "\n" not in str(err.value)
 
 

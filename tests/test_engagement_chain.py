@@ -40,7 +40,7 @@ def free_reel_run(step, rng, n=8, yaw_scale=0.2):
     # limits far away: the speed governor and the torque clip are kinks of the right-hand side
     reel = Reel(law="constant-tension", tension_set_n=100.0, max_torque_n_m=1e5,
                 max_takeup_speed_m_s=50.0, max_payout_speed_m_s=50.0)
-    return simulate_engagement(p, reel, None, 10.0, x0=swinging_start(n, np.random.default_rng(1), yaw_scale),
+    return simulate_engagement(p, 10.0, reel=reel, probe=None, x0=swinging_start(n, np.random.default_rng(1), yaw_scale),
                                length_rate_m_s=1.5, gravity_m_s2=0.0, energy=True)
 
 
@@ -160,7 +160,7 @@ def test_payout_settles_to_longer_balance_position():
     (split lumping). The remaining offset is the slowly decaying transient (measured 0.5 mm)."""
     p = PAPER.replace(hose={"links": 20, "link_inertia": "rod", "mass_lumping": "split"})
     reel = Reel(law="locked", payout_m=4.0, payout_speed_m_s=1.0, payout_acceleration_m_s2=2.0)
-    r = simulate_engagement(p, reel, None, 30.0)
+    r = simulate_engagement(p, 30.0, reel=reel, probe=None)
     assert r.completed, r.message
     # the schedule's length is met to the integrator's accuracy (10 um on 4 m)
     assert abs(r.hose_length_m[-1] - 20.0) < 1e-5
@@ -224,7 +224,7 @@ def test_structural_damping_balance_with_moving_reel():
                       flight={"density_scale": 0.0}, numerics={"step_s": step, "output_every": 1})
     reel = Reel(law="constant-tension", tension_set_n=100.0, max_torque_n_m=1e5,
                 max_takeup_speed_m_s=50.0, max_payout_speed_m_s=50.0)
-    r = simulate_engagement(p, reel, None, 10.0, x0=swinging_start(n, np.random.default_rng(1)),
+    r = simulate_engagement(p, 10.0, reel=reel, probe=None, x0=swinging_start(n, np.random.default_rng(1)),
                             length_rate_m_s=1.5, gravity_m_s2=0.0, energy=True)
     kinds = [ev["kind"] for ev in r.events]
     assert r.completed and kinds.count("split") >= 2 and kinds.count("merge") >= 2, kinds

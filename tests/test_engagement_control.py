@@ -11,8 +11,8 @@ import pytest
 
 from hosedrogue.controllers.design import design_controller
 from hosedrogue.engagement import Reel, simulate_engagement
-from hosedrogue.engagement import run as engagement_run
-from hosedrogue.engagement.run import engagement_controller, run_engagement
+from hosedrogue.scenarios import runner as engagement_run
+from hosedrogue.scenarios.runner import drogue_controller as engagement_controller, run as run_engagement
 from hosedrogue.params import Actuator, Sensor
 from hosedrogue.scenarios import load_scenario
 from hosedrogue.simulation import simulate
@@ -47,7 +47,7 @@ def test_locked_reel_reproduces_fixed_length_closed_loop(moderate, kind):
     actuator, sensor = CASES[kind]
     ctrl = design_controller(kind, {}, p)
     fixed = simulate(p, 3.0, control=ctrl, actuator=actuator, sensor=sensor)
-    eng = simulate_engagement(p, Reel(law="locked"), None, 3.0, control=ctrl, actuator=actuator, sensor=sensor)
+    eng = simulate_engagement(p, 3.0, reel=Reel(law="locked"), probe=None, control=ctrl, actuator=actuator, sensor=sensor)
     assert fixed.completed and eng.completed
     np.testing.assert_array_equal(fixed.t_s, eng.t_s)
     assert np.max(np.abs(fixed.joints_m[:, -1, :] - eng.drogue_position_m)) < 1e-5
@@ -67,7 +67,7 @@ def _rms_before_contact(result):
 
 @pytest.fixture(scope="module")
 def approach_runs(moderate):
-    return {kind: run_engagement(dataclasses.replace(moderate, controller=kind)) for kind in ("none", "pid", "lqr")}
+    return {kind: run_engagement(moderate.with_controller(kind)) for kind in ("none", "pid", "lqr")}
 
 
 def test_controller_cuts_drogue_excursion_before_contact(approach_runs):
@@ -106,7 +106,7 @@ def test_controller_states_are_frozen_once_coupled(moderate):
 
     driver.assemble_result = spy
     try:
-        r = run_engagement(dataclasses.replace(moderate, controller="pid"))
+        r = run_engagement(moderate.with_controller("pid"))
     finally:
         driver.assemble_result = original
     assert r.outcome["result"] == "captured"
@@ -114,13 +114,6 @@ def test_controller_states_are_frozen_once_coupled(moderate):
     assert coupled
     ctrl_states = np.concatenate([zs[:, 4 * chain.n + driver.EK.Z_TAIL:] for chain, zs in coupled])
     assert ctrl_states.shape[1] > 0 and np.all(ctrl_states == ctrl_states[0])
-
-
-def test_shipped_controller_scenarios(moderate):
-    for kind in ("pid", "lqr"):
-        sc = load_scenario(f"approach-moderate-{kind}")
-        assert sc.controller == kind and sc.controller_options == {}
-        assert sc.params == moderate.params and sc.extra == moderate.extra
 
 
 def test_design_once_per_process(moderate, monkeypatch):
@@ -136,7 +129,7 @@ def test_design_once_per_process(moderate, monkeypatch):
 
     monkeypatch.setattr(design, "design_controller", counting)
     monkeypatch.setattr(engagement_run, "_DESIGNS", {})
-    sc = dataclasses.replace(moderate, controller="lqr")
+    sc = moderate.with_controller("lqr")
     first = engagement_controller(sc.with_overrides(seed=1))
     assert engagement_controller(sc.with_overrides(seed=2)) is first
     assert calls == ["lqr"]

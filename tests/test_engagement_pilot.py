@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hosedrogue.engagement.run import run_engagement
+from hosedrogue.scenarios.runner import run as run_engagement
 from hosedrogue.engagement.spec import Pilot
 from hosedrogue.errors import ParameterError
 from hosedrogue.scenarios import load_scenario
@@ -20,12 +20,10 @@ def _steady(offset_y, offset_z=0.0, standoff=5.0, pilot=PILOT):
     """approach-moderate in steady air without the bow wave, the probe starting ``standoff`` [m]
     aft of the drogue and offset by (offset_y, offset_z) [m], flown by ``pilot``."""
     sc = load_scenario("approach-moderate")
-    extra = {k: v for k, v in sc.extra.items() if k != "bow_wave"}
-    extra["probe"] = dataclasses.replace(extra["probe"], standoff_m=standoff, offset_y_m=offset_y,
-                                         offset_z_m=offset_z)
-    extra["pilot"] = pilot
+    probe = dataclasses.replace(sc.engagement.probe, standoff_m=standoff, offset_y_m=offset_y, offset_z_m=offset_z)
+    engagement = dataclasses.replace(sc.engagement, bow_wave=None, probe=probe, pilot=pilot)
     return run_engagement(dataclasses.replace(sc, params=sc.params.replace(turbulence={"enabled": False}),
-                                              extra=extra, duration_s=standoff + 0.5))
+                                              engagement=engagement, duration_s=standoff + 0.5))
 
 
 def _analytic(t, offset, pilot=PILOT):

@@ -13,7 +13,7 @@ from hosedrogue.plotting.engagement import (animate_engagement, plot_drogue_regi
 def runs():
     p = PAPER.replace(hose={"links": 20, "link_inertia": "rod", "bending": "moment", "mass_lumping": "split"},
                       numerics={"step_s": 0.0025, "output_every": 8})
-    return {law: simulate_engagement(p, Reel(law=law), Probe(), 3.0) for law in ("locked", "constant-tension")}
+    return {law: simulate_engagement(p, 3.0, reel=Reel(law=law), probe=Probe()) for law in ("locked", "constant-tension")}
 
 
 def test_history_and_snapshots_are_figures(runs):

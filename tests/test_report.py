@@ -276,10 +276,10 @@ def test_docking_cell_scenarios_round_trip(tmp_path):
     path = tmp_path / "scenario.toml"
     path.write_text(scenario_toml("severe", "lqr", False))
     sc, ref = load_scenario(str(path)), load_scenario("approach-severe")
-    assert sc.controller == "lqr" and sc.extra["bow_wave"].enabled is False
+    assert sc.controller == "lqr" and sc.engagement.bow_wave.enabled is False
     assert sc.params == ref.params and sc.duration_s == ref.duration_s
-    assert sc.extra["probe"] == ref.extra["probe"] and sc.extra["reel"] == ref.extra["reel"]
-    assert dataclasses.replace(sc.extra["bow_wave"], enabled=True) == ref.extra["bow_wave"]
+    assert sc.engagement.probe == ref.engagement.probe and sc.engagement.reel == ref.engagement.reel
+    assert dataclasses.replace(sc.engagement.bow_wave, enabled=True) == ref.engagement.bow_wave
 
 
 def test_docking_closure_speed_counts_every_run_once(report):
@@ -356,7 +356,7 @@ def test_docking_force_limit_counts_every_run_once_and_applies_the_limit(report)
             for limit in FAST_FORCE_LIMITS_N:
                 cell = fl["cells"][f"{lev}-{c}-f{limit:g}"]
                 folder = out / "docking" / "campaigns" / cell["campaign"]
-                assert load_scenario(str(folder / "scenario.toml")).actuator == {"max_force_n": limit}
+                assert load_scenario(str(folder / "scenario.toml")).actuator.max_force_n == limit
                 r = pd.read_csv(folder / "runs.csv")
                 assert (r[["peak_u_hor_n", "peak_u_ver_n"]].max(axis=1) <= limit * (1 + tol)).all(), cell
                 assert (r["peak_u_n"] <= np.sqrt(2.0) * limit * (1 + tol)).all(), cell
@@ -388,15 +388,15 @@ def test_docking_closure_speed_cell_scenarios(tmp_path):
     path = tmp_path / "scenario.toml"
     path.write_text(scenario_toml("moderate", "none", True, False, 0.5))
     sc = load_scenario(str(path))
-    assert sc.extra["probe"] == dataclasses.replace(ref.extra["probe"], closure_speed_m_s=0.5)
+    assert sc.engagement.probe == dataclasses.replace(ref.engagement.probe, closure_speed_m_s=0.5)
     # 6 s to the balance position, then the 1 m push: 1.5 s cruising 0.75 m at 0.5 m/s and the 1 s
     # half-cosine stop covering 0.25 m; 8.5 s is a whole number of 0.1 s, so no rounding
     assert sc.duration_s == 8.5
     assert sc.params.turbulence.duration_s == sc.duration_s
     path.write_text(scenario_toml("severe", "none", True, pilot=True))
     sc, ref = load_scenario(str(path)), load_scenario("approach-severe")
-    assert sc.extra["pilot"].enabled and sc.controller == "none" and sc.params == ref.params
-    assert sc.extra["probe"] == ref.extra["probe"] and sc.duration_s == ref.duration_s
+    assert sc.engagement.pilot.enabled and sc.controller == "none" and sc.params == ref.params
+    assert sc.engagement.probe == ref.engagement.probe and sc.duration_s == ref.duration_s
 
 
 def test_paper_pid_reproduces_table3_on_the_papers_models(report):
@@ -482,7 +482,7 @@ def _fake_result(n_links=3, n=200, seed=0, on=False):
     return SimulationResult(
         t_s=t, states=np.zeros((n, 4 * n_links)), joints_m=joints, drogue_velocity_m_s=np.zeros((n, 3)),
         drogue_drag_n=np.zeros((n, 3)), tow_force_n=np.zeros((n, 3)),
-        control_n=rng.normal(size=(n, 2)) * (30.0 if on else 0.0), completed=True, message="",
+        drogue_position_m=joints[:, -1, :], control_force_n=rng.normal(size=(n, 2)) * (30.0 if on else 0.0), completed=True, message="",
         equilibrium_m=joints[0, -1].copy())
 
 

@@ -1,29 +1,42 @@
 """hosedrogue: the probe-and-drogue aerial refuelling hose as a Kane-equation chain of rigid
 links (after Wu et al., 2018), with its air environment, equilibrium, linearization, model
-reduction and PID/LQR control.
+reduction and PID/LQR control, and the refuelling engagement (reel, hose of varying length,
+probe, capture).
 
 Quick start::
 
-    from hosedrogue import PAPER, solve_equilibrium, simulate
-    eq = solve_equilibrium(PAPER)
-    res = simulate(PAPER, duration_s=5.0)
+    import hosedrogue as hd
+    scenario = hd.load_scenario("paper-turbulence-pid")   # or hd.Scenario(...) built in Python
+    result = hd.run(scenario)                             # the fixed-length hose or the engagement
+    hd.write(result, "out/pid")                           # timeseries.csv, run.json, figure
+    eq = hd.solve_equilibrium(hd.PAPER)                   # the balance position
 """
 
 from .version import __version__
 from .config import load_params, resolve_config
 from .params import PAPER, Params, ParameterError
+from .sections import Actuator, BowWave, Controller, Engagement, Loop, Pilot, Probe, Reel, Sensor
 
-__all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "solve_equilibrium", "simulate", "__version__"]
+__all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "Actuator", "BowWave",
+           "Controller", "Engagement", "Loop", "Pilot", "Probe", "Reel", "Sensor", "Scenario", "load_scenario",
+           "run", "write", "solve_equilibrium", "simulate", "simulate_engagement", "__version__"]
+
+# heavy modules (numba compilation) load on first use: name -> (module, attribute)
+_LAZY = {
+    "solve_equilibrium": ("analysis.equilibrium", "solve_equilibrium"),
+    "simulate": ("simulation", "simulate"),
+    "simulate_engagement": ("engagement", "simulate_engagement"),
+    "Scenario": ("scenarios", "Scenario"),
+    "load_scenario": ("scenarios", "load_scenario"),
+    "run": ("scenarios.runner", "run"),
+    "write": ("scenarios.runner", "write"),
+}
 
 
 def __getattr__(name):
-    # heavy modules (numba compilation) load on first use
-    if name == "solve_equilibrium":
-        from .analysis.equilibrium import solve_equilibrium
+    if name in _LAZY:
+        import importlib
 
-        return solve_equilibrium
-    if name == "simulate":
-        from .simulation import simulate
-
-        return simulate
+        module, attr = _LAZY[name]
+        return getattr(importlib.import_module(f".{module}", __name__), attr)
     raise AttributeError(name)

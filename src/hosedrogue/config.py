@@ -175,6 +175,6 @@ def resolve_config(name_or_path: str | Path, base: Params = PAPER) -> Params:
         return load_preset(text, base=base)
     if _is_bare_name(text) and not Path(text).exists():
         raise ParameterError(
-            f"--config {text!r}: no such preset or file; presets: {', '.join(preset_names())}"
+            f"config {text!r}: no such preset or file; presets: {', '.join(preset_names())}"
         )
     return load_params(text, base=base)

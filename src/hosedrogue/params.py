@@ -17,155 +17,66 @@ from typing import Any, Mapping
 
 from .constants import H_MAX_ATMOSPHERE
 from .errors import ParameterError
+from .fields import Section, choice, flag, integer, real, vec3
 from .standards import standard_intensity
 
 INF = math.inf
 
 
-def _num(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = False, unit: str = ""):
-    """Metadata for a real-valued field with range (lo, hi] (openness selectable)."""
-    return {"kind": "float", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": hi_open, "unit": unit}
-
-
-def _int(lo: int, hi: int, unit: str = ""):
-    return {"kind": "int", "lo": lo, "hi": hi, "unit": unit}
-
-
-def _choice(*choices: str):
-    return {"kind": "choice", "choices": choices}
-
-
-def _bool():
-    return {"kind": "bool"}
-
-
-def _vec3(lo: float, hi: float = INF, *, lo_open: bool = False, unit: str = ""):
-    return {"kind": "vec3", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": False, "unit": unit}
-
-
-def _describe_range(meta: Mapping[str, Any]) -> str:
-    lo, hi = meta["lo"], meta["hi"]
-    left = "(" if meta.get("lo_open") else "["
-    right = ")" if (meta.get("hi_open") or hi == INF) else "]"
-    unit = f" {meta['unit']}" if meta.get("unit") else ""
-    hi_s = "inf" if hi == INF else f"{hi:g}"
-    return f"a finite number in {left}{lo:g}, {hi_s}{right}{unit}"
-
-
-def _check_real(name: str, value: Any, meta: Mapping[str, Any]) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ParameterError(f"{name} = {value!r}: must be {_describe_range(meta)}")
-    v = float(value)
-    lo, hi = meta["lo"], meta["hi"]
-    bad = (
-        not math.isfinite(v)
-        or (v <= lo if meta.get("lo_open") else v < lo)
-        or (v >= hi if meta.get("hi_open") else v > hi)
-    )
-    if bad:
-        raise ParameterError(f"{name} = {value!r}: must be {_describe_range(meta)}")
-    return v
-
-
-def _validate_field(section: str, f: dataclasses.Field, value: Any) -> Any:
-    meta = f.metadata
-    name = f"{section}.{f.name}"
-    kind = meta["kind"]
-    if kind == "float":
-        return _check_real(name, value, meta)
-    if kind == "int":
-        if isinstance(value, bool) or not isinstance(value, int) or not meta["lo"] <= value <= meta["hi"]:
-            raise ParameterError(f"{name} = {value!r}: must be an integer in [{meta['lo']}, {meta['hi']}]")
-        return int(value)
-    if kind == "bool":
-        if not isinstance(value, bool):
-            raise ParameterError(f"{name} = {value!r}: must be true or false")
-        return value
-    if kind == "choice":
-        if value not in meta["choices"]:
-            allowed = ", ".join(repr(c) for c in meta["choices"])
-            raise ParameterError(f"{name} = {value!r}: must be one of {allowed}")
-        return value
-    if kind == "vec3":
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            value = (value, value, value)
-        if not isinstance(value, (list, tuple)) or len(value) != 3:
-            raise ParameterError(
-                f"{name} = {value!r}: must be one number or a list of 3 numbers [u, v, w], each "
-                f"{_describe_range(meta)}"
-            )
-        return tuple(_check_real(f"{name}[{i}]", v, meta) for i, v in enumerate(value))
-    raise AssertionError(kind)  # pragma: no cover - metadata is defined in this module
-
-
-class _Section:
-    """Mixin: validates every field at construction (frozen dataclasses)."""
-
-    _section: str = ""
-
-    def __post_init__(self) -> None:
-        for f in dataclasses.fields(self):
-            checked = _validate_field(self._section, f, getattr(self, f.name))
-            object.__setattr__(self, f.name, checked)
-        self._check_consistency()
-
-    def _check_consistency(self) -> None:
-        """Cross-field checks; overridden where needed."""
-
 
 @dataclass(frozen=True)
-class Tanker(_Section):
+class Tanker(Section):
     """The tanker aircraft (paper Table 1)."""
 
     _section = "tanker"
     #: Tanker mass [kg]; its weight sets the wake vortices' circulation W / (rho V b0).
-    mass_kg: float = field(default=60000.0, metadata=_num(0.0, unit="kg"))
+    mass_kg: float = field(default=60000.0, metadata=real(0.0, unit="kg"))
     #: Wing span b [m]; the wake geometry is given in fractions of it.
-    span_m: float = field(default=34.0, metadata=_num(0.0, unit="m"))
+    span_m: float = field(default=34.0, metadata=real(0.0, unit="m"))
 
 
 @dataclass(frozen=True)
-class Hose(_Section):
+class Hose(Section):
     """The hose, modelled as ``links`` rigid links of equal length (paper Table 1; docs/model.md §2-3)."""
 
     _section = "hose"
     #: Trailed hose length from the tow point to the drogue [m].
-    length_m: float = field(default=16.0, metadata=_num(0.0, unit="m"))
+    length_m: float = field(default=16.0, metadata=real(0.0, unit="m"))
     #: Number of rigid links n the hose is divided into [-] (link length ``length_m / links``).
-    links: int = field(default=20, metadata=_int(1, 1000))
+    links: int = field(default=20, metadata=integer(1, 1000))
     #: Inner diameter of the hose wall [m]; with ``outer_diameter_m`` it sets the area moment
     #: pi (d_o^4 - d_i^4) / 64 of the bending stiffness. Must be smaller than the outer diameter.
-    inner_diameter_m: float = field(default=0.051, metadata=_num(0.0, lo_open=False, unit="m"))
+    inner_diameter_m: float = field(default=0.051, metadata=real(0.0, lo_open=False, unit="m"))
     #: Outer diameter d_o of the hose [m]: the drag reference and the bending stiffness.
-    outer_diameter_m: float = field(default=0.067, metadata=_num(0.0, unit="m"))
+    outer_diameter_m: float = field(default=0.067, metadata=real(0.0, unit="m"))
     #: Mass per unit length of the hose [kg/m].
-    mass_per_length_kg_m: float = field(default=4.4, metadata=_num(0.0, unit="kg/m"))
+    mass_per_length_kg_m: float = field(default=4.4, metadata=real(0.0, unit="kg/m"))
     #: Young's modulus E of the hose wall [Pa]; bending stiffness E I [N m^2].
-    elastic_modulus_pa: float = field(default=13.79e6, metadata=_num(0.0, lo_open=False, unit="Pa"))
+    elastic_modulus_pa: float = field(default=13.79e6, metadata=real(0.0, lo_open=False, unit="Pa"))
     #: Link rotational inertia J_y = J_z [kg m^2] used when ``link_inertia == "paper"``.
-    link_inertia_kg_m2: float = field(default=2.816, metadata=_num(0.0, lo_open=False, unit="kg m^2"))
+    link_inertia_kg_m2: float = field(default=2.816, metadata=real(0.0, lo_open=False, unit="kg m^2"))
     #: "paper": Table 1's 2.816 kg m^2 per link; "rod": m l^2 / 12 of each link (docs/model.md §2).
-    link_inertia: str = field(default="paper", metadata=_choice("paper", "rod"))
+    link_inertia: str = field(default="paper", metadata=choice("paper", "rod"))
     #: "paper": Eq. 20 equivalent joint force; "moment": conservative restoring moment; "off".
-    bending: str = field(default="paper", metadata=_choice("paper", "moment", "off"))
+    bending: str = field(default="paper", metadata=choice("paper", "moment", "off"))
     #: Where each link's mass sits (docs/model.md §2): "aft": all at its aft joint (the paper's
     #: lumping, first order in 1/links); "split": half at each end joint (the half at the tow
     #: point is carried by the tanker), second order in 1/links (docs/convergence.md).
-    mass_lumping: str = field(default="aft", metadata=_choice("aft", "split"))
+    mass_lumping: str = field(default="aft", metadata=choice("aft", "split"))
     #: Drag coefficient c_n of the flow normal to a link [-], on the wetted area pi d_o l
     #: (force per link 0.5 rho pi d_o c_n l |v_n| v_n).
-    normal_drag_coefficient: float = field(default=0.28, metadata=_num(0.0, lo_open=False))
+    normal_drag_coefficient: float = field(default=0.28, metadata=real(0.0, lo_open=False))
     #: Skin-friction coefficient c_t of the flow along a link [-], on the wetted area pi d_o l.
-    tangential_drag_coefficient: float = field(default=0.001, metadata=_num(0.0, lo_open=False))
+    tangential_drag_coefficient: float = field(default=0.001, metadata=real(0.0, lo_open=False))
     #: Link drag along the link: "midpoint" (the paper: one evaluation at the link's midpoint,
     #: blind to a link turning about its midpoint) or "gauss2" (two-point Gauss quadrature of the
     #: distributed drag; docs/model.md, docs/long-runs.md).
-    drag_quadrature: str = field(default="midpoint", metadata=_choice("midpoint", "gauss2"))
+    drag_quadrature: str = field(default="midpoint", metadata=choice("midpoint", "gauss2"))
     #: Structural (Kelvin-Voigt) bending damping of the hose wall [N m^2 s]: bending moment
     #: c_b dkappa/dt, lumped at each inner joint as c_b / lbar (omega_k+1 - omega_k) on link k and
     #: the opposite on link k+1 (0 in the paper's case; the ``converged`` preset's value,
     #: eta E I / omega_ref, is derived in docs/long-runs.md).
-    bending_damping_n_m2_s: float = field(default=0.0, metadata=_num(0.0, 1e6, lo_open=False, unit="N m^2 s"))
+    bending_damping_n_m2_s: float = field(default=0.0, metadata=real(0.0, 1e6, lo_open=False, unit="N m^2 s"))
 
     def _check_consistency(self) -> None:
         if self.inner_diameter_m >= self.outer_diameter_m:
@@ -181,87 +92,87 @@ class Hose(_Section):
 
 
 @dataclass(frozen=True)
-class Drogue(_Section):
+class Drogue(Section):
     """The drogue (paper Table 1)."""
 
     _section = "drogue"
     #: Drogue mass [kg], lumped at the last joint.
-    mass_kg: float = field(default=29.0, metadata=_num(0.0, unit="kg"))
+    mass_kg: float = field(default=29.0, metadata=real(0.0, unit="kg"))
     #: Drogue diameter D [m]; drag area pi D^2 / 4 c_dro.
-    diameter_m: float = field(default=0.61, metadata=_num(0.0, unit="m"))
+    diameter_m: float = field(default=0.61, metadata=real(0.0, unit="m"))
     #: Rotational inertia of the drogue about its pitch and yaw axes [kg m^2], added to the
     #: last link's.
-    inertia_kg_m2: float = field(default=1.349, metadata=_num(0.0, lo_open=False, unit="kg m^2"))
+    inertia_kg_m2: float = field(default=1.349, metadata=real(0.0, lo_open=False, unit="kg m^2"))
     #: Drag coefficient c_dro of the drogue [-], on its frontal area pi D^2 / 4.
-    drag_coefficient: float = field(default=0.712, metadata=_num(0.0, lo_open=False))
+    drag_coefficient: float = field(default=0.712, metadata=real(0.0, lo_open=False))
 
 
 @dataclass(frozen=True)
-class Flight(_Section):
+class Flight(Section):
     """Straight and level flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m)."""
 
     _section = "flight"
     #: Flight altitude [m]; sets the ICAO standard-atmosphere air density.
     altitude_m: float = field(
-        default=8000.0, metadata=_num(0.0, H_MAX_ATMOSPHERE, lo_open=False, unit="m")
+        default=8000.0, metadata=real(0.0, H_MAX_ATMOSPHERE, lo_open=False, unit="m")
     )
     #: True airspeed of the tanker [m/s] (the free stream the hose sees).
-    airspeed_m_s: float = field(default=150.0, metadata=_num(0.0, 400.0, unit="m/s"))
+    airspeed_m_s: float = field(default=150.0, metadata=real(0.0, 400.0, unit="m/s"))
     #: Multiplies the ICAO density [-]; 0 switches all air forces off (used by energy checks).
-    density_scale: float = field(default=1.0, metadata=_num(0.0, 10.0, lo_open=False))
+    density_scale: float = field(default=1.0, metadata=real(0.0, 10.0, lo_open=False))
 
 
 @dataclass(frozen=True)
-class Wake(_Section):
+class Wake(Section):
     """Hallock-Burnham tanker wake (docs/model.md §4). Geometry as fractions of the tanker span."""
 
     _section = "wake"
     #: Include the tanker's wake vortices in the air velocity at the hose.
-    enabled: bool = field(default=True, metadata=_bool())
+    enabled: bool = field(default=True, metadata=flag())
     #: Lateral position of the tow point right of the centreline, over span [-] (right wing
     #: mid-span).
-    tow_point_y_over_span: float = field(default=0.25, metadata=_num(-0.5, 0.5, lo_open=False))
+    tow_point_y_over_span: float = field(default=0.25, metadata=real(-0.5, 0.5, lo_open=False))
     #: Distance between the two vortices over span [-] (elliptic loading: pi/4).
-    vortex_spacing_over_span: float = field(default=math.pi / 4, metadata=_num(0.0, 1.0))
+    vortex_spacing_over_span: float = field(default=math.pi / 4, metadata=real(0.0, 1.0))
     #: Vortex core radius over span [-].
-    core_radius_over_span: float = field(default=0.035, metadata=_num(0.0, 1.0))
+    core_radius_over_span: float = field(default=0.035, metadata=real(0.0, 1.0))
     #: Height of the vortices below the tow point [m] (z down).
-    vertical_offset_m: float = field(default=0.0, metadata=_num(-100.0, 100.0, lo_open=False, unit="m"))
+    vertical_offset_m: float = field(default=0.0, metadata=real(-100.0, 100.0, lo_open=False, unit="m"))
 
 
 @dataclass(frozen=True)
-class Turbulence(_Section):
+class Turbulence(Section):
     """Dryden turbulence (docs/model.md §4). The paper's case: isotropic 1.5 m/s, 530 m, on at 10 s for 20 s."""
 
     _section = "turbulence"
     #: Include the Dryden gusts during ``[start_s, start_s + duration_s)``.
-    enabled: bool = field(default=False, metadata=_bool())
+    enabled: bool = field(default=False, metadata=flag())
     #: Dryden spectrum family: "mil-f-8785c" or "mil-hdbk-1797" (see
     #: :mod:`hosedrogue.environment.turbulence`).
-    model: str = field(default="mil-f-8785c", metadata=_choice("mil-f-8785c", "mil-hdbk-1797"))
+    model: str = field(default="mil-f-8785c", metadata=choice("mil-f-8785c", "mil-hdbk-1797"))
     #: Intensity per axis [u, v, w] (m/s); one number means isotropic.
-    sigma_m_s: tuple = field(default=(1.5, 1.5, 1.5), metadata=_vec3(0.0, 50.0, unit="m/s"))
+    sigma_m_s: tuple = field(default=(1.5, 1.5, 1.5), metadata=vec3(0.0, 50.0, unit="m/s"))
     #: Scale length per axis [u, v, w] (m).
-    scale_length_m: tuple = field(default=(530.0, 530.0, 530.0), metadata=_vec3(1.0, 1e5, unit="m"))
+    scale_length_m: tuple = field(default=(530.0, 530.0, 530.0), metadata=vec3(1.0, 1e5, unit="m"))
     #: Time the gusts switch on [s].
-    start_s: float = field(default=10.0, metadata=_num(0.0, lo_open=False, unit="s"))
+    start_s: float = field(default=10.0, metadata=real(0.0, lo_open=False, unit="s"))
     #: Length of the gust window [s]; the gusts are off again after it.
-    duration_s: float = field(default=20.0, metadata=_num(0.0, lo_open=False, unit="s"))
+    duration_s: float = field(default=20.0, metadata=real(0.0, lo_open=False, unit="s"))
     #: "uniform": the whole hose sees the tow point's gust; "frozen": delayed by distance / airspeed.
-    distribution: str = field(default="uniform", metadata=_choice("uniform", "frozen"))
+    distribution: str = field(default="uniform", metadata=choice("uniform", "frozen"))
     #: Sample interval of the gust record [s]; independent of the integration step.
-    sample_time_s: float = field(default=0.005, metadata=_num(0.0, 1.0, unit="s"))
+    sample_time_s: float = field(default=0.005, metadata=real(0.0, 1.0, unit="s"))
     #: Reading the record between samples: "linear" (the paper's reproduction; kinks at every
     #: sample) or "cubic" (Catmull-Rom, continuous slope; with ``smoothing_s`` it lets RK4 take
     #: steps longer than the sample interval, docs/convergence.md).
-    interpolation: str = field(default="linear", metadata=_choice("linear", "cubic"))
+    interpolation: str = field(default="linear", metadata=choice("linear", "cubic"))
     #: Width [s] of a symmetric (triangular) averaging of the gust record, window edges included;
     #: 0 = none (the paper's reproduction). Physically the hose and drogue average gusts over
     #: their size (0.02 s is 3 m of air at 150 m/s); numerically it makes the forcing smooth at
     #: the integration step, so RK4 keeps its order at steps beyond the sample interval.
-    smoothing_s: float = field(default=0.0, metadata=_num(0.0, 10.0, lo_open=False, unit="s"))
+    smoothing_s: float = field(default=0.0, metadata=real(0.0, 10.0, lo_open=False, unit="s"))
     #: Seed of the random generator of the gust record [-] (the same seed, the same gusts).
-    seed: int = field(default=2018, metadata=_int(0, 2**63 - 1))
+    seed: int = field(default=2018, metadata=integer(0, 2**63 - 1))
 
     #: Largest gust record [samples]: 1e7 x 3 axes x 8 bytes = 240 MB.
     MAX_SAMPLES = 10_000_000
@@ -275,24 +186,57 @@ class Turbulence(_Section):
 
 
 @dataclass(frozen=True)
-class Numerics(_Section):
+class Numerics(Section):
     """Time integration settings. The default step is justified in docs/convergence.md."""
 
     _section = "numerics"
     #: "rk4": fixed-step classical Runge-Kutta (the paper's); "adaptive": DOP853 with
     #: ``rtol`` and ``atol`` (cross-checks).
-    integrator: str = field(default="rk4", metadata=_choice("rk4", "adaptive"))
+    integrator: str = field(default="rk4", metadata=choice("rk4", "adaptive"))
     #: RK4 step [s]; the adaptive integrator outputs every ``step_s * output_every``.
-    step_s: float = field(default=0.005, metadata=_num(0.0, 1.0, unit="s"))
+    step_s: float = field(default=0.005, metadata=real(0.0, 1.0, unit="s"))
     #: Keep every ``output_every``-th step in the result [-].
-    output_every: int = field(default=2, metadata=_int(1, 10**6))
+    output_every: int = field(default=2, metadata=integer(1, 10**6))
     #: Relative tolerance of the adaptive integrator [-].
-    rtol: float = field(default=1e-9, metadata=_num(0.0, 1.0))
+    rtol: float = field(default=1e-9, metadata=real(0.0, 1.0))
     #: Absolute tolerance of the adaptive integrator, alike on every state component (link angles
     #: [rad], their rates [rad/s], controller and actuator states).
-    atol: float = field(default=1e-11, metadata=_num(0.0, 1.0))
+    atol: float = field(default=1e-11, metadata=real(0.0, 1.0))
     #: A link yaw beyond this [deg] stops the run: the angle coordinates are singular at 90 deg.
-    max_yaw_deg: float = field(default=85.0, metadata=_num(0.0, 89.9, unit="deg"))
+    max_yaw_deg: float = field(default=85.0, metadata=real(0.0, 89.9, unit="deg"))
+
+    #: Most RK4 steps one run may take (1e10 steps of a 20-link chain are ~a day of computing).
+    MAX_STEPS = 10**10
+
+    def steps(self, duration_s: float, name: str = "duration_s") -> tuple[float, int]:
+        """The RK4 step [s] and the number of steps covering ``duration_s`` [s].
+
+        Parameters
+        ----------
+        duration_s : float
+            Simulated time [s].
+        name : str
+            How the error messages name the duration (``scenario.duration_s`` in a scenario).
+
+        Returns
+        -------
+        (float, int)
+            Step [s] and step count ``round(duration_s / step_s)``, at least 1.
+
+        Raises
+        ------
+        ParameterError
+            When ``duration_s`` rounds to no step at all, or to more than :data:`MAX_STEPS`.
+        """
+        h = self.step_s
+        ratio = duration_s / h
+        if not ratio <= self.MAX_STEPS:
+            raise ParameterError(f"numerics.step_s = {h!r}: {name} = {duration_s!r} s would take more than "
+                                 f"{self.MAX_STEPS:.0e} RK4 steps")
+        nsteps = int(round(ratio))
+        if nsteps < 1:
+            raise ParameterError(f"{name} = {duration_s!r}: shorter than one RK4 step (numerics.step_s = {h} s)")
+        return h, nsteps
 
 
 SECTIONS = {
@@ -409,68 +353,5 @@ def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
     return Params(**sections)
 
 
-@dataclass(frozen=True)
-class Actuator:
-    """Limits on the control force applied to the drogue.
-
-    With a finite rate the applied force follows the command through a first-order lag of
-    ``time_constant_s`` whose slope is clipped to the rate limit.
-
-    Parameters
-    ----------
-    max_force_n : float
-        Largest force magnitude per axis [N] (inf: no limit).
-    max_rate_n_s : float
-        Largest rate of change of the applied force [N/s] (inf: no limit, no lag).
-    time_constant_s : float
-        Time constant of the lag of a rate-limited actuator [s].
-    """
-
-    max_force_n: float = math.inf
-    max_rate_n_s: float = math.inf
-    time_constant_s: float = 0.01
-
-    def __post_init__(self):
-        for name in ("max_force_n", "max_rate_n_s", "time_constant_s"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0 or math.isnan(v):
-                raise ParameterError(f"actuator.{name} = {v!r}: must be a number > 0 (inf for no limit)")
-        if not math.isfinite(self.time_constant_s):
-            raise ParameterError(f"actuator.time_constant_s = {self.time_constant_s!r}: must be finite")
-
-    @property
-    def rate_limited(self) -> bool:
-        """True when the rate limit is finite (the applied force is then part of the state)."""
-        return math.isfinite(self.max_rate_n_s)
-
-    def as_array(self):
-        """``[max_hor_n, max_ver_n, max_rate_n_s, time_constant_s]`` [N, N, N/s, s] for the kernels."""
-        import numpy as np
-
-        return np.array([self.max_force_n, self.max_force_n, self.max_rate_n_s, self.time_constant_s])
-
-
-@dataclass(frozen=True)
-class Sensor:
-    """White position noise on the measured drogue offset.
-
-    Parameters
-    ----------
-    noise_std_m : float
-        Standard deviation of the noise per sample [m], >= 0.
-    sample_time_s : float
-        Time each noise sample is held [s], > 0.
-    """
-
-    noise_std_m: float = 0.0
-    sample_time_s: float = 0.01
-
-    def __post_init__(self):
-        for name in ("noise_std_m", "sample_time_s"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise ParameterError(f"sensor.{name} = {v!r}: must be a finite number")
-        if not (self.noise_std_m >= 0 and math.isfinite(self.noise_std_m)):
-            raise ParameterError(f"sensor.noise_std_m = {self.noise_std_m!r}: must be a finite number >= 0 m")
-        if not (self.sample_time_s > 0 and math.isfinite(self.sample_time_s)):
-            raise ParameterError(f"sensor.sample_time_s = {self.sample_time_s!r}: must be a finite number > 0 s")
+# the run sections of the control loop live with the other run sections; re-exported here
+from .sections import Actuator, Sensor  # noqa: E402,F401

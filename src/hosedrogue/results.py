@@ -1,4 +1,9 @@
-"""Result objects: named signals with units, ``to_dataframe()``, ``to_csv()``.
+"""Result objects of a run: named signals with units, ``to_dataframe()``, ``to_csv()``, ``plot()``.
+
+One interface for both hose models (:class:`RunResult`): the fixed-length hose
+(:class:`SimulationResult`) and the hose of varying length in an engagement
+(:class:`EngagementResult`) give the same quantities under the same names, so writers, campaigns
+and user code take either without a branch.
 
 Frames: S_p, the tanker trajectory frame (x forward, y right, z down), origin at the tow point.
 """
@@ -14,44 +19,174 @@ import numpy as np
 from .version import __version__
 
 
-@dataclass(frozen=True)
-class SimulationResult:
-    """A time simulation of the hose-drogue system.
+@dataclass(frozen=True, kw_only=True)
+class RunResult:
+    """What every run gives: the drogue's motion, the loads at the tow point, the control force.
 
-    ``completed`` is False when the run stopped early (divergence, step limit); everything up to
-    ``t_s[-1]`` is still valid and ``message`` says when and why it stopped.
+    ``completed`` is False when the run stopped early (divergence, a failed state); everything
+    up to ``t_s[-1]`` is still valid and ``message`` says when and why it stopped. Every array has
+    one row per output time (N rows); vectors are in the tanker frame S_p.
     """
 
-    t_s: np.ndarray  #: (N,) time [s]
-    states: np.ndarray  #: (N, 4n) x = [q, qd] [rad, rad/s]
-    joints_m: np.ndarray  #: (N, n+1, 3) joint positions [m]
-    drogue_velocity_m_s: np.ndarray  #: (N, 3) [m/s]
-    drogue_drag_n: np.ndarray  #: (N, 3) aerodynamic force on the drogue [N]
-    tow_force_n: np.ndarray  #: (N, 3) force the hose exerts on the tow point [N]
-    control_n: np.ndarray  #: (N, 2) control force [u_hor, u_ver] [N]
+    t_s: np.ndarray  #: (N,) output times [s]
+    drogue_position_m: np.ndarray  #: (N, 3) drogue (last joint) position [m]
+    drogue_velocity_m_s: np.ndarray  #: (N, 3) drogue velocity [m/s]
+    tow_force_n: np.ndarray  #: (N, 3) force the hose exerts on the tow point (the hose exit) [N]
+    control_force_n: np.ndarray  #: (N, 2) control force at the drogue, lateral y and vertical z [N]
+    joints_m: Any  #: per output time, (n+1, 3) joint positions [m] (row 0 the tow point)
     completed: bool  #: True if the run reached its end time
     message: str  #: "completed", or when and why the run stopped
-    equilibrium_m: np.ndarray | None = None  #: (3,) drogue position at the balance position [m]
-    meta: dict[str, Any] = field(default_factory=dict)  #: what was run (seed, parameters, scenario)
-
-    @property
-    def drogue_position_m(self) -> np.ndarray:
-        """(N, 3) drogue position [m] in S_p."""
-        return self.joints_m[:, -1, :]
+    equilibrium_m: np.ndarray | None = None  #: (3,) drogue balance position at the start [m]
+    meta: dict[str, Any] = field(default_factory=dict)  #: what was run (scenario, seed, parameters)
 
     @property
     def drogue_offset_m(self) -> np.ndarray:
-        """(N, 3) drogue position relative to the balance position [m] (zeros if unknown)."""
+        """(N, 3) drogue position relative to the balance position at the start [m]."""
         ref = self.equilibrium_m if self.equilibrium_m is not None else self.drogue_position_m[0]
         return self.drogue_position_m - ref
 
     def to_dataframe(self):
-        """A pandas DataFrame, one row per saved time, SI units in the column names."""
+        """The time series as a table, one row per output time, SI units in the column names.
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
         import pandas as pd
 
+        return pd.DataFrame(self.columns())
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The time series' columns, name -> (N,) array, in file order (SI units in the names)."""
+        raise NotImplementedError
+
+    #: File name of the run's figure (:meth:`plot`) in its output folder.
+    FIGURE = "displacement.png"
+
+    def run_document(self) -> dict[str, Any]:
+        """The content of the run's ``run.json``: :func:`run_header`, then what was run (``meta``).
+
+        Returns
+        -------
+        dict
+        """
+        return {**run_header(self), **self.meta}
+
+    def plot(self, **kwargs):
+        """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
+        raise NotImplementedError
+
+    def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
+        """Arrays a MATLAB file carries besides the time series: name -> (array (N, k), column names)."""
+        return {}
+
+    def mat_dict(self) -> dict[str, Any]:
+        """The content of the run's ``.mat`` file (MATLAB version 5).
+
+        Returns
+        -------
+        dict
+            ``t_s`` (N x 1) [s]; ``signals``, a struct of the time series' columns (each N x 1, SI
+            units); ``signal_names`` and ``signal_units`` (cell arrays, same order); ``data`` (N x m,
+            those columns side by side); the run's :meth:`matrices` with their ``<name>_names``
+            (the fixed-length hose: ``states`` (N x 4n) [rad, rad/s]); ``completed``, ``message``,
+            ``equilibrium_drogue_position_m`` (1 x 3) [m] and ``meta_json`` (the run's settings as
+            JSON text).
+        """
+        import json
+
+        from .units import unit_of
+
+        cols = self.columns()
+        names = list(cols)
+        data = np.column_stack([np.asarray(cols[c], dtype=np.float64) for c in names])
+        eq = self.equilibrium_m if self.equilibrium_m is not None else np.full(3, np.nan)
+        out = {
+            "t_s": np.asarray(self.t_s, dtype=np.float64).reshape(-1, 1),
+            "signals": {c: data[:, i].reshape(-1, 1) for i, c in enumerate(names)},
+            "signal_names": cellstr(names),
+            "signal_units": cellstr([unit_of(c) for c in names]),
+            "data": data,
+        }
+        for name, (array, columns) in self.matrices().items():
+            out[name] = np.asarray(array, dtype=np.float64)
+            out[f"{name[:-1] if name.endswith('s') else name}_names"] = cellstr(columns)
+        out.update({
+            "completed": bool(self.completed),
+            "message": str(self.message),
+            "equilibrium_drogue_position_m": np.asarray(eq, dtype=np.float64).reshape(1, 3),
+            "meta_json": json.dumps(self.meta, default=str),
+        })
+        return out
+
+    def to_mat(self, path: str | Path) -> Path:
+        """Write the run to a MATLAB file (see :meth:`mat_dict` for the variables).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            File to write (``.mat``).
+
+        Returns
+        -------
+        pathlib.Path
+            ``path``.
+        """
+        return save_mat(self.mat_dict(), path)
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write the time series to CSV (see :meth:`columns`), 10 significant digits.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to write.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path``.
+        """
+        path = Path(path)
+        cols = self.columns()
+        names = list(cols)
+        data = np.column_stack([np.asarray(cols[c], dtype=np.float64) for c in names]) if names else np.empty((0, 0))
+        if not np.isfinite(data).all():  # pandas writes non-finite values its own way
+            self.to_dataframe().to_csv(path, index=False, float_format="%.10g")
+            return path
+        # the same text as pandas' to_csv(float_format="%.10g"), about 5x faster: one format
+        # operation per block of rows instead of pandas' per-column formatter
+        row = ",".join(["%.10g"] * data.shape[1]) + "\n"
+        block = 4096  # rows per format operation (bounds the temporary tuple)
+        with path.open("w", newline="") as fh:
+            fh.write(",".join(names) + "\n")
+            for i in range(0, data.shape[0], block):
+                rows = data[i:i + block]
+                fh.write((row * rows.shape[0]) % tuple(rows.ravel().tolist()))
+        return path
+
+
+@dataclass(frozen=True, kw_only=True)
+class SimulationResult(RunResult):
+    """A run of the fixed-length hose (:func:`hosedrogue.simulate`)."""
+
+    states: np.ndarray  #: (N, 4n) x = [q, qd] [rad, rad/s]
+    drogue_drag_n: np.ndarray  #: (N, 3) aerodynamic force on the drogue [N]
+
+    def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
+        """The state (N, 4n) [rad, rad/s] with :func:`state_names`, for the MATLAB file."""
+        return {"states": (self.states, state_names(self.states.shape[1] // 4))}
+
+    @property
+    def control_n(self) -> np.ndarray:
+        """Former name of :attr:`control_force_n` (N, 2) [N]."""
+        return self.control_force_n
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The time series' columns, name -> (N,) array, in file order (SI units in the names)."""
         pos = self.drogue_position_m
         off = self.drogue_offset_m
-        cols = {
+        return {
             "t_s": self.t_s,
             "drogue_x_m": pos[:, 0],
             "drogue_y_m": pos[:, 1],
@@ -67,35 +202,136 @@ class SimulationResult:
             "tow_force_x_n": self.tow_force_n[:, 0],
             "tow_force_y_n": self.tow_force_n[:, 1],
             "tow_force_z_n": self.tow_force_n[:, 2],
-            "u_hor_n": self.control_n[:, 0],
-            "u_ver_n": self.control_n[:, 1],
+            "u_hor_n": self.control_force_n[:, 0],
+            "u_ver_n": self.control_force_n[:, 1],
         }
-        return pd.DataFrame(cols)
-
-    def to_csv(self, path: str | Path) -> Path:
-        """Write the time series to CSV (see :meth:`to_dataframe` for the columns)."""
-        path = Path(path)
-        df = self.to_dataframe()
-        data = df.to_numpy(dtype=np.float64)
-        if not np.isfinite(data).all():  # pandas writes non-finite values its own way
-            df.to_csv(path, index=False, float_format="%.10g")
-            return path
-        # the same text as pandas' to_csv(float_format="%.10g"), about 5x faster: one format
-        # operation per block of rows instead of pandas' per-column formatter
-        row = ",".join(["%.10g"] * data.shape[1]) + "\n"
-        block = 4096  # rows per format operation (bounds the temporary tuple)
-        with path.open("w", newline="") as fh:
-            fh.write(",".join(df.columns) + "\n")
-            for i in range(0, data.shape[0], block):
-                rows = data[i:i + block]
-                fh.write((row * rows.shape[0]) % tuple(rows.ravel().tolist()))
-        return path
 
     def plot(self, **kwargs):
         """Lateral and vertical drogue displacement against time (see hosedrogue.plotting)."""
         from .plotting.figures import plot_displacement
 
         return plot_displacement(self, **kwargs)
+
+
+#: Keys of run.json's "engagement" object (docs/engagement.md, "What a run reports").
+SUMMARY_KEYS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",
+                "peak_slack_m", "peak_drogue_excursion_m", "peak_control_force_n")
+
+#: The hose counts as gone slack when its exit tension falls below this fraction of the steady
+#: trail tension (the exit tension at the start, at the balance position).
+SLACK_TENSION_FRACTION = 0.1
+
+#: ``notes`` entry of a run in which the hose went slack (:meth:`EngagementResult.went_slack`).
+SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail tension): peak_exit_tension_n "
+              "and min_exit_tension_n are snap spikes of an inextensible link chain and are not converged "
+              "with the link count (docs/engagement.md). The peak probe load and the peak slack of the shipped "
+              "scenarios change by less than 5 % when their links are doubled")
+
+
+@dataclass(frozen=True, kw_only=True)
+class EngagementResult(RunResult):
+    """Time histories (S_p, SI units) and the outcome of one engagement run.
+
+    Every array has one row per output time (N rows); vectors are in the tanker frame S_p.
+    """
+
+    hose_length_m: np.ndarray  #: (N,) free hose length L [m]
+    reel_speed_m_s: np.ndarray  #: (N,) take-up speed r_d w [m/s], positive reeling in
+    exit_tension_n: np.ndarray  #: (N,) T_0: hose tension at the exit along the hose [N]
+    drogue_tension_n: np.ndarray  #: (N,) tension in the last link (at the drogue) [N]
+    probe_force_n: np.ndarray  #: (N, 3) force of the probe on the drogue [N]
+    probe_position_m: np.ndarray  #: (N, 3) probe tip position [m]
+    coupled: np.ndarray  #: (N,) bool: probe and drogue coupled
+    slack_m: np.ndarray  #: (N,) hose length minus the straight exit-to-drogue distance [m]
+    motor_torque_n_m: np.ndarray  #: (N,) reel motor torque tau_m [N m]
+    miss_distance_series_m: np.ndarray  #: (N,) radial probe-to-coupler distance in the coupler plane [m]
+    plane_distance_m: np.ndarray  #: (N,) probe tip aft of the coupler plane [m] (positive before contact)
+    closure_speed_series_m_s: np.ndarray  #: (N,) probe speed toward the coupler plane relative to the drogue [m/s]
+    links: np.ndarray  #: (N,) number of links
+    hose_mass_kg: np.ndarray  #: (N,) hose mass in the air from the lumped masses [kg]
+    joint_velocities_m_s: list  #: per output time, (n+1, 3) joint velocities [m/s]
+    energy: dict  #: "kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe" (N,) [J]
+    events: list  #: remesh, chart and contact events (dicts, times [s], jumps [m], [m/s], [J])
+    outcome: dict  #: result, contact figures and peaks (keys carry their units, e.g. ``peak_slack_m``)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The time series' columns, name -> (N,) array, in file order (SI units in the names)."""
+        pos, off, vel, tow = self.drogue_position_m, self.drogue_offset_m, self.drogue_velocity_m_s, self.tow_force_n
+        cols = {
+            "t_s": self.t_s,
+            "drogue_x_m": pos[:, 0], "drogue_y_m": pos[:, 1], "drogue_z_m": pos[:, 2],
+            "drogue_dx_m": off[:, 0], "drogue_dy_m": off[:, 1], "drogue_dz_m": off[:, 2],
+            "drogue_vx_m_s": vel[:, 0], "drogue_vy_m_s": vel[:, 1], "drogue_vz_m_s": vel[:, 2],
+            "tow_force_x_n": tow[:, 0], "tow_force_y_n": tow[:, 1], "tow_force_z_n": tow[:, 2],
+            "hose_length_m": self.hose_length_m,
+            "reel_speed_m_s": self.reel_speed_m_s,
+            "exit_tension_n": self.exit_tension_n,
+            "drogue_tension_n": self.drogue_tension_n,
+            "probe_load_n": np.linalg.norm(self.probe_force_n, axis=1),
+            "probe_x_m": self.probe_position_m[:, 0], "probe_y_m": self.probe_position_m[:, 1],
+            "probe_z_m": self.probe_position_m[:, 2],
+            "miss_distance_m": self.miss_distance_series_m,
+            "probe_plane_distance_m": self.plane_distance_m,
+            "closure_speed_m_s": self.closure_speed_series_m_s,
+            "slack_m": self.slack_m,
+            "motor_torque_n_m": self.motor_torque_n_m,
+            "u_y_n": self.control_force_n[:, 0], "u_z_n": self.control_force_n[:, 1],
+            "links": self.links,
+            "coupled": self.coupled.astype(int),
+        }
+        return cols
+
+    FIGURE = "engagement.png"
+
+    def run_document(self) -> dict[str, Any]:
+        """The content of the run's ``run.json``: :func:`run_header`, the ``"engagement"`` summary
+        (:meth:`summary`), the remesh, chart and contact ``"events"``, then what was run.
+
+        Returns
+        -------
+        dict
+        """
+        meta = dict(self.meta)
+        events = meta.pop("events", [])
+        return {**run_header(self), "engagement": self.summary(), "events": events, **meta}
+
+    def went_slack(self) -> bool:
+        """Whether the hose went (nearly) slack: the exit tension fell below
+        :data:`SLACK_TENSION_FRACTION` of the steady trail tension. Then the hose whips, and the
+        exit-tension spikes when it snaps taut again are not converged with the link count
+        (docs/engagement.md; the shipped scenarios' minimum exit tension: locked reel -1.9 kN,
+        responsive reel 38 N, of a 1.53 kN trail tension; the constant-tension reel keeps 551 N and
+        all its peaks converge).
+
+        Returns
+        -------
+        bool
+        """
+        T = np.asarray(self.exit_tension_n)
+        return bool(T.size and np.min(T) < SLACK_TENSION_FRACTION * T[0])
+
+    def summary(self) -> dict[str, Any]:
+        """The run's ``"engagement"`` object: :data:`SUMMARY_KEYS` first, then the supporting
+        figures, ``peak_tension_converged`` and ``notes`` (what not to read as converged).
+
+        Returns
+        -------
+        dict
+            Outcome keys with their units in the names (``miss_distance_m``, ``peak_probe_load_n``, ...).
+        """
+        o = self.outcome
+        out = {k: o.get(k) for k in SUMMARY_KEYS}
+        out.update({k: v for k, v in o.items() if k not in out})
+        slack = self.went_slack()
+        out["peak_tension_converged"] = not slack
+        out["notes"] = [SLACK_NOTE] if slack else []
+        return out
+
+    def plot(self, **kwargs):
+        """The engagement's time histories (drogue, tensions, probe load, slack, reel; see hosedrogue.plotting)."""
+        from .plotting.engagement import plot_engagement_history
+
+        return plot_engagement_history({self.meta.get("scenario", "run"): self}, **kwargs)
 
 
 def run_header(result) -> dict:
@@ -119,3 +355,62 @@ def run_header(result) -> dict:
         "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
         "equilibrium_drogue_position_m": np.asarray(result.equilibrium_m).tolist(),
     }
+
+
+def save_mat(data: dict, path: str | Path) -> Path:
+    """Write ``data`` as a compressed version-5 .mat file, 1-D arrays as columns (MATLAB's time series).
+
+    Parameters
+    ----------
+    data : dict
+        Variable name -> array, string, bool or struct (dict).
+    path : str or pathlib.Path
+        File to write.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    from scipy.io import savemat
+
+    path = Path(path)
+    savemat(path, data, do_compression=True, oned_as="column")
+    return path
+
+
+def cellstr(items) -> np.ndarray:
+    """A MATLAB cell array of strings (a 1 x n object array).
+
+    Parameters
+    ----------
+    items : iterable of str
+        The strings.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
+    items = list(items)
+    cell = np.empty((1, len(items)), dtype=object)
+    for i, s in enumerate(items):
+        cell[0, i] = str(s)
+    return cell
+
+
+def state_names(links: int) -> list[str]:
+    """Names of the state ``x = [q, qd]``: ``theta_1_1_rad`` (pitch), ``theta_1_2_rad`` (yaw), ...,
+    then the rates ``theta_1_1_rad_s``, ...
+
+    Parameters
+    ----------
+    links : int
+        Number of links n.
+
+    Returns
+    -------
+    list of str
+        4 n names in state order.
+    """
+    q = [f"theta_{k}_{j}_rad" for k in range(1, links + 1) for j in (1, 2)]
+    return q + [f"{name}_s" for name in q]

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import json
 
 import numpy as np
@@ -48,9 +47,10 @@ def add_parser(sub) -> None:
 
 def _forebody(scenario, args):
     """The scenario's [bow_wave] section with the command line's overrides, enabled."""
-    from ..engagement.spec import BowWaveSection, section_from_dict
+    from ..sections import BowWave
 
-    base = scenario.extra.get("bow_wave") or BowWaveSection()
+    e = scenario.engagement
+    base = (e.bow_wave if e is not None else None) or BowWave()
     changes = {"enabled": True}
     if args.radius is not None:
         changes["forebody_radius_m"] = args.radius
@@ -58,9 +58,7 @@ def _forebody(scenario, args):
         changes["probe_offset_m"] = list(args.offset)
     if args.shape is not None:
         changes["shape"] = args.shape
-    fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(base)}
-    fields["probe_offset_m"] = list(fields["probe_offset_m"])
-    return section_from_dict("bow_wave", {**fields, **changes})
+    return BowWave.from_mapping(changes, base=base)
 
 
 def run(args) -> int:

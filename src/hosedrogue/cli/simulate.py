@@ -49,21 +49,15 @@ def run(args) -> int:
         Exit status (see :mod:`hosedrogue.cli`).
     """
     from ..scenarios import load_scenario
-    from ..scenarios.runner import run_scenario, write_run
+    from ..scenarios.runner import run as run_scenario, write
 
     scenario = load_scenario(args.scenario).with_overrides(duration_s=args.duration, seed=args.seed)
-    if scenario.extra.keys() & {"reel", "probe"}:  # an engagement scenario: its own driver and files
-        from ..engagement.run import run_engagement as run_scenario, write_engagement as write_run  # noqa: F811
     out = Path(args.out)
     prepare_out(out)
     result = run_scenario(scenario)
     created = not out.exists()
     try:
-        paths = write_run(result, out)
-        if args.format == "mat":
-            from ..interop.matlab import write_simulation_mat
-
-            paths.append(write_simulation_mat(result, out / "timeseries.mat"))
+        paths = write(result, out, formats=("csv", args.format))
     except BaseException:  # leave no half-written output folder behind
         if created and out.exists():
             shutil.rmtree(out, ignore_errors=True)

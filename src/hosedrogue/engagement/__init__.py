@@ -2,7 +2,8 @@
 hose drum unit, a hose of varying free length, a prescribed receiver probe, capture and the
 coupled phase."""
 
-from .driver import EngagementResult, simulate_engagement
-from .spec import Probe, Reel
+from ..results import EngagementResult
+from ..sections import BowWave, Engagement, Pilot, Probe, Reel
+from .driver import simulate_engagement
 
-__all__ = ["EngagementResult", "Probe", "Reel", "simulate_engagement"]
+__all__ = ["BowWave", "Engagement", "EngagementResult", "Pilot", "Probe", "Reel", "simulate_engagement"]

@@ -18,7 +18,7 @@ from ..params import Params
 from .chain import chain_equilibrium, initial_chain
 from .driver import engagement_parameters, set_bow_wave
 from .loop import no_loop
-from .spec import BowWaveSection, Reel
+from ..sections import BowWave, Reel
 
 
 def _accelerations(q, chain, model, ep, z):
@@ -41,8 +41,8 @@ def _distances(distances_m) -> np.ndarray:
     return d
 
 
-def _enabled(bow_wave: BowWaveSection) -> BowWaveSection:
-    return BowWaveSection(enabled=True, forebody_radius_m=bow_wave.forebody_radius_m,
+def _enabled(bow_wave: BowWave) -> BowWave:
+    return BowWave(enabled=True, forebody_radius_m=bow_wave.forebody_radius_m,
                           probe_offset_m=bow_wave.probe_offset_m, shape=bow_wave.shape,
                           nose_length_m=bow_wave.nose_length_m)
 
@@ -65,7 +65,7 @@ def _probe_line(params: Params):
     return chain, model, ep, z, q0, drogue0, axis
 
 
-def bow_wave_speed_at_drogue(params: Params, bow_wave: BowWaveSection, distances_m) -> np.ndarray:
+def bow_wave_speed_at_drogue(params: Params, bow_wave: BowWave, distances_m) -> np.ndarray:
     """Speed [m/s] of the bow wave's perturbation at the drogue's balance position (without the
     bow wave), probe tip held at each distance aft of it on the drogue's axis: the wind change
     that moves the drogue in :func:`bow_wave_displacement`.
@@ -74,7 +74,7 @@ def bow_wave_speed_at_drogue(params: Params, bow_wave: BowWaveSection, distances
     ----------
     params : Params
         Hose, drogue, flight condition (airspeed [m/s], altitude [m], wake) and links.
-    bow_wave : BowWaveSection
+    bow_wave : BowWave
         The forebody (radius [m], probe offset from the nose [m], shape, nose length [m]).
     distances_m : array_like (m,)
         Distances [m] of the probe tip aft of the drogue, each > 0.
@@ -89,17 +89,15 @@ def bow_wave_speed_at_drogue(params: Params, bow_wave: BowWaveSection, distances
     ParameterError
         A distance not a finite number > 0, or a balance position not found.
     """
-    from ..environment.bow_wave import BowWave
+    from ..environment.bow_wave import BowWaveField
 
     d = _distances(distances_m)
     drogue0, axis = _probe_line(params)[5:]
-    field = BowWave(airspeed_m_s=params.flight.airspeed_m_s, forebody_radius_m=bow_wave.forebody_radius_m,
-                    probe_offset_m=bow_wave.probe_offset_m, shape=bow_wave.shape,
-                    nose_length_m=bow_wave.nose_length_m)
+    field = BowWaveField.of(bow_wave, params.flight.airspeed_m_s)
     return np.array([np.linalg.norm(field.velocity(drogue0[None, :], drogue0 + di * axis)) for di in d])
 
 
-def bow_wave_displacement(params: Params, bow_wave: BowWaveSection, distances_m) -> np.ndarray:
+def bow_wave_displacement(params: Params, bow_wave: BowWave, distances_m) -> np.ndarray:
     """Steady drogue displacement [m] caused by the bow wave alone, probe held at each distance.
 
     Parameters
@@ -107,7 +105,7 @@ def bow_wave_displacement(params: Params, bow_wave: BowWaveSection, distances_m)
     params : Params
         Hose, drogue, flight condition (airspeed [m/s], altitude [m], wake) and links; turbulence
         is not used (steady air).
-    bow_wave : BowWaveSection
+    bow_wave : BowWave
         The forebody (radius [m], probe offset from the nose [m], shape, nose length [m]); used
         as if enabled.
     distances_m : array_like (m,)

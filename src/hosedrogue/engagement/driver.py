@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..environment.bow_wave import BowWave
+from ..environment.bow_wave import BowWaveField
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..params import Actuator, ParameterError, Params, Sensor
@@ -26,7 +26,7 @@ from .result import EngagementResult, assemble_result
 from .result import segment_energies as _energies
 from .result import segment_outputs as _outputs
 from .loop import drogue_history, engagement_loop, extra_states, set_pilot
-from .spec import BowWaveSection, Pilot, Probe, Reel
+from ..sections import BowWave, Engagement, Pilot, Probe, Reel
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
@@ -36,7 +36,7 @@ _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
 
 
 def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain: Chain,
-                          drogue_eq: np.ndarray, bow_wave: BowWaveSection | None = None) -> np.ndarray:
+                          drogue_eq: np.ndarray, bow_wave: BowWave | None = None) -> np.ndarray:
     """The engagement parameter array of the compiled kernels (``engagement_kernels.EP_*``).
 
     Parameters
@@ -54,7 +54,7 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
         The initial discretization (its nominal link length [m]).
     drogue_eq : array (3,)
         Drogue position at the start [m] in S_p, from which the probe starts.
-    bow_wave : BowWaveSection, optional
+    bow_wave : BowWave, optional
         The receiver's forebody (radius [m], probe offset from the nose [m], shape, nose
         length [m]); None or disabled: no bow wave.
 
@@ -107,7 +107,7 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
     return ep
 
 
-def set_bow_wave(ep: np.ndarray, params: Params, bow_wave: BowWaveSection | None) -> None:
+def set_bow_wave(ep: np.ndarray, params: Params, bow_wave: BowWave | None) -> None:
     """Write the bow-wave entries of ``ep`` (``EP_BW*``): shape code, source minus probe tip [m],
     flux [m^3/s], line length [m]. The source sits still relative to the probe tip; its flux is
     that of the forebody in the tanker's airspeed (the closure speed, ~1 m/s of 150 m/s, aside).
@@ -118,15 +118,13 @@ def set_bow_wave(ep: np.ndarray, params: Params, bow_wave: BowWaveSection | None
         Engagement parameters, changed in place.
     params : Params
         Its ``flight.airspeed_m_s`` [m/s] is the free stream of the forebody.
-    bow_wave : BowWaveSection or None
+    bow_wave : BowWave or None
         None or disabled: ``EP_BW`` = off.
     """
     if bow_wave is None or not bow_wave.enabled:
         ep[EK.EP_BW] = EK.BW_OFF
         return
-    bw = BowWave(airspeed_m_s=params.flight.airspeed_m_s, forebody_radius_m=bow_wave.forebody_radius_m,
-                    probe_offset_m=bow_wave.probe_offset_m, shape=bow_wave.shape,
-                    nose_length_m=bow_wave.nose_length_m)
+    bw = BowWaveField.of(bow_wave, params.flight.airspeed_m_s)
     ep[EK.EP_BW] = EK.BW_RANKINE if bow_wave.shape == "rankine" else EK.BW_LINE
     ep[[EK.EP_BW_DX, EK.EP_BW_DY, EK.EP_BW_DZ]] = bw.source_position_m(np.zeros(3))
     ep[EK.EP_BW_Q] = bw.flux_m3_s
@@ -167,13 +165,11 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
     return float(scal[0, EK.O_T0])
 
 
-def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duration_s: float,
-                        energy: bool = False,
-                        equilibrium=None, x0: np.ndarray | None = None, length_rate_m_s: float = 0.0,
-                        gravity_m_s2: float | None = None,
-                        bow_wave: BowWaveSection | None = None, control=None,
-                        actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
-                        pilot: Pilot | None = None) -> EngagementResult:
+def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None = None, probe: Probe | None = None,
+                        bow_wave: BowWave | None = None, pilot: Pilot | None = None, control=None,
+                        actuator: Actuator = Actuator(), sensor: Sensor = Sensor(), x0: np.ndarray | None = None,
+                        equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
+                        energy: bool = False, gravity_m_s2: float | None = None) -> EngagementResult:
     """Simulate an engagement from the balance position at rest (steady air plus the
     ``params.turbulence`` gusts if enabled).
 
@@ -183,24 +179,18 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
         Hose, drogue, flight and numerics (RK4, ``numerics.step_s``, ``output_every``). The link
         masses are lumped as ``hose.mass_lumping`` says (docs/model.md §2; ``split`` converges at
         second order, the engagement scenarios set it).
-    reel, probe : Reel, Probe or None
-        The drum unit and the receiver's probe (None: no probe).
     duration_s : float
         Simulated time [s]; a miss ends the run earlier with the reason in ``outcome``.
-    energy : bool
-        Also evaluate the energy terms at every output time (for the energy balance).
-    equilibrium : Equilibrium, optional
-        Reuse a solved balance position of the initial mesh.
-    x0 : array (4n,), optional
-        Initial hose state [q, qd] instead of the balance position at rest (then, without a
-        probe, no balance position is solved: the probe starts from it).
-    length_rate_m_s : float
-        Initial L' [m/s] (positive paying out).
-    gravity_m_s2 : float, optional
-        Overrides g [m/s^2] (0 for the energy balance without gravity).
-    bow_wave : BowWaveSection, optional
+    reel : Reel, optional
+        The drum unit (default ``Reel()``: constant tension at the steady trail tension).
+    probe : Probe, optional
+        The receiver's probe (None: no probe).
+    bow_wave : BowWave, optional
         The receiver's forebody moving with the probe tip (radius [m], probe offset [m], shape);
         its perturbation velocity is added to the air at every hose drag point and at the drogue.
+    pilot : Pilot, optional
+        Flies the probe's lateral and vertical position toward the delayed drogue
+        (docs/engagement.md, "Pilot model"); needs a probe.
     control : LinearController, optional
         Drogue controller: measured drogue offset [m] from its balance position at the start ->
         force [N] at the drogue, until capture (docs/engagement.md, "Drogue controller during
@@ -209,9 +199,19 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
         Force [N] and rate [N/s] limits of the control force (the fixed-length loop's semantics).
     sensor : Sensor
         Noise [m] on the measured drogue offset, sample time [s].
-    pilot : Pilot, optional
-        Flies the probe's lateral and vertical position toward the delayed drogue
-        (docs/engagement.md, "Pilot model"); needs a probe.
+    x0 : array (4n,), optional
+        Initial hose state [q, qd] instead of the balance position at rest (then, without a
+        probe, no balance position is solved: the probe starts from it).
+    equilibrium : Equilibrium, optional
+        Reuse a solved balance position of the initial mesh.
+    seed : int, optional
+        Overrides ``params.turbulence.seed`` (and seeds the sensor noise).
+    length_rate_m_s : float
+        Initial L' [m/s] (positive paying out).
+    energy : bool
+        Also evaluate the energy terms at every output time (for the energy balance).
+    gravity_m_s2 : float, optional
+        Overrides g [m/s^2] (0 for the energy balance without gravity).
 
     Returns
     -------
@@ -222,17 +222,22 @@ def simulate_engagement(params: Params, reel: Reel, probe: Probe | None, duratio
     Raises
     ------
     ParameterError
-        ``duration_s`` not a finite number > 0, or ``x0`` of the wrong shape or not finite.
+        ``duration_s`` not a finite number > 0 or shorter than one step, ``x0`` of the wrong
+        shape or not finite, a pilot or bow wave without a probe, a free length outside the
+        reel's end stops.
     """
     _check_duration(duration_s)
+    params.numerics.steps(duration_s)
+    if seed is not None:
+        params = params.replace(turbulence={"seed": int(seed)})
+    reel = Reel() if reel is None else reel
+    Engagement(reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot)  # the sections' rules (a pilot needs a probe)
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
     L0 = z[4 * chain.n + EK.Z_L]
     if not reel.min_length_m <= L0 <= reel.max_length_m:
         raise ParameterError(f"hose.length_m = {L0!r}: the free length must lie between the reel's end stops "
                              f"reel.min_length_m = {reel.min_length_m!r} and reel.max_length_m = {reel.max_length_m!r} m")
-    if pilot is not None and pilot.enabled and (probe is None or not probe.enabled):
-        raise ParameterError("pilot.enabled = True: the pilot flies the probe; give an enabled probe")
     set_pilot(ep, pilot, params.numerics.step_s)
     z = np.concatenate([z, extra_states(ep, control, actuator, pilot)])
     loop = engagement_loop(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed)

@@ -19,7 +19,7 @@ from ..controllers.linear import LinearController
 from ..model import engagement_kernels as EK
 from ..model.integrate import LoopArrays, loop_arrays, loop_states, sensor_noise
 from ..params import Actuator, ParameterError, Sensor
-from .spec import Pilot
+from ..sections import Pilot
 
 
 def engagement_loop(control: LinearController | None, y_ref: np.ndarray, actuator: Actuator, sensor: Sensor,

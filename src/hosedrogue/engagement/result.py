@@ -9,111 +9,15 @@ docs/engagement.md, "What a run reports").
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from ..model import engagement_kernels as EK
 from ..params import Params
+from ..results import EngagementResult
 from .chain import Chain, hose_mass_in_air
 
 #: Names of the energy terms, in the order of the columns of the energy kernel and the work states.
 ENERGY_TERMS = ("kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe")
-
-
-@dataclass
-class EngagementResult:
-    """Time histories (S_p, SI units) and the outcome of one engagement run.
-
-    Every array has one row per output time (N rows); vectors are in the tanker frame S_p.
-    """
-
-    t_s: np.ndarray  #: (N,) output times [s]
-    hose_length_m: np.ndarray  #: (N,) free hose length L [m]
-    reel_speed_m_s: np.ndarray  #: (N,) take-up speed r_d w [m/s], positive reeling in
-    exit_tension_n: np.ndarray  #: (N,) T_0: hose tension at the exit along the hose [N]
-    drogue_tension_n: np.ndarray  #: (N,) tension in the last link (at the drogue) [N]
-    probe_force_n: np.ndarray  #: (N, 3) force of the probe on the drogue [N]
-    probe_position_m: np.ndarray  #: (N, 3) probe tip position [m]
-    coupled: np.ndarray  #: (N,) bool: probe and drogue coupled
-    slack_m: np.ndarray  #: (N,) hose length minus the straight exit-to-drogue distance [m]
-    drogue_position_m: np.ndarray  #: (N, 3) drogue (last joint) position [m]
-    drogue_velocity_m_s: np.ndarray  #: (N, 3) drogue velocity [m/s]
-    tow_force_n: np.ndarray  #: (N, 3) force of the hose on the exit [N]
-    motor_torque_n_m: np.ndarray  #: (N,) reel motor torque tau_m [N m]
-    control_force_n: np.ndarray  #: (N, 2) drogue controller's force at the drogue, lateral y and vertical z [N]
-    miss_distance_series_m: np.ndarray  #: (N,) radial probe-to-coupler distance in the coupler plane [m]
-    plane_distance_m: np.ndarray  #: (N,) probe tip aft of the coupler plane [m] (positive before contact)
-    closure_speed_series_m_s: np.ndarray  #: (N,) probe speed toward the coupler plane relative to the drogue [m/s]
-    links: np.ndarray  #: (N,) number of links
-    hose_mass_kg: np.ndarray  #: (N,) hose mass in the air from the lumped masses [kg]
-    joints_m: list  #: per output time, (n+1, 3) joint positions [m]
-    joint_velocities_m_s: list  #: per output time, (n+1, 3) joint velocities [m/s]
-    energy: dict  #: "kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe" (N,) [J]
-    events: list  #: remesh, chart and contact events (dicts, times [s], jumps [m], [m/s], [J])
-    outcome: dict  #: result, contact figures and peaks (keys carry their units, e.g. ``peak_slack_m``)
-    equilibrium_m: np.ndarray  #: (3,) drogue balance position at the start [m]
-    completed: bool  #: False if the run stopped on a failed state
-    message: str  #: "completed", or why the run stopped
-    meta: dict = field(default_factory=dict)  #: what was run: reel, probe, lumping, events, scenario
-
-    @property
-    def drogue_offset_m(self) -> np.ndarray:
-        """(N, 3) drogue position minus its balance position at the start [m]."""
-        return self.drogue_position_m - self.equilibrium_m
-
-    def to_dataframe(self):
-        """The time histories as a table, one row per output time, SI units in the column names.
-
-        Returns
-        -------
-        pandas.DataFrame
-        """
-        import pandas as pd
-
-        pos, off, vel, tow = self.drogue_position_m, self.drogue_offset_m, self.drogue_velocity_m_s, self.tow_force_n
-        cols = {
-            "t_s": self.t_s,
-            "drogue_x_m": pos[:, 0], "drogue_y_m": pos[:, 1], "drogue_z_m": pos[:, 2],
-            "drogue_dx_m": off[:, 0], "drogue_dy_m": off[:, 1], "drogue_dz_m": off[:, 2],
-            "drogue_vx_m_s": vel[:, 0], "drogue_vy_m_s": vel[:, 1], "drogue_vz_m_s": vel[:, 2],
-            "tow_force_x_n": tow[:, 0], "tow_force_y_n": tow[:, 1], "tow_force_z_n": tow[:, 2],
-            "hose_length_m": self.hose_length_m,
-            "reel_speed_m_s": self.reel_speed_m_s,
-            "exit_tension_n": self.exit_tension_n,
-            "drogue_tension_n": self.drogue_tension_n,
-            "probe_load_n": np.linalg.norm(self.probe_force_n, axis=1),
-            "probe_x_m": self.probe_position_m[:, 0], "probe_y_m": self.probe_position_m[:, 1],
-            "probe_z_m": self.probe_position_m[:, 2],
-            "miss_distance_m": self.miss_distance_series_m,
-            "probe_plane_distance_m": self.plane_distance_m,
-            "closure_speed_m_s": self.closure_speed_series_m_s,
-            "slack_m": self.slack_m,
-            "motor_torque_n_m": self.motor_torque_n_m,
-            "u_y_n": self.control_force_n[:, 0], "u_z_n": self.control_force_n[:, 1],
-            "links": self.links,
-            "coupled": self.coupled.astype(int),
-        }
-        return pd.DataFrame(cols)
-
-    def to_csv(self, path):
-        """Write :meth:`to_dataframe` as CSV (10 significant digits).
-
-        Parameters
-        ----------
-        path : str or pathlib.Path
-            The file to write.
-
-        Returns
-        -------
-        pathlib.Path
-            ``path``.
-        """
-        from pathlib import Path
-
-        path = Path(path)
-        self.to_dataframe().to_csv(path, index=False, float_format="%.10g")
-        return path
 
 
 def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.ndarray, loop=None):
@@ -291,8 +195,6 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     -------
     EngagementResult
     """
-    from .spec import plain
-
     cols: dict = {}
     joints_all, jvel_all = [], []
     for segment in segments:
@@ -306,7 +208,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     outcome.update(_peaks(cat, drogue_eq, events, delta_total, t_set))
     if reel.law == "locked":
         outcome["tension_set_n"] = None
-    meta = {"reel": plain(reel), "probe": plain(probe) if probe is not None else None,
+    meta = {"reel": reel.to_dict(), "probe": probe.to_dict() if probe is not None else None,
             "lumping": params.hose.mass_lumping,
             "events": events}
     return EngagementResult(

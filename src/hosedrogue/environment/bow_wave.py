@@ -22,22 +22,20 @@ Both fields are irrotational and divergence-free away from the singularities, an
 stagnation point of the chosen field.
 
 The functions :func:`source_velocity` and :func:`line_source_velocity` are compiled (numba) so the
-hose kernels can add the bow wave at every hose point; :class:`BowWave` is the Python-facing
-object.
+hose kernels can add the bow wave at every hose point; :class:`BowWaveField` is the Python-facing
+object (its geometry is the ``[bow_wave]`` section, :class:`hosedrogue.sections.BowWave`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-
 import numpy as np
 import scipy.optimize
 from numba import njit
 
 from ..errors import ParameterError
-
-SHAPES = ("rankine", "source-line")
+from ..sections import BOW_WAVE_SHAPES as SHAPES  # noqa: F401 - the one list of shapes
+from ..sections import BowWave as _Geometry
 
 
 @njit(cache=True)
@@ -77,43 +75,66 @@ def line_source_velocity(px, py, pz, sx, sy, sz, length, q):
     return vx, vr * dy / rho, vr * dz / rho
 
 
-@dataclass(frozen=True)
-class BowWave:
+class BowWaveField:
     """The forebody flow field of a receiver whose probe tip is at a given point.
 
     Parameters
     ----------
     airspeed_m_s : float
         Free-stream speed V [m/s] (the tanker's true airspeed), > 0.
-    forebody_radius_m : float
-        Fuselage radius R far aft of the nose [m], > 0.
-    probe_offset_m : tuple of float
-        Probe tip relative to the nose (forward, right, down) [m]; the tip is usually ahead of
-        the nose (first component > 0).
-    shape : {"rankine", "source-line"}
-        Source distribution (see the module docstring).
-    nose_length_m : float
-        Length of the source line [m] for ``shape = "source-line"``, > 0.
+    forebody_radius_m, probe_offset_m, shape, nose_length_m
+        The forebody's geometry, validated as the ``[bow_wave]`` section
+        (:class:`hosedrogue.sections.BowWave`): fuselage radius R far aft of the nose [m]; probe
+        tip relative to the nose (forward, right, down) [m]; ``"rankine"`` or ``"source-line"``
+        (see the module docstring); length of the source line [m].
     """
 
-    airspeed_m_s: float
-    forebody_radius_m: float = 0.75
-    probe_offset_m: tuple = (2.5, 0.0, 0.0)
-    shape: str = "rankine"
-    nose_length_m: float = 2.0
+    def __init__(self, airspeed_m_s: float, forebody_radius_m: float = 0.75, probe_offset_m=(2.5, 0.0, 0.0),
+                 shape: str = "rankine", nose_length_m: float = 2.0):
+        v = airspeed_m_s
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
+            raise ParameterError(f"flight.airspeed_m_s = {v!r}: the bow wave needs a finite airspeed > 0 m/s")
+        self.airspeed_m_s = float(v)
+        self.geometry = _Geometry(enabled=True, forebody_radius_m=forebody_radius_m, probe_offset_m=probe_offset_m,
+                                shape=shape, nose_length_m=nose_length_m)
 
-    def __post_init__(self):
-        for name in ("airspeed_m_s", "forebody_radius_m", "nose_length_m"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
-                raise ParameterError(f"bow_wave.{name} = {v!r}: must be a finite number > 0")
-        if self.shape not in SHAPES:
-            raise ParameterError(f"bow_wave.shape = {self.shape!r}: must be one of {', '.join(map(repr, SHAPES))}")
-        off = self.probe_offset_m
-        if not (isinstance(off, (tuple, list)) and len(off) == 3 and all(
-                isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in off)):
-            raise ParameterError(f"bow_wave.probe_offset_m = {off!r}: must be 3 finite numbers [m]")
-        object.__setattr__(self, "probe_offset_m", tuple(float(v) for v in off))
+    @classmethod
+    def of(cls, section: _Geometry, airspeed_m_s: float) -> "BowWaveField":
+        """The field of a ``[bow_wave]`` section in the free stream ``airspeed_m_s`` [m/s].
+
+        Parameters
+        ----------
+        section : hosedrogue.sections.BowWave
+            The forebody's geometry.
+        airspeed_m_s : float
+            Free-stream speed [m/s].
+
+        Returns
+        -------
+        BowWaveField
+        """
+        return cls(airspeed_m_s, section.forebody_radius_m, section.probe_offset_m, section.shape,
+                   section.nose_length_m)
+
+    @property
+    def forebody_radius_m(self) -> float:
+        """Fuselage radius R [m]."""
+        return self.geometry.forebody_radius_m
+
+    @property
+    def probe_offset_m(self) -> tuple:
+        """Probe tip relative to the nose (forward, right, down) [m]."""
+        return self.geometry.probe_offset_m
+
+    @property
+    def shape(self) -> str:
+        """``"rankine"`` or ``"source-line"``."""
+        return self.geometry.shape
+
+    @property
+    def nose_length_m(self) -> float:
+        """Length of the source line [m]."""
+        return self.geometry.nose_length_m
 
     @property
     def flux_m3_s(self) -> float:
@@ -164,3 +185,7 @@ class BowWave:
         rho = r * np.sin(theta)
         return np.stack([s[0] + r * np.cos(theta), s[1] + rho * np.cos(phi_rad), s[2] + rho * np.sin(phi_rad)],
                         axis=-1)
+
+
+#: Former name of :class:`BowWaveField`.
+BowWave = BowWaveField

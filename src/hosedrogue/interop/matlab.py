@@ -10,114 +10,36 @@ signal has its name and unit next to it, and names follow the project's SI suffi
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
-#: Unit of a signal, by the suffix of its name (longest suffix first).
-_SUFFIX_UNITS = (("_m_s", "m/s"), ("_rad_s", "rad/s"), ("_rad", "rad"), ("_m", "m"), ("_n", "N"), ("_s", "s"))
-
-
-def _save(data: dict, path: str | Path) -> Path:
-    """Write ``data`` as a compressed version-5 .mat file, 1-D arrays as columns (MATLAB's time series)."""
-    from scipy.io import savemat
-
-    path = Path(path)
-    savemat(path, data, do_compression=True, oned_as="column")
-    return path
-
-
-def unit_of(name: str) -> str:
-    """The SI unit of a signal from its name's suffix (``"1"`` when it has none).
-
-    Parameters
-    ----------
-    name : str
-        Signal name such as ``drogue_vy_m_s``.
-
-    Returns
-    -------
-    str
-        Unit, e.g. ``"m/s"``.
-    """
-    for suffix, unit in _SUFFIX_UNITS:
-        if name.endswith(suffix):
-            return unit
-    return "1"
-
-
-def _cellstr(items) -> np.ndarray:
-    """A MATLAB cell array of strings (a 1 x n object array)."""
-    cell = np.empty((1, len(items)), dtype=object)
-    for i, s in enumerate(items):
-        cell[0, i] = str(s)
-    return cell
-
-
-def state_names(links: int) -> list[str]:
-    """Names of the state ``x = [q, qd]``: ``theta_1_1_rad`` (pitch), ``theta_1_2_rad`` (yaw), ...,
-    then the rates ``theta_1_1_rad_s``, ...
-
-    Parameters
-    ----------
-    links : int
-        Number of links n.
-
-    Returns
-    -------
-    list of str
-        4 n names in state order.
-    """
-    q = [f"theta_{k}_{j}_rad" for k in range(1, links + 1) for j in (1, 2)]
-    return q + [f"{name}_s" for name in q]
+from ..results import cellstr as _cellstr, save_mat as _save, state_names  # noqa: F401 - re-exported
+from ..units import unit_of  # noqa: F401 - re-exported (the names' units)
 
 
 def simulation_mat_dict(result) -> dict:
-    """The content of a simulation's ``.mat`` file.
+    """The content of a run's ``.mat`` file (:meth:`hosedrogue.results.RunResult.mat_dict`).
 
     Parameters
     ----------
-    result : hosedrogue.results.SimulationResult
-        A finished (or stopped) simulation.
+    result : hosedrogue.results.RunResult
+        A finished (or stopped) run of either hose model.
 
     Returns
     -------
     dict
-        ``t_s`` (N x 1) [s]; ``signals``, a struct of the columns of
-        :meth:`~hosedrogue.results.SimulationResult.to_dataframe` (each N x 1, SI units);
-        ``signal_names`` and ``signal_units`` (cell arrays, same order); ``data`` (N x m, those
-        columns side by side); ``states`` (N x 4n) [rad, rad/s] with ``state_names``;
-        ``completed``, ``message``, ``equilibrium_drogue_position_m`` (1 x 3) [m] and ``meta_json``
-        (the run's settings as JSON text).
     """
-    df = result.to_dataframe()
-    names = list(df.columns)
-    data = df.to_numpy(dtype=np.float64)
-    n = result.states.shape[1] // 4
-    eq = result.equilibrium_m if result.equilibrium_m is not None else np.full(3, np.nan)
-    return {
-        "t_s": np.asarray(result.t_s, dtype=np.float64).reshape(-1, 1),
-        "signals": {c: data[:, i].reshape(-1, 1) for i, c in enumerate(names)},
-        "signal_names": _cellstr(names),
-        "signal_units": _cellstr([unit_of(c) for c in names]),
-        "data": data,
-        "states": np.asarray(result.states, dtype=np.float64),
-        "state_names": _cellstr(state_names(n)),
-        "completed": bool(result.completed),
-        "message": str(result.message),
-        "equilibrium_drogue_position_m": np.asarray(eq, dtype=np.float64).reshape(1, 3),
-        "meta_json": json.dumps(result.meta, default=str),
-    }
+    return result.mat_dict()
 
 
 def write_simulation_mat(result, path: str | Path) -> Path:
-    """Write a simulation to a MATLAB file (see :func:`simulation_mat_dict` for the variables).
+    """Write a run to a MATLAB file (:meth:`hosedrogue.results.RunResult.to_mat`).
 
     Parameters
     ----------
-    result : hosedrogue.results.SimulationResult
-        The simulation.
+    result : hosedrogue.results.RunResult
+        The run.
     path : str or Path
         File to write (``.mat``).
 
@@ -126,7 +48,7 @@ def write_simulation_mat(result, path: str | Path) -> Path:
     Path
         The written file.
     """
-    return _save(simulation_mat_dict(result), path)
+    return result.to_mat(path)
 
 
 def linear_mat_dict(lm, channels, table2: dict) -> dict:

@@ -88,8 +88,8 @@ def plot_control_forces(results: Mapping[str, object], window_s=None) -> Figure:
     """
     fig, (ax_h, ax_v) = new_figure(2, 1, size=(8.0, 5.5), sharex=True)
     for k, (name, res) in enumerate(results.items()):
-        ax_h.plot(res.t_s, res.control_n[:, 0], lw=0.9, color=f"C{k}", label=name)
-        ax_v.plot(res.t_s, res.control_n[:, 1], lw=0.9, color=f"C{k}", label=name)
+        ax_h.plot(res.t_s, res.control_force_n[:, 0], lw=0.9, color=f"C{k}", label=name)
+        ax_v.plot(res.t_s, res.control_force_n[:, 1], lw=0.9, color=f"C{k}", label=name)
     for ax, what in ((ax_h, "lateral force u_hor [N]"), (ax_v, "vertical force u_ver [N]\n(positive down)")):
         _shade_window(ax, window_s)
         ax.set_xlabel("time t [s]")

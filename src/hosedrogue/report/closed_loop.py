@@ -130,8 +130,8 @@ def _write_csv(out, runs: dict, st: _Stats, spread) -> None:
     out.csv(pd.DataFrame(cols), "fig12_controller_on_off.csv")
     cols = {"t_s": t[:n]}
     for key in ("PID", "LQR"):
-        cols[f"u_hor_{key}_n"] = runs[key].control_n[:n, 0]
-        cols[f"u_ver_{key}_n"] = runs[key].control_n[:n, 1]
+        cols[f"u_hor_{key}_n"] = runs[key].control_force_n[:n, 0]
+        cols[f"u_ver_{key}_n"] = runs[key].control_force_n[:n, 1]
     out.csv(pd.DataFrame(cols), "fig13_control_forces.csv")
     rows = []
     for k in SCENARIOS:

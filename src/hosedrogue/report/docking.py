@@ -216,7 +216,7 @@ def _setup_text() -> str:
     from ..scenarios import load_scenario
 
     sc = load_scenario("approach-moderate")
-    p, probe = sc.params, sc.extra["probe"]
+    p, probe = sc.params, sc.engagement.probe
     return (f" {p.flight.airspeed_m_s:g} m/s, {p.flight.altitude_m:g} m, tanker wake {'on' if p.wake.enabled else 'off'}, "
             f"MIL-F-8785C Dryden turbulence of the level at {p.flight.altitude_m:g} m, the link model at "
             f"{p.hose.links} links ({p.hose.mass_lumping} lumping, {p.hose.bending} bending), RK4 at {p.numerics.step_s * 1e3:g} ms; the probe closes at "
@@ -336,7 +336,7 @@ def _study(out, settings) -> _Study:
     paths = approach_paths(runs=tuple(APPROACH_RUNS), seed=APPROACH_SEED)
     t3 = time.perf_counter()
     table = _capture_frame(cells)
-    probe = load_scenario("approach-moderate").extra["probe"]
+    probe = load_scenario("approach-moderate").engagement.probe
     times = {"bow_wave_s": t1 - t0, "campaigns_s": campaigns_s, "approach_s": t3 - t2}
     speed_table = speed.speed_frame(speeds, speed_cells)
     force_table = force.force_frame(forces, force_cells)

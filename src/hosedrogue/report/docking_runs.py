@@ -202,7 +202,7 @@ def scenario_data(spec: CellSpec) -> dict:
     if spec.pilot:
         data["pilot"] = {"enabled": True}  # the pilot model's defaults
     if spec.closure_speed_m_s is not None:
-        duration = approach_duration_s(load_scenario(f"approach-{spec.level}").extra["probe"], spec.closure_speed_m_s)
+        duration = approach_duration_s(load_scenario(f"approach-{spec.level}").engagement.probe, spec.closure_speed_m_s)
         data.setdefault("probe", {})["closure_speed_m_s"] = float(spec.closure_speed_m_s)
         data["scenario"]["duration_s"] = duration
         data["turbulence"]["duration_s"] = duration  # gusts to the end of the run
@@ -347,7 +347,7 @@ def run_grid(folder: Path, runs: int, specs=None, workers: int | None = WORKERS,
             sc = load_scenario(str(cell_dir / "scenario.toml"))
             cell = CampaignCell(spec.level, spec.controller, spec.bow_wave,
                                 float(sc.params.turbulence.sigma_m_s[2]), summary.capture, summary.runs, cell_dir,
-                                spec.pilot, float(sc.extra["probe"].closure_speed_m_s), float(sc.duration_s))
+                                spec.pilot, float(sc.engagement.probe.closure_speed_m_s), float(sc.duration_s))
             _check_counts(cell, runs)
             done.append((data, cell))
             cells.append(cell)
@@ -376,10 +376,9 @@ class BowWaveStudy:
 
 def _field(sc, bw):
     """The field in the x-z plane through the probe tip (tip at the origin), blanked inside the body."""
-    from ..environment.bow_wave import BowWave
+    from ..environment.bow_wave import BowWaveField
 
-    field = BowWave(sc.params.flight.airspeed_m_s, bw.forebody_radius_m, tuple(bw.probe_offset_m), bw.shape,
-                    bw.nose_length_m)
+    field = BowWaveField.of(bw, sc.params.flight.airspeed_m_s)
     x, z = np.linspace(-7.0, 3.0, 101), np.linspace(-2.5, 2.5, 51)
     tip = np.zeros(3)
     pts = np.stack(np.meshgrid(x, [0.0], z, indexing="xy"), axis=-1)[0].transpose(1, 0, 2)
@@ -420,7 +419,7 @@ def bow_wave_study(level: str = "moderate") -> BowWaveStudy:
     from ..scenarios import load_scenario
 
     sc = load_scenario(f"approach-{level}")
-    bw = sc.extra["bow_wave"]
+    bw = sc.engagement.bow_wave
     x, z, vel, outline, stagnation, source_aft = _field(sc, bw)
     d = np.asarray(DISTANCES_M)
     disp = bow_wave_displacement(sc.params, bw, d)
@@ -455,16 +454,18 @@ def approach_paths(level: str = "moderate", runs=("none", "pid"), seed: int = AP
         ``label -> {"probe_yz_m", "drogue_yz_m" (N, 2) [m], "t_s" (N,) [s], "outcome": dict,
         and with contact "contact_probe_yz_m", "contact_drogue_yz_m" (2,) [m]}``.
     """
-    from ..engagement.run import run_engagement
-    from ..engagement.spec import Pilot
     from ..scenarios import load_scenario
+    from ..scenarios.runner import run
+    from ..sections import Pilot
 
     base = load_scenario(f"approach-{level}").with_overrides(seed=seed)
     out = {}
     for c in runs:
         controller, piloted = APPROACH_RUNS[c]
-        extra = {**base.extra, "pilot": Pilot(enabled=True)} if piloted else base.extra
-        r = run_engagement(dataclasses.replace(base, controller=controller, extra=extra))
+        sc = base.with_controller(controller)
+        if piloted:
+            sc = dataclasses.replace(sc, engagement=dataclasses.replace(sc.engagement, pilot=Pilot(enabled=True)))
+        r = run(sc)
         tc = r.outcome.get("contact_time_s")
         end = float(tc) if tc is not None else float(r.t_s[-1])
         keep = r.t_s <= end

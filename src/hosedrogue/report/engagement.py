@@ -1,7 +1,7 @@
 """Report section "Engagement": the three shipped engagement scenarios (locked reel,
 constant-tension reel, responsive reel; docs/engagement.md) side by side.
 
-Computes the runs (library calls: :func:`hosedrogue.engagement.run.run_engagement`), a link-doubling
+Computes the runs (library calls: :func:`hosedrogue.scenarios.runner.run`), a link-doubling
 check of their peaks, writes the time histories, the per-engagement outcomes and the hose shapes
 as CSV, the figures through :mod:`hosedrogue.plotting.engagement`, a GIF of the whip, then the
 HTML section with every number read from the runs. ``report.json`` gains an ``"engagement"``
@@ -73,7 +73,7 @@ def _scenario(name: str, settings, links: int | None = None):
 
 def _runs(settings) -> tuple[dict, dict]:
     """The three scenarios, and the same on twice the links (the doubling check)."""
-    from ..engagement.run import run_engagement
+    from ..scenarios.runner import run as run_engagement
 
     runs, doubled = {}, {}
     for name in SCENARIOS:
@@ -211,11 +211,10 @@ class _Study:
 
 def _study(settings) -> _Study:
     """Run the scenarios and the doubling check; pick the snapshot instants and the animation window."""
-    from ..engagement.run import went_slack
 
     fast = settings.name == "fast"
     runs, doubled = _runs(settings)
-    slack = {name: went_slack(r) for name, r in runs.items()}
+    slack = {name: r.went_slack() for name, r in runs.items()}
     change = _doubling(runs, doubled)
     locked = runs["engage-locked"]
     times = _snapshot_times(locked)

@@ -101,4 +101,4 @@ def peak_forces_n(res) -> tuple[float, float]:
     tuple of float
         Lateral and vertical peak [N].
     """
-    return metrics.force_peaks(res.control_n)
+    return metrics.force_peaks(res.control_force_n)

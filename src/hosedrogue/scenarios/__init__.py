@@ -1,8 +1,20 @@
-"""Scenario files: a TOML file with a ``[scenario]`` table (run settings), optional
-``[controller]``, ``[actuator]`` and ``[sensor]`` tables, and any parameter sections of
-:mod:`hosedrogue.params` (``[flight]``, ``[turbulence]``, ...) overriding the paper's case.
-``[model] preset = "converged"`` starts from a shipped model preset (:mod:`hosedrogue.config`)
-instead; the file's parameter sections then override the preset.
+"""Scenarios: one typed description of a run, from a TOML file or built in Python.
+
+A scenario file is TOML: a ``[scenario]`` table (``duration_s``, ``initial``, offsets, and
+``extends`` to start from another scenario), the drogue's control loop (``[controller]``,
+``[actuator]``, ``[sensor]``), the engagement (``[reel]``, ``[probe]``, ``[bow_wave]``,
+``[pilot]``) and any parameter section of :mod:`hosedrogue.params` (``[flight]``,
+``[turbulence]``, ...) overriding the paper's case. ``[model] preset = "converged"`` starts from a
+shipped model preset (:mod:`hosedrogue.config`); the file's parameter sections then override it.
+Every section, key, unit, default and range is listed in the documentation's scenario reference.
+
+A scenario with a ``[reel]`` or ``[probe]`` section runs the hose of varying length (the
+engagement, :mod:`hosedrogue.engagement`); without, the fixed-length hose. A section the chosen
+model cannot honour is a one-line error naming it.
+
+``extends = "NAME"`` reads the named scenario (a shipped name, or a TOML path relative to the
+extending file) and overrides it table by table: keys given replace the parent's, tables are
+merged key by key, a ``[controller]`` of another ``type`` replaces the parent's whole table.
 
 Scenarios shipped with the package are found by name (``paper-turbulence``) or file name
 (``scenarios/paper-turbulence.toml``); any other path is read from disk.
@@ -10,105 +22,173 @@ Scenarios shipped with the package are found by name (``paper-turbulence``) or f
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
-from ..config import read_toml
+from ..config import load_preset, preset_names, read_toml
 from ..params import SECTIONS, PAPER, ParameterError, Params, params_from_dict
+from ..sections import (CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, Actuator, Controller, Engagement,
+                        Loop, Sensor)
 
-SCENARIO_KEYS = {
-    "name", "description", "duration_s", "initial", "initial_pitch_offset_deg",
-    "initial_yaw_offset_deg",
-}
-CONTROLLER_TYPES = ("none", "pid", "lqr")
+#: Keys of the ``[scenario]`` table.
+SCENARIO_KEYS = ("name", "description", "duration_s", "extends", "initial", "initial_pitch_offset_deg",
+                 "initial_yaw_offset_deg")
+#: Every table a scenario file may hold.
+TABLES = ("scenario", "model", "controller", *LOOP_SECTIONS, *ENGAGEMENT_SECTIONS, *SECTIONS)
+#: Longest simulated time of a scenario [s]: one day.
+MAX_DURATION_S = 86400.0
+#: Largest initial offset of every link for ``initial = "displaced"`` [deg].
+MAX_OFFSET_DEG = 60.0
+#: Longest chain of ``extends`` (a guard against a scenario that extends itself in a loop).
+MAX_EXTENDS = 16
+
+__all__ = ["CONTROLLER_TYPES", "Scenario", "load_scenario", "scenario_from_dict", "shipped_scenarios", "resolve",
+           "merge_tables"]
 
 
 @dataclass(frozen=True)
 class Scenario:
-    """A runnable case: parameters plus run settings."""
+    """A runnable case: the model's parameters, the run settings, the drogue's control loop and,
+    for the hose of varying length, the engagement. Validated at construction (a bad value is a
+    one-line :class:`~hosedrogue.errors.ParameterError`); :func:`hosedrogue.run` runs it.
+    """
 
     name: str  #: scenario name (``[scenario] name``, or the file's stem)
     params: Params  #: the model, environment and numerics parameters
-    duration_s: float  #: simulated time [s]
+    duration_s: float  #: simulated time [s], in (0, 86400]
     description: str = ""  #: one line for people
     #: "equilibrium": start at rest at the balance position; "displaced": add the offsets below
     #: to every link's balance angles and release from rest.
     initial: str = "equilibrium"
     initial_pitch_offset_deg: float = 0.0  #: pitch added to every link for ``displaced`` [deg]
     initial_yaw_offset_deg: float = 0.0  #: yaw added to every link for ``displaced`` [deg]
-    controller: str = "none"  #: "none", "pid" or "lqr"
-    #: Design options of the controller: PID ``lateral``/``vertical`` = [K_P, K_I, K_D, N];
-    #: LQR ``design`` ("balanced", the paper's reading, default; or "integral"), ``q_diag`` (4:
-    #: the balanced states, lateral then vertical [1/(m N)]; integral: [P_ny, P_nz, z_ny, z_nz])
-    #: and ``r_diag`` (2) [1/N^2]. Missing entries take the paper's values.
-    controller_options: dict = field(default_factory=dict)
-    actuator: dict = field(default_factory=dict)  #: actuator limits: max_force_n [N], max_rate_n_s [N/s], ...
-    sensor: dict = field(default_factory=dict)  #: sensor noise: noise_std_m [m], sample_time_s [s]
-    source: str = ""  #: where it was read from (``scenarios/NAME.toml`` or a path)
-    #: Sections validated outside the core (``[reel]``, ``[probe]``): name -> validated object.
-    extra: dict = field(default_factory=dict)
+    loop: Loop = field(default_factory=Loop)  #: the drogue's controller, actuator and sensor
+    #: the reel, probe, bow wave and pilot; None: the fixed-length hose
+    engagement: Engagement | None = None
+    source: str = ""  #: where it was read from (``scenarios/NAME.toml`` or a path; "" if built in Python)
 
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "duration_s", _check_duration(self.duration_s, "scenario.duration_s"))
+        if self.initial not in ("equilibrium", "displaced"):
+            raise ParameterError(f"scenario.initial = {self.initial!r}: must be one of 'equilibrium', 'displaced'")
+        for key in ("initial_pitch_offset_deg", "initial_yaw_offset_deg"):
+            v = getattr(self, key)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (
+                    math.isfinite(v) and abs(v) <= MAX_OFFSET_DEG):
+                raise ParameterError(f"scenario.{key} = {v!r}: must be a finite number in "
+                                     f"[-{MAX_OFFSET_DEG:g}, {MAX_OFFSET_DEG:g}] deg")
+            object.__setattr__(self, key, float(v))
+        if not isinstance(self.params, Params):
+            raise ParameterError(f"params = {self.params!r}: must be a hosedrogue.params.Params")
+        if not isinstance(self.loop, Loop):
+            raise ParameterError(f"loop = {self.loop!r}: must be a hosedrogue.sections.Loop")
+        if self.engagement is not None and not isinstance(self.engagement, Engagement):
+            raise ParameterError(f"engagement = {self.engagement!r}: must be a hosedrogue.sections.Engagement or None")
+        num = self.params.numerics
+        if num.integrator == "rk4" or self.engagement is not None:
+            num.steps(self.duration_s, "scenario.duration_s")  # at least one step
+        if self.engagement is not None and num.integrator != "rk4":
+            raise ParameterError(f"numerics.integrator = {num.integrator!r}: the engagement (hose of varying "
+                                 "length) is integrated with fixed-step RK4 only; use 'rk4'")
+
+    # --- the control loop, by its parts --------------------------------------------------------------
+    @property
+    def controller(self) -> str:
+        """The drogue controller's type: "none", "pid" or "lqr"."""
+        return self.loop.controller.type
+
+    @property
+    def controller_options(self) -> dict:
+        """The controller's design options (see :class:`hosedrogue.sections.Controller`)."""
+        return dict(self.loop.controller.options)
+
+    @property
+    def actuator(self) -> Actuator:
+        """Force and rate limits of the control force."""
+        return self.loop.actuator
+
+    @property
+    def sensor(self) -> Sensor:
+        """Noise on the measured drogue offset."""
+        return self.loop.sensor
+
+    @property
+    def model(self) -> str:
+        """The hose model this scenario runs: ``"engagement"`` (varying length) or ``"fixed-length"``."""
+        return "fixed-length" if self.engagement is None else "engagement"
+
+    # --- copies ------------------------------------------------------------------------------------
     def with_overrides(self, duration_s: float | None = None, seed: int | None = None) -> "Scenario":
-        import dataclasses
+        """A copy with another duration [s] and/or turbulence seed (validated).
 
+        Parameters
+        ----------
+        duration_s : float, optional
+            Simulated time [s].
+        seed : int, optional
+            Turbulence seed, >= 0.
+
+        Returns
+        -------
+        Scenario
+        """
         s = self
         if duration_s is not None:
-            _check_duration(duration_s, "--duration")
-            s = dataclasses.replace(s, duration_s=float(duration_s))
+            s = dataclasses.replace(s, duration_s=_check_duration(duration_s, "duration_s"))
         if seed is not None:
             if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-                raise ParameterError(f"--seed = {seed!r}: must be an integer >= 0")
+                raise ParameterError(f"seed = {seed!r}: must be an integer >= 0")
             s = dataclasses.replace(s, params=s.params.replace(turbulence={"seed": seed}))
         return s
+
+    def with_controller(self, controller: str | Controller) -> "Scenario":
+        """A copy with another drogue controller (a type keeps this scenario's options if it is the same type).
+
+        Parameters
+        ----------
+        controller : str or Controller
+            "none", "pid", "lqr", or a :class:`~hosedrogue.sections.Controller`.
+
+        Returns
+        -------
+        Scenario
+        """
+        if not isinstance(controller, Controller):
+            same = controller == self.loop.controller.type
+            controller = Controller(controller, dict(self.loop.controller.options) if same else {})
+        return dataclasses.replace(self, loop=dataclasses.replace(self.loop, controller=controller))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scenario as the tables of a self-contained scenario file (no ``extends``, no preset).
+
+        ``scenario_from_dict(s.to_dict())`` gives the same scenario (the source aside).
+
+        Returns
+        -------
+        dict
+            ``{"scenario": {...}, "controller": ..., "actuator": ..., "sensor": ..., [reel, probe, ...],
+            [tanker, hose, ...]}``, tuples as lists (TOML/JSON-ready).
+        """
+        head = {"name": self.name, "description": self.description, "duration_s": self.duration_s,
+                "initial": self.initial, "initial_pitch_offset_deg": self.initial_pitch_offset_deg,
+                "initial_yaw_offset_deg": self.initial_yaw_offset_deg}
+        out: dict[str, Any] = {"scenario": head, **self.loop.to_dict()}
+        if self.engagement is not None:
+            out.update(self.engagement.to_dict())
+        out.update(self.params.to_dict())
+        return out
 
 
 def _check_duration(value: Any, name: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
-        math.isfinite(value) and 0 < value <= 86400
+        math.isfinite(value) and 0 < value <= MAX_DURATION_S
     ):
-        raise ParameterError(f"{name} = {value!r}: must be a finite number in (0, 86400] s")
+        raise ParameterError(f"{name} = {value!r}: must be a finite number in (0, {MAX_DURATION_S:g}] s")
     return float(value)
-
-
-#: Options each controller type accepts: name -> (length, lower bound, bound is exclusive).
-CONTROLLER_OPTIONS = {
-    "none": {},
-    "pid": {"lateral": (4, 0.0, False), "vertical": (4, 0.0, False)},
-    "lqr": {"design": None, "q_diag": (4, 0.0, False), "r_diag": (2, 0.0, True)},
-}
-
-
-def _controller_options(ctype: str, given: dict) -> dict:
-    allowed = CONTROLLER_OPTIONS[ctype]
-    out = {}
-    for key, value in given.items():
-        if key not in allowed:
-            names = ", ".join(["type", *allowed])
-            raise ParameterError(f"controller.{key}: unknown field for type {ctype!r}; allowed: {names}")
-        if key == "design":
-            from ..controllers.design import LQR_DESIGNS  # one definition, next to the designs
-
-            if value not in LQR_DESIGNS:
-                raise ParameterError(
-                    f"controller.design = {value!r}: must be one of {', '.join(map(repr, LQR_DESIGNS))}")
-            out[key] = value
-            continue
-        size, lo, strict = allowed[key]
-        ok = (isinstance(value, list) and len(value) == size and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-            and (v > lo if strict else v >= lo) for v in value))
-        if not ok:
-            rel = ">" if strict else ">="
-            raise ParameterError(f"controller.{key} = {value!r}: must be a list of {size} finite numbers {rel} {lo:g}")
-        out[key] = [float(v) for v in value]
-    if ctype == "pid":
-        for key in ("lateral", "vertical"):
-            if key in out and out[key][3] <= 0:
-                raise ParameterError(f"controller.{key} = {out[key]!r}: the derivative filter N (4th) must be > 0 rad/s")
-    return out
 
 
 def shipped_scenarios() -> list[str]:
@@ -117,13 +197,15 @@ def shipped_scenarios() -> list[str]:
     return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))
 
 
-def resolve(name_or_path: str) -> tuple[str, dict]:
+def resolve(name_or_path: str | Path, relative_to: Path | None = None) -> tuple[str, dict]:
     """Find a scenario by shipped name, ``scenarios/NAME.toml`` or path; return (source, data).
 
     Parameters
     ----------
-    name_or_path : str
+    name_or_path : str or Path
         A shipped scenario name, ``scenarios/NAME.toml``, or a TOML file's path.
+    relative_to : Path, optional
+        Folder a relative path is looked up in first (the extending file's, for ``extends``).
 
     Returns
     -------
@@ -133,33 +215,91 @@ def resolve(name_or_path: str) -> tuple[str, dict]:
         The parsed TOML.
     """
     path = Path(name_or_path)
-    if path.exists():
+    if relative_to is not None and not path.is_absolute() and (relative_to / path).is_file():
+        path = relative_to / path
+    if path.is_file():
         return str(path), read_toml(path)
     stem = path.name[:-5] if path.name.endswith(".toml") else path.name
-    root = resources.files(__package__)
-    candidate = root / f"{stem}.toml"
+    candidate = resources.files(__package__) / f"{stem}.toml"
     if candidate.is_file() and (path.parent in (Path("."), Path("scenarios"))):
         with resources.as_file(candidate) as p:
             return f"scenarios/{stem}.toml", read_toml(p)
+    if path.exists():
+        return str(path), read_toml(path)  # a folder or unreadable: read_toml says why in one line
     raise ParameterError(
-        f"scenario {name_or_path!r}: no such file or shipped scenario; shipped: {', '.join(shipped_scenarios())}"
+        f"scenario {str(name_or_path)!r}: no such file or shipped scenario; shipped: {', '.join(shipped_scenarios())}"
     )
 
 
-def _table(data: dict, name: str) -> dict:
+def merge_tables(parent: Mapping[str, Any], child: Mapping[str, Any]) -> dict[str, Any]:
+    """``child`` over ``parent``: tables merged key by key, any other value replaced.
+
+    A child's ``[controller]`` whose ``type`` differs from the parent's replaces the parent's
+    table (the options of one controller type mean nothing to another).
+
+    Parameters
+    ----------
+    parent, child : Mapping
+        Parsed scenario tables.
+
+    Returns
+    -------
+    dict
+        A new mapping (the inputs are not modified).
+    """
+    out = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in parent.items()}
+    for key, value in child.items():
+        old = out.get(key)
+        replace_controller = (key == "controller" and isinstance(value, Mapping) and isinstance(old, Mapping)
+                              and value.get("type", old.get("type", "none")) != old.get("type", "none"))
+        if isinstance(value, Mapping) and isinstance(old, Mapping) and not replace_controller:
+            out[key] = merge_tables(old, value)
+        else:
+            out[key] = dict(value) if isinstance(value, Mapping) else value
+    return out
+
+
+def _read_with_parents(name_or_path: str | Path) -> tuple[str, dict]:
+    """The scenario's tables with its ``extends`` chain merged in (the chain's own keys dropped)."""
+    source, data = resolve(name_or_path)
+    chain = [source]
+    while True:
+        head = data.get("scenario", {})
+        if not isinstance(head, Mapping) or "extends" not in head:
+            break
+        parent_name = head["extends"]
+        if not isinstance(parent_name, str) or not parent_name:
+            raise ParameterError(f"scenario.extends = {parent_name!r}: must be a scenario name or TOML path")
+        if len(chain) > MAX_EXTENDS:
+            raise ParameterError(f"scenario.extends = {parent_name!r}: more than {MAX_EXTENDS} levels "
+                                 f"({' -> '.join(chain)})")
+        here = Path(chain[-1]).parent if not chain[-1].startswith("scenarios/") else None
+        parent_source, parent = resolve(parent_name, relative_to=here)
+        if parent_source in chain:
+            raise ParameterError(f"scenario.extends = {parent_name!r}: a loop ({' -> '.join(chain + [parent_source])})")
+        chain.append(parent_source)
+        child_head = {k: v for k, v in head.items() if k != "extends"}
+        # name is the extending file's own (its stem unless given); the rest is inherited
+        parent_head = {k: v for k, v in dict(parent.get("scenario", {})).items() if k != "name"}
+        data = merge_tables(parent, {k: v for k, v in data.items() if k != "scenario"})
+        data["scenario"] = {**parent_head, **child_head}
+    return source, data
+
+
+def _table(data: Mapping[str, Any], name: str) -> dict:
     """The table ``data[name]`` (empty if absent) as a new dict; anything else is a ParameterError."""
     value = data.get(name, {})
-    if not isinstance(value, dict):
+    if not isinstance(value, Mapping):
         raise ParameterError(f"{name} = {value!r}: must be a table of fields ([{name}])")
     return dict(value)
 
 
-def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
+def load_scenario(name_or_path: str | Path, base: Params = PAPER) -> Scenario:
     """Load and validate a scenario file (see the module docstring).
 
     Parameters
     ----------
-    name_or_path : str
+    name_or_path : str or Path
         A shipped scenario name or a TOML file (:func:`resolve`).
     base : Params
         Parameters the file's sections override (the paper's case by default).
@@ -173,73 +313,92 @@ def load_scenario(name_or_path: str, base: Params = PAPER) -> Scenario:
     ParameterError
         One line naming the field, the value and what is allowed.
     """
-    source, data = resolve(name_or_path)
-    from ..engagement.spec import ENGAGEMENT_SECTIONS, validate_sections  # hook: non-core sections
+    source, data = _read_with_parents(name_or_path)
+    default_name = Path(source).stem
+    return scenario_from_dict(data, name=default_name, source=source, base=base)
 
-    known = set(SECTIONS) | {"scenario", "controller", "actuator", "sensor", "model"} | set(ENGAGEMENT_SECTIONS)
+
+def scenario_from_dict(data: Mapping[str, Any], *, name: str = "scenario", source: str = "",
+                       base: Params = PAPER) -> Scenario:
+    """A scenario from its tables, as a TOML scenario file holds them (``extends`` aside).
+
+    Parameters
+    ----------
+    data : Mapping
+        ``{table: {key: value}}`` (:data:`TABLES`); ``[scenario] duration_s`` is required.
+    name : str
+        The name if ``[scenario] name`` is not given.
+    source : str
+        Where the tables come from (recorded in the result's metadata).
+    base : Params
+        Parameters the tables override (the paper's case by default; a ``[model] preset`` is
+        applied over it first).
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ParameterError
+        One line naming the table or field, the value and what is allowed; also a section the
+        chosen hose model cannot honour (``[bow_wave]`` or ``[pilot]`` without the engagement).
+    """
+    if not isinstance(data, Mapping):
+        raise ParameterError(f"scenario = {data!r}: must be a table of tables")
     for key in data:
-        if key not in known:
-            raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(known))}")
-    sc = _table(data, "scenario")
-    for key in sc:
+        if key not in TABLES:
+            raise ParameterError(f"{key}: unknown section; allowed: {', '.join(sorted(TABLES))}")
+    head = _table(data, "scenario")
+    for key in head:
         if key not in SCENARIO_KEYS:
             raise ParameterError(f"scenario.{key}: unknown field; allowed: {', '.join(sorted(SCENARIO_KEYS))}")
-    if "duration_s" not in sc:
+    if "extends" in head:
+        raise ParameterError(f"scenario.extends = {head['extends']!r}: only a scenario file may extend another "
+                             "(load_scenario); merge the tables with merge_tables first")
+    if "duration_s" not in head:
         raise ParameterError("scenario.duration_s: missing; give the simulated time in seconds")
-    duration = _check_duration(sc["duration_s"], "scenario.duration_s")
-    initial = sc.get("initial", "equilibrium")
-    if initial not in ("equilibrium", "displaced"):
-        raise ParameterError(f"scenario.initial = {initial!r}: must be one of 'equilibrium', 'displaced'")
-    offsets = {}
-    for key in ("initial_pitch_offset_deg", "initial_yaw_offset_deg"):
-        v = sc.get(key, 0.0)
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and abs(v) <= 60):
-            raise ParameterError(f"scenario.{key} = {v!r}: must be a finite number in [-60, 60] deg")
-        offsets[key] = float(v)
-    ctrl = _table(data, "controller")
-    ctype = ctrl.pop("type", "none")
-    if ctype not in CONTROLLER_TYPES:
-        raise ParameterError(f"controller.type = {ctype!r}: must be one of {', '.join(map(repr, CONTROLLER_TYPES))}")
-    options = _controller_options(ctype, ctrl)
-    actuator = _table(data, "actuator")
-    for key in actuator:
-        if key not in ("max_force_n", "max_rate_n_s", "time_constant_s"):
-            raise ParameterError(
-                f"actuator.{key}: unknown field; allowed: max_force_n, max_rate_n_s, time_constant_s")
-    sensor = _table(data, "sensor")
-    for key in sensor:
-        if key not in ("noise_std_m", "sample_time_s"):
-            raise ParameterError(f"sensor.{key}: unknown field; allowed: noise_std_m, sample_time_s")
-    from ..params import Actuator, Sensor  # validates values now, before any run or output
+    loop = Loop(controller=Controller.from_mapping(_table(data, "controller")),
+                actuator=Actuator.from_mapping(_table(data, "actuator")),
+                sensor=Sensor.from_mapping(_table(data, "sensor")))
+    params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=_model_base(data, base))
+    return Scenario(
+        name=str(head.get("name", name)),
+        params=params,
+        duration_s=head["duration_s"],
+        description=str(head.get("description", "")),
+        initial=head.get("initial", "equilibrium"),
+        initial_pitch_offset_deg=head.get("initial_pitch_offset_deg", 0.0),
+        initial_yaw_offset_deg=head.get("initial_yaw_offset_deg", 0.0),
+        loop=loop,
+        engagement=_engagement(data),
+        source=source,
+    )
 
-    Actuator(**actuator)
-    Sensor(**sensor)
-    model = data.get("model", {})
-    if not isinstance(model, dict):
-        raise ParameterError(f"model = {model!r}: must be a table with the field preset")
+
+def _model_base(data: Mapping[str, Any], base: Params) -> Params:
+    """``base``, or the ``[model] preset`` over it."""
+    model = _table(data, "model")
     for key in model:
         if key != "preset":
             raise ParameterError(f"model.{key}: unknown field; allowed: preset")
-    if "preset" in model:
-        from ..config import load_preset, preset_names
+    if "preset" not in model:
+        return base
+    if model["preset"] not in preset_names():
+        raise ParameterError(
+            f"model.preset = {model['preset']!r}: must be one of {', '.join(map(repr, preset_names()))}")
+    return load_preset(model["preset"], base=base)
 
-        if model["preset"] not in preset_names():
-            raise ParameterError(
-                f"model.preset = {model['preset']!r}: must be one of {', '.join(map(repr, preset_names()))}")
-        base = load_preset(model["preset"], base=base)
-    params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=base)
-    extra = validate_sections(data)
-    return Scenario(
-        name=str(sc.get("name", Path(source).stem)),
-        params=params,
-        duration_s=duration,
-        description=str(sc.get("description", "")),
-        initial=initial,
-        controller=ctype,
-        controller_options=options,
-        actuator=actuator,
-        sensor=sensor,
-        source=source,
-        extra=extra,
-        **offsets,
-    )
+
+def _engagement(data: Mapping[str, Any]) -> Engagement | None:
+    """The engagement of a scenario's tables: with a ``[reel]`` or ``[probe]``; None without (then
+    ``[bow_wave]`` and ``[pilot]`` are refused: the fixed-length hose has no probe)."""
+    present = {name: ENGAGEMENT_SECTIONS[name].from_mapping(_table(data, name))
+               for name in ENGAGEMENT_SECTIONS if name in data}
+    if "reel" not in present and "probe" not in present:
+        for name in ("bow_wave", "pilot"):
+            if name in present:
+                raise ParameterError(f"{name}: the fixed-length hose has no probe, so it cannot honour [{name}]; "
+                                     "add [probe] (and [reel]) to run the engagement, or remove it")
+        return None
+    return Engagement(**present)

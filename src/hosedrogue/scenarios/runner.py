@@ -1,19 +1,34 @@
-"""Run a :class:`~hosedrogue.scenarios.Scenario`: initial state, controller, simulation, files."""
+"""Run a :class:`~hosedrogue.scenarios.Scenario` and write its files: the one place that chooses
+the fixed-length or the varying-length (engagement) driver.
+
+* :func:`run` - balance position, controller (designed once per process and design), initial
+  state, simulation; returns a :class:`~hosedrogue.results.RunResult`;
+* :func:`write` - ``timeseries.csv``, ``run.json``, the figure and, with ``formats=("csv",
+  "mat")``, ``timeseries.mat``, for either kind of result.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
+from ..errors import ParameterError
 from ..model.system import HoseModel
-from ..params import Actuator, Sensor
-from ..results import SimulationResult, run_header
+from ..results import RunResult
 from ..simulation import simulate
 from . import Scenario
+
+#: Output formats of :func:`write`: the CSV time series (always), and a MATLAB file.
+FORMATS = ("csv", "mat")
+
+#: Designed drogue controllers of this process, by design key (:func:`drogue_controller`).
+_DESIGNS: dict = {}
 
 
 def initial_state(scenario: Scenario, eq: Equilibrium) -> np.ndarray:
@@ -41,112 +56,156 @@ def initial_state(scenario: Scenario, eq: Equilibrium) -> np.ndarray:
     return x0
 
 
-def build_controller(scenario: Scenario, model: HoseModel, eq: Equilibrium):
-    """The scenario's controller as a LinearController (None for "none").
+def drogue_controller(scenario: Scenario, model: HoseModel | None = None, eq: Equilibrium | None = None):
+    """The scenario's drogue controller (None for "none"), designed once per process.
 
     PID: the paper's gains (Eq. 33) unless ``lateral``/``vertical`` are given. LQR: the paper's
     LQR read on the balanced states of each 2nd-order channel (``design = "balanced"``, default)
-    or the integral-action reading (``design = "integral"``), designed on this flight condition's
-    linearization, with the paper's Q and R unless ``q_diag``/``r_diag`` are given.
+    or the integral-action reading (``design = "integral"``), designed on the linearization of
+    the fixed-length model of the scenario's parameters (the engagement's initial chain) about
+    its balance position, with the paper's Q and R unless ``q_diag``/``r_diag`` are given
+    (:func:`hosedrogue.controllers.design.design_controller`). The design is kept by its key
+    (the parameters without the turbulence, which the design does not use; the controller's
+    type and options), so a campaign designs it once per worker.
 
     Parameters
     ----------
     scenario : Scenario
-        Its ``controller`` ("none", "pid" or "lqr") and ``controller_options``: PID
-        ``lateral``/``vertical`` = [K_P [N/m], K_I [N/(m s)], K_D [N s/m], N [rad/s]]; LQR
-        ``design``, ``q_diag`` and ``r_diag`` [1/N^2] (see :class:`~hosedrogue.scenarios.Scenario`).
-    model : HoseModel
-        The scenario's model, linearized for an LQR design (unused for PID).
-    eq : Equilibrium
-        The balance position the LQR's linearization is taken about (unused for PID).
+        Its ``loop.controller`` and ``params``.
+    model : HoseModel, optional
+        The scenario's fixed-length model (built if missing; LQR only).
+    eq : Equilibrium, optional
+        Its balance position (solved if missing; LQR only).
 
     Returns
     -------
     LinearController or None
-        Measured drogue offset [m] -> control force [N]; None for ``controller = "none"``.
+        Measured drogue offset [m] -> control force [N].
     """
-    from ..controllers.design import design_controller
+    ctrl = scenario.loop.controller
+    if ctrl.type == "none":
+        return None
+    steady = {k: v for k, v in scenario.params.to_dict().items() if k != "turbulence"}
+    key = json.dumps([steady, ctrl.to_dict()], sort_keys=True, default=repr)
+    if key not in _DESIGNS:
+        from ..controllers.design import design_controller
 
-    return design_controller(scenario.controller, scenario.controller_options, scenario.params, model, eq)
+        _DESIGNS[key] = design_controller(ctrl.type, dict(ctrl.options), scenario.params, model, eq)
+    return _DESIGNS[key]
 
 
-def run_scenario(scenario: Scenario) -> SimulationResult:
-    """Simulate a scenario; the result's ``meta`` records what was run.
+#: Former name of :func:`drogue_controller`.
+build_controller = drogue_controller
 
-    Solves the balance position, builds the controller (:func:`build_controller`), starts from
-    :func:`initial_state` and simulates ``scenario.duration_s`` with the scenario's actuator and
-    sensor.
+
+def run(scenario: Scenario) -> RunResult:
+    """Run a scenario: the fixed-length hose, or the engagement if it has one.
+
+    Solves the balance position, designs the controller (:func:`drogue_controller`), starts
+    from :func:`initial_state` and simulates ``scenario.duration_s`` with the scenario's
+    actuator and sensor; the engagement adds the reel, probe, bow wave and pilot.
 
     Parameters
     ----------
     scenario : Scenario
-        The validated case: parameters, duration [s], initial state, controller, actuator and
-        sensor settings.
+        The validated case.
 
     Returns
     -------
-    SimulationResult
-        The time series; ``meta`` adds ``scenario``, ``source``, ``controller``, ``duration_s``
-        [s] and ``initial``.
+    RunResult
+        :class:`~hosedrogue.results.SimulationResult` or
+        :class:`~hosedrogue.results.EngagementResult`; ``meta`` records what was run (scenario,
+        source, model, duration [s], initial state, controller, actuator, sensor, parameters).
 
     Raises
     ------
     EquilibriumError
         If no balance position is found.
     """
+    if not isinstance(scenario, Scenario):
+        raise ParameterError(f"scenario = {scenario!r}: must be a hosedrogue.scenarios.Scenario "
+                             "(load_scenario(name) or Scenario(...))")
+    if scenario.engagement is None:
+        result = _run_fixed_length(scenario)
+    else:
+        result = _run_engagement(scenario)
+    return dataclasses.replace(result, meta={**result.meta, **_meta(scenario)})
+
+
+def _run_fixed_length(scenario: Scenario) -> RunResult:
     params = scenario.params
     model = HoseModel(params)
     eq = solve_equilibrium(params, model=model)
-    controller = build_controller(scenario, model, eq)
-    result = simulate(
-        params,
-        scenario.duration_s,
-        x0=initial_state(scenario, eq),
-        control=controller,
-        equilibrium=eq,
-        actuator=Actuator(**scenario.actuator),
-        sensor=Sensor(**scenario.sensor),
-        model=model,
-    )
-    result.meta.update(
-        {
-            "scenario": scenario.name,
-            "source": scenario.source,
-            "controller": scenario.controller,
-            "duration_s": scenario.duration_s,
-            "initial": scenario.initial,
-        }
-    )
-    return result
+    return simulate(params, scenario.duration_s, x0=initial_state(scenario, eq),
+                    control=drogue_controller(scenario, model, eq), equilibrium=eq,
+                    actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, model=model)
 
 
-def write_run(result: SimulationResult, out_dir: Path, plot: bool = True) -> list[Path]:
-    """Write ``timeseries.csv``, ``run.json`` and (optionally) ``displacement.png`` to out_dir.
+def _run_engagement(scenario: Scenario) -> RunResult:
+    from ..engagement import simulate_engagement
+
+    e = scenario.engagement
+    x0 = None
+    if scenario.initial == "displaced":
+        x0 = initial_state(scenario, solve_equilibrium(scenario.params))
+    return simulate_engagement(scenario.params, scenario.duration_s, reel=e.reel, probe=e.probe,
+                               bow_wave=e.bow_wave, pilot=e.pilot, control=drogue_controller(scenario),
+                               actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, x0=x0)
+
+
+def _meta(scenario: Scenario) -> dict:
+    """What a run records of its scenario (run.json)."""
+    meta = {"scenario": scenario.name, "source": scenario.source, "model": scenario.model,
+            "duration_s": scenario.duration_s, "initial": scenario.initial,
+            "controller": scenario.loop.controller.type, "controller_options": dict(scenario.loop.controller.options),
+            "actuator": scenario.loop.actuator.to_dict(), "sensor": scenario.loop.sensor.to_dict()}
+    if scenario.engagement is not None:
+        e = scenario.engagement
+        meta["pilot"] = None if e.pilot is None else e.pilot.to_dict()
+        meta["bow_wave"] = None if e.bow_wave is None else e.bow_wave.to_dict()
+    meta["params"] = scenario.params.to_dict()
+    return meta
+
+
+def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
+    """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, its figure
+    (``displacement.png`` or ``engagement.png``) and, with ``"mat"``, ``timeseries.mat``.
 
     Parameters
     ----------
-    result : SimulationResult
-        The run to write; ``run.json`` holds its ``meta`` with the package version, whether it
-        completed, its message, its end time ``t_end_s`` [s] and the balance position of the
-        drogue ``equilibrium_drogue_position_m`` [m].
-    out_dir : pathlib.Path
+    result : RunResult
+        The run (either hose model).
+    out_dir : str or pathlib.Path
         Directory to write into; created (with parents) if missing.
+    formats : sequence of {"csv", "mat"}
+        Time-series formats; the CSV is always written.
     plot : bool, optional
-        Also plot the drogue displacement to ``displacement.png`` (default True; skipped for a
-        result with fewer than two samples).
+        Also write the figure (skipped for a result with fewer than two samples).
 
     Returns
     -------
     list of pathlib.Path
-        The files written, in the order above.
+        The files written.
     """
+    bad = [f for f in formats if f not in FORMATS]
+    if bad:
+        raise ParameterError(f"formats = {list(formats)!r}: each must be one of {', '.join(map(repr, FORMATS))}")
+    out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [result.to_csv(out_dir / "timeseries.csv")]
-    meta = {**run_header(result), **result.meta}
-    (out_dir / "run.json").write_text(json.dumps(meta, indent=2) + "\n")
+    (out_dir / "run.json").write_text(json.dumps(result.run_document(), indent=2, default=float) + "\n")
     paths.append(out_dir / "run.json")
     if plot and result.t_s.size > 1:
-        from ..plotting.figures import plot_displacement, save_figure
+        from ..plotting.figures import save_figure
 
-        paths.append(save_figure(plot_displacement(result), out_dir / "displacement.png"))
+        paths.append(save_figure(result.plot(), out_dir / result.FIGURE))
+    if "mat" in formats:
+        paths.append(result.to_mat(out_dir / "timeseries.mat"))
     return paths
+
+
+#: Former names of :func:`run` and :func:`write`: the fixed-length runner (``run_scenario``,
+#: ``write_run``) and the engagement's (``hosedrogue.engagement.run.run_engagement``,
+#: ``write_engagement``) of earlier versions.
+run_scenario = run_engagement = run
+write_run = write_engagement = write

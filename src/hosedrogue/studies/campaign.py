@@ -61,14 +61,14 @@ import numpy as np
 from ..errors import ParameterError
 from ..metrics import DEFAULT_CAPTURE_RADII_M, capture_column, turbulence_window, window_statistics
 from ..progress import progress_bar, progress_enabled
-from ..scenarios import load_scenario
-from ..scenarios.runner import run_scenario
+from ..scenarios import Scenario, load_scenario
+from ..scenarios.runner import run
 from . import executor
 from .executor import IN_FLIGHT_PER_WORKER, SYNCHRONOUS
 from .seeds import run_seed
 from .statistics import CampaignSummary, summarize_campaign
-from .store import (ENGAGEMENT_SECTIONS, AppendLog, check_same_settings, make_settings, read_runs, read_settings,
-                    run_columns, todo, write_atomic)
+from .store import (AppendLog, check_same_settings, make_settings, read_runs, read_settings, run_columns, todo,
+                    write_atomic)
 
 __all__ = ["CampaignSummary", "DEFAULT_CAPTURE_RADII_M", "RunTask", "SYNCHRONOUS", "run_campaign", "run_seed",
            "run_task", "statistics_window", "summarize_run"]
@@ -107,10 +107,10 @@ def _check_radii(radii: Any) -> tuple[float, ...]:
         for r in values
     )
     if not good:
-        raise ParameterError(f"--capture-radii = {radii!r}: must be one or more finite numbers > 0 m")
+        raise ParameterError(f"capture_radii_m = {radii!r}: must be one or more finite numbers > 0 m")
     values = tuple(float(r) for r in values)
     if len({capture_column(r) for r in values}) != len(values):
-        raise ParameterError(f"--capture-radii = {radii!r}: must be distinct to 6 significant digits")
+        raise ParameterError(f"capture_radii_m = {radii!r}: must be distinct to 6 significant digits")
     return values
 
 
@@ -162,14 +162,15 @@ def summarize_run(result, window_s: tuple[float, float], capture_radii_m: Sequen
     dict
         Column -> value; NaN where the window holds no sample (a run that stopped before it).
     """
-    return window_statistics(result.t_s, result.drogue_offset_m, result.control_n, window_s, capture_radii_m)
+    return window_statistics(result.t_s, result.drogue_offset_m, result.control_force_n, window_s, capture_radii_m)
 
 
 def run_task(task: RunTask) -> dict:
     """Simulate one run and return its row of ``runs.csv`` (plus ``_wall_s`` [s], kept out of it).
 
     Runs single-threaded: the model's kernels are serial, and LocalCluster workers get one thread
-    with ``NUMBA_NUM_THREADS = OMP_NUM_THREADS = 1``.
+    with ``NUMBA_NUM_THREADS = OMP_NUM_THREADS = 1``. The drogue controller is designed once per
+    process (:func:`hosedrogue.scenarios.runner.drogue_controller`).
 
     Parameters
     ----------
@@ -182,18 +183,8 @@ def run_task(task: RunTask) -> dict:
         Column of :func:`hosedrogue.studies.store.run_columns` -> value, and ``_wall_s`` [s].
     """
     start = time.perf_counter()
-    scenario = dataclasses.replace(task.scenario.with_overrides(seed=task.seed), controller=task.controller)
-    if scenario.extra.keys() & ENGAGEMENT_SECTIONS:
-        row = _engagement_row(task, scenario)
-    else:
-        row = _run_row(task, scenario)
-    row["_wall_s"] = time.perf_counter() - start
-    return row
-
-
-def _run_row(task: RunTask, scenario) -> dict:
-    """Simulate a (non-engagement) run; its row, the time series written if asked."""
-    result = run_scenario(scenario)
+    scenario = task.scenario.with_overrides(seed=task.seed).with_controller(task.controller)
+    result = run(scenario)
     row = {
         "run": task.index,
         "controller": task.controller,
@@ -201,9 +192,11 @@ def _run_row(task: RunTask, scenario) -> dict:
         "completed": bool(result.completed),
         "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
         **summarize_run(result, task.window_s, task.capture_radii_m),
-        "message": result.message,
+        **outcome_columns(result),
+        "message": run_message(result),
     }
     _write_series(result, task.timeseries_path)
+    row["_wall_s"] = time.perf_counter() - start
     return row
 
 
@@ -239,35 +232,49 @@ def capture_category(outcome: dict, completed: bool) -> str:
     return "no contact" if completed else "stopped"
 
 
-def _engagement_row(task: RunTask, scenario) -> dict:
-    """Simulate an engagement run (:func:`hosedrogue.engagement.run.run_engagement`, which runs
-    the scenario's drogue controller, designed once per process); its row: the drogue and
-    control-force statistics and the capture test's result, miss [m] and closure speed [m/s]
-    (NaN without contact)."""
-    from ..engagement.run import run_engagement
+def outcome_columns(result) -> dict:
+    """An engagement run's capture columns (nothing for the fixed-length hose): the capture
+    test's ``result`` (:func:`capture_category`), the radial miss [m] and the closure speed [m/s]
+    at the coupler plane (NaN without contact).
 
-    result = run_engagement(scenario)
-    out = result.outcome
-    t = np.asarray(result.t_s)
-    row = {
-        "run": task.index,
-        "controller": task.controller,
-        "seed": task.seed,
-        "completed": bool(result.completed),
-        "t_end_s": float(t[-1]) if t.size else 0.0,
-        **window_statistics(t, result.drogue_offset_m, result.control_force_n, task.window_s, task.capture_radii_m),
+    Parameters
+    ----------
+    result : hosedrogue.results.RunResult
+        The run.
+
+    Returns
+    -------
+    dict
+    """
+    out = getattr(result, "outcome", None)
+    if out is None:
+        return {}
+    return {
         "result": capture_category(out, result.completed),
         "miss_distance_m": math.nan if out.get("miss_distance_m") is None else float(out["miss_distance_m"]),
         "closure_speed_m_s": math.nan if out.get("closure_speed_m_s") is None else float(out["closure_speed_m_s"]),
-        "message": f"{out.get('result')}; {result.message}",
     }
-    _write_series(result, task.timeseries_path)
-    return row
+
+
+def run_message(result) -> str:
+    """The ``message`` column: the run's message, after the capture test's result for an engagement.
+
+    Parameters
+    ----------
+    result : hosedrogue.results.RunResult
+        The run.
+
+    Returns
+    -------
+    str
+    """
+    out = getattr(result, "outcome", None)
+    return result.message if out is None else f"{out.get('result')}; {result.message}"
 
 
 # --- the campaign --------------------------------------------------------------------------------
 def run_campaign(
-    scenario_name_or_path: str,
+    scenario: str | Path | Scenario,
     runs: int,
     out_dir: str | Path,
     workers: int | None = None,
@@ -284,8 +291,9 @@ def run_campaign(
 
     Parameters
     ----------
-    scenario_name_or_path : str
-        A shipped scenario name or a TOML file (:func:`hosedrogue.scenarios.load_scenario`).
+    scenario : str, Path or Scenario
+        A shipped scenario name, a TOML file (:func:`hosedrogue.scenarios.load_scenario`) or a
+        :class:`~hosedrogue.scenarios.Scenario` built in Python.
     runs : int
         Number of runs (turbulence seeds), >= 1; run ``i`` uses ``run_seed(seed, i)``.
     out_dir : str or Path
@@ -325,11 +333,13 @@ def run_campaign(
         turbulence window outside the run), or an ``out_dir`` that is a file or holds a campaign
         with other settings; nothing is written then.
     """
-    runs = _check_int("--runs", runs, 1)
-    seed = _check_int("--seed", seed, 0, 2**63 - 1)
+    runs = _check_int("runs", runs, 1)
+    seed = _check_int("seed", seed, 0, 2**63 - 1)
     radii = _check_radii(capture_radii_m)
     workers = _check_execution(workers, scheduler, client)
-    scenario = load_scenario(scenario_name_or_path).with_overrides(duration_s=duration_s)
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario)
+    scenario = scenario.with_overrides(duration_s=duration_s)
     window = statistics_window(scenario)
     controllers = _controllers(scenario, compare_controller)
     use_dask = _use_dask(workers, scheduler, client)
@@ -338,7 +348,7 @@ def run_campaign(
     settings = make_settings(scenario, runs, seed, radii, compare_controller, controllers, window)
     old = _previous_settings(out, settings)
 
-    engagement = bool(scenario.extra.keys() & ENGAGEMENT_SECTIONS)
+    engagement = scenario.engagement is not None
     pending = todo(read_runs(out / "runs.csv", radii, engagement) if old is not None else [], runs, controllers)
     with executor.dask_client(client, workers, scheduler, use_dask and bool(pending)) as dask_client:
         # nothing is written before this point: bad input and an unreachable scheduler leave no trace
@@ -363,7 +373,7 @@ def _controllers(scenario, compare_controller: bool) -> tuple[str, ...]:
     """The controllers run for every seed: the scenario's, and "none" with ``compare_controller``."""
     if compare_controller and scenario.controller == "none":
         raise ParameterError(
-            f"--compare-controller: scenario {scenario.name!r} has no controller (controller.type = 'none'); "
+            f"compare_controller = True: scenario {scenario.name!r} has no controller (controller.type = 'none'); "
             "nothing to compare"
         )
     return (scenario.controller, "none") if compare_controller else (scenario.controller,)
@@ -373,7 +383,7 @@ def _previous_settings(out: Path, settings: dict) -> dict | None:
     """The settings of a campaign already in ``out`` (None if there is none); ParameterError when
     ``out`` is not a folder or holds a campaign with other settings."""
     if out.exists() and not out.is_dir():
-        raise ParameterError(f"--out = {str(out)!r}: exists and is not a directory")
+        raise ParameterError(f"out = {str(out)!r}: exists and is not a directory")
     old = read_settings(out) if out.is_dir() else None
     if old is not None:
         check_same_settings(out, old, settings)
@@ -383,11 +393,11 @@ def _previous_settings(out: Path, settings: dict) -> dict | None:
 def _check_execution(workers: int | None, scheduler: str | None, client) -> int | None:
     """Validate the choice of where to run; returns ``workers`` as an int (or None)."""
     if sum(x is not None for x in (workers, scheduler, client)) > 1:
-        raise ParameterError("--workers, --scheduler: give at most one of them (and no client with either)")
+        raise ParameterError("workers, scheduler, client: give at most one of them")
     if workers is not None:
-        workers = _check_int("--workers", workers, 1, 4096)
+        workers = _check_int("workers", workers, 1, 4096)
     if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
-        raise ParameterError(f"--scheduler = {scheduler!r}: must be a scheduler address or {SYNCHRONOUS!r}")
+        raise ParameterError(f"scheduler = {scheduler!r}: must be a scheduler address or {SYNCHRONOUS!r}")
     return workers
 
 
@@ -399,12 +409,12 @@ def _use_dask(workers: int | None, scheduler: str | None, client) -> bool:
         if executor.dask_available():
             use_dask = True
         elif workers not in (None, 1):
-            raise ParameterError(f"--workers = {workers}: needs dask.distributed (pip install 'hosedrogue[dask]')")
+            raise ParameterError(f"workers = {workers}: needs dask.distributed (pip install 'hosedrogue[dask]')")
         else:
             warnings.warn("dask.distributed is not installed: running the campaign in this process",
                           RuntimeWarning, stacklevel=3)
     elif use_dask and client is None and not executor.dask_available():
-        raise ParameterError(f"--scheduler = {scheduler!r}: needs dask.distributed (pip install 'hosedrogue[dask]')")
+        raise ParameterError(f"scheduler = {scheduler!r}: needs dask.distributed (pip install 'hosedrogue[dask]')")
     return use_dask
 
 

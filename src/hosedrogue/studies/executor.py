@@ -83,7 +83,7 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
             raise
         _close_quietly(client)
         raise IncompleteError("the dask scheduler went away (connection lost); the finished runs are kept: "
-                              "run the same command again with a reachable --scheduler to resume") from None
+                              "run the same command again with a reachable scheduler to resume") from None
     except BaseException:
         client.cancel(list(outstanding))
         raise
@@ -182,7 +182,7 @@ def connect(scheduler: str):
     try:
         return Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s")
     except (OSError, TimeoutError, ValueError) as exc:
-        raise ParameterError(f"--scheduler = {scheduler!r}: cannot connect ({exc})") from None
+        raise ParameterError(f"scheduler = {scheduler!r}: cannot connect ({exc})") from None
 
 
 def total_threads(client) -> int:

@@ -181,7 +181,7 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     out = Path(out_dir)
     settings = settings if settings is not None else read_settings(out)
     if settings is None:
-        raise ParameterError(f"--out = {str(out)!r}: no campaign.json; not a campaign folder")
+        raise ParameterError(f"out = {str(out)!r}: no campaign.json; not a campaign folder")
     radii = settings["capture_radii_m"]
     controllers = settings["controllers"]
     units = statistic_units(radii)

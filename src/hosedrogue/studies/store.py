@@ -11,7 +11,6 @@ the same double.
 from __future__ import annotations
 
 import csv
-import dataclasses
 import io
 import json
 import math
@@ -24,21 +23,17 @@ from ..errors import ParameterError
 from ..metrics import DEFAULT_CAPTURE_RADII_M, statistic_units
 from .seeds import SEED_RULE
 
-#: Format tag of campaign.json.
-FORMAT = "hosedrogue-montecarlo/1"
+#: Format tag of campaign.json (2: the typed scenario, with its hose "model").
+FORMAT = "hosedrogue-montecarlo/2"
 
 #: Settings that must agree when a campaign is resumed (see campaign.json).
-COMPARED_SETTINGS = ("scenario", "runs", "seed", "capture_radii_m", "compare_controller",
+COMPARED_SETTINGS = ("format", "scenario", "runs", "seed", "capture_radii_m", "compare_controller",
                      "controllers", "duration_s")
 
 _KEY_COLUMNS = ("run", "controller", "seed", "completed", "t_end_s")
 #: Columns of an engagement campaign's runs.csv: the capture test's result ("captured", "miss",
 #: "failed latch", "no contact", "stopped"), radial miss [m] and closure speed [m/s] at the coupler plane
 ENGAGEMENT_COLUMNS = ("result", "miss_distance_m", "closure_speed_m_s")
-#: Sections that make a scenario an engagement scenario (run by the engagement driver)
-ENGAGEMENT_SECTIONS = frozenset({"reel", "probe"})
-
-
 def is_engagement(settings: dict) -> bool:
     """Whether campaign settings (:func:`make_settings`) are those of an engagement scenario.
 
@@ -51,7 +46,7 @@ def is_engagement(settings: dict) -> bool:
     -------
     bool
     """
-    return bool(set((settings.get("scenario") or {}).get("extra") or {}) & ENGAGEMENT_SECTIONS)
+    return settings.get("model") == "engagement"
 
 
 def run_columns(capture_radii_m: Sequence[float], engagement: bool = False) -> list[str]:
@@ -82,9 +77,8 @@ def _json_normal(value: Any) -> Any:
 
 def _scenario_content(scenario) -> dict:
     """Everything that determines the runs (the file path and description do not)."""
-    data = dataclasses.asdict(scenario)
-    for key in ("source", "description"):
-        data.pop(key, None)
+    data = scenario.to_dict()
+    data["scenario"].pop("description", None)
     return _json_normal(data)
 
 
@@ -127,6 +121,7 @@ def make_settings(scenario, runs: int, seed: int, radii: Sequence[float], compar
         "format": FORMAT,
         "scenario_name": scenario.name,
         "scenario_source": scenario.source,
+        "model": scenario.model,
         "scenario": _scenario_content(scenario),
         "runs": runs,
         "seed": seed,
@@ -154,8 +149,8 @@ def check_same_settings(out: Path, old: dict, new: dict) -> None:
         where = _first_difference(old.get(key), new.get(key), key)
         if where:
             raise ParameterError(
-                f"--out = {str(out)!r}: holds a campaign with different settings ({where} differs; "
-                f"see {out / 'campaign.json'}); use another --out or the same settings to resume"
+                f"out = {str(out)!r}: holds a campaign with different settings ({where} differs; "
+                f"see {out / 'campaign.json'}); use another out folder or the same settings to resume"
             )
 
 
@@ -174,12 +169,12 @@ def read_settings(out: Path) -> dict | None:
     path = out / "campaign.json"
     if not path.exists():
         if (out / "runs.csv").exists():
-            raise ParameterError(f"--out = {str(out)!r}: holds runs.csv but no campaign.json; use another --out")
+            raise ParameterError(f"out = {str(out)!r}: holds runs.csv but no campaign.json; use another out folder")
         return None
     try:
         return json.loads(path.read_text())
     except (OSError, ValueError) as exc:
-        raise ParameterError(f"--out = {str(out)!r}: campaign.json is not readable JSON ({exc})") from None
+        raise ParameterError(f"out = {str(out)!r}: campaign.json is not readable JSON ({exc})") from None
 
 
 def write_atomic(path: Path, text: str) -> None:
@@ -333,7 +328,7 @@ def _lock_or_fail(fh, path: Path) -> None:
         fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
     except OSError:
         fh.close()
-        raise ParameterError(f"--out = {str(path.parent)!r}: another campaign is writing to it") from None
+        raise ParameterError(f"out = {str(path.parent)!r}: another campaign is writing to it") from None
 
 
 def todo(done_rows: list[dict], runs: int, controllers: Sequence[str]) -> list[tuple[int, str]]:

@@ -1,0 +1,334 @@
+"""Validated, immutable sections: the field metadata and the validator every section shares.
+
+A *section* is a frozen dataclass whose fields carry metadata (kind, range, unit) made by the
+helpers below; :class:`Section` validates every field at construction, so a bad value raises a
+one-line :class:`~hosedrogue.errors.ParameterError` naming the field, the value and what is
+allowed. The model's sections (:mod:`hosedrogue.params`) and the run's sections
+(:mod:`hosedrogue.sections`: actuator, sensor, reel, probe, bow wave, pilot) are built on it,
+and so is the scenario reference of the documentation (every field with its unit, default,
+range and meaning: :func:`field_table`).
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import inspect
+import math
+import textwrap
+from typing import Any, Mapping
+
+from .errors import ParameterError
+
+INF = math.inf
+
+
+def real(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = False, unit: str = "",
+         inf_ok: bool = False) -> dict:
+    """Metadata of a real-valued field in the range (lo, hi] (openness selectable).
+
+    Parameters
+    ----------
+    lo, hi : float
+        Bounds of the allowed range, in the field's unit.
+    lo_open, hi_open : bool
+        Whether the bound itself is excluded.
+    unit : str
+        The field's unit ("m", "m/s", "N", ...; "" for none).
+    inf_ok : bool
+        Whether ``inf`` is allowed (as "no limit"); then ``hi`` must be ``inf``.
+
+    Returns
+    -------
+    dict
+        The field's metadata.
+    """
+    return {"kind": "float", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": hi_open, "unit": unit,
+            "inf_ok": inf_ok}
+
+
+def integer(lo: int, hi: int, unit: str = "") -> dict:
+    """Metadata of an integer field in [lo, hi].
+
+    Parameters
+    ----------
+    lo, hi : int
+        Inclusive bounds.
+    unit : str
+        The field's unit ("" for a count).
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "int", "lo": lo, "hi": hi, "unit": unit}
+
+
+def choice(*choices: str) -> dict:
+    """Metadata of a field that takes one of the given strings.
+
+    Parameters
+    ----------
+    *choices : str
+        The allowed values.
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "choice", "choices": choices}
+
+
+def flag() -> dict:
+    """Metadata of a boolean field (``true`` or ``false`` in TOML).
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "bool"}
+
+
+def vec3(lo: float, hi: float = INF, *, lo_open: bool = False, unit: str = "") -> dict:
+    """Metadata of a field of three reals (one number means the same three), each in [lo, hi].
+
+    Parameters
+    ----------
+    lo, hi : float
+        Bounds of each component, in the field's unit.
+    lo_open : bool
+        Whether ``lo`` itself is excluded.
+    unit : str
+        The components' unit.
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "vec3", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": False, "unit": unit}
+
+
+def text() -> dict:
+    """Metadata of a free-text field (a name, a Python entry point ``"package.module:factory"``).
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "str"}
+
+
+def describe(meta: Mapping[str, Any]) -> str:
+    """What a field allows, as the error messages and the scenario reference say it.
+
+    Parameters
+    ----------
+    meta : Mapping
+        The field's metadata (from one of the helpers above).
+
+    Returns
+    -------
+    str
+        E.g. ``"a finite number in (0, 400] m/s"``, ``"one of 'aft', 'split'"``.
+    """
+    kind = meta["kind"]
+    if kind == "int":
+        return f"an integer in [{meta['lo']}, {meta['hi']}]"
+    if kind == "bool":
+        return "true or false"
+    if kind == "choice":
+        return "one of " + ", ".join(repr(c) for c in meta["choices"])
+    if kind == "str":
+        return "a string"
+    lo, hi = meta["lo"], meta["hi"]
+    left = "(" if meta.get("lo_open") else "["
+    closed_inf = meta.get("inf_ok", False)
+    right = ")" if (meta.get("hi_open") or (hi == INF and not closed_inf)) else "]"
+    unit = f" {meta['unit']}" if meta.get("unit") else ""
+    hi_s = "inf" if hi == INF else f"{hi:g}"
+    what = "a number" if closed_inf else "a finite number"
+    range_text = f"{what} in {left}{lo:g}, {hi_s}{right}{unit}"
+    if closed_inf:
+        range_text += " (inf: no limit)"
+    if kind == "vec3":
+        return f"one number or a list of 3 numbers [u, v, w], each {range_text}"
+    return range_text
+
+
+def _check_real(name: str, value: Any, meta: Mapping[str, Any]) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ParameterError(f"{name} = {value!r}: must be {describe({**meta, 'kind': 'float'})}")
+    v = float(value)
+    lo, hi = meta["lo"], meta["hi"]
+    finite_ok = math.isfinite(v) or (meta.get("inf_ok") and v == INF)
+    bad = (
+        not finite_ok
+        or (v <= lo if meta.get("lo_open") else v < lo)
+        or (v >= hi if meta.get("hi_open") else v > hi)
+    )
+    if bad:
+        raise ParameterError(f"{name} = {value!r}: must be {describe({**meta, 'kind': 'float'})}")
+    return v
+
+
+def validate_field(section: str, f: dataclasses.Field, value: Any) -> Any:
+    """The checked value of field ``f`` of ``section``, or a one-line ParameterError.
+
+    Parameters
+    ----------
+    section : str
+        The section's name, for the message (``"hose"``).
+    f : dataclasses.Field
+        The field, with its metadata.
+    value : Any
+        The value given.
+
+    Returns
+    -------
+    Any
+        The value converted to its kind (a float, an int, a tuple of 3 floats, ...).
+    """
+    meta = f.metadata
+    name = f"{section}.{f.name}"
+    kind = meta["kind"]
+    if kind == "float":
+        return _check_real(name, value, meta)
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int) or not meta["lo"] <= value <= meta["hi"]:
+            raise ParameterError(f"{name} = {value!r}: must be {describe(meta)}")
+        return int(value)
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise ParameterError(f"{name} = {value!r}: must be true or false")
+        return value
+    if kind == "choice":
+        if value not in meta["choices"]:
+            raise ParameterError(f"{name} = {value!r}: must be {describe(meta)}")
+        return value
+    if kind == "str":
+        if not isinstance(value, str):
+            raise ParameterError(f"{name} = {value!r}: must be a string")
+        return value
+    if kind == "vec3":
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            value = (value, value, value)
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise ParameterError(f"{name} = {value!r}: must be {describe(meta)}")
+        return tuple(_check_real(f"{name}[{i}]", v, meta) for i, v in enumerate(value))
+    raise AssertionError(kind)  # pragma: no cover - metadata is defined in this module
+
+
+class Section:
+    """Mixin of a frozen dataclass: validates every field at construction.
+
+    Subclasses set ``_section`` (the TOML table's name) and may override
+    :meth:`_check_consistency` for cross-field rules.
+    """
+
+    _section: str = ""
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            checked = validate_field(self._section, f, getattr(self, f.name))
+            object.__setattr__(self, f.name, checked)
+        self._check_consistency()
+
+    def _check_consistency(self) -> None:
+        """Cross-field checks; overridden where needed."""
+
+    @classmethod
+    def from_mapping(cls, data: Any, base: "Section | None" = None):
+        """The section from a TOML table, fields not given taken from ``base`` (else the defaults).
+
+        Parameters
+        ----------
+        data : Mapping
+            ``{field: value}`` in the units of the field names.
+        base : Section, optional
+            The section whose values the table overrides.
+
+        Returns
+        -------
+        Section
+            A new, validated instance.
+
+        Raises
+        ------
+        ParameterError
+            ``data`` is not a table, names an unknown field, or a value is out of range.
+        """
+        if not isinstance(data, Mapping):
+            raise ParameterError(f"{cls._section} = {data!r}: must be a table of fields ([{cls._section}])")
+        known = [f.name for f in dataclasses.fields(cls)]
+        for key in data:
+            if key not in known:
+                raise ParameterError(f"{cls._section}.{key}: unknown field; allowed: {', '.join(sorted(known))}")
+        if base is None:
+            return cls(**dict(data))
+        return cls(**{name: data.get(name, getattr(base, name)) for name in known})
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{field: value}``, tuples as lists (TOML/JSON-ready).
+
+        Returns
+        -------
+        dict
+        """
+        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
+
+
+def _plain(v: Any) -> Any:
+    return list(v) if isinstance(v, tuple) else v
+
+
+def field_docs(cls: type) -> dict[str, str]:
+    """The ``#:`` comment above each field of a section class (its meaning, as written in the code).
+
+    Parameters
+    ----------
+    cls : type
+        A section dataclass.
+
+    Returns
+    -------
+    dict
+        Field name -> its comment ("" when it has none), the lines joined by spaces.
+    """
+    try:
+        source = textwrap.dedent(inspect.getsource(cls))
+    except (OSError, TypeError):  # pragma: no cover - source not available (frozen application)
+        return {f.name: "" for f in dataclasses.fields(cls)}
+    lines = source.splitlines()
+    docs = {}
+    for node in ast.parse(source).body[0].body:
+        if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+            comment = []
+            i = node.lineno - 2
+            while i >= 0 and lines[i].strip().startswith("#:"):
+                comment.insert(0, lines[i].strip()[2:].strip())
+                i -= 1
+            docs[node.target.id] = " ".join(comment)
+    return {f.name: docs.get(f.name, "") for f in dataclasses.fields(cls)}
+
+
+def field_table(cls: type) -> list[dict[str, Any]]:
+    """Every field of a section: name, unit, default, what is allowed and its meaning.
+
+    Parameters
+    ----------
+    cls : type
+        A section dataclass (:class:`Section` subclass).
+
+    Returns
+    -------
+    list of dict
+        One dict per field in declaration order with keys ``name``, ``unit``, ``default``,
+        ``allowed`` (:func:`describe`) and ``meaning`` (:func:`field_docs`).
+    """
+    docs = field_docs(cls)
+    rows = []
+    for f in dataclasses.fields(cls):
+        default = f.default if f.default is not dataclasses.MISSING else f.default_factory()  # type: ignore[misc]
+        rows.append({"name": f.name, "unit": f.metadata.get("unit", ""), "default": _plain(default),
+                     "allowed": describe(f.metadata), "meaning": docs[f.name]})
+    return rows
