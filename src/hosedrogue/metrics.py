@@ -41,6 +41,8 @@ from typing import Sequence
 import numpy as np
 from numba import njit
 
+from .jit import JIT
+
 #: Capture radii [m]: 0.1 m, the drogue positioning accuracy required in Wu et al. (2018); 0.305 m,
 #: the radius of the paper's drogue basket (diameter 0.61 m, Table 1).
 DEFAULT_CAPTURE_RADII_M = (0.1, 0.305)
@@ -141,7 +143,7 @@ def in_window(t_s: np.ndarray, window_s: tuple[float, float]) -> np.ndarray:
     return (t >= window_s[0] - WINDOW_EPS_S) & (t < window_s[1] - WINDOW_EPS_S)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def in_window_at(t, start_s, end_s):
     """Compiled :func:`in_window` for one sample.
 
@@ -222,7 +224,7 @@ def new_accumulator(n_radii: int) -> np.ndarray:
     return np.zeros(ACCUMULATOR_FIXED + n_radii)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def reset(acc):
     """Empty an accumulator in place (compiled).
 
@@ -234,7 +236,7 @@ def reset(acc):
     acc[:] = 0.0
 
 
-@njit(cache=True)
+@njit(**JIT)
 def accumulate(acc, dy, dz, u_hor, u_ver, radii):
     """Add one window sample to the accumulator ``acc`` (compiled).
 
@@ -265,7 +267,7 @@ def accumulate(acc, dy, dz, u_hor, u_ver, radii):
     acc[_COUNT] += 1.0
 
 
-@njit(cache=True)
+@njit(**JIT)
 def finish(acc, out):
     """Write the statistics of the accumulator ``acc`` to ``out`` in column order (compiled).
 

@@ -21,6 +21,8 @@ import numpy as np
 import scipy.linalg
 from numba import njit
 
+from ..jit import JIT
+
 from ..params import ParameterError, Turbulence
 from ..standards import (  # noqa: F401 - part of this module's public interface
     INTENSITY_ALTITUDE_FT,
@@ -42,7 +44,7 @@ def _noise_factor(Qd: np.ndarray) -> np.ndarray:
         return U * np.sqrt(np.clip(w, 0.0, None))
 
 
-@njit(cache=True)
+@njit(**JIT)
 def _run_filter(phi, lq, c, x0, noise, out):
     """Fill ``out[k] = c . x[k]`` with ``x[k+1] = phi x[k] + lq noise[k]``, ``x[0] = x0``."""
     n = x0.shape[0]
@@ -132,7 +134,7 @@ class GustRecord:
         return out.reshape(t.shape + (3,))
 
 
-@njit(cache=True)
+@njit(**JIT)
 def _segment(v, i, n, j, f, cubic):
     """Value of column j on the segment [i, i+1] at fraction f: linear, or the Catmull-Rom cubic
     through samples i-1 .. i+2 (end samples repeated at the ends of the record)."""
@@ -146,7 +148,7 @@ def _segment(v, i, n, j, f, cubic):
                                             + f * (3.0 * (p1 - p2) + p3 - p0)))
 
 
-@njit(cache=True)
+@njit(**JIT)
 def gust_at(t, t0, dt, values, t_on, t_off, cubic=False):
     """Gust velocity at time t from a sampled record (numba; the inner-loop lookup).
 
@@ -187,7 +189,7 @@ def gust_at(t, t0, dt, values, t_on, t_off, cubic=False):
     )
 
 
-@njit(cache=True)
+@njit(**JIT)
 def _gust_series(ts, t0, dt, values, t_on, t_off, cubic, out):
     for k in range(ts.shape[0]):
         out[k, 0], out[k, 1], out[k, 2] = gust_at(ts[k], t0, dt, values, t_on, t_off, cubic)

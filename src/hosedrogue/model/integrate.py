@@ -17,6 +17,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ..jit import JIT, JIT_NO_ALLOC
+
 from .kernels import (
     NONFINITE,
     OK,
@@ -29,9 +31,8 @@ from .kernels import (
 )
 
 
-#: compilation options of the loop's functions that allocate nothing: without numba's runtime,
-#: i.e. without reference counting (see :data:`hosedrogue.model.kernels.JIT_NO_ALLOC`)
-LOOP_JIT = dict(cache=True, _nrt=False)
+#: compilation options of the loop's functions that allocate nothing (:mod:`hosedrogue.jit`)
+LOOP_JIT = JIT_NO_ALLOC
 
 
 class LoopArrays(NamedTuple):
@@ -311,7 +312,7 @@ def step_status(z, n, max_yaw):
     return OK
 
 
-@njit(cache=True)
+@njit(**JIT)
 def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
             act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
@@ -353,7 +354,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     return OK, saved, t0 + nsteps * h
 
 
-@njit(cache=True)
+@njit(**JIT)
 def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
     """Row i of the saved series: time, state, applied force, and the outputs of the evaluation

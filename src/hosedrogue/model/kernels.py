@@ -38,19 +38,7 @@ from numba import njit
 from ..environment.turbulence import gust_at
 from ..environment.wake import wake_velocity
 
-#: Compilation options of every kernel. ``error_model="numpy"`` drops Python's zero-division
-#: checks from the inner loops; the fast-math flags allow fused multiply-adds but neither
-#: reassociation (vectorized reductions whose order depends on array alignment would make
-#: results differ in the last bits between processes) nor "no NaNs/infs" (divergence must
-#: still be detected).
-JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
-#: :data:`JIT` for the kernels of the time loop, which allocate nothing: compiled without numba's
-#: runtime (``_nrt=False``), so taking an array out of the workspace tuple or slicing the state
-#: costs no atomic reference-count update (those were ~1.5 us of a 3 us evaluation at 20
-#: links). Such a kernel cannot allocate: ``np.empty`` in one fails to compile. ``_nrt`` is an
-#: underscore option of numba's jit (numba 0.59-0.68 at least); without it the results are the
-#: same, only slower.
-JIT_NO_ALLOC = dict(JIT, _nrt=False)
+from ..jit import JIT, JIT_NO_ALLOC  # noqa: E402 - the one set of compilation options
 
 # ps layout
 (PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD, PS_DRAG_QUAD,

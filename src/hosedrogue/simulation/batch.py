@@ -15,6 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ..jit import JIT
+
 from .. import metrics
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
@@ -29,7 +31,7 @@ from .simulate import closed_loop_state, fixed_steps
 _NFIXED = len(SUMMARY_COLUMNS)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, Ac, Bc, Cc, Dc, y_ref, act, noise,
                    noise_dt, max_yaw, t_w0, t_w1, radii, out):
     n = l.shape[0]
