@@ -147,7 +147,7 @@ def test_simulation_mat_round_trip(tmp_path, capsys):
     df = res.to_dataframe()
     assert list(mat["signal_names"]) == list(df.columns)
     units = dict(zip(mat["signal_names"], mat["signal_units"]))
-    assert units["drogue_y_m"] == "m" and units["u_hor_n"] == "N" and units["drogue_vy_m_s"] == "m/s"
+    assert units["drogue_y_m"] == "m" and units["u_y_n"] == "N" and units["drogue_vy_m_s"] == "m/s"
     for c in df.columns:  # full double precision: exactly the arrays written
         np.testing.assert_array_equal(mat["signals"][c], df[c].to_numpy())
     np.testing.assert_array_equal(mat["data"], df.to_numpy())
@@ -167,7 +167,7 @@ def test_linear_mat_round_trip(tmp_path, capsys):
     lm = linearize(PAPER.replace(hose={"links": 4}, wake={"enabled": False}))
     for name in "ABCD":
         np.testing.assert_array_equal(mat[name], getattr(lm, name))
-    assert list(mat["input_names"]) == ["u_hor_n", "u_ver_n"]
+    assert list(mat["input_names"]) == ["u_y_n", "u_z_n"]
     assert list(mat["output_names"]) == ["P_ny_m", "P_nz_m"]
     data = json.loads(cli(capsys, "linearize", "--links", "4", "--no-wake", "--json"))
     for ch in ("lateral", "vertical"):

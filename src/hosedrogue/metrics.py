@@ -22,8 +22,8 @@ balance position in S_p [m]; ``dr = hypot(dy, dz)`` is the radial displacement [
 * ``peak_*``: ``max |x|`` over the window [m or N];
 * ``rms_*``: ``sqrt(mean(x^2))`` about the balance position [m];
 * ``inside_<r>m_frac``: fraction of the window's samples with ``dr <= r`` [-];
-* ``peak_u_hor_n``, ``peak_u_ver_n``, ``peak_u_n``: ``max |u_hor|``, ``max |u_ver|`` and
-  ``max hypot(u_hor, u_ver)`` of the force applied to the drogue [N].
+* ``peak_u_y_n``, ``peak_u_z_n``, ``peak_u_n``: ``max |u_y|``, ``max |u_z|`` and
+  ``max hypot(u_y, u_z)`` of the force applied to the drogue (lateral y, vertical z) [N].
 
 :func:`window_statistics` evaluates them over a saved time series (numpy); the compiled
 accumulator (:func:`accumulate`, :func:`finish`) evaluates the same formulas sample by sample
@@ -56,7 +56,7 @@ DISPLACEMENT_STATISTICS = (
     ("rms_dy_m", "m"), ("rms_dz_m", "m"), ("rms_radial_m", "m"),
 )
 #: (column, unit) of the control-force statistics, in column order.
-FORCE_STATISTICS = (("peak_u_hor_n", "N"), ("peak_u_ver_n", "N"), ("peak_u_n", "N"))
+FORCE_STATISTICS = (("peak_u_y_n", "N"), ("peak_u_z_n", "N"), ("peak_u_n", "N"))
 
 #: The fixed statistics and their units, in column order (the capture-radius columns follow).
 STATISTIC_UNITS = dict(DISPLACEMENT_STATISTICS + FORCE_STATISTICS)
@@ -193,7 +193,7 @@ def window_statistics(t_s: np.ndarray, offset_m: np.ndarray, control_n: np.ndarr
     row = {
         "peak_dy_m": _peak(dy), "peak_dz_m": _peak(dz), "peak_radial_m": _peak(dr),
         "rms_dy_m": _rms(dy), "rms_dz_m": _rms(dz), "rms_radial_m": _rms(dr),
-        "peak_u_hor_n": _peak(u[:, 0]), "peak_u_ver_n": _peak(u[:, 1]), "peak_u_n": _peak(force),
+        "peak_u_y_n": _peak(u[:, 0]), "peak_u_z_n": _peak(u[:, 1]), "peak_u_n": _peak(force),
     }
     for r in capture_radii_m:
         row[capture_column(r)] = float(np.mean(dr <= r)) if dr.size else math.nan

@@ -24,7 +24,7 @@ def add_parser(sub) -> None:
                     "[N] (force at the tow point); parameters: altitude_m [m], airspeed_m_s [m/s], wake_enabled. "
                     "It starts at the balance position and integrates with RK4 sub-steps of numerics.step_s [s]. "
                     "Running it needs a Python with hosedrogue installed.")
-    s.add_argument("--config", metavar="FILE",
+    s.add_argument("--config", metavar="PRESET|FILE", action="append", default=[],
                    help="TOML file of parameter overrides ([hose], [flight], [numerics], ...) frozen into the FMU")
     s.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
                    help="number of rigid links of the hose [-], >= 1 (default 20)")

@@ -200,6 +200,7 @@ def generate_gusts(
     airspeed_m_s: float,
     duration_s: float | None = None,
     seed: int | None = None,
+    run_duration_s: float | None = None,
 ) -> GustRecord:
     """Draw a stationary Dryden gust record by exact discretization of the forming filters.
 
@@ -215,6 +216,10 @@ def generate_gusts(
         ``[start_s, start_s + duration_s)``.
     seed : int, optional
         Seed of the ``numpy.random.PCG64`` generator; default ``turbulence.seed``.
+    run_duration_s : float, optional
+        Length of the run [s]: an infinite window (the default ``turbulence.duration_s``: gusts
+        for the whole run) is drawn to the run's end, plus a margin of twice the smoothing width
+        and two samples, so that neither the smoothing nor the interpolation touches the run.
 
     Returns
     -------
@@ -232,9 +237,16 @@ def generate_gusts(
     if not (math.isfinite(V) and V > 0.0):
         raise ParameterError(f"airspeed_m_s = {airspeed_m_s!r}: must be a finite number > 0 m/s")
     duration = turbulence.duration_s if duration_s is None else float(duration_s)
-    if not (math.isfinite(duration) and duration >= 0.0):
-        raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number >= 0 s")
     dt = turbulence.sample_time_s
+    if math.isinf(duration) and run_duration_s is not None:
+        margin = 2.0 * turbulence.smoothing_s + 2.0 * dt
+        duration = max(float(run_duration_s) - turbulence.start_s, 0.0) + margin
+    if not (math.isfinite(duration) and duration >= 0.0):
+        raise ParameterError(f"turbulence.duration_s = {duration!r}: a gust window to the end of the run needs "
+                             "the run's length (run_duration_s), else a finite number >= 0 s")
+    if duration / dt > Turbulence.MAX_SAMPLES:
+        raise ParameterError(f"turbulence.duration_s = {duration!r}: with sample_time_s = {dt!r} the gust record "
+                             f"would exceed {Turbulence.MAX_SAMPLES:.0e} samples; shorten it or sample coarser")
     t_on = turbulence.start_s
     t_off = t_on + duration
     if not turbulence.enabled:

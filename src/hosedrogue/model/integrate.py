@@ -314,10 +314,10 @@ def step_status(z, n, max_yaw):
 
 @njit(**JIT)
 def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-            act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
+            act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
     in ts, zs, us (the force applied at that state) and its derived outputs in joints (N, n+1, 3)
-    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] (as
+    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] and tension (N,) [N] (as
     :func:`~hosedrogue.model.kernels.outputs_series` gives them). Returns (status, saved count,
     stop time).
 
@@ -331,7 +331,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     u = np.empty(2)
     ws = make_workspace_jit(n)
     save_state(0, t0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow)
+               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
     saved = 1
     done = 0
     while done < nsteps:
@@ -349,14 +349,14 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
         done = last
         if done % save_every == 0:
             save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                       noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow)
+                       noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
             saved += 1
     return OK, saved, t0 + nsteps * h
 
 
 @njit(**JIT)
 def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
+               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
     """Row i of the saved series: time, state, applied force, and the outputs of the evaluation
     of dz/dt at (t, z), which leaves k1 in ``work[0]`` for the step that starts there."""
     n = l.shape[0]
@@ -368,6 +368,7 @@ def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, n
     drogue_vel[i] = ws[5][n]
     drogue_drag[i] = ws[13]
     tow[i] = ws[14]
+    tension[i] = ws[17][0]
     # u is the force applied at (t, z): closed_loop_deriv measured the drogue and set it
     us[i, 0] = u[0]
     us[i, 1] = u[1]

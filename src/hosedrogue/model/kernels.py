@@ -395,6 +395,7 @@ def make_workspace(n):
         np.empty(3),  # 14 tow force
         np.empty(2 * n),  # 15 qdd
         np.empty(ENV_SIZE),  # 16 this evaluation's copy of env (with the gust at its time)
+        np.empty(1),  # 17 exit tension [N] (exit_tension)
     )
 
 
@@ -539,11 +540,31 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
 
 @njit(**JIT_NO_ALLOC)
 def forward_dynamics_ws(l, M, J, ps, ws):
-    """qdd (ws[15]) and tow-point force (ws[14]) from the loads in the workspace."""
-    chain_forward_dynamics(l, M, J, ps[PS_JD], l.shape[0], ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
+    """qdd (ws[15]), tow-point force (ws[14]) and exit tension (ws[17]) from the loads in the workspace."""
+    n = l.shape[0]
+    chain_forward_dynamics(l, M, J, ps[PS_JD], n, ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
                            ws[10], ws[11], ws[12], ws[15], ws[14])
+    ws[17][0] = exit_tension(l, ps, ws[0], ws[7], ws[14], n)
     # the mass lumped at the (fixed) tow point adds only its weight to the tow-point force
     ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
+
+
+@njit(**JIT_NO_ALLOC)
+def exit_tension(l, ps, e, F, pull, n):
+    """The exit tension T_0 [N]: the hose's pull on the exit (the recursion's tow-point force
+    ``pull``, before the tow-point mass's weight) less the exit joint's own external load ``F[0]``,
+    along the exit link e_0 - the generalized force of the hose on its free length L, so the
+    force a hose drum holds. With the ``moment`` bending it includes the bending energy's
+    dependence on L through lbar_0 = (l_0 + l_1) / 2 (``-dU/dL``, which keeps the varying-length
+    model conservative); the one definition for the fixed-length and the engagement chains."""
+    T = 0.0
+    for i in range(3):
+        T += (pull[i] - F[0, i]) * e[0, i]
+    if ps[PS_BENDING] == BENDING_MOMENT and n > 1:
+        lbar = 0.5 * (l[0] + l[1])
+        gamma = kink(e, 0)[4]
+        T += 0.25 * ps[PS_EI] * gamma * gamma / (lbar * lbar)
+    return T
 
 
 @njit(**JIT_NO_ALLOC)
@@ -658,9 +679,9 @@ def mass_matrix_at(q, l, S, J, ps):
 
 
 @njit(**JIT)
-def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, drogue_drag, tow):
+def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, drogue_drag, tow, tension):
     """Derived outputs at every saved state: joints (N, n+1, 3), drogue velocity, drogue drag
-    and tow-point force (N, 3)."""
+    and tow-point force (N, 3), exit tension (N,)."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
     for i in range(ts.shape[0]):
@@ -669,3 +690,4 @@ def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, dr
         drogue_vel[i] = ws[5][n]
         drogue_drag[i] = ws[13]
         tow[i] = ws[14]
+        tension[i] = ws[17][0]
