@@ -2,7 +2,7 @@
 
 Every array keeps full double precision (the CSV files round to 10 significant digits), every
 signal has its name and unit next to it, and names follow the project's SI suffixes
-(``_m``, ``_m_s``, ``_n``, ``_s``). In MATLAB::
+(``_m``, ``_m_s``, ``_n``, ``_s``; :func:`hosedrogue.units.unit_of`). In MATLAB::
 
     r = load('timeseries.mat');  plot(r.t_s, r.signals.drogue_dy_m)
     m = load('linear_model.mat');  sys = ss(m.A, m.B, m.C, m.D, 'InputName', cellstr(m.input_names))
@@ -15,8 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-#: Unit of a signal, by the suffix of its name (longest suffix first).
-_SUFFIX_UNITS = (("_m_s", "m/s"), ("_rad_s", "rad/s"), ("_rad", "rad"), ("_m", "m"), ("_n", "N"), ("_s", "s"))
+from ..units import unit_of  # also importable from here, where it was defined before hosedrogue.units
 
 
 def _save(data: dict, path: str | Path) -> Path:
@@ -26,25 +25,6 @@ def _save(data: dict, path: str | Path) -> Path:
     path = Path(path)
     savemat(path, data, do_compression=True, oned_as="column")
     return path
-
-
-def unit_of(name: str) -> str:
-    """The SI unit of a signal from its name's suffix (``"1"`` when it has none).
-
-    Parameters
-    ----------
-    name : str
-        Signal name such as ``drogue_vy_m_s``.
-
-    Returns
-    -------
-    str
-        Unit, e.g. ``"m/s"``.
-    """
-    for suffix, unit in _SUFFIX_UNITS:
-        if name.endswith(suffix):
-            return unit
-    return "1"
 
 
 def _cellstr(items) -> np.ndarray:
