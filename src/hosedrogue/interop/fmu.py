@@ -251,7 +251,9 @@ _SCRIPT = '''"""Entry point of a hosedrogue FMU (written by `hosedrogue export-f
 
 The model runs in the Python that loads this FMU; it needs the hosedrogue package installed.
 """
-from hosedrogue.interop.fmu_slave import HoseDrogue  # noqa: F401  (pythonfmu finds the class here)
+from hosedrogue.interop.fmu_slave import HoseDrogue, hold_entry_point_globals  # noqa: F401  (pythonfmu finds the class here)
+
+hold_entry_point_globals(globals())  # pythonfmu's binary releases a reference to these globals it does not own
 '''
 
 

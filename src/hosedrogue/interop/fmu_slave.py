@@ -6,8 +6,6 @@ script imports :class:`HoseDrogue` from here, so the FMU always runs the install
 
 from __future__ import annotations
 
-import sys
-
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
 from pythonfmu.enums import Fmi2Status
 
@@ -16,12 +14,37 @@ from .fmu import (
     FMU_INPUTS,
     FMU_OUTPUTS,
     FMU_REAL_PARAMETERS,
-    SCRIPT_NAME,
     HoseDrogueCore,
     StepFailure,
     fmu_params,
     load_exported_params,
 )
+
+
+#: References to the FMU entry-point script's globals, one per execution of the script (see
+#: :func:`hold_entry_point_globals`); they are never released.
+_ENTRY_POINT_GLOBALS: list[dict] = []
+
+
+def hold_entry_point_globals(namespace: dict) -> None:
+    """Hold one more reference to the globals of the FMU's entry-point script (the script calls this).
+
+    pythonfmu 0.7's binary, each time it instantiates an FMU, executes the entry-point script in
+    the module's globals and then releases a reference to that dict which it never owned
+    (``findClass``: ``Py_DECREF`` of the borrowed ``PyModule_GetDict`` result). The dict is freed
+    while the module still uses it, and whatever Python allocates next in its place loses a
+    reference later: in a Python host that surfaced as emptied modules (``scipy.optimize``), a
+    class the next instantiation could not find, and segmentation faults in a later garbage
+    collection. Every execution of the script holds one reference here, at least as many as the
+    binary takes away, so the dict lives as long as the process (a few hundred bytes per FMU
+    instance).
+
+    Parameters
+    ----------
+    namespace : dict
+        The script's ``globals()``.
+    """
+    _ENTRY_POINT_GLOBALS.append(namespace)
 
 
 class HoseDrogue(Fmi2Slave):
@@ -40,10 +63,6 @@ class HoseDrogue(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        # pythonfmu's binary empties the entry-point module when an instance is freed, but the module
-        # stays in sys.modules, so the next instantiation in this process would find no class: let the
-        # next one import it afresh (this instance's binary keeps its own reference).
-        sys.modules.pop(SCRIPT_NAME, None)
         self._base = load_exported_params(self.resources)
         self.altitude_m = float(self._base.flight.altitude_m)
         self.airspeed_m_s = float(self._base.flight.airspeed_m_s)
