@@ -1,6 +1,6 @@
 """The exported FMUs as a strict importer reads them: fmpy's validator, units that match the names,
-a model structure that matches what the FMU does, what the host needs, and the reason of a
-failed step in the FMI log. (The FMU's numbers against
+a model structure that matches what the FMU does, what the host needs, the reason of a failed
+step in the FMI log, and ``hosedrogue export-fmu --check``. (The FMU's numbers against
 ``hosedrogue steady`` and ``simulate``: tests/test_interop.py.)"""
 
 import html
@@ -180,7 +180,7 @@ def test_the_fmu_says_what_its_host_needs(hose_fmu):
 
     md = fmpy.read_model_description(str(hose_fmu))
     needs = [f"hosedrogue {__version__}", metadata("hosedrogue")["Requires-Python"],
-             f"pip install 'hosedrogue[fmu]=={__version__}'", "linux64"]
+             f"pip install 'hosedrogue[fmu]=={__version__}'", "hosedrogue export-fmu --check", "linux64"]
     with zipfile.ZipFile(hose_fmu) as zf:
         page = zf.read("documentation/index.html").decode()
         requirements = zf.read("resources/requirements.txt").decode()
@@ -226,6 +226,36 @@ def test_a_failed_step_logs_time_and_reason(hose_fmu, force_n, reason):
     t_fail = float(re.search(rb"t = ([0-9.e+-]+) s", text).group(1))
     # fmpy stops at the last good communication point, one step before the failure (to its 6 digits)
     assert rows["time"][-1] < 1.0 and t_fail == pytest.approx(rows["time"][-1] + STEP_S, abs=1e-6)
+
+
+# --- export-fmu --check ----------------------------------------------------------------------
+
+def test_check_validates_and_runs_the_fmu(capsys):
+    assert main(["export-fmu", "--links", str(LINKS), "--check", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["ok"] and report["problems"] == [] and report["fmi_version"] == "2.0"
+    assert report["units"] == {v.name: unit_of(v.name) for v in HOSE_FMU.variables if v.kind == "Real"}
+    sim = report["simulation"]
+    # 1e-6 m: the equilibrium solver's convergence (weight-moment residual 1e-12) is far finer;
+    # zero inputs at the balance position: the drogue stays within rounding (1e-9 m) of it
+    assert sim["links"] == LINKS and sim["start_offset_m"] < 1e-6 and sim["drift_m"] < 1e-9
+    assert report["host"]["platform"] in report["platforms"]
+
+
+def test_check_of_an_invalid_fmu_exits_2_with_one_line(monkeypatch, tmp_path, capsys):
+    from hosedrogue.interop import fmu as fmu_module
+
+    export = fmu_module.export_fmu
+
+    def export_raw(out, params=PAPER, kind="fixed-length"):  # what pythonfmu alone would write
+        good = export(tmp_path / "good.fmu", params, kind)
+        return rewrite(good, out, "modelDescription.xml", without_initial_unknowns)
+
+    monkeypatch.setattr(fmu_module, "export_fmu", export_raw)
+    assert main(["export-fmu", "--links", str(LINKS), "--check", "--out", str(tmp_path / "raw.fmu")]) == 2
+    captured = capsys.readouterr()
+    assert len(captured.err.strip().splitlines()) == 1 and "InitialUnknowns" in captured.err
+    assert "FAILED" in captured.out
 
 
 # --- import graph ----------------------------------------------------------------------------

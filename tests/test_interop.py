@@ -151,6 +151,8 @@ def test_export_fmu_bad_output_name(tmp_path, capsys):
     assert main(["export-fmu", "--out", str(tmp_path / "hose.zip")]) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "--out = " in err
+    assert main(["export-fmu"]) == 2  # neither --out nor --check
+    assert "--out" in capsys.readouterr().err
     # the library names its own argument, not the command line's flag
     with pytest.raises(ParameterError, match=r"^out = '.*hose\.zip': must be a file name ending in \.fmu$"):
         export_fmu(tmp_path / "hose.zip")

@@ -1,4 +1,4 @@
-"""FMI 2.0 co-simulation export of the hose-drogue model.
+"""FMI 2.0 co-simulation export of the hose-drogue model, and a check of an exported FMU.
 
 The FMU is built with `pythonfmu <https://github.com/NTNU-IHB/PythonFMU>`_: its platform binary
 implements the FMI 2.0 C API and forwards every call to a Python class
@@ -6,19 +6,27 @@ implements the FMI 2.0 C API and forwards every call to a Python class
 ``hosedrogue simulate`` (no second implementation that could drift from it). The FMU therefore
 needs a Python with ``hosedrogue`` installed at run time (in-process for Python hosts such as
 fmpy); its model description and ``documentation/index.html`` say so
-(:func:`hosedrogue.interop.fmu_core.host_requirements`). The interface is the table :data:`hosedrogue.interop.fmu_core.HOSE_FMU`; see
+(:func:`hosedrogue.interop.fmu_core.host_requirements`), and :func:`check_fmu` checks an FMU on
+its host. The interface is the table :data:`hosedrogue.interop.fmu_core.HOSE_FMU`; see
 ``docs/interop.md``.
 """
 
 from __future__ import annotations
 
 import json
+import math
+import platform
 import shutil
 import tempfile
+import time
+import zipfile
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import ParameterError
-from ..params import PAPER, Params
+from ..params import PAPER, Params, params_from_dict
+from ..units import NO_UNIT, unit_of
 from ..version import __version__
 from .fmu_core import (
     INTERFACE_RESOURCE,
@@ -30,6 +38,10 @@ from .fmu_core import (
     parameter_starts,
 )
 from .fmu_description import documentation_html
+
+#: The check's bound on the FMU's start against the balance position [m]: the equilibrium
+#: solver converges to a weight-moment residual of 1e-12, far below a micrometre.
+START_TOLERANCE_M = 1e-6
 
 _SCRIPT = '''"""Entry point of a hosedrogue FMU (written by `hosedrogue export-fmu`, hosedrogue {version}).
 
@@ -160,3 +172,109 @@ def prepare_python_host(links: int = 2) -> None:
     core.set_gust((0.0, 0.0, 0.0))
     core.step(0.0, PAPER.numerics.step_s, (0.0, 0.0))
     core.outputs()
+
+
+def exported_params(fmu: str | Path) -> Params:
+    """The parameter set an FMU was exported with (read from its ``resources`` in the zip).
+
+    Parameters
+    ----------
+    fmu : str or Path
+        An FMU written by :func:`export_fmu`.
+
+    Returns
+    -------
+    Params
+    """
+    with zipfile.ZipFile(fmu) as zf:
+        data = json.loads(zf.read(f"resources/{PARAMS_RESOURCE}"))
+    return params_from_dict(data, base=PAPER)
+
+
+def _unit_problems(md) -> list[str]:
+    """Variables whose unit in the model description is not the one their name's suffix gives."""
+    problems = []
+    for v in md.modelVariables:
+        expected = unit_of(v.name) if v.type == "Real" else NO_UNIT
+        if (v.unit or NO_UNIT) != expected:
+            problems.append(f"{v.name}: unit {v.unit!r}, its name says {expected!r}")
+    return problems
+
+
+def _run_from_balance(fmu: Path, md, duration_s: float) -> dict:
+    """Run the FMU in fmpy with zero inputs and compare it with the balance position."""
+    import fmpy
+
+    from ..analysis.equilibrium import solve_equilibrium
+
+    params = exported_params(fmu)
+    balance = solve_equilibrium(fmu_params(params, params.flight.altitude_m, params.flight.airspeed_m_s,
+                                           params.wake.enabled)).drogue_position_m
+    outputs = [v.name for v in md.modelVariables if v.causality == "output"]
+    start = time.perf_counter()
+    rows = fmpy.simulate_fmu(str(fmu), stop_time=duration_s, step_size=params.numerics.step_s,
+                             output_interval=params.numerics.step_s, output=outputs)
+    wall = time.perf_counter() - start
+    pos = np.column_stack([rows[f"drogue_{a}_m"] for a in "xyz"])
+    return {"duration_s": float(rows["time"][-1]), "step_s": params.numerics.step_s, "links": params.hose.links,
+            "start_offset_m": float(np.max(np.abs(pos[0] - balance))),
+            "drift_m": float(np.max(np.abs(pos - pos[0]))), "wall_s": round(wall, 3)}
+
+
+def check_fmu(fmu: str | Path, duration_s: float = 1.0) -> dict:
+    """Check an exported FMU on this host: fmpy's validator, the units, and a short run at rest.
+
+    Runs in this Python process (it calls :func:`prepare_python_host` first).
+
+    Parameters
+    ----------
+    fmu : str or Path
+        The ``.fmu`` file.
+    duration_s : float
+        Length of the run from the balance position with zero inputs [s], > 0.
+
+    Returns
+    -------
+    dict
+        ``ok`` (no problem and a start within :data:`START_TOLERANCE_M` of the balance position),
+        ``problems`` (fmpy's :func:`fmpy.validation.validate_fmu` and unit mismatches, one line
+        each), ``platforms`` (binaries in the FMU), ``host`` (this platform and the versions of
+        Python, hosedrogue, fmpy, pythonfmu), ``variables`` and ``units`` (by name), and
+        ``simulation`` (``start_offset_m`` and ``drift_m`` [m] over ``duration_s`` [s]; None if
+        the FMU did not run, which is then one of the problems).
+
+    Raises
+    ------
+    ParameterError
+        If fmpy is not installed, ``fmu`` is not a file, or ``duration_s`` is not positive.
+    """
+    try:
+        import fmpy
+        from fmpy.validation import validate_fmu
+    except ImportError:
+        raise ParameterError("check_fmu: needs fmpy (pip install fmpy)") from None
+    fmu = Path(fmu)
+    if not fmu.is_file():
+        raise ParameterError(f"fmu = {str(fmu)!r}: no such file")
+    if isinstance(duration_s, bool) or not isinstance(duration_s, (int, float)) or not 0 < duration_s < math.inf:
+        raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
+    import pythonfmu
+
+    problems = list(validate_fmu(str(fmu)))
+    md = fmpy.read_model_description(str(fmu))
+    problems += _unit_problems(md)
+    prepare_python_host()
+    try:
+        sim = _run_from_balance(fmu, md, float(duration_s))
+    except Exception as exc:  # the FMU did not run here: that is the check's finding, not a crash
+        sim = None
+        problems.append(f"running it in fmpy failed: {type(exc).__name__}: {exc}")
+    units = {v.name: v.unit for v in md.modelVariables if v.unit}
+    return {
+        "fmu": str(fmu), "ok": not problems and sim["start_offset_m"] < START_TOLERANCE_M,
+        "problems": problems, "fmi_version": md.fmiVersion, "platforms": fmpy.supported_platforms(str(fmu)),
+        "host": {"platform": fmpy.platform, "machine": platform.machine(), "python": platform.python_version(),
+                 "hosedrogue": __version__, "fmpy": fmpy.__version__, "pythonfmu": pythonfmu.__version__},
+        "variables": len(md.modelVariables), "units": units, "simulation": sim,
+        "start_tolerance_m": START_TOLERANCE_M,
+    }

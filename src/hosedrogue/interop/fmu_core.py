@@ -202,13 +202,14 @@ def host_requirements() -> str:
     Returns
     -------
     str
-        The Python versions, the package and its version, how to install it and where it was
-        tested.
+        The Python versions, the package and its version, how to install it, where it was tested
+        and how to check an FMU.
     """
     return (f"The FMU runs Python code: the host needs CPython {python_requirement()} with hosedrogue "
             f"{__version__} installed (pip install 'hosedrogue[fmu]=={__version__}', or pythonfmu deploy -f "
             f"FILE.fmu, which installs resources/requirements.txt into the current Python). Tested on "
-            f"{TESTED_ON}.")
+            f"{TESTED_ON}. Check an FMU on its host with: hosedrogue export-fmu --check (or "
+            f"python -c \"from hosedrogue.interop.fmu import check_fmu; print(check_fmu('FILE.fmu'))\").")
 
 
 def fmu_params(params: Params, altitude_m: float, airspeed_m_s: float, wake_enabled: bool) -> Params:
