@@ -151,13 +151,13 @@ def prepare_python_host(links: int = 2) -> None:
     (fmpy) loads an exported FMU here.
 
     pythonfmu's binary runs the FMU's Python code inside the host's interpreter when the host is
-    Python itself, from a thread of its own. Modules first imported and kernels first compiled
-    there, during a call into the FMU, have damaged the interpreter: ``scipy.optimize`` emptied
-    ("module has no attribute 'root'") and crashes in later garbage collections were seen in fresh
-    fmpy sessions before :func:`hosedrogue.interop.fmu_slave.hold_entry_point_globals`; with it,
-    1 of 5 fresh sessions without this call still aborted at exit ("corrupted double-linked
-    list"), 0 of 5 with it (3 runs each). Importing the slave's code and running one tiny model
-    first means the FMU's calls import and compile nothing. Simulink, OpenModelica and other
+    Python itself. Modules first imported and kernels first compiled during a call into the FMU
+    have damaged the interpreter: ``scipy.optimize`` emptied ("module has no attribute 'root'")
+    and crashes in later garbage collections were seen in fresh fmpy sessions before
+    :func:`hosedrogue.interop.fmu_slave.hold_entry_point_globals`; with it, 1 of 5 fresh sessions
+    without this call still aborted at exit ("corrupted double-linked list"), 0 of 5 with it (3
+    runs each). Importing the slave's code and running one tiny model first means the FMU's calls
+    import and compile nothing. Simulink, OpenModelica and other
     non-Python hosts start their own interpreter and do not need this.
 
     Parameters
