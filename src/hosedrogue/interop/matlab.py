@@ -2,7 +2,7 @@
 
 Every array keeps full double precision (the CSV files round to 10 significant digits), every
 signal has its name and unit next to it, and names follow the project's SI suffixes
-(``_m``, ``_m_s``, ``_n``, ``_s``). In MATLAB::
+(``_m``, ``_m_s``, ``_n``, ``_s``; :func:`hosedrogue.units.unit_of`). In MATLAB::
 
     r = load('timeseries.mat');  plot(r.t_s, r.signals.drogue_dy_m)
     m = load('linear_model.mat');  sys = ss(m.A, m.B, m.C, m.D, 'InputName', cellstr(m.input_names))
