@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 
 from hosedrogue.engagement import Reel, simulate_engagement
-from hosedrogue.engagement.chain import ChainModel, chain_arrays, chain_equilibrium, chain_for_length
+from hosedrogue.engagement.chain import chain_arrays, chain_equilibrium, chain_for_length, chain_model
 from hosedrogue.engagement.driver import engagement_parameters
 from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import engagement_kernels as EK
 from hosedrogue.model import kernels as K
+from hosedrogue.model.system import HoseModel
 from hosedrogue.params import PAPER
 
 MU = PAPER.hose.mass_per_length_kg_m
@@ -133,25 +134,45 @@ def test_exit_work_balances_hose_energy(free_runs):
     # the converged preset's options: Gauss drag quadrature and structural bending damping
     {"mass_lumping": "split", "bending": "moment", "drag_quadrature": "gauss2", "bending_damping_n_m2_s": 0.27},
 ], ids=["split", "aft", "gauss2-damped"])
-def test_fixed_length_limit_matches_paper_kernels(rng, hose):
-    """At L' = 0 the variable-length chain is the fixed-length chain: the same accelerations as
-    HoseModel (to 1e-9 relative, round-off of two O(n) solves superposed), for either mass lumping
-    and with the Gauss drag quadrature and the structural damping of the converged preset."""
+@pytest.mark.parametrize("exit_link", [1.0, 0.9], ids=["equal-links", "short-exit-link"])
+def test_engagement_at_rest_length_is_the_hose_model(rng, hose, exit_link):
+    """At L' = 0 the variable-length chain is the fixed-length chain: the engagement's kernels give
+    the accelerations, the tow-point force, the exit tension and the kinetic and bending energy of
+    the HoseModel that simulate and the FMU use (``HoseModel(params)``; with an exit link of
+    another length, ``HoseModel(params, lengths=...)``), for either mass lumping and with the
+    Gauss drag quadrature and the structural damping of the converged preset. Round-off of two
+    O(n) solves superposed: accelerations to 1e-9 relative, forces to 1e-9 N, energies to 1e-9 J
+    (measured ~1e-13 relative)."""
     p = PAPER.replace(hose={"links": 12, "link_inertia": "rod", **hose})
     l_nom = p.hose.length_m / p.hose.links
-    # an exit link of another length: the kernel recomputes its mass and inertia from L
-    chain = chain_arrays(p, np.r_[0.9 * l_nom, np.full(11, l_nom)], l_nom)
-    model = ChainModel(p, chain)
+    lengths = np.r_[exit_link * l_nom, np.full(11, l_nom)]
+    model = HoseModel(p) if exit_link == 1.0 else HoseModel(p, lengths=lengths)
+    chain = chain_arrays(p, lengths, l_nom)  # the kernel recomputes the exit link's mass and inertia from L
+    np.testing.assert_allclose(chain.M, model.M, rtol=1e-15)
+    np.testing.assert_allclose(chain.J, model.J, rtol=1e-15)
     q = np.pi / 2 * 0.3 + rng.uniform(-0.2, 0.2, 2 * chain.n)
     qd = rng.uniform(-0.5, 0.5, 2 * chain.n)
-    ref = model.accelerations(q, qd, t=0.0)
+    ref = model.outputs(np.concatenate([q, qd]), t=0.0)
     ep = engagement_parameters(p, Reel(law="locked"), None, chain, np.zeros(3))
     z = np.concatenate([q, qd, [float(np.sum(chain.l)), 0.0], np.zeros(EK.Z_TAIL - 2)])
+    args = (chain.n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env, model.gust_values, ep,
+            chain.chart, no_loop())
     ws, ws2 = K.make_workspace(chain.n), K.make_workspace(chain.n)
     out = np.empty(EK.O_SIZE)
-    EK.eng_evaluate(0.0, z, chain.n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
-                    model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), out)
-    assert np.max(np.abs(ws[15] - ref)) < 1e-9 * np.max(np.abs(ref))
+    EK.eng_evaluate(0.0, z, *args, ws, ws2, np.empty(2), out)
+    assert np.max(np.abs(ws[15] - ref.qdd)) < 1e-9 * np.max(np.abs(ref.qdd))
+    N = 1
+    joints, jvel, scal, tow, tdrog, drag = (np.empty((N, chain.n + 1, 3)), np.empty((N, chain.n + 1, 3)),
+                                            np.empty((N, EK.O_SIZE)), np.empty((N, 3)), np.empty(N), np.empty((N, 3)))
+    EK.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag)
+    assert np.max(np.abs(tow[0] - ref.tow_force_n)) < 1e-9
+    assert abs(scal[0, EK.O_T0] - ref.exit_tension_n) < 1e-9
+    assert np.max(np.abs(drag[0] - ref.drogue_drag_n)) < 1e-9
+    kinetic, potential = model.energy(np.concatenate([q, qd]))
+    T, U_bend, T_reel = EK.eng_energy(z, *args[:5], ep, chain.chart)
+    gravity = -float(np.sum(model.M * model.ps[K.PS_G] * model.joint_positions(q)[1:, 2]))
+    assert abs(T - kinetic) < 1e-9 and T_reel == 0.0
+    assert abs(U_bend - (potential - gravity)) < 1e-9
 
 
 def test_payout_settles_to_longer_balance_position():
@@ -180,7 +201,7 @@ def test_angle_charts_describe_the_same_motion(rng):
     p = PAPER.replace(hose={"links": 10, "link_inertia": "rod", "bending": "moment", "mass_lumping": "split"})
     n = 10
     chain = chain_arrays(p, np.full(n, 1.6), 1.6)
-    model = ChainModel(p, chain)
+    model = chain_model(p, chain)
     q = np.pi / 2 * 0.2 + rng.uniform(-0.3, 0.3, 2 * n)
     qd = rng.uniform(-0.5, 0.5, 2 * n)
     z = np.concatenate([q, qd, [16.0, 0.7], np.zeros(EK.Z_TAIL - 2)])

@@ -12,7 +12,7 @@ frame B_k is N rotated about N.y by theta_k1, then about the new z by theta_k2; 
 along e_k = -B_k.x, which the first tests check against docs/model.md's e_k and omega_k. Joint k carries
 the particle M_k = mu l_k (plus the drogue mass at joint n); link k carries a massless rigid body
 with inertia diag(0, J_k, J_k) in B_k (the zero axis along the link), link n also the drogue's
-isotropic inertia J_d. Generalized speeds are the angle rates, so the Kane mass matrix is H and the
+transverse inertia diag(0, J_d, J_d) (docs/model.md §2). Generalized speeds are the angle rates, so the Kane mass matrix is H and the
 forcing is f in H qdd = f.
 
 The sympy model keeps every parameter as a symbol, so one derivation per n (cached) serves all the
@@ -133,7 +133,8 @@ def derive(n: int) -> SympyHose:
         bodies.append(me.Particle(f"m{k + 1}", joints[k + 1], Mk[k]))
         link_inertia = me.inertia(frames[k], 0, Jk[k], Jk[k])
         bodies.append(me.RigidBody(f"L{k + 1}", joints[k + 1], frames[k], 0, (link_inertia, joints[k + 1])))
-    drogue_inertia = me.inertia(frames[-1], s["J_d"], s["J_d"], s["J_d"])
+    # the drogue's inertia about its pitch and yaw axes; it has no roll freedom on the link's axis
+    drogue_inertia = me.inertia(frames[-1], 0, s["J_d"], s["J_d"])
     bodies.append(me.RigidBody("D", joints[n], frames[-1], 0, (drogue_inertia, joints[n])))
 
     forces: dict[int, sm.Matrix] = {j: sm.zeros(3, 1) for j in range(n + 1)}  # on joint j, in N
@@ -411,10 +412,12 @@ def test_accelerations_agree_with_package(n, case, overrides):
     pkg = _package_model(n, overrides)
     params = pkg.params
     assert not params.turbulence.enabled and not params.wake.enabled
-    expected_J = _rod_inertia(params) if params.hose.link_inertia == "rod" else _paper_inertia(params)
-    np.testing.assert_allclose(pkg.J, expected_J, rtol=1e-14)
+    links_J = _rod_inertia(params) if params.hose.link_inertia == "rod" else _paper_inertia(params)
+    # the package keeps the drogue's (transverse) inertia in the last link's; the sympy model has it
+    # as a body of its own
+    np.testing.assert_allclose(pkg.J, links_J + np.r_[np.zeros(n - 1), params.drogue.inertia_kg_m2], rtol=1e-14)
     for i, (q, qd, u) in enumerate(random_states(n, seed=100 * n + CASES.index((case, overrides)))):
-        p = param_vector(params, pkg.rho, pkg.J, u)
+        p = param_vector(params, pkg.rho, links_J, u)
         H_sym = model.mass_matrix(q, qd, p)
         np.testing.assert_allclose(pkg.mass_matrix(q), H_sym, rtol=0, atol=1e-12 * np.abs(H_sym).max(),
                                    err_msg=f"{case}, n={n}, state {i}: mass matrix")

@@ -21,7 +21,6 @@ import numpy as np
 
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..model import engagement_kernels as EK
-from ..model import kernels as K
 from ..model.system import HoseModel, link_inertias, lumped_masses
 from ..params import Params
 
@@ -70,9 +69,7 @@ def chain_arrays(params: Params, lengths: np.ndarray, l_nom: float, chart: np.nd
     l = np.ascontiguousarray(lengths, dtype=np.float64).copy()
     n = l.size
     M, _ = lumped_masses(params, l)
-    J = link_inertias(params, l)
-    # the drogue's inertia as transverse inertia of the last link (engagement_kernels docstring)
-    J[n - 1] += params.drogue.inertia_kg_m2
+    J = link_inertias(params, l)  # the drogue's inertia is the last link's transverse inertia
     chart = np.zeros(n) if chart is None else np.ascontiguousarray(chart, dtype=np.float64).copy()
     return Chain(l, M, J, l_nom, chart)
 
@@ -312,33 +309,32 @@ def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
     return np.concatenate([q2, qd2, tail]), new, delta
 
 
-class ChainModel(HoseModel):
-    """A :class:`HoseModel` whose arrays are those of a :class:`Chain` (for the equilibrium
-    solver, the linearization and the fixed-length kernels at L' = 0).
+def chain_model(params: Params, chain: Chain, duration_s: float | None = None) -> HoseModel:
+    """The :class:`~hosedrogue.model.system.HoseModel` of a :class:`Chain` as it is (its link
+    lengths; the same masses and inertias), for the equilibrium solver, the linearization and the
+    kernels' parameter, environment and gust arrays.
 
     Parameters
     ----------
     params : Params
-        The run's parameters; hose length [m] and links are replaced by the chain's.
+        The run's parameters; hose length [m] and links become the chain's.
     chain : Chain
-        Link lengths [m], joint masses [kg] and link inertias [kg m^2] to use.
+        Link lengths [m].
+    duration_s : float, optional
+        Length of the run [s] the gust record must cover (see ``HoseModel``).
+
+    Returns
+    -------
+    HoseModel
     """
-
-    def __init__(self, params: Params, chain: Chain):
-        L = float(np.sum(chain.l))
-        params = params.replace(hose={"length_m": L, "links": chain.n})
-        super().__init__(params)
-        self.l = chain.l.copy()
-        self.M = chain.M.copy()
-        self.S = np.cumsum(self.M[::-1])[::-1].copy()
-        self.J = chain.J.copy()
-        self.ps[K.PS_JD] = 0.0  # the drogue's inertia is in J[n-1] (transverse only)
-        # the tow point's share of the split lumping, for this chain's own exit link
-        self.M_tow = lumped_masses(self.params, self.l)[1]
-        self.ps[K.PS_M_TOW] = self.M_tow
+    return HoseModel(params, duration_s=duration_s, lengths=chain.l)
 
 
-def chain_equilibrium(params: Params, chain: Chain) -> tuple[Equilibrium, ChainModel]:
+#: Former name of :func:`chain_model` (a HoseModel subclass that overwrote its arrays).
+ChainModel = chain_model
+
+
+def chain_equilibrium(params: Params, chain: Chain, duration_s: float | None = None) -> tuple[Equilibrium, HoseModel]:
     """Balance position of the chain as it is (any free length, any mesh), in steady air.
 
     Parameters
@@ -347,15 +343,17 @@ def chain_equilibrium(params: Params, chain: Chain) -> tuple[Equilibrium, ChainM
         Hose, drogue, flight and environment.
     chain : Chain
         The mesh.
+    duration_s : float, optional
+        Length of the run [s] the model's gust record must cover (see ``HoseModel``).
 
     Returns
     -------
     equilibrium : hosedrogue.analysis.equilibrium.Equilibrium
         The balance position (state [rad], drogue position [m]).
-    model : ChainModel
-        The model it was solved on.
+    model : HoseModel
+        The model it was solved on (:func:`chain_model`).
     """
-    model = ChainModel(params, chain)
+    model = chain_model(params, chain, duration_s)
     return solve_equilibrium(model.params, model=model), model
 
 

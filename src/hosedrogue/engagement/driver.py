@@ -20,7 +20,7 @@ from ..environment.bow_wave import BowWaveField
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..params import Actuator, ParameterError, Params, Sensor
-from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, ChainModel, chain_equilibrium, initial_chain,
+from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, chain_model, initial_chain,
                     merge, split, switch_charts)
 from .result import EngagementResult, assemble_result
 from .result import segment_energies as _energies
@@ -146,7 +146,7 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
         Engagement parameters (:func:`engagement_parameters`); copied, the reel locked, the
         probe and the bow wave off, in steady air (the gusts at t = 0 aside, so that the set
         point does not depend on the turbulence seed).
-    model : hosedrogue.engagement.chain.ChainModel
+    model : hosedrogue.model.system.HoseModel
         Parameter, environment and gust arrays.
 
     Returns
@@ -232,7 +232,8 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         params = params.replace(turbulence={"seed": int(seed)})
     reel = Reel() if reel is None else reel
     Engagement(reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot)  # the sections' rules (a pilot needs a probe)
-    chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2)
+    chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2,
+                                                duration_s)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
     L0 = z[4 * chain.n + EK.Z_L]
     if not reel.min_length_m <= L0 <= reel.max_length_m:
@@ -261,14 +262,15 @@ def _check_duration(duration_s) -> None:
         raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
 
 
-def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: float, gravity_m_s2):
-    """The initial chain, its model, the drogue's reference position [m] and the full state z."""
+def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: float, gravity_m_s2, duration_s):
+    """The initial chain, its model (with the gust record of the run), the drogue's reference
+    position [m] and the full state z."""
     chain = initial_chain(params)
     need_eq = x0 is None or (probe is not None and probe.enabled)
     if equilibrium is None and need_eq:
-        equilibrium, model = chain_equilibrium(params, chain)
+        equilibrium, model = chain_equilibrium(params, chain, duration_s)
     else:
-        model = ChainModel(params, chain)
+        model = chain_model(params, chain, duration_s)
     if gravity_m_s2 is not None:
         model.ps[K.PS_G] = float(gravity_m_s2)
     n = chain.n

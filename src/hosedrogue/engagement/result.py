@@ -32,7 +32,7 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
         States: hose [rad, rad/s], L [m], L' [m/s] and the work states [J].
     chain : Chain
         The discretization the states belong to.
-    model : hosedrogue.engagement.chain.ChainModel
+    model : hosedrogue.model.system.HoseModel
         Parameter, environment and gust arrays.
     ep : array (EP_SIZE,)
         Engagement parameters (:func:`hosedrogue.engagement.driver.engagement_parameters`).
@@ -81,7 +81,7 @@ def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray) -> np.
         States (see :func:`segment_outputs`).
     chain : Chain
         The discretization the states belong to.
-    model : hosedrogue.engagement.chain.ChainModel
+    model : hosedrogue.model.system.HoseModel
         Parameter array ``ps``.
     ep : array (EP_SIZE,)
         Engagement parameters.
@@ -175,7 +175,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         Remesh, chart and contact events.
     outcome : dict
         Result and contact figures so far; updated in place with the peaks.
-    model : hosedrogue.engagement.chain.ChainModel
+    model : hosedrogue.model.system.HoseModel
         Parameter, environment and gust arrays of the run.
     drogue_eq : array (3,)
         Drogue position at the start [m] (the reference of the excursion).

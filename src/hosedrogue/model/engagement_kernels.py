@@ -34,7 +34,6 @@ from numba import njit
 
 from ..environment.bow_wave import line_source_velocity, source_velocity
 from .kernels import (
-    BENDING_MOMENT,
     PS_DROGUE_CDA,
     PS_G,
     PS_RHO,
@@ -44,12 +43,10 @@ from .kernels import (
     segment_drag,
     JIT,
     OK,
-    PS_BENDING,
-    PS_EI,
+    chain_energy,
     chain_forward_dynamics,
     joint_forces,
     joint_kinematics,
-    kink,
     link_frames,
     make_workspace_jit,
     rotational_terms,
@@ -461,7 +458,7 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
     rotational_terms(qd, J, n, cs, Mom, tau)
     qdd = ws[15]
-    chain_forward_dynamics(l, M, J, 0.0, n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12], qdd, ws[14])
+    chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12], qdd, ws[14])
     # response to a unit L'': d'Alembert force -M_k e_0 on joints 1..n, nothing else
     F2, c2, tau2, qdde = ws2[7], ws2[6], ws2[9], ws2[15]
     for i in range(3):
@@ -472,7 +469,7 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
             c2[k, i] = 0.0
         tau2[k, 0] = 0.0
         tau2[k, 1] = 0.0
-    chain_forward_dynamics(l, M, J, 0.0, n, a, b, cs, c2, F2, tau2, ws2[10], ws2[11], ws2[12], qdde, ws2[14])
+    chain_forward_dynamics(l, M, J, n, a, b, cs, c2, F2, tau2, ws2[10], ws2[11], ws2[12], qdde, ws2[14])
     # exit tension at L'' = 0 and the effective mass the hose adds to the reel
     T00 = exit_tension(l, ps, e, F, ws[14], n)
     me = 0.0
@@ -565,25 +562,14 @@ def plane_distance(z, n, l, ws, t, ep):
 
 @njit(**JIT)
 def eng_energy(z, n, l, M, J, ps, ep, chart):
-    """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z."""
-    Ld = z[4 * n + Z_LD]
-    qd = z[2 * n: 4 * n]
+    """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z
+    (:func:`~hosedrogue.model.kernels.chain_energy`; gravity's work is in the balance's terms)."""
     ws = make_workspace_jit(n)
     chain_kinematics(z, n, l, M, J, ep, chart, ws)
-    e, cs, v = ws[0], ws[3], ws[5]
-    T = 0.0
-    for k in range(n):
-        T += 0.5 * M[k] * (v[k + 1, 0] ** 2 + v[k + 1, 1] ** 2 + v[k + 1, 2] ** 2)
-        c2 = cs[k, 2]
-        T += 0.5 * J[k] * (c2 * c2 * qd[2 * k] ** 2 + qd[2 * k + 1] ** 2)
-    U = 0.0
-    if ps[PS_BENDING] == BENDING_MOMENT:
-        for k in range(n - 1):
-            gamma = kink(e, k)[4]
-            U += 0.5 * ps[PS_EI] / (0.5 * (l[k] + l[k + 1])) * gamma * gamma
+    T, _, U = chain_energy(n, l, M, J, ps, ws[0], ws[3], ws[4], ws[5], z[2 * n: 4 * n])
     Tr = 0.0
     if ep[EP_LAW] != LAW_LOCKED:
-        Tr = 0.5 * ep[EP_JR] * (Ld / ep[EP_RD]) ** 2
+        Tr = 0.5 * ep[EP_JR] * (z[4 * n + Z_LD] / ep[EP_RD]) ** 2
     return T, U, Tr
 
 

@@ -22,8 +22,9 @@ reference the recursion is tested against.
 Layout of the scalar arrays (indices are the module constants below):
 
 ``ps`` (model): gravity, density, airspeed, outer diameter, c_t, c_n, drogue area x c_d, E I,
-bending mode (0 off, 1 paper, 2 moment), drogue inertia, link drag quadrature (0 midpoint,
-1 two-point Gauss), structural bending damping c_b [N m^2 s], mass lumped at the tow point.
+bending mode (0 off, 1 paper, 2 moment), link drag quadrature (0 midpoint, 1 two-point Gauss),
+structural bending damping c_b [N m^2 s], mass lumped at the tow point. The drogue's rotational
+inertia is the last link's transverse inertia (in ``J[n-1]``, docs/model.md §2).
 ``env`` (air): airspeed, frozen flag, gust window on/off, gust record t0/dt, then the 6 wake
 scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag.
 """
@@ -41,12 +42,12 @@ from ..environment.wake import wake_velocity
 from ..jit import JIT, JIT_NO_ALLOC  # noqa: E402 - the one set of compilation options
 
 # ps layout
-(PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD, PS_DRAG_QUAD,
- PS_BEND_DAMP) = range(12)
+(PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_DRAG_QUAD,
+ PS_BEND_DAMP) = range(11)
 #: mass lumped at the tow point (joint 0) [kg]: carried by the tanker, it never moves, so it
 #: enters only the tow-point force (its weight); nonzero for the ``split`` lumping
-PS_M_TOW = 12
-PS_SIZE = 13
+PS_M_TOW = 11
+PS_SIZE = 12
 BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
 DRAG_MIDPOINT, DRAG_GAUSS2 = 0, 1
 #: Two-point Gauss-Legendre abscissa on [0, 1] measured from the link's centre: 1/(2 sqrt 3).
@@ -310,7 +311,7 @@ def rotational_terms(qd, J, n, cs, Mom, tau):
         d1 = qd[2 * k]
         d2 = qd[2 * k + 1]
         # link inertia J (I - e e^T) in S_p: T_rot = J/2 (c2^2 d1^2 + d2^2) (paper Eq. 18); the
-        # drogue's isotropic inertia Jd I has constant coefficients and adds no velocity terms
+        # drogue's inertia is transverse inertia of the last link (in J[n-1], docs/model.md §2)
         tau[k, 0] = 2.0 * J[k] * c2 * s2 * d1 * d2 + Mom[k, 1]
         tau[k, 1] = -J[k] * c2 * s2 * d1 * d1 + s1 * Mom[k, 0] + c1 * Mom[k, 2]
 
@@ -339,7 +340,8 @@ def generalized_forces(l, M, n, a, b, c, F, tau, G, Q):
 
 @njit(**JIT_NO_ALLOC)
 def mass_matrix(l, S, J, ps, n, a, b, cs, H):
-    """H (2n,2n): S_max(i,j) l_i l_j g_i . g_j plus the links' and drogue's rotational inertia."""
+    """H (2n,2n): S_max(i,j) l_i l_j g_i . g_j plus the links' rotational inertia (the drogue's is
+    the last link's, ``J[n-1]``)."""
     for j in range(n):
         for i in range(j, n):
             s = S[i] * l[i] * l[j]
@@ -359,8 +361,6 @@ def mass_matrix(l, S, J, ps, n, a, b, cs, H):
         c2 = cs[k, 2]
         H[2 * k, 2 * k] += J[k] * c2 * c2
         H[2 * k + 1, 2 * k + 1] += J[k]
-    H[2 * n - 2, 2 * n - 2] += ps[PS_JD]
-    H[2 * n - 1, 2 * n - 1] += ps[PS_JD]
 
 
 def make_workspace(n):
@@ -403,7 +403,7 @@ make_workspace_jit = njit(**JIT)(make_workspace)
 
 
 @njit(**JIT_NO_ALLOC)
-def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, tow_force):
+def chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, tow_force):
     """Solve H qdd = Q in O(n) by an articulated-body recursion for this chain.
 
     The part of the chain aft of joint k, cut through link k, resists the acceleration A of
@@ -433,13 +433,10 @@ def chain_forward_dynamics(l, M, J, Jd, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd
         u01 = IA00 * g1x + IA01 * g1y + IA02 * g1z
         u11 = IA01 * g1x + IA11 * g1y + IA12 * g1z
         u21 = IA02 * g1x + IA12 * g1y + IA22 * g1z
-        # D = G^T IA G + R (R: the link's and, on the last link, the drogue's rotational inertia)
+        # D = G^T IA G + R (R: the link's rotational inertia; the last link's includes the drogue's)
         c2 = cs[k, 2]
         r0 = J[k] * c2 * c2
         r1 = J[k]
-        if k == n - 1:
-            r0 += Jd
-            r1 += Jd
         d00 = g0x * u00 + g0y * u10 + g0z * u20 + r0
         d01 = g0x * u01 + g0y * u11 + g0z * u21
         d11 = g1x * u01 + g1y * u11 + g1z * u21 + r1
@@ -542,7 +539,7 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
 def forward_dynamics_ws(l, M, J, ps, ws):
     """qdd (ws[15]), tow-point force (ws[14]) and exit tension (ws[17]) from the loads in the workspace."""
     n = l.shape[0]
-    chain_forward_dynamics(l, M, J, ps[PS_JD], n, ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
+    chain_forward_dynamics(l, M, J, n, ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
                            ws[10], ws[11], ws[12], ws[15], ws[14])
     ws[17][0] = exit_tension(l, ps, ws[0], ws[7], ws[14], n)
     # the mass lumped at the (fixed) tow point adds only its weight to the tow-point force
@@ -645,23 +642,31 @@ def energy(x, l, M, J, ps):
     e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
     link_frames(q, n, e, a, b, cs)
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    T, Ug, Ub = chain_energy(n, l, M, J, ps, e, cs, r, v, qd)
+    return T, Ug + Ub
+
+
+@njit(**JIT_NO_ALLOC)
+def chain_energy(n, l, M, J, ps, e, cs, r, v, qd):
+    """(kinetic, gravity, bending) energy [J] of a chain whose frames, joint positions r and
+    velocities v are given: the joint masses' translation, the links' transverse rotation
+    ``J_k (c2^2 thd1^2 + thd2^2) / 2`` (the drogue's in the last link's), ``-sum M_k g z_k``
+    and, for the ``moment`` bending, ``sum (E I / lbar) gamma^2 / 2``. The one energy of both
+    chains (the engagement's velocities include the reel's L' e_0)."""
     g = ps[PS_G]
     T = 0.0
-    U = 0.0
+    Ug = 0.0
     for k in range(n):
-        vv = v[k + 1, 0] ** 2 + v[k + 1, 1] ** 2 + v[k + 1, 2] ** 2
-        T += 0.5 * M[k] * vv
+        T += 0.5 * M[k] * (v[k + 1, 0] ** 2 + v[k + 1, 1] ** 2 + v[k + 1, 2] ** 2)
         c2 = cs[k, 2]
-        d1 = qd[2 * k]
-        d2 = qd[2 * k + 1]
-        T += 0.5 * J[k] * (c2 * c2 * d1 * d1 + d2 * d2)
-        U -= M[k] * g * r[k + 1, 2]
-    T += 0.5 * ps[PS_JD] * (qd[2 * n - 2] ** 2 + qd[2 * n - 1] ** 2)
+        T += 0.5 * J[k] * (c2 * c2 * qd[2 * k] ** 2 + qd[2 * k + 1] ** 2)
+        Ug -= M[k] * g * r[k + 1, 2]
+    Ub = 0.0
     if ps[PS_BENDING] == BENDING_MOMENT:
         for k in range(n - 1):
             gamma = kink(e, k)[4]
-            U += 0.5 * ps[PS_EI] / (0.5 * (l[k] + l[k + 1])) * gamma * gamma
-    return T, U
+            Ub += 0.5 * ps[PS_EI] / (0.5 * (l[k] + l[k + 1])) * gamma * gamma
+    return T, Ug, Ub
 
 
 @njit(**JIT)

@@ -17,7 +17,7 @@ from ..constants import G0
 from ..environment.atmosphere import density
 from ..environment.turbulence import GustRecord, generate_gusts
 from ..environment.wake import wake_scalars
-from ..params import PAPER, Params
+from ..params import PAPER, ParameterError, Params
 from . import kernels as K
 
 
@@ -64,17 +64,26 @@ def lumped_masses(params: Params, lengths: np.ndarray) -> tuple[np.ndarray, floa
     return M, M_tow
 
 
-def link_inertias(params: Params, lengths: np.ndarray) -> np.ndarray:
+def link_inertias(params: Params, lengths: np.ndarray, drogue: bool = True) -> np.ndarray:
     """Link rotational inertias J [kg m^2] (n,): Table 1's fixed value (``link_inertia = "paper"``)
-    or the rod's m l^2 / 12 (``"rod"``) of links of the given lengths [m].
+    or the rod's m l^2 / 12 (``"rod"``) of links of the given lengths [m], the drogue's inertia
+    added to the last link's (docs/model.md §2).
+
+    The drogue is a body on the last link's axis without a roll degree of freedom: its inertia
+    about its pitch and yaw axes is transverse inertia of that link, kinetic energy
+    ``J_d |omega|^2 / 2`` with the link's angular velocity ``|omega|^2 = c2^2 thd1^2 + thd2^2``,
+    the same in either angle chart (the paper's form ``J_d (thd1^2 + thd2^2) / 2`` also counts
+    the frames' twist ``s2 thd1`` about the link, which is no motion of the drogue).
 
     Parameters
     ----------
     params : Params
-        ``hose.link_inertia``, ``hose.link_inertia_kg_m2`` [kg m^2] and
-        ``hose.mass_per_length_kg_m`` [kg/m].
+        ``hose.link_inertia``, ``hose.link_inertia_kg_m2`` [kg m^2], ``hose.mass_per_length_kg_m``
+        [kg/m] and ``drogue.inertia_kg_m2`` [kg m^2].
     lengths : array_like (n,)
         Link lengths [m].
+    drogue : bool
+        Add the drogue's inertia to the last link (default; False: the links alone).
 
     Returns
     -------
@@ -83,8 +92,12 @@ def link_inertias(params: Params, lengths: np.ndarray) -> np.ndarray:
     """
     lengths = np.asarray(lengths, dtype=np.float64)
     if params.hose.link_inertia == "paper":
-        return np.full(lengths.size, params.hose.link_inertia_kg_m2)
-    return params.hose.mass_per_length_kg_m * lengths**3 / 12.0
+        J = np.full(lengths.size, params.hose.link_inertia_kg_m2)
+    else:
+        J = params.hose.mass_per_length_kg_m * lengths**3 / 12.0
+    if drogue:
+        J[-1] += params.drogue.inertia_kg_m2
+    return J
 
 
 class HoseModel:
@@ -100,16 +113,26 @@ class HoseModel:
         Length of the run [s] the gust record must cover when the turbulence window has no end
         (``turbulence.duration_s = inf``, the default); without it such a model has steady air
         only (enough for balance positions and linearizations) and :meth:`gusts_cover` says so.
+    lengths : array_like (n,), optional
+        Link lengths [m], exit link first, instead of ``hose.links`` equal links of
+        ``hose.length_m`` (the engagement's chain at a given mesh and free length); the model's
+        ``params`` then carry ``hose.length_m = sum(lengths)`` and ``hose.links = n``. Masses and
+        inertias follow from the lengths (:func:`lumped_masses`, :func:`link_inertias`).
     """
 
-    def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None, duration_s: float | None = None):
+    def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None, duration_s: float | None = None,
+                 lengths=None):
+        if lengths is not None:
+            lengths = np.array(lengths, dtype=np.float64).ravel()
+            if lengths.size < 1 or not np.all(np.isfinite(lengths) & (lengths > 0)):
+                raise ParameterError(f"lengths = {lengths!r}: must be one or more finite link lengths > 0 m")
+            params = params.replace(hose={"length_m": float(np.sum(lengths)), "links": int(lengths.size)})
         self.params = params
         hose, drogue, flight = params.hose, params.drogue, params.flight
         n = hose.links
         self.n = n
         self.rho = density(flight.altitude_m) * flight.density_scale
-        lk = hose.link_length_m
-        self.l = np.full(n, lk)
+        self.l = np.full(n, hose.link_length_m) if lengths is None else lengths
         #: joint masses [kg]: M[k] sits at joint k+1 (docs/model.md §2); M_tow at the tow point (joint 0)
         self.M, self.M_tow = lumped_masses(params, self.l)
         self.S = np.cumsum(self.M[::-1])[::-1].copy()
@@ -126,7 +149,6 @@ class HoseModel:
         ps[K.PS_DROGUE_CDA] = math.pi * drogue.diameter_m**2 / 4.0 * drogue.drag_coefficient
         ps[K.PS_EI] = hose.elastic_modulus_pa * inertia_area
         ps[K.PS_BENDING] = bending[hose.bending]
-        ps[K.PS_JD] = drogue.inertia_kg_m2
         ps[K.PS_DRAG_QUAD] = {"midpoint": K.DRAG_MIDPOINT, "gauss2": K.DRAG_GAUSS2}[hose.drag_quadrature]
         ps[K.PS_BEND_DAMP] = hose.bending_damping_n_m2_s
         ps[K.PS_M_TOW] = self.M_tow
