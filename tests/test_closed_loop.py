@@ -113,7 +113,8 @@ def test_paper_lqr_with_actuator_limits_and_sensor_noise(runs):
 def test_controller_design_options_are_used(tmp_path):
     """User PID gains and LQR weights from the scenario replace the paper's: a 100 x heavier LQR
     state weight must hold the drogue closer than the paper's weights do."""
-    base = "[scenario]\nduration_s = 40.0\n[turbulence]\nenabled = true\n"
+    # the paper scenarios' gust window (turbulence without a window would act for the whole run)
+    base = "[scenario]\nduration_s = 40.0\n[turbulence]\nenabled = true\nstart_s = 10.0\nduration_s = 20.0\n"
     (tmp_path / "lqr.toml").write_text(base + '[controller]\ntype = "lqr"\nq_diag = [1.2e6, 8e5, 8e5, 1e6]\n')
     (tmp_path / "pid.toml").write_text(base + '[controller]\ntype = "pid"\nlateral = [2000.0, 500.0, 300.0, 50.0]\n')
     paper_lqr = run_scenario(load_scenario("paper-turbulence-lqr").with_overrides(duration_s=40.0))

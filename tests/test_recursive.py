@@ -14,7 +14,7 @@ def test_recursion_matches_dense_solve(n, bending, rng):
     H qdd = Q; they differ only by round-off, which grows with H's condition number (~1e4 at
     n = 200 here), so 1e-10 leaves ample margin yet catches any wrong term (order 1e-3 or more)."""
     p = PAPER.replace(hose={"links": n, "bending": bending}, turbulence={"enabled": True, "start_s": 0.0})
-    m = HoseModel(p)
+    m = HoseModel(p, duration_s=15.0)  # gusts over the 15 s the times below are drawn from
     for _ in range(4):
         q = np.empty(2 * n)
         q[0::2] = rng.uniform(-0.3, 1.2, n)

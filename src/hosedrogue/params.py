@@ -157,9 +157,9 @@ class Turbulence(Section):
     #: Scale length per axis [u, v, w] (m).
     scale_length_m: tuple = field(default=(530.0, 530.0, 530.0), metadata=vec3(1.0, 1e5, unit="m"))
     #: Time the gusts switch on [s] (default: the start of the run).
-    start_s: float = field(default=10.0, metadata=real(0.0, lo_open=False, unit="s"))
+    start_s: float = field(default=0.0, metadata=real(0.0, lo_open=False, unit="s"))
     #: Length of the gust window [s]; the gusts are off again after it (default inf: to the end of the run).
-    duration_s: float = field(default=20.0, metadata=real(0.0, lo_open=False, unit="s", inf_ok=True))
+    duration_s: float = field(default=math.inf, metadata=real(0.0, lo_open=False, unit="s", inf_ok=True))
     #: "uniform": the whole hose sees the tow point's gust; "frozen": delayed by distance / airspeed.
     distribution: str = field(default="uniform", metadata=choice("uniform", "frozen"))
     #: Sample interval of the gust record [s]; independent of the integration step.

@@ -238,6 +238,9 @@ def generate_gusts(
         raise ParameterError(f"airspeed_m_s = {airspeed_m_s!r}: must be a finite number > 0 m/s")
     duration = turbulence.duration_s if duration_s is None else float(duration_s)
     dt = turbulence.sample_time_s
+    if not turbulence.enabled:
+        return GustRecord(turbulence.start_s, dt, np.zeros((2, 3)), turbulence.start_s,
+                          turbulence.start_s + duration, turbulence.interpolation)
     if math.isinf(duration) and run_duration_s is not None:
         margin = 2.0 * turbulence.smoothing_s + 2.0 * dt
         duration = max(float(run_duration_s) - turbulence.start_s, 0.0) + margin
@@ -249,8 +252,6 @@ def generate_gusts(
                              f"would exceed {Turbulence.MAX_SAMPLES:.0e} samples; shorten it or sample coarser")
     t_on = turbulence.start_s
     t_off = t_on + duration
-    if not turbulence.enabled:
-        return GustRecord(t_on, dt, np.zeros((2, 3)), t_on, t_off, turbulence.interpolation)
 
     nsamp = int(math.ceil(duration / dt)) + 2
     rng = np.random.Generator(np.random.PCG64(turbulence.seed if seed is None else seed))

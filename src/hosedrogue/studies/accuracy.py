@@ -28,6 +28,7 @@ import numpy as np
 
 from ..analysis.continuum import ContinuumShape, solve_continuum
 from ..analysis.equilibrium import solve_equilibrium
+from ..paper import SEC233_TURBULENCE_WINDOW
 from ..params import PAPER, Params
 
 #: Link counts of the study (each a doubling, so that observed orders are log2 of ratios).
@@ -40,7 +41,7 @@ STUDY_BASE = PAPER.replace(hose={"bending": "off", "link_inertia": "rod"})
 
 #: The paper's turbulence case (scenario ``paper-turbulence``): isotropic 1.5 m/s, 530 m, on at
 #: 10 s for 20 s, seed 2018; RMS over a 60 s run.
-TURBULENCE = {"enabled": True, "start_s": 10.0, "duration_s": 20.0, "seed": 2018}
+TURBULENCE = {"enabled": True, **SEC233_TURBULENCE_WINDOW, "seed": 2018}
 TURBULENCE_DURATION_S = 60.0
 
 

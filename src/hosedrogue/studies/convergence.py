@@ -17,6 +17,7 @@ import numpy as np
 from ..analysis.equilibrium import solve_equilibrium
 from ..analysis.linearize import linearize
 from ..controllers.pid import PAPER_PID, pid_controller
+from ..paper import SEC233_TURBULENCE_WINDOW
 from ..params import PAPER, Params
 from ..simulation import simulate
 
@@ -51,7 +52,7 @@ def _case_setup(case: str, params: Params):
         x0[0 : 2 * n : 2] += math.radians(15)
         x0[1 : 2 * n : 2] += math.radians(10)
         return p, eq, x0, None, 10.0
-    p = params.replace(turbulence={"enabled": True})
+    p = params.replace(turbulence={"enabled": True, **SEC233_TURBULENCE_WINDOW})
     eq = solve_equilibrium(p)
     ctrl = pid_controller(PAPER_PID["lateral"], PAPER_PID["vertical"]) if case.endswith("pid") else None
     return p, eq, eq.state, ctrl, 30.0
