@@ -234,8 +234,7 @@ def test_docking_section_counts_every_run_once(report):
     numbers."""
     import pandas as pd
 
-    from hosedrogue.report.docking import CONTROLLERS, LEVELS
-    from hosedrogue.report.docking_runs import PILOT
+    from hosedrogue.studies.docking_grid import CONTROLLERS, LEVELS, PILOT
 
     out, headline, page = report
     dock = headline["docking"]
@@ -265,23 +264,6 @@ def test_docking_section_counts_every_run_once(report):
     assert "significant" in section and "Wilson" in section
 
 
-def test_docking_cell_scenarios_round_trip(tmp_path):
-    """The scenario file written for one campaign cell loads as approach-LEVEL with the cell's
-    controller and bow-wave setting, and nothing else changed."""
-    import dataclasses
-
-    from hosedrogue.report.docking_runs import scenario_toml
-    from hosedrogue.scenarios import load_scenario
-
-    path = tmp_path / "scenario.toml"
-    path.write_text(scenario_toml("severe", "lqr", False))
-    sc, ref = load_scenario(str(path)), load_scenario("approach-severe")
-    assert sc.controller == "lqr" and sc.engagement.bow_wave.enabled is False
-    assert sc.params == ref.params and sc.duration_s == ref.duration_s
-    assert sc.engagement.probe == ref.engagement.probe and sc.engagement.reel == ref.engagement.reel
-    assert dataclasses.replace(sc.engagement.bow_wave, enabled=True) == ref.engagement.bow_wave
-
-
 def test_docking_closure_speed_counts_every_run_once(report):
     """The fast closure-speed study: each (controller, speed) cell counted every run once, its rate
     lies in its Wilson interval, the duration lets the probe path finish at every speed, and the
@@ -289,7 +271,10 @@ def test_docking_closure_speed_counts_every_run_once(report):
     a rerun that merely agrees."""
     import pandas as pd
 
-    from hosedrogue.report.docking_speed import FAST_CLOSURE_SPEEDS_M_S, SPEED_CONTROLLERS
+    from hosedrogue.report.settings import FAST
+    from hosedrogue.studies.docking_grid import SPEED_CONTROLLERS
+
+    FAST_CLOSURE_SPEEDS_M_S = FAST.docking_closure_speeds_m_s
 
     out, headline, page = report
     dock = headline["docking"]
@@ -327,9 +312,12 @@ def test_docking_force_limit_counts_every_run_once_and_applies_the_limit(report)
     binds and the saturated fraction is not zero there); the figure is written."""
     import pandas as pd
 
-    from hosedrogue.report.docking_force import (FAST_FORCE_CONTROLLERS, FAST_FORCE_LEVELS, FAST_FORCE_LIMITS_N,
-                                                 FIGURE_PNG)
-    from hosedrogue.scenarios import load_scenario
+    from hosedrogue.report.docking_force import FIGURE_PNG
+    from hosedrogue.report.settings import FAST
+    from hosedrogue.studies.docking_statistics import PEAK_FORCE, PEAK_FORCE_Y, PEAK_FORCE_Z
+
+    FAST_FORCE_CONTROLLERS, FAST_FORCE_LEVELS = FAST.docking_force_controllers, FAST.docking_force_levels
+    FAST_FORCE_LIMITS_N = FAST.docking_force_limits_n
 
     out, headline, page = report
     dock = headline["docking"]
@@ -356,10 +344,11 @@ def test_docking_force_limit_counts_every_run_once_and_applies_the_limit(report)
             for limit in FAST_FORCE_LIMITS_N:
                 cell = fl["cells"][f"{lev}-{c}-f{limit:g}"]
                 folder = out / "docking" / "campaigns" / cell["campaign"]
-                assert load_scenario(str(folder / "scenario.toml")).actuator.max_force_n == limit
+                settings = json.loads((folder / "campaign.json").read_text())
+                assert settings["scenario"]["actuator"]["max_force_n"] == limit
                 r = pd.read_csv(folder / "runs.csv")
-                assert (r[["peak_u_hor_n", "peak_u_ver_n"]].max(axis=1) <= limit * (1 + tol)).all(), cell
-                assert (r["peak_u_n"] <= np.sqrt(2.0) * limit * (1 + tol)).all(), cell
+                assert (r[[PEAK_FORCE_Y, PEAK_FORCE_Z]].max(axis=1) <= limit * (1 + tol)).all(), cell
+                assert (r[PEAK_FORCE] <= np.sqrt(2.0) * limit * (1 + tol)).all(), cell
                 assert 0.0 <= cell["saturated_fraction"] <= 1.0
             assert fl["cells"][f"{lev}-{c}-f{min(FAST_FORCE_LIMITS_N):g}"]["saturated_fraction"] > 0.0
     table = pd.read_csv(out / "docking_force_limit.csv")
@@ -369,34 +358,6 @@ def test_docking_force_limit_counts_every_run_once_and_applies_the_limit(report)
     section = page[page.index('<section id="docking"'):]
     section = section[:section.index("</section>")]
     assert "<b>Force limit.</b>" in section and 'id="fig-docking-force-limit"' in section
-
-
-def test_docking_closure_speed_cell_scenarios(tmp_path):
-    """A closure-speed cell's scenario is approach-moderate with the probe's speed and a duration
-    (and turbulence window) following it; at the shipped 1 m/s it is the shipped scenario exactly,
-    so run_grid runs that campaign once. The pilot's cell enables the pilot and nothing else."""
-    import dataclasses
-
-    from hosedrogue.report.docking_runs import CellSpec, _same_scenario, scenario_data, scenario_toml
-    from hosedrogue.scenarios import load_scenario
-
-    ref = load_scenario("approach-moderate")
-    assert _same_scenario(scenario_data(CellSpec("moderate", "pid", True, False, 1.0)),
-                          scenario_data(CellSpec("moderate", "pid", True)))
-    assert not _same_scenario(scenario_data(CellSpec("moderate", "pid", True, False, 0.5)),
-                              scenario_data(CellSpec("moderate", "pid", True)))
-    path = tmp_path / "scenario.toml"
-    path.write_text(scenario_toml("moderate", "none", True, False, 0.5))
-    sc = load_scenario(str(path))
-    assert sc.engagement.probe == dataclasses.replace(ref.engagement.probe, closure_speed_m_s=0.5)
-    # 6 s to the balance position, then the 1 m push: 1.5 s cruising 0.75 m at 0.5 m/s and the 1 s
-    # half-cosine stop covering 0.25 m; 8.5 s is a whole number of 0.1 s, so no rounding
-    assert sc.duration_s == 8.5
-    assert sc.params.turbulence.duration_s == sc.duration_s
-    path.write_text(scenario_toml("severe", "none", True, pilot=True))
-    sc, ref = load_scenario(str(path)), load_scenario("approach-severe")
-    assert sc.engagement.pilot.enabled and sc.controller == "none" and sc.params == ref.params
-    assert sc.engagement.probe == ref.engagement.probe and sc.duration_s == ref.duration_s
 
 
 def test_paper_pid_reproduces_table3_on_the_papers_models(report):
