@@ -16,9 +16,8 @@ from pathlib import Path
 from typing import Callable
 
 from ..version import __version__
-from . import (accuracy, closed_loop, comparison, controllers, convergence, differences, hose_views, linear,
-               long_runs, parameters, sweep, turbulence_speeds)
-from . import docking, engagement
+from . import (accuracy, closed_loop, controllers, convergence, differences, docking, engagement, hose_views, linear,
+               long_runs, paper_table, parameters, sweep, turbulence_speeds)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -69,7 +68,7 @@ SECTIONS: tuple[Section, ...] = (
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.
 CLOSING: tuple[Section, ...] = (
     Section("differences", "differences", differences.build, needs=("parameters", "convergence")),
-    Section("comparison", "comparison", comparison.build),
+    Section("comparison", "comparison", paper_table.build),
 )
 
 
