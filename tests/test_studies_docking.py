@@ -289,3 +289,76 @@ def test_bow_wave_study_numbers():
     assert not np.isnan(bw.velocity_m_s[:, bw.x_m > 0.0]).any()  # ahead of the tip is outside the body
     with pytest.raises(ParameterError, match="bounds_m"):
         radius_for_displacement(LEVEL_M, FAR_M, bounds_m=(0.6, 1.0))
+
+
+# --- the command line ----------------------------------------------------------------------------
+def _help_blocks(text: str) -> dict:
+    import re
+
+    blocks, current = {}, None
+    for line in text.splitlines():
+        m = re.match(r"^\s{2}(--[\w-]+)", line)
+        if m:
+            current = m.group(1)
+            blocks[current] = line
+        elif current and line.startswith("    "):
+            blocks[current] += " " + line.strip()
+        else:
+            current = None
+    return blocks
+
+
+def test_cli_help_states_each_options_unit(capsys):
+    from hosedrogue.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["study", "docking", "--help"])
+    assert exc.value.code == 0
+    blocks = _help_blocks(capsys.readouterr().out)
+    for option, unit in {"--runs": "[-]", "--closure-speeds": "[m/s]", "--force-limits": "[N]", "--workers": "[-]",
+                         "--seed": "[-]"}.items():
+        assert unit in " ".join(blocks[option].split()), option
+
+
+@pytest.mark.parametrize("argv, name", [(["--runs", "0"], "--runs"), (["--runs", "2", "--levels", "windy"], "--levels"),
+                                        (["--runs", "2", "--closure-speeds", "0"], "--closure-speeds"),
+                                        (["--runs", "2", "--workers", "0"], "--workers"),
+                                        (["--runs", "2", "--seed", "-1"], "--seed")])
+def test_cli_bad_arguments_are_one_line_errors_exit_2(capsys, tmp_path, argv, name):
+    from hosedrogue.cli import main
+
+    out = tmp_path / "dock"
+    with pytest.raises(SystemExit) as exc:
+        main(["study", "docking", *argv, "--out", str(out)])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert name in err and len(err.splitlines()) == 1
+    assert not out.exists()
+
+
+def test_cli_out_that_is_a_file_is_refused(capsys, tmp_path):
+    from hosedrogue.cli import main
+
+    path = tmp_path / "file"
+    path.write_text("")
+    assert main(["study", "docking", "--runs", "2", "--out", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--out" in err and len(err.splitlines()) == 1
+
+
+def test_cli_runs_a_small_grid_and_prints_json(capsys, tmp_path):
+    from hosedrogue.cli import main
+
+    code = main(["study", "docking", "--runs", "2", "--levels", "moderate", "--controllers", "none", "pid",
+                 "--no-pilot", "--closure-speeds", "1", "--json", "--quiet", "--out", str(tmp_path)])
+    assert code == 0
+    record = json.loads(capsys.readouterr().out)
+    names = [c["cell"] for c in record["cells"]]
+    assert names == ["moderate-none-bow-on", "moderate-pid-bow-on", "moderate-none-bow-off", "moderate-pid-bow-off",
+                     "moderate-none-bow-on-v1", "moderate-pid-bow-on-v1"]
+    assert [c["campaign"] for c in record["cells"][-2:]] == ["moderate-none-bow-on", "moderate-pid-bow-on"]
+    for c in record["cells"]:
+        assert c["runs"] == 2 and sum(c["by_result"].values()) == 2, c["cell"]
+    assert set(record["comparisons"]) == {"pid_vs_none_moderate", "bow_off_vs_on_moderate"}
+    assert set(record["closure_speed"]["moderate"]) == {"none", "pid"}
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(names[:4])
