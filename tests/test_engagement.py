@@ -100,11 +100,12 @@ def test_hose_mass_in_air_during_engagement(shipped):
 # --- link-count convergence ----------------------------------------------------------------------
 def _doubled_links(law):
     """The shipped scenario on twice its links, the RK4 step halved with the link length, output
-    at the same 10 ms."""
+    at the same 10 ms (the report's doubling rule, hosedrogue.studies.convergence.with_links)."""
+    from hosedrogue.studies.convergence import with_links
+
     sc = load_scenario(f"engage-{law}")
+    sc = with_links(sc, 2 * sc.params.hose.links)
     p = sc.params
-    n = 2 * p.hose.links
-    p = p.replace(hose={"links": n}, numerics={"step_s": p.numerics.step_s / 2, "output_every": 2 * p.numerics.output_every})
     return simulate_engagement(p, sc.duration_s, reel=sc.engagement.reel, probe=sc.engagement.probe)
 
 

@@ -76,3 +76,15 @@ def test_modules_and_functions_stay_small():
                 if _code_lines(node) > MAX_FUNCTION_LINES:
                     too_long.append(f"{rel}::{node.name}: {_code_lines(node)} code lines")
     assert not too_long, "; ".join(too_long)
+
+
+def test_no_import_cycles_inside_the_report():
+    # a report module may import another only if that one does not import it back, directly or
+    # through others; imports for annotations only (under TYPE_CHECKING) count too
+    import grimp
+
+    graph = grimp.build_graph("hosedrogue", cache_dir=None)
+    report = sorted(m for m in graph.modules if m.startswith("hosedrogue.report."))
+    cycles = [f"{a} <-> {b}" for a in report for b in sorted(graph.find_modules_directly_imported_by(a))
+              if b.startswith("hosedrogue.report.") and graph.chain_exists(importer=b, imported=a)]
+    assert not cycles, "; ".join(cycles)

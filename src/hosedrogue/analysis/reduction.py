@@ -22,6 +22,8 @@ Numerical thresholds used here, each a documented module constant:
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import control
 
@@ -32,6 +34,7 @@ __all__ = [
     "balanced_truncation",
     "truncation_error_bound",
     "table2_form",
+    "second_order_characteristics",
     "format_tf",
     "split_channels",
 ]
@@ -225,6 +228,29 @@ def table2_form(sys_siso) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.0]), den
     keep = np.nonzero(np.abs(num) > NUMERATOR_ZERO_RTOL * scale)[0][0]
     return num[keep:], den
+
+
+def second_order_characteristics(num, den) -> dict:
+    """DC gain, natural frequency, damping ratio and zero of a 2nd-order transfer function.
+
+    Parameters
+    ----------
+    num, den : array_like
+        Coefficients in descending powers of s (Table 2's form, :func:`table2_form`); force [N]
+        to offset [m].
+
+    Returns
+    -------
+    dict
+        ``dc_gain_m_n`` [m/N], ``natural_frequency_rad_s`` [rad/s], ``damping_ratio`` [-],
+        ``zero_1_s`` [1/s] (NaN without a finite zero).
+    """
+    num = np.asarray(num, float)
+    den = np.asarray(den, float)
+    wn = math.sqrt(den[-1] / den[0])
+    return {"dc_gain_m_n": num[-1] / den[-1], "natural_frequency_rad_s": wn,
+            "damping_ratio": den[1] / den[0] / (2.0 * wn),
+            "zero_1_s": -num[-1] / num[-2] if num.size >= 2 and num[-2] != 0 else float("nan")}
 
 
 def _format_coefficient(value: float, digits: int) -> str:

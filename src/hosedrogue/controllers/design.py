@@ -10,7 +10,8 @@ model.
   linearization; the reading that reproduces the paper's Table 3 lateral LQR row;
 * :func:`lqr_design_for` - the integral-action reading (Eq. 34, :mod:`.lqr`), kept as a
   sensitivity;
-* :func:`lqr_controller_for` - either design by name, as the controller for the nonlinear loop.
+* :func:`lqr_controller_for` - either design by name, as the controller for the nonlinear loop;
+* :func:`dc_sensitivity` - the steady-state sensitivity of a controller closed around a plant.
 """
 
 from __future__ import annotations
@@ -213,3 +214,26 @@ def design_controller(kind: str, options: dict, params, model=None, equilibrium=
     Q = np.diag(options["q_diag"]) if "q_diag" in options else None
     R = np.diag(options["r_diag"]) if "r_diag" in options else None
     return lqr_controller_for(linearize(params, equilibrium, model), options.get("design", "balanced"), Q, R)
+
+
+def dc_sensitivity(plant, controller: LinearController) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The steady-state (DC) sensitivity of the loop of a controller around a plant, per channel:
+    ``|S(0)|`` with ``S(0) = (I - G(0) C(0))^-1`` (the controller carries the feedback sign, so the
+    loop is u = C y), the fraction of a slow disturbance's offset the loop leaves; and ``|C(0)|``.
+
+    Parameters
+    ----------
+    plant : control.StateSpace
+        Two inputs [N] (u_hor, u_ver) to two outputs [m] (P_ny, P_nz), e.g. a linearization's ``ss``.
+    controller : LinearController
+        The controller, measured offsets [m] to forces [N].
+
+    Returns
+    -------
+    ((float, float), (float, float))
+        ``|S(0)|`` lateral and vertical [-] (the diagonal), and ``|C(0)|`` [N/m] (the diagonal).
+    """
+    c0 = np.real(np.asarray(control.dcgain(controller.as_statespace())))
+    g0 = np.real(np.asarray(control.dcgain(plant)))
+    s0 = np.linalg.inv(np.eye(2) - g0 @ c0)
+    return tuple(float(abs(s0[i, i])) for i in range(2)), tuple(float(abs(c0[i, i])) for i in range(2))

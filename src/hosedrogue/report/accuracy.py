@@ -1,4 +1,4 @@
-"""Report section "Accuracy per cost" (issue 11, docs/convergence.md, docs/benchmarks.md): the link
+"""Report section "Accuracy per cost" (docs/convergence.md, docs/benchmarks.md): the link
 model against the continuous hose for both mass lumpings, the step of the shipped
 ``paper-turbulence`` scenario, and the time-to-accuracy benchmark (quoted, not run).
 
@@ -193,7 +193,7 @@ def _prose(settings, cont, lumps, step, fewest, convergence) -> str:
     fast = (f'<p class=diff id="accuracy-fast">FAST VERSION of this section: {"/".join(str(int(k)) for k in sp.links)} '
             f"links (full: {'/'.join(str(k) for k in FULL.accuracy_links)}), step {'/'.join(f'{h:g}' for h in step.steps_s)} s "
             f"against {step.reference_step_s:g} s (full: {'/'.join(f'{h:g}' for h in FULL.accuracy_steps_s)} s against "
-            f"{FULL.accuracy_reference_step_s:g} s).</p>" if settings.name == "fast" else "")
+            f"{FULL.accuracy_reference_step_s:g} s).</p>" if settings.fast else "")
     return (
         fast +
         "<p>Every link count is measured here against the <b>continuous hose</b> (the towed-cable boundary-value "

@@ -16,9 +16,8 @@ from pathlib import Path
 from typing import Callable
 
 from ..version import __version__
-from . import (accuracy, closed_loop, comparison, controllers, convergence, differences, hose_views, linear,
-               long_runs, parameters, sweep, turbulence_speeds)
-from . import docking, engagement
+from . import (accuracy, closed_loop, controllers, convergence, differences, docking, engagement, hose_views, linear,
+               long_runs, paper_table, parameters, sweep, turbulence_speeds)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -53,7 +52,7 @@ class Section:
 SECTIONS: tuple[Section, ...] = (
     Section("parameters", "parameters", parameters.build),
     Section("convergence", "convergence", convergence.build, needs=("parameters",)),
-    Section("accuracy", "accuracy per cost (issue 11)", accuracy.build, needs=("convergence",)),
+    Section("accuracy", "accuracy per cost", accuracy.build, needs=("convergence",)),
     Section("sweep", "steady sweep (Fig. 3)", sweep.build),
     Section("turbulence_speeds", "turbulence at four airspeeds (Fig. 4)", turbulence_speeds.build),
     Section("linear", "linear model (Table 2, Figs. 5-8)", linear.build, needs=("sweep",)),
@@ -61,15 +60,15 @@ SECTIONS: tuple[Section, ...] = (
     Section("closed_loop", "controllers in turbulence (Figs. 12-13)", closed_loop.build, needs=("controllers",)),
     Section("hose_3d", "hose in 3D", hose_views.build_3d, needs=("closed_loop",)),
     Section("animation", "animation", hose_views.build_animation, needs=("closed_loop",)),
-    Section("long_runs", "long runs (issue 15)", long_runs.build),
-    Section("engagement", "engagement (issue 12)", engagement.build),
+    Section("long_runs", "long runs", long_runs.build),
+    Section("engagement", "engagement", engagement.build),
     Section("docking", "docking statistics and bow wave", docking.build),
 )
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.
 CLOSING: tuple[Section, ...] = (
     Section("differences", "differences", differences.build, needs=("parameters", "convergence")),
-    Section("comparison", "comparison", comparison.build),
+    Section("comparison", "comparison", paper_table.build),
 )
 
 

@@ -19,7 +19,7 @@ from .comparison import agrees
 from .markup import figure_html, fmt, html_table, ratio
 
 if TYPE_CHECKING:
-    from .linear import LinearResult
+    from .section_results import LinearResult
     from .settings import ReportSettings
     from .writer import ReportFolder
 
@@ -95,16 +95,6 @@ def _closed_loops(lin) -> _Steps:
     paper2 = channel_models("paper", 2)
     return _Steps(metrics, curves, lqr_balanced_design(*paper2), paper_lqr_design_for(lin.model),
                   lqr_integral_design(two_channel_plant(*paper2)))
-
-
-def _dc_sensitivity(lin, design) -> tuple[tuple[float, float], tuple[float, float]]:
-    """|S(0)| = |diag (I - G(0) C(0))^-1| of the LQR around our full model, and |diag C(0)| [N/m]."""
-    import control
-
-    c0 = np.real(np.asarray(control.dcgain(design.controller.as_statespace())))
-    g0 = np.real(np.asarray(control.dcgain(lin.model.ss)))
-    s0 = np.linalg.inv(np.eye(2) - g0 @ c0)
-    return tuple(float(abs(s0[i, i])) for i in range(2)), tuple(float(abs(c0[i, i])) for i in range(2))
 
 
 def _poles_txt(poles) -> str:
@@ -377,7 +367,7 @@ def build(out: ReportFolder, settings: ReportSettings, *, linear: LinearResult) 
         The report being written.
     settings : hosedrogue.report.settings.ReportSettings
         Build settings (unused: these responses do not depend on them).
-    linear : hosedrogue.report.linear.LinearResult
+    linear : hosedrogue.report.section_results.LinearResult
         This project's linear model and its reductions.
 
     Returns
@@ -387,10 +377,12 @@ def build(out: ReportFolder, settings: ReportSettings, *, linear: LinearResult) 
     """
     import pandas as pd
 
+    from ..controllers.design import dc_sensitivity
+
     st = _closed_loops(linear)
     t3_rows, t3_csv, t3_head = _table3(st, out.comparison)
     int_rows, int_csv = _integral_rows(st)
-    s0, c0 = _dc_sensitivity(linear, st.lqr_ours)
+    s0, c0 = dc_sensitivity(linear.model.ss, st.lqr_ours.controller)  # the LQR around our full model
 
     out.csv(pd.DataFrame(t3_csv), "table3.csv")
     out.csv(pd.DataFrame(int_csv), "table3_lqr_integral.csv")

@@ -42,9 +42,11 @@ def _lqr_weights() -> str:
 
 
 def _rows(parameters, convergence) -> list[tuple[str, str, str, str]]:
+    from ..model.system import link_inertias
+
     hose, fl = PAPER.hose, PAPER.flight
     l, m_link = parameters.link_length_m, parameters.link_mass_kg
-    rod_inertia = m_link * l * l / 12
+    rod_inertia = float(link_inertias(PAPER.replace(hose={"link_inertia": "rod"}), [l])[0])  # m l^2 / 12
     return [
         ("Tangential drag (Eq. 23)", "squares v_t: the drag sign is lost",
          "D_t = -1/2 rho v_t |v_t| A c_t n_k (opposes the axial relative flow)",

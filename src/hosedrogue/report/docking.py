@@ -5,28 +5,37 @@ the capture rate against the closure speed (:mod:`.docking_speed`) and against t
 force limit (:mod:`.docking_force`; docs/engagement.md, "Bow wave",
 "Approach scenarios", "Docking statistics").
 
-The computations are in :mod:`.docking_runs`; this module writes the CSVs, the figures (through
-:mod:`hosedrogue.plotting.bow_wave` and :mod:`hosedrogue.plotting.docking`), the HTML section with
-every number read from the results, and ``report.json["docking"]``. The campaigns are kept in
-``docking/campaigns/<cell>/`` of the report folder (each with its scenario.toml, runs.csv and
-summary.json). The fast version runs :attr:`ReportSettings.docking_runs` runs per cell in this
-process; the full version 200 per cell on :data:`.docking_runs.WORKERS` dask workers.
+The computations are the docking studies' (:mod:`hosedrogue.studies.docking`, the cells of
+:mod:`hosedrogue.studies.docking_grid`, the tables and findings of
+:mod:`hosedrogue.studies.docking_statistics`, :mod:`hosedrogue.studies.bow_wave`); this module
+writes the CSVs, the figures (through :mod:`hosedrogue.plotting.bow_wave` and
+:mod:`hosedrogue.plotting.docking`), the HTML section with every number read from the results, and
+``report.json["docking"]``. The campaigns are kept in ``docking/campaigns/<cell>/`` of the report
+folder (each a campaign folder: campaign.json with the cell's scenario, runs.csv, summary.json),
+rewritten at every build. Runs per cell, the dask workers and the two studies' cells are the
+report settings' (:class:`~hosedrogue.report.settings.ReportSettings`, ``docking_*``).
 """
 
 from __future__ import annotations
 
+import shutil
 import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..studies.bow_wave import FAR_M, LEVEL_M, NEAR_M, bow_wave_study
+from ..studies.docking import APPROACH_RUNS, APPROACH_SEED, approach_paths, run_grid
+from ..studies.docking_grid import (CAMPAIGN_SEED, CONTROLLERS, LEVELS, PILOT, force_specs, grid_specs,
+                                    speed_specs)
+from ..studies.docking_statistics import (PEAK_FORCE, capture_table, comparisons, force_findings, force_table,
+                                          speed_findings, speed_table)
 from . import docking_force as force
 from . import docking_speed as speed
-from .docking_runs import (CAMPAIGN_SEED, CONTROLLERS, FAR_M, LEVEL_M, LEVELS, NEAR_M, PILOT, WORKERS, approach_paths,
-                           bow_wave_study, grid_specs, run_grid)
 from .docking_cells import CAMPAIGNS, by_result_text
 from .markup import esc, figure_html, fmt, html_table
+from .settings import FULL
 
 if TYPE_CHECKING:
     from .settings import ReportSettings
@@ -36,8 +45,6 @@ __all__ = ["DockingSectionResult", "build", "CONTROLLERS", "LEVELS"]
 
 #: Public CFD figures of the drogue's bow-wave displacement inside 1 m of the probe [m].
 PUBLIC_NEAR_M = (0.1, 0.4)
-
-#: Campaign folders, relative to the report folder.
 
 
 @dataclass(frozen=True)
@@ -50,34 +57,12 @@ class DockingSectionResult:
     wall_time_s: float  #: the section's wall time [s]
 
 
-def _capture_frame(cells):
-    import pandas as pd
-
-    rows = []
-    for c in cells:
-        cap = c.capture
-        rows.append(dict(campaign=c.name, level=c.level, sigma_m_s=c.sigma_m_s, controller=c.controller,
-                         pilot=c.pilot, bow_wave=c.bow_wave, runs=cap["runs"], rate=cap["rate"], ci95_low=cap["ci95"][0], ci95_high=cap["ci95"][1],
-                         **{f"n_{k.replace(' ', '_')}": v for k, v in cap["by_result"].items()},
-                         median_miss_m=float(np.nanmedian(c.runs["miss_distance_m"]))
-                         if np.isfinite(c.runs["miss_distance_m"]).any() else float("nan"),
-                         # the controllers' forces are unlimited here: what the capture rate costs
-                         median_peak_force_n=float(np.median(c.runs["peak_u_n"])),
-                         p95_peak_force_n=float(np.percentile(c.runs["peak_u_n"], 95)),
-                         max_peak_force_n=float(np.max(c.runs["peak_u_n"]))))
-    df = pd.DataFrame(rows)
-    counts = df[[k for k in df.columns if k.startswith("n_")]].sum(axis=1)
-    if not (counts == df["runs"]).all():  # each run counted once
-        raise RuntimeError("docking: the result counts do not add up to the runs of every cell")
-    return df
-
-
 def _runs_frame(cells):
     import pandas as pd
 
     frames = []
     for c in cells:
-        df = c.runs[["run", "seed", "completed", "result", "miss_distance_m", "closure_speed_m_s", "peak_u_n"]].copy()
+        df = c.runs[["run", "seed", "completed", "result", "miss_distance_m", "closure_speed_m_s", PEAK_FORCE]].copy()
         df.insert(0, "bow_wave", c.bow_wave)
         df.insert(0, "pilot", c.pilot)
         df.insert(0, "controller", c.controller)
@@ -118,37 +103,6 @@ def _approach_outputs(out, paths: dict, radius: float) -> None:
                               drogue_z_m=p["drogue_yz_m"][:, 1])) for c, p in paths.items()]
     out.csv(pd.concat(rows, ignore_index=True), "docking_approach.csv")
     out.figure(plot_approach_from_behind(paths, radius), "fig_docking_approach.png")
-
-
-def _compare(df, a: dict, b: dict) -> dict:
-    """Rates and intervals of two cells (``a``, ``b``: column -> value selecting one row each)."""
-    def row(sel):
-        m = np.ones(len(df), bool)
-        for k, v in sel.items():
-            m &= (df[k] == v).to_numpy()
-        return df[m].iloc[0]
-
-    ra, rb = row(a), row(b)
-    overlap = not (ra["ci95_low"] > rb["ci95_high"] or rb["ci95_low"] > ra["ci95_high"])
-    return {"rate_a": float(ra["rate"]), "ci95_a": [float(ra["ci95_low"]), float(ra["ci95_high"])],
-            "rate_b": float(rb["rate"]), "ci95_b": [float(rb["ci95_low"]), float(rb["ci95_high"])],
-            "a_higher": bool(ra["rate"] > rb["rate"]), "significant": not overlap}
-
-
-def _comparisons(df) -> dict:
-    levels = [lev for lev in LEVELS if lev in set(df["level"])]
-    out = {"light_vs_severe": _compare(df, dict(level=levels[0], controller="none", bow_wave=True, pilot=False),
-                                       dict(level=levels[-1], controller="none", bow_wave=True, pilot=False))}
-    mid = "moderate" if "moderate" in levels else levels[0]
-    for c in CONTROLLERS[1:]:
-        out[f"{c}_vs_none_{mid}"] = _compare(df, dict(level=mid, controller=c, bow_wave=True, pilot=False),
-                                             dict(level=mid, controller="none", bow_wave=True, pilot=False))
-    out[f"bow_off_vs_on_{mid}"] = _compare(df, dict(level=mid, controller="none", bow_wave=False, pilot=False),
-                                           dict(level=mid, controller="none", bow_wave=True, pilot=False))
-    for lev in sorted(set(df.loc[df["pilot"], "level"]), key=levels.index):  # the pilot against the straight line
-        out[f"{PILOT}_vs_none_{lev}"] = _compare(df, dict(level=lev, controller="none", bow_wave=True, pilot=True),
-                                                 dict(level=lev, controller="none", bow_wave=True, pilot=False))
-    return out
 
 
 def _rate(r: float, ci) -> str:
@@ -258,7 +212,7 @@ def _prose(df, cmp: dict, runs: int, times: dict) -> str:
 
 def _html(st: "_Study") -> str:
     fast = (f'<p class=diff id="docking-fast">FAST VERSION of this section: {st.runs} runs per campaign, not '
-            "the full report's 200; the rates and intervals are rough.</p>" if st.fast else "")
+            f"the full report's {FULL.docking_runs}; the rates and intervals are rough.</p>" if st.fast else "")
     radius = st.radius_m
     return (
         '<section id="docking"><h2>Beyond the paper: docking statistics and the bow wave</h2>' + fast
@@ -293,57 +247,63 @@ def _html(st: "_Study") -> str:
 class _Study:
     """What the section computed."""
 
-    bow: object  #: docking_runs.BowWaveStudy
-    cells: list  #: docking_runs.CampaignCell per campaign
-    table: object  #: pandas.DataFrame, one row per campaign
+    bow: object  #: studies.bow_wave.BowWaveStudy
+    cells: list  #: studies.docking.CampaignCell per campaign of the main grid
+    table: object  #: pandas.DataFrame, one row per campaign (studies.docking_statistics.capture_table)
     comparisons: dict  #: the section's statements (rates, intervals, significance)
-    paths: dict  #: run label (controller or "pilot") -> approach path (docking_runs.approach_paths)
+    paths: dict  #: run label (controller or "pilot") -> approach path (studies.docking.approach_paths)
     runs: int  #: runs per campaign
     times: dict  #: wall times [s] of the parts
     radius_m: float  #: capture radius [m]
     approach_seed: int  #: turbulence seed of the approach figure
     fast: bool
-    probe: object  #: the approach scenarios' engagement.spec.Probe
-    speed_specs: list  #: docking_runs.CellSpec of the closure-speed study
+    probe: object  #: the approach scenarios' hosedrogue.sections.Probe
+    speed_specs: list  #: studies.docking_grid.CellSpec of the closure-speed study
     speed_cells: list  #: their campaigns (the grid's where the scenario is the same)
-    speed_table: object  #: docking_speed.speed_frame
-    speed_findings: dict  #: docking_speed.speed_findings
-    force_specs: list  #: docking_runs.CellSpec of the force-limit study
+    speed_table: object  #: studies.docking_statistics.speed_table
+    speed_findings: dict  #: studies.docking_statistics.speed_findings
+    force_specs: list  #: studies.docking_grid.CellSpec of the force-limit study
     force_cells: list  #: their campaigns (the grid's for the unlimited and no-controller cells)
-    force_table: object  #: docking_force.force_frame
-    force_findings: dict  #: docking_force.force_findings
+    force_table: object  #: studies.docking_statistics.force_table
+    force_findings: dict  #: studies.docking_statistics.force_findings
+
+
+def _campaigns(out, settings):
+    """The main grid's, the closure-speed study's and the force-limit study's campaigns, run afresh
+    into the report's campaigns folder; returns the three (specs, cells) pairs and the wall time [s]."""
+    grid = grid_specs()
+    speeds = speed_specs(settings.docking_closure_speeds_m_s)
+    forces = force_specs(settings.docking_force_limits_n, settings.docking_force_levels,
+                         settings.docking_force_controllers)
+    folder = out.dir / CAMPAIGNS
+    shutil.rmtree(folder, ignore_errors=True)  # the report's campaigns are its own: never resumed
+    t0 = time.perf_counter()
+    every = run_grid(grid + speeds + forces, settings.docking_runs, folder, workers=settings.docking_workers,
+                     status=out.status)
+    n, m = len(grid), len(grid) + len(speeds)
+    return (grid, every[:n]), (speeds, every[n:m]), (forces, every[m:]), time.perf_counter() - t0
 
 
 def _study(out, settings) -> _Study:
     from ..scenarios import load_scenario
-    from .docking_runs import APPROACH_RUNS, APPROACH_SEED
 
-    fast = settings.name == "fast"
     t0 = time.perf_counter()
     out.status("docking: bow wave")
     bow = bow_wave_study()
     t1 = time.perf_counter()
-    grid = grid_specs()
-    speeds = speed.speed_specs(speed.FAST_CLOSURE_SPEEDS_M_S if fast else speed.CLOSURE_SPEEDS_M_S)
-    forces = (force.force_specs(force.FAST_FORCE_LIMITS_N, force.FAST_FORCE_LEVELS, force.FAST_FORCE_CONTROLLERS)
-              if fast else force.force_specs())
-    every, campaigns_s = run_grid(out.dir / CAMPAIGNS, settings.docking_runs, grid + speeds + forces,
-                                  workers=None if fast else WORKERS, status=out.status)
-    cells, speed_cells = every[:len(grid)], every[len(grid):len(grid) + len(speeds)]
-    force_cells = every[len(grid) + len(speeds):]
+    (_, cells), (speeds, speed_cells), (forces, force_cells), campaigns_s = _campaigns(out, settings)
     t2 = time.perf_counter()
     out.status("docking: approach runs")
     paths = approach_paths(runs=tuple(APPROACH_RUNS), seed=APPROACH_SEED)
     t3 = time.perf_counter()
-    table = _capture_frame(cells)
+    table = capture_table(cells)
     probe = load_scenario("approach-moderate").engagement.probe
     times = {"bow_wave_s": t1 - t0, "campaigns_s": campaigns_s, "approach_s": t3 - t2}
-    speed_table = speed.speed_frame(speeds, speed_cells)
-    force_table = force.force_frame(forces, force_cells)
-    return _Study(bow, cells, table, _comparisons(table), paths, settings.docking_runs, times,
-                  float(probe.capture_radius_m), APPROACH_SEED, fast, probe, speeds, speed_cells, speed_table,
-                  speed.speed_findings(speed_table, probe.min_closure_speed_m_s), forces, force_cells, force_table,
-                  force.force_findings(force_table))
+    s_table, f_table = speed_table(speeds, speed_cells), force_table(forces, force_cells)
+    return _Study(bow, cells, table, comparisons(table), paths, settings.docking_runs, times,
+                  float(probe.capture_radius_m), APPROACH_SEED, settings.fast, probe, speeds, speed_cells, s_table,
+                  speed_findings(s_table, probe.min_closure_speed_m_s), forces, force_cells, f_table,
+                  force_findings(f_table))
 
 
 def _figures(out, st: _Study) -> None:
@@ -399,8 +359,9 @@ def build(out: ReportFolder, settings: ReportSettings) -> DockingSectionResult:
     out : hosedrogue.report.writer.ReportFolder
         The report being written.
     settings : hosedrogue.report.settings.ReportSettings
-        ``docking_runs``: runs per campaign; ``name == "fast"``: the campaigns run in this process
-        instead of on :data:`.docking_runs.WORKERS` dask workers.
+        ``docking_runs``: runs per campaign; ``docking_workers``: dask workers (None: this
+        process); ``docking_closure_speeds_m_s`` and ``docking_force_*``: the two studies' cells;
+        ``fast``: the section says it is the fast version.
 
     Returns
     -------

@@ -3,22 +3,19 @@ approach-severe (bow wave on) with the paper's PID and LQR drogue controllers wh
 force is limited (``[actuator] max_force_n``), against that limit (docs/engagement.md, "Docking
 statistics").
 
-Each limit is a campaign of the grid (:class:`.docking_runs.CellSpec` with ``max_force_n``): the
-scenario's ``[actuator]`` table gets the limit, which the control law applies per axis (each of
-the lateral and vertical commands clipped to +-limit, so the force's magnitude can reach sqrt(2)
-times it; docs/engagement.md, "Drogue controller during the approach"). The unlimited point of
-each controller and the no-controller rate of each level are the main grid's
-``<level>-<controller>-bow-on`` campaigns: their specs are in :func:`force_specs` and
-:func:`.docking_runs.run_grid` runs a scenario once, so they are not recomputed. The limit does not
-change the scenario's duration or turbulence window, so run ``i`` sees the same gust record in
-every cell of a level (common random numbers).
+The cells are :func:`hosedrogue.studies.docking_grid.force_specs`: each limit a campaign whose
+scenario's actuator has the limit, which the control law applies per axis (each of the lateral and
+vertical commands clipped to +-limit, so the force's magnitude can reach sqrt(2) times it;
+docs/engagement.md, "Drogue controller during the approach"). The unlimited point of each
+controller and the no-controller rate of each level are the main grid's
+``<level>-<controller>-bow-on`` campaigns (:func:`hosedrogue.studies.docking.run_grid` runs a
+scenario once). The limit does not change the scenario's duration or turbulence window, so run
+``i`` sees the same gust record in every cell of a level (common random numbers).
 
-Saturation is read from ``runs.csv``: ``peak_u_y_n`` and ``peak_u_z_n`` are ``max |u_y|`` and
-``max |u_z|`` of the applied (clipped) force over the turbulence window, which here is the whole
-run, and ``peak_u_n`` is ``max hypot(u_y, u_z)``, the magnitude. A per-axis limit is reached by a
-per-axis peak, not by the magnitude (a magnitude above the limit can have neither axis clipped), so
-a run counts as saturated when ``max(peak_u_y_n, peak_u_z_n) >= (1 - SATURATION_TOLERANCE)``
-times the limit.
+The table, the saturation rule and the findings are
+:mod:`hosedrogue.studies.docking_statistics`' (``force_table``, ``saturated``,
+``force_findings``); this module writes the CSVs, the figure, the HTML and
+``report.json["docking"]["force_limit"]`` from them.
 """
 
 from __future__ import annotations
@@ -27,157 +24,15 @@ import math
 
 import numpy as np
 
+from ..studies.docking_statistics import PEAK_FORCE, PEAK_FORCE_Y, PEAK_FORCE_Z, SATURATION_TOLERANCE, saturated
 from .docking_cells import capture_cells, capture_record
-from .docking_runs import CellSpec
 from .markup import figure_html, fmt, html_table
 
-__all__ = ["FORCE_LIMITS_N", "FAST_FORCE_LIMITS_N", "FORCE_LEVELS", "FAST_FORCE_LEVELS", "FORCE_CONTROLLERS",
-           "FAST_FORCE_CONTROLLERS", "SATURATION_TOLERANCE", "force_specs", "force_frame", "force_findings",
-           "force_html", "force_record", "write_force_outputs"]
-
-#: Force limits per axis of the study [N]: from well below the PID's median peak in moderate
-#: turbulence (92 N unlimited) to about its largest there (231 N), in factors of two.
-FORCE_LIMITS_N = (25.0, 50.0, 100.0, 200.0)
-
-#: The fast version's limits [N]: the smallest and the middle one.
-FAST_FORCE_LIMITS_N = (25.0, 100.0)
-
-#: Turbulence levels of the study (light is captured by either controller with 77 N at most).
-FORCE_LEVELS = ("moderate", "severe")
-
-#: The fast version's level.
-FAST_FORCE_LEVELS = ("moderate",)
-
-#: Drogue controllers of the study.
-FORCE_CONTROLLERS = ("pid", "lqr")
-
-#: The fast version's controller.
-FAST_FORCE_CONTROLLERS = ("pid",)
-
-#: A run's force saturated when its per-axis peak is within this fraction below the limit [-].
-SATURATION_TOLERANCE = 1e-3
+__all__ = ["force_html", "force_record", "write_force_outputs"]
 
 #: The study's CSVs and figure, relative to the report folder.
 TABLE_CSV, RUNS_CSV, FIGURE_PNG = ("docking_force_limit.csv", "docking_force_limit_runs.csv",
                                    "fig_docking_force_limit.png")
-
-
-def force_specs(limits=FORCE_LIMITS_N, levels=FORCE_LEVELS, controllers=FORCE_CONTROLLERS) -> list[CellSpec]:
-    """The study's cells per level: no controller (the grid's), then per controller each limit and
-    the unlimited one (the grid's), all with the bow wave on.
-
-    Parameters
-    ----------
-    limits : sequence of float
-        Force limits per axis [N].
-    levels : sequence of str
-        Turbulence levels.
-    controllers : sequence of str
-        Drogue controller types.
-
-    Returns
-    -------
-    list of CellSpec
-    """
-    specs = []
-    for level in levels:
-        specs.append(CellSpec(level, "none", True))
-        for c in controllers:
-            specs += [CellSpec(level, c, True, max_force_n=float(f)) for f in limits]
-            specs.append(CellSpec(level, c, True))
-    return specs
-
-
-def _saturated(runs, limit: float) -> np.ndarray:
-    """Which runs' per-axis peak force reached ``limit`` [N] within :data:`SATURATION_TOLERANCE`."""
-    axis = np.maximum(runs["peak_u_y_n"].to_numpy(dtype=float), runs["peak_u_z_n"].to_numpy(dtype=float))
-    return axis >= (1.0 - SATURATION_TOLERANCE) * limit
-
-
-def force_frame(specs, cells):
-    """One row per cell: level, controller, limit (inf: unlimited; for "none" the rate of no
-    controller), the campaign, its capture block, the saturated fraction and the peak forces.
-
-    Parameters
-    ----------
-    specs : sequence of CellSpec
-        The cells of :func:`force_specs`.
-    cells : sequence of docking_runs.CampaignCell
-        Their campaigns, in the same order.
-
-    Returns
-    -------
-    pandas.DataFrame
-        Columns level, controller, max_force_n [N] (inf: unlimited), campaign, runs, rate,
-        ci95_low, ci95_high, n_<result>, saturated_fraction [-] (NaN unlimited),
-        peak_axis_force_{median,p95,max}_n (per-axis peak, max of the two axes) [N] and
-        peak_force_max_n (magnitude) [N].
-    """
-    import pandas as pd
-
-    rows = []
-    for spec, c in zip(specs, cells):
-        cap, runs = c.capture, c.runs
-        limit = math.inf if spec.max_force_n is None else float(spec.max_force_n)
-        axis = np.maximum(runs["peak_u_y_n"].to_numpy(dtype=float), runs["peak_u_z_n"].to_numpy(dtype=float))
-        rows.append(dict(level=spec.level, controller=spec.controller, max_force_n=limit, campaign=c.name,
-                         runs=cap["runs"], rate=cap["rate"], ci95_low=cap["ci95"][0], ci95_high=cap["ci95"][1],
-                         **{f"n_{k.replace(' ', '_')}": v for k, v in cap["by_result"].items()},
-                         saturated_fraction=float(np.mean(_saturated(runs, limit))) if math.isfinite(limit) else np.nan,
-                         peak_axis_force_median_n=float(np.median(axis)),
-                         peak_axis_force_p95_n=float(np.percentile(axis, 95)),
-                         peak_axis_force_max_n=float(np.max(axis)),
-                         peak_force_max_n=float(np.max(runs["peak_u_n"].to_numpy(dtype=float)))))
-    df = pd.DataFrame(rows)
-    if not (df[[k for k in df.columns if k.startswith("n_")]].sum(axis=1) == df["runs"]).all():
-        raise RuntimeError("docking force limit: the result counts do not add up to the runs of every cell")
-    return df
-
-
-def _overlap(a, b) -> bool:
-    return not (a["ci95_low"] > b["ci95_high"] or b["ci95_low"] > a["ci95_high"])
-
-
-def _rate_of(r) -> dict:
-    return {"rate": float(r["rate"]), "ci95": [float(r["ci95_low"]), float(r["ci95_high"])]}
-
-
-def force_findings(df) -> dict:
-    """Per level and controller: the unlimited and no-controller rates, the smallest limit from
-    which every larger limit's interval overlaps the unlimited rate's, and the smallest limit's
-    rate against no controller.
-
-    Parameters
-    ----------
-    df : pandas.DataFrame
-        :func:`force_frame`.
-
-    Returns
-    -------
-    dict
-        ``"<level>-<controller>"`` -> findings (rates [-], limits [N], saturated fractions [-],
-        "significant" flags).
-    """
-    out = {}
-    for level, lev in df.groupby("level", sort=False):
-        none = lev[lev["controller"] == "none"].iloc[0]
-        for c, sub in lev[lev["controller"] != "none"].groupby("controller", sort=False):
-            free = sub[~np.isfinite(sub["max_force_n"])].iloc[0]
-            lim = sub[np.isfinite(sub["max_force_n"])].sort_values("max_force_n").reset_index(drop=True)
-            ok = [_overlap(r, free) for _, r in lim.iterrows()]
-            first = next((i for i in range(len(ok)) if all(ok[i:])), None)
-            low = lim.iloc[0]
-            out[f"{level}-{c}"] = {
-                "level": level, "controller": c, "unlimited": _rate_of(free), "none": _rate_of(none),
-                "overlap_reached": first is not None,  # report.json holds no nulls: the two keys below only then
-                **({} if first is None else {"overlap_from_n": float(lim.iloc[first]["max_force_n"]),
-                                             "overlap_saturated_fraction": float(lim.iloc[first]["saturated_fraction"])}),
-                "smallest_n": float(low["max_force_n"]), "smallest": _rate_of(low),
-                "smallest_saturated_fraction": float(low["saturated_fraction"]),
-                "smallest_vs_none": {"higher": bool(low["rate"] > none["rate"]),
-                                     "significant": not _overlap(low, none)},
-                "unlimited_p95_axis_force_n": float(free["peak_axis_force_p95_n"])}
-    return out
 
 
 def _rate(d: dict) -> str:
@@ -214,8 +69,8 @@ def _prose(df, findings: dict) -> str:
         "vertical command are each clipped, so the force's magnitude can reach √2 times the limit), "
         f"{runs} runs per cell on the grid's seeds (the same gust records at every limit). The unlimited point and "
         "the no-controller rate are the main grid's campaigns, not new ones. A run counts as saturated when its "
-        "larger per-axis peak force (<code>peak_u_y_n</code>, <code>peak_u_z_n</code> of runs.csv: max |u| of "
-        "the applied force over the run; <code>peak_u_n</code> is the magnitude, which a per-axis limit does not "
+        f"larger per-axis peak force (<code>{PEAK_FORCE_Y}</code>, <code>{PEAK_FORCE_Z}</code> of runs.csv: max |u| of "
+        f"the applied force over the run; <code>{PEAK_FORCE}</code> is the magnitude, which a per-axis limit does not "
         f"bound) is within {100 * SATURATION_TOLERANCE:g} % of the limit. "
         + " ".join(_finding_text(f) for f in findings.values())
         + " The overlap of the intervals is a conservative test for cells on the same seeds; a paired test is "
@@ -228,9 +83,9 @@ def force_html(df, findings: dict) -> str:
     Parameters
     ----------
     df : pandas.DataFrame
-        :func:`force_frame`.
+        :func:`hosedrogue.studies.docking_statistics.force_table`.
     findings : dict
-        :func:`force_findings`.
+        :func:`hosedrogue.studies.docking_statistics.force_findings`.
 
     Returns
     -------
@@ -263,9 +118,9 @@ def force_record(df, findings: dict) -> dict:
     Parameters
     ----------
     df : pandas.DataFrame
-        :func:`force_frame`.
+        :func:`hosedrogue.studies.docking_statistics.force_table`.
     findings : dict
-        :func:`force_findings`.
+        :func:`hosedrogue.studies.docking_statistics.force_findings`.
 
     Returns
     -------
@@ -297,10 +152,10 @@ def write_force_outputs(out, df, specs, cells) -> None:
     out : hosedrogue.report.writer.ReportFolder
         The report being written.
     df : pandas.DataFrame
-        :func:`force_frame`.
-    specs : sequence of CellSpec
+        :func:`hosedrogue.studies.docking_statistics.force_table`.
+    specs : sequence of hosedrogue.studies.docking_grid.CellSpec
         The study's cells.
-    cells : sequence of docking_runs.CampaignCell
+    cells : sequence of hosedrogue.studies.docking.CampaignCell
         Their campaigns.
     """
     import pandas as pd
@@ -310,9 +165,9 @@ def write_force_outputs(out, df, specs, cells) -> None:
     out.csv(df, TABLE_CSV)
     frames = []
     for spec, c in zip(specs, cells):
-        f = c.runs[["run", "seed", "result", "miss_distance_m", "peak_u_y_n", "peak_u_z_n", "peak_u_n"]].copy()
+        f = c.runs[["run", "seed", "result", "miss_distance_m", PEAK_FORCE_Y, PEAK_FORCE_Z, PEAK_FORCE]].copy()
         limit = math.inf if spec.max_force_n is None else float(spec.max_force_n)
-        f["saturated"] = _saturated(c.runs, limit)
+        f["saturated"] = saturated(c.runs, limit)
         f.insert(0, "campaign", c.name)
         f.insert(0, "max_force_n", limit)
         f.insert(0, "controller", spec.controller)

@@ -2,12 +2,12 @@
 against the probe's closure speed, without a drogue controller and with the paper's PID
 (docs/engagement.md, "Docking statistics").
 
-Each speed is a campaign of the grid (:class:`.docking_runs.CellSpec` with ``closure_speed_m_s``)
-whose scenario lasts :func:`.docking_runs.approach_duration_s`: the shipped 4.5 s at 1 m/s, so
-that cell *is* the main grid's ``moderate-<controller>-bow-on`` campaign (:func:`.docking_runs.run_grid`
-runs a scenario once). This module builds the table, the CSVs, the figure, the HTML and
-``report.json["docking"]["closure_speed"]`` from those campaigns; every number on the page is read
-from them.
+The cells are :func:`hosedrogue.studies.docking_grid.speed_specs`: each speed a campaign whose
+scenario lasts :func:`hosedrogue.studies.docking_grid.approach_duration_s`, the shipped 4.5 s at
+1 m/s, so that cell *is* the main grid's ``moderate-<controller>-bow-on`` campaign
+(:func:`hosedrogue.studies.docking.run_grid` runs a scenario once). The table and the findings are
+:func:`hosedrogue.studies.docking_statistics.speed_table` and ``speed_findings``; this module
+writes the CSVs, the figure, the HTML and ``report.json["docking"]["closure_speed"]`` from them.
 
 The turbulence window follows the duration, and the gust record of a seed depends on its length
 (the generator draws each axis's noise for the whole window before the next axis), so run ``i``
@@ -17,130 +17,16 @@ samples, the two controllers at one speed on common records.
 
 from __future__ import annotations
 
-import numpy as np
-
+from ..studies.docking_grid import SPEED_CONTROLLERS, SPEED_LEVEL
+from ..studies.docking_statistics import PEAK_FORCE
 from .docking_cells import capture_cells, capture_record
-from .docking_runs import CellSpec
 from .markup import figure_html, fmt, html_table
 
-__all__ = ["CLOSURE_SPEEDS_M_S", "FAST_CLOSURE_SPEEDS_M_S", "SPEED_LEVEL", "SPEED_CONTROLLERS", "speed_specs",
-           "speed_frame", "speed_findings", "speed_html", "speed_record", "write_speed_outputs"]
-
-#: Probe closure speeds of the study [m/s]: from the latch window's 0.5 m/s minimum up to 2 m/s,
-#: the fastest at which the 1 m push still cruises before its 1 s stop.
-CLOSURE_SPEEDS_M_S = (0.5, 0.75, 1.0, 1.5, 2.0)
-
-#: The fast version's speeds [m/s]: the ends and the shipped speed.
-FAST_CLOSURE_SPEEDS_M_S = (0.5, 1.0, 2.0)
-
-#: Turbulence level of the study (the middle one: neither always nor never captured).
-SPEED_LEVEL = "moderate"
-
-#: Drogue controllers of the study.
-SPEED_CONTROLLERS = ("none", "pid")
+__all__ = ["speed_html", "speed_record", "write_speed_outputs"]
 
 #: The speed study's CSVs and figure, relative to the report folder.
 TABLE_CSV, RUNS_CSV, FIGURE_PNG = ("docking_closure_speed.csv", "docking_closure_speed_runs.csv",
                                    "fig_docking_closure_speed.png")
-
-
-def speed_specs(speeds=CLOSURE_SPEEDS_M_S) -> list[CellSpec]:
-    """The study's cells: approach-moderate, bow wave on, each controller x speed.
-
-    Parameters
-    ----------
-    speeds : sequence of float
-        Probe closure speeds [m/s].
-
-    Returns
-    -------
-    list of CellSpec
-    """
-    return [CellSpec(SPEED_LEVEL, c, True, False, float(v)) for c in SPEED_CONTROLLERS for v in speeds]
-
-
-def speed_frame(specs, cells):
-    """One row per (controller, speed): the campaign, its capture block, the failed-latch fraction
-    and the closure speed at the coupler over the runs that reached it.
-
-    Parameters
-    ----------
-    specs : sequence of CellSpec
-        The cells of :func:`speed_specs`.
-    cells : sequence of docking_runs.CampaignCell
-        Their campaigns, in the same order.
-
-    Returns
-    -------
-    pandas.DataFrame
-        Columns controller, probe_speed_m_s, duration_s, campaign, runs, rate, ci95_low, ci95_high,
-        n_<result>, failed_latch_fraction, coupler_speed_{p05,median,p95}_m_s [m/s],
-        coupler_to_probe_speed (median ratio) [-], median_miss_m [m].
-    """
-    import pandas as pd
-
-    rows = []
-    for spec, c in zip(specs, cells):
-        cap = c.capture
-        vc = c.runs["closure_speed_m_s"].to_numpy(dtype=float)
-        vc = vc[np.isfinite(vc)]
-        p05, med, p95 = np.percentile(vc, [5, 50, 95]) if vc.size else (np.nan,) * 3
-        miss = c.runs["miss_distance_m"].to_numpy(dtype=float)
-        rows.append(dict(controller=spec.controller, probe_speed_m_s=c.closure_speed_m_s, duration_s=c.duration_s,
-                         campaign=c.name, runs=cap["runs"], rate=cap["rate"], ci95_low=cap["ci95"][0],
-                         ci95_high=cap["ci95"][1],
-                         **{f"n_{k.replace(' ', '_')}": v for k, v in cap["by_result"].items()},
-                         failed_latch_fraction=cap["by_result"]["failed latch"] / cap["runs"],
-                         coupler_speed_p05_m_s=p05, coupler_speed_median_m_s=med, coupler_speed_p95_m_s=p95,
-                         coupler_to_probe_speed=med / c.closure_speed_m_s,
-                         median_miss_m=float(np.nanmedian(miss)) if np.isfinite(miss).any() else np.nan))
-    df = pd.DataFrame(rows)
-    if not (df[[k for k in df.columns if k.startswith("n_")]].sum(axis=1) == df["runs"]).all():
-        raise RuntimeError("docking closure speed: the result counts do not add up to the runs of every cell")
-    return df
-
-
-def _verdict(a, b) -> dict:
-    overlap = not (a["ci95_low"] > b["ci95_high"] or b["ci95_low"] > a["ci95_high"])
-    return {"rate_a": float(a["rate"]), "ci95_a": [float(a["ci95_low"]), float(a["ci95_high"])],
-            "rate_b": float(b["rate"]), "ci95_b": [float(b["ci95_low"]), float(b["ci95_high"])],
-            "significant": not overlap}
-
-
-def speed_findings(df, min_latch_m_s: float) -> dict:
-    """What the closure speed does, per controller: the slowest speed's failed latches and
-    coupler speed against the latch minimum, the slowest and fastest speed against the shipped
-    1 m/s, the rate's trend with speed, and the coupler-to-probe speed ratio's range.
-
-    Parameters
-    ----------
-    df : pandas.DataFrame
-        :func:`speed_frame`.
-    min_latch_m_s : float
-        The latch window's minimum closure speed at the coupler [m/s].
-
-    Returns
-    -------
-    dict
-        controller -> findings (rates [-], speeds [m/s], counts, "significant" flags).
-    """
-    out = {}
-    for c, sub in df.groupby("controller", sort=False):
-        sub = sub.sort_values("probe_speed_m_s").reset_index(drop=True)
-        slow, fast = sub.iloc[0], sub.iloc[-1]
-        ref = sub.iloc[int(np.argmin(np.abs(sub["probe_speed_m_s"] - 1.0)))]
-        rates = sub["rate"].to_numpy()
-        out[c] = {"slowest_m_s": float(slow["probe_speed_m_s"]), "fastest_m_s": float(fast["probe_speed_m_s"]),
-                  "reference_m_s": float(ref["probe_speed_m_s"]),
-                  "slowest_failed_latches": int(slow["n_failed_latch"]), "runs": int(slow["runs"]),
-                  "slowest_coupler_median_m_s": float(slow["coupler_speed_median_m_s"]),
-                  "slowest_below_latch_minimum": bool(slow["coupler_speed_median_m_s"] < min_latch_m_s),
-                  "slowest_vs_reference": _verdict(slow, ref), "fastest_vs_reference": _verdict(fast, ref),
-                  "trend": ("rises at every step" if np.all(np.diff(rates) > 0) else
-                            "never falls" if np.all(np.diff(rates) >= 0) else "does not change monotonically"),
-                  "coupler_to_probe_range": [float(sub["coupler_to_probe_speed"].min()),
-                                             float(sub["coupler_to_probe_speed"].max())]}
-    return out
 
 
 def _rate(r, ci) -> str:
@@ -192,10 +78,10 @@ def speed_html(df, findings: dict, probe) -> str:
     Parameters
     ----------
     df : pandas.DataFrame
-        :func:`speed_frame`.
+        :func:`hosedrogue.studies.docking_statistics.speed_table`.
     findings : dict
-        :func:`speed_findings`.
-    probe : hosedrogue.engagement.spec.Probe
+        :func:`hosedrogue.studies.docking_statistics.speed_findings`.
+    probe : hosedrogue.sections.Probe
         The scenario's probe: standoff [m], push [m], stop time [s], latch minimum [m/s].
 
     Returns
@@ -227,9 +113,9 @@ def speed_record(df, findings: dict) -> dict:
     Parameters
     ----------
     df : pandas.DataFrame
-        :func:`speed_frame`.
+        :func:`hosedrogue.studies.docking_statistics.speed_table`.
     findings : dict
-        :func:`speed_findings`.
+        :func:`hosedrogue.studies.docking_statistics.speed_findings`.
 
     Returns
     -------
@@ -256,10 +142,10 @@ def write_speed_outputs(out, df, specs, cells, min_latch_m_s: float) -> None:
     out : hosedrogue.report.writer.ReportFolder
         The report being written.
     df : pandas.DataFrame
-        :func:`speed_frame`.
-    specs : sequence of CellSpec
+        :func:`hosedrogue.studies.docking_statistics.speed_table`.
+    specs : sequence of hosedrogue.studies.docking_grid.CellSpec
         The study's cells.
-    cells : sequence of docking_runs.CampaignCell
+    cells : sequence of hosedrogue.studies.docking.CampaignCell
         Their campaigns.
     min_latch_m_s : float
         The latch minimum [m/s], drawn in the figure.
@@ -271,7 +157,7 @@ def write_speed_outputs(out, df, specs, cells, min_latch_m_s: float) -> None:
     out.csv(df, TABLE_CSV)
     frames = []
     for spec, c in zip(specs, cells):
-        f = c.runs[["run", "seed", "result", "miss_distance_m", "closure_speed_m_s", "peak_u_n"]].copy()
+        f = c.runs[["run", "seed", "result", "miss_distance_m", "closure_speed_m_s", PEAK_FORCE]].copy()
         f.insert(0, "campaign", c.name)
         f.insert(0, "probe_speed_m_s", c.closure_speed_m_s)
         f.insert(0, "controller", spec.controller)

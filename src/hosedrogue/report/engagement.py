@@ -7,9 +7,10 @@ as CSV, the figures through :mod:`hosedrogue.plotting.engagement`, a GIF of the 
 HTML section with every number read from the runs. ``report.json`` gains an ``"engagement"``
 block.
 
-The fast version runs the scenarios on 40 links (step 2.5 ms) for 8 s instead of their shipped
-mesh and 15 s, and checks the doubling 40 -> 80 instead of the shipped count's; the section says
-so at its top.
+The fast version runs the scenarios on a coarser mesh for a shorter time (the report settings'
+``engagement_*`` fields: 40 links, step 2.5 ms, 8 s instead of the shipped 160 links and 15 s) and
+checks the doubling 40 -> 80 instead of the shipped count's; the section says so at its top. The
+doubled mesh is :func:`hosedrogue.studies.convergence.with_links`.
 """
 
 from __future__ import annotations
@@ -30,8 +31,24 @@ __all__ = ["EngagementSectionResult", "build", "SCENARIOS"]
 #: The shipped engagement scenarios, in the order of the page's columns.
 SCENARIOS = ("engage-locked", "engage-constant-tension", "engage-response")
 
-#: Fast version: links, RK4 step [s], output every, duration [s] of every run.
-FAST_RUN = (40, 0.0025, 4, 8.0)
+#: Snapshot instants relative to contact [s]: 1 s before (the probe closing in), contact, 0.8 s
+#: after (the slack building), 2.5 and 4 s after (the whip and the hose settling after it).
+SNAPSHOT_OFFSETS_S = (-1.0, 0.0, 0.8, 2.5, 4.0)
+
+#: The locked run's peak slack and peak probe load are looked for in this long after contact [s]:
+#: the coupling's transient (the 2 m push and its stop take under 2 s at 1.5 m/s), not the later
+#: swinging of the coupled hose.
+PEAK_SEARCH_S = 3.0
+
+#: Instants after contact shown in place of the peak slack and the peak probe load [s] when no
+#: output sample lies in the search window (a run that ends at contact).
+FALLBACK_PEAK_OFFSETS_S = (1.0, 2.0)
+
+#: Contact time assumed when a run has none [s]: 3 m of standoff at 1.5 m/s.
+NOMINAL_CONTACT_S = 2.0
+
+#: The GIF starts this long before contact [s] (the probe's last 0.75 m).
+ANIMATION_BEFORE_CONTACT_S = 0.5
 
 #: The brief's bound on the change of the peak probe load and peak slack when links are doubled.
 DOUBLING_BOUND = 0.05
@@ -47,28 +64,25 @@ class EngagementSectionResult:
     outcomes: dict  #: scenario name -> the run's outcome dict (units in the keys)
     links: int  #: links of the runs
     duration_s: float  #: simulated length of the runs [s]
-    fast: bool  #: the fast version (:data:`FAST_RUN`)
+    fast: bool  #: the fast version (the report settings' engagement mesh and length)
 
 
 def _scenario(name: str, settings, links: int | None = None):
-    """The shipped scenario, on the fast mesh in the fast version, or on ``links`` links with the
-    step scaled with the link length (the doubling check)."""
+    """The shipped scenario, on the settings' mesh and length if they give one, or on ``links``
+    links with the step scaled with the link length (the doubling check)."""
     import dataclasses
 
     from ..scenarios import load_scenario
+    from ..studies.convergence import with_links
 
     sc = load_scenario(name)
-    if settings.name == "fast":
-        n, step, every, duration = FAST_RUN
-        sc = dataclasses.replace(sc, duration_s=duration, params=sc.params.replace(
-            hose={"links": n}, numerics={"step_s": step, "output_every": every}))
-    if links is not None:
-        p = sc.params
-        step = p.numerics.step_s * p.hose.links / links
-        every = int(round(p.numerics.output_every * p.numerics.step_s / step))
-        sc = dataclasses.replace(sc, params=p.replace(hose={"links": links},
-                                                      numerics={"step_s": step, "output_every": every}))
-    return sc
+    if settings.engagement_duration_s is not None:
+        sc = dataclasses.replace(sc, duration_s=settings.engagement_duration_s)
+    if settings.engagement_links is not None:
+        sc = dataclasses.replace(sc, params=sc.params.replace(
+            hose={"links": settings.engagement_links},
+            numerics={"step_s": settings.engagement_step_s, "output_every": settings.engagement_output_every}))
+    return sc if links is None else with_links(sc, links)
 
 
 def _runs(settings) -> tuple[dict, dict]:
@@ -94,12 +108,14 @@ def _probe_load(r) -> np.ndarray:
 def _snapshot_times(r) -> list[float]:
     """Instants of the strip: before contact, contact, the locked run's peak slack and peak probe
     load in the 3 s after contact, and two later instants."""
-    tc = r.outcome.get("contact_time_s") or 2.0
+    tc = r.outcome.get("contact_time_s") or NOMINAL_CONTACT_S
     t = r.t_s
-    after = (t >= tc) & (t <= tc + 3.0)
-    t_slack = float(t[after][np.argmax(r.slack_m[after])]) if after.any() else tc + 1.0
-    t_load = float(t[after][np.argmax(_probe_load(r)[after])]) if after.any() else tc + 2.0
-    times = sorted({round(x, 1) for x in (tc - 1.0, tc, tc + 0.8, t_slack, t_load, tc + 2.5, tc + 4.0, t[-1])})
+    after = (t >= tc) & (t <= tc + PEAK_SEARCH_S)
+    slack_fallback, load_fallback = FALLBACK_PEAK_OFFSETS_S
+    t_slack = float(t[after][np.argmax(r.slack_m[after])]) if after.any() else tc + slack_fallback
+    t_load = float(t[after][np.argmax(_probe_load(r)[after])]) if after.any() else tc + load_fallback
+    around = [tc + dt for dt in SNAPSHOT_OFFSETS_S]
+    times = sorted({round(x, 1) for x in (*around[:3], t_slack, t_load, *around[3:], t[-1])})
     return [x for x in times if t[0] <= x <= t[-1]]
 
 
@@ -212,17 +228,17 @@ class _Study:
 def _study(settings) -> _Study:
     """Run the scenarios and the doubling check; pick the snapshot instants and the animation window."""
 
-    fast = settings.name == "fast"
     runs, doubled = _runs(settings)
     slack = {name: r.went_slack() for name, r in runs.items()}
     change = _doubling(runs, doubled)
     locked = runs["engage-locked"]
     times = _snapshot_times(locked)
-    tc = locked.outcome.get("contact_time_s") or 2.0
-    window = (max(0.0, tc - 0.5), min(float(locked.t_s[-1]), tc + (4.0 if fast else 6.0)))
+    tc = locked.outcome.get("contact_time_s") or NOMINAL_CONTACT_S
+    window = (max(0.0, tc - ANIMATION_BEFORE_CONTACT_S),
+              min(float(locked.t_s[-1]), tc + settings.engagement_animation_after_contact_s))
     frame_times = np.arange(window[0], window[1] + 1e-9, ANIM_SPEED / settings.anim_fps)
     return _Study(runs=runs, doubled=doubled, slack=slack, change=change, times=times, window=window,
-                  frame_times=frame_times, fast=fast)
+                  frame_times=frame_times, fast=settings.fast)
 
 
 def _figures(out, st: _Study, settings) -> float:
@@ -354,8 +370,8 @@ def build(out: ReportFolder, settings: ReportSettings) -> EngagementSectionResul
     out : hosedrogue.report.writer.ReportFolder
         The report being written.
     settings : hosedrogue.report.settings.ReportSettings
-        ``name == "fast"``: the fast mesh and length (:data:`FAST_RUN`); ``anim_fps``: GIF frames
-        per real second [1/s].
+        ``engagement_*``: the runs' mesh and length and the GIF's window; ``anim_fps``: GIF
+        frames per real second [1/s]; ``fast``: the section says it is the fast version.
 
     Returns
     -------

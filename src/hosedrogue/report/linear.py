@@ -2,76 +2,36 @@
 the paper's Table 2 models.
 
 The linear models come from the library (``analysis.linearize``, ``analysis.reduction``,
-``controllers.design``); the small helpers here only evaluate them (frequency and step
-responses, 2nd-order characteristics). The Figs. 5-8 part is in :mod:`.linear_responses`.
+``analysis.responses``, ``controllers.design``). The Figs. 5-8 part is in
+:mod:`.linear_responses`; the section's result, :class:`.section_results.LinearResult`, is shared
+by both and the controllers' section.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..analysis.reduction import second_order_characteristics
+from ..analysis.responses import freq_response
 from ..paper import CHANNELS, TABLE2
 from ..params import PAPER
-from .linear_responses import freq_response, responses_section
+from .linear_responses import responses_section
 from .markup import fmt, html_table, ratio
+from .section_results import LinearResult
 
 if TYPE_CHECKING:
-    from ..analysis.linearize import LinearModel
-    from ..controllers.design import ReducedChannels
     from .settings import ReportSettings
     from .sweep import SteadyResult
     from .writer import ReportFolder
 
-__all__ = ["LinearResult", "build", "second_order_characteristics"]
+__all__ = ["LinearResult", "build"]
 
 #: The paper's note on every Table 2 comparison row.
 _CONDITION_NOTE = (f"the paper's linearization flight condition is not stated; ours is {PAPER.flight.airspeed_m_s:g} m/s, "
                    f"{PAPER.flight.altitude_m:g} m, wake on (see the linearization-condition table)")
-
-
-@dataclass(frozen=True)
-class LinearResult:
-    """The linear model and its reductions, used by the controller section.
-
-    Parameters
-    ----------
-    model : hosedrogue.analysis.linearize.LinearModel
-        The full linearization at the paper's flight condition (inputs u_hor, u_ver [N];
-        outputs P_ny, P_nz [m]).
-    full, sixth, second : hosedrogue.controllers.design.ReducedChannels
-        Each channel at full (minimal) order, balanced-truncated to 6th and to 2nd order.
-    """
-
-    model: LinearModel
-    full: ReducedChannels
-    sixth: ReducedChannels
-    second: ReducedChannels
-
-
-def second_order_characteristics(num, den) -> dict:
-    """DC gain, natural frequency, damping ratio and zero of a 2nd-order transfer function.
-
-    Parameters
-    ----------
-    num, den : array_like
-        Coefficients in descending powers of s; force [N] to offset [m].
-
-    Returns
-    -------
-    dict
-        ``dc_gain_m_n`` [m/N], ``natural_frequency_rad_s`` [rad/s], ``damping_ratio`` [-],
-        ``zero_1_s`` [1/s] (NaN without a finite zero).
-    """
-    num = np.asarray(num, float)
-    den = np.asarray(den, float)
-    wn = math.sqrt(den[-1] / den[0])
-    return {"dc_gain_m_n": num[-1] / den[-1], "natural_frequency_rad_s": wn,
-            "damping_ratio": den[1] / den[0] / (2.0 * wn),
-            "zero_1_s": -num[-1] / num[-2] if num.size >= 2 and num[-2] != 0 else float("nan")}
 
 
 def _models(equilibrium) -> LinearResult:

@@ -7,55 +7,18 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..analysis.responses import freq_response, step_response
 from ..paper import CHANNELS, table2_transfer_function
 from .markup import figure_html
 
 if TYPE_CHECKING:
-    from .linear import LinearResult
+    from .section_results import LinearResult
     from .writer import ReportFolder
 
-__all__ = ["freq_response", "step_response", "responses_section"]
+__all__ = ["responses_section"]
 
 #: Time grid of Figs. 5 and 8 [s].
 _T_STEP_S = np.arange(0.0, 40.0 + 1e-9, 0.02)
-
-
-def freq_response(sys, w) -> np.ndarray:
-    """Complex frequency response of a SISO system.
-
-    Parameters
-    ----------
-    sys : control.LTI
-        Force [N] to offset [m].
-    w : array_like
-        Angular frequencies [rad/s].
-
-    Returns
-    -------
-    numpy.ndarray
-        G(j w) [m/N], complex.
-    """
-    return np.squeeze(np.asarray(sys(1j * w), dtype=complex))
-
-
-def step_response(sys, t) -> np.ndarray:
-    """Response of a SISO system to a unit step.
-
-    Parameters
-    ----------
-    sys : control.LTI
-        Force [N] to offset [m].
-    t : array_like
-        Times [s].
-
-    Returns
-    -------
-    numpy.ndarray
-        Offset [m] after a 1 N step.
-    """
-    import control
-
-    return np.squeeze(np.asarray(control.step_response(sys, T=t).outputs, dtype=float))
 
 
 def _ours(m) -> dict:
@@ -180,7 +143,7 @@ def responses_section(out: ReportFolder, m: LinearResult, w, table2_head: dict) 
     ----------
     out : hosedrogue.report.writer.ReportFolder
         The report being written.
-    m : hosedrogue.report.linear.LinearResult
+    m : hosedrogue.report.section_results.LinearResult
         The linear model and its reductions.
     w : numpy.ndarray
         Angular frequencies of Fig. 7 [rad/s].

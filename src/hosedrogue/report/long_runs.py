@@ -1,4 +1,4 @@
-"""Report section "Long runs" (issue 15, docs/long-runs.md): the paper's model blows up in lasting
+"""Report section "Long runs" (docs/long-runs.md): the paper's model blows up in lasting
 turbulence; the zigzag modes behind it and the ``converged`` preset that cures it.
 
 The study is library code (:func:`hosedrogue.studies.long_runs.long_runs_study`, imported in
@@ -160,7 +160,7 @@ def _zigzag_prose(study, stats: dict) -> str:
 
 
 def _fast_note(settings) -> str:
-    if settings.name != "fast":
+    if not settings.fast:
         return ""
     return (f'<p class=diff id="long-runs-fast">FAST VERSION of this section: seed '
             f"{'/'.join(str(s) for s in settings.long_run_seeds)} only, runs capped at "

@@ -27,7 +27,7 @@ figure{margin:1em 0 1.6em} figure img{max-width:100%;border:1px solid #ddd} figc
 
 
 def _banner(settings) -> str:
-    if settings.name != "fast":
+    if not settings.fast:
         return ""
     return ('<div class="banner" id="fast-banner"><b>FAST VERSION.</b> This report was built with '
             "<code>--fast</code>: coarser Fig. 3 grid, shorter turbulence runs "
@@ -65,7 +65,7 @@ def render_page(out, settings, elapsed_s: float) -> str:
     nav = "".join(f'<a href="#{s.anchor}">{s.nav}</a>' for s in sections)
     body = "".join(s.html for s in sections)
     when = _dt.datetime.now().strftime("%Y-%m-%d %H:%M")
-    title = "hosedrogue: reproduction of Wu et al. (2018), Sec. 2.3 and 3" + (" (FAST VERSION)" if settings.name == "fast" else "")
+    title = "hosedrogue: reproduction of Wu et al. (2018), Sec. 2.3 and 3" + (" (FAST VERSION)" if settings.fast else "")
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
         f"<title>{esc(title)}</title><style>{CSS}</style></head><body>"

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -98,13 +97,18 @@ def parameter_sources(p: Params = PAPER) -> dict[str, str]:
 
 
 def _hose_properties(p: Params) -> ParametersResult:
-    """Link length and mass, area moment (Eq. 21) and bending stiffness of the hose."""
+    """Link length and mass, bending stiffness E I as the model uses it (Eqs. 20-21) and the area
+    moment I it implies."""
+    from ..model import kernels
+    from ..model.system import HoseModel
+
     hose = p.hose
     l = hose.link_length_m
-    area_moment_m4 = math.pi * (hose.outer_diameter_m**4 - hose.inner_diameter_m**4) / 64.0
+    model = HoseModel(p.replace(turbulence={"enabled": False}))  # no gust record needed
+    bending_stiffness = float(model.ps[kernels.PS_EI])
     return ParametersResult(link_length_m=l, link_mass_kg=hose.mass_per_length_kg_m * l,
-                            area_moment_m4=area_moment_m4,
-                            bending_stiffness_n_m2=hose.elastic_modulus_pa * area_moment_m4)
+                            area_moment_m4=bending_stiffness / hose.elastic_modulus_pa,
+                            bending_stiffness_n_m2=bending_stiffness)
 
 
 def _rows(p: Params, d: ParametersResult) -> list[dict]:

@@ -1,8 +1,14 @@
-"""Grid sizes and run lengths of a report build: the full reference version and the fast one."""
+"""Grid sizes and run lengths of a report build: the full reference version and the fast one.
+
+Every difference between the two versions is a field of :class:`ReportSettings`; the sections
+read these fields, never the version's name.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+from ..studies.docking_grid import CLOSURE_SPEEDS_M_S, FORCE_CONTROLLERS, FORCE_LEVELS, FORCE_LIMITS_N
 
 __all__ = ["ReportSettings", "FULL", "FAST"]
 
@@ -14,7 +20,9 @@ class ReportSettings:
     Parameters
     ----------
     name : str
-        ``"full"`` or ``"fast"``; the page shows a banner for the fast version.
+        ``"full"`` or ``"fast"`` (recorded in report.json).
+    fast : bool
+        The fast version: the page shows a banner and each section says where it is coarser.
     sweep_altitudes_m : tuple of float
         Fig. 3 altitudes [m].
     sweep_airspeeds_m_s : tuple of float
@@ -54,9 +62,31 @@ class ReportSettings:
     docking_runs : int
         Runs (turbulence seeds) per campaign of the docking section's grid (turbulence level x
         controller x bow wave).
+    docking_workers : int or None
+        Dask worker processes of the docking campaigns; None: run them in this process.
+    docking_closure_speeds_m_s : tuple of float
+        Probe closure speeds of the closure-speed study [m/s].
+    docking_force_limits_n : tuple of float
+        Force limits per axis of the force-limit study [N].
+    docking_force_levels : tuple of str
+        Turbulence levels of the force-limit study.
+    docking_force_controllers : tuple of str
+        Drogue controllers of the force-limit study.
+    engagement_links : int or None
+        Links of the engagement section's runs; None: the shipped scenarios' mesh (then the two
+        fields below are ignored).
+    engagement_step_s : float or None
+        RK4 step of those runs [s] (with ``engagement_links``).
+    engagement_output_every : int or None
+        Output every this many steps (with ``engagement_links``).
+    engagement_duration_s : float or None
+        Simulated length of those runs [s]; None: the scenarios' own.
+    engagement_animation_after_contact_s : float
+        The engagement GIF runs from 0.5 s before contact to this long after it [s].
     """
 
     name: str
+    fast: bool
     sweep_altitudes_m: tuple
     sweep_airspeeds_m_s: tuple
     run_duration_s: float | None
@@ -76,11 +106,22 @@ class ReportSettings:
     accuracy_steps_s: tuple
     accuracy_reference_step_s: float
     docking_runs: int
+    docking_workers: int | None
+    docking_closure_speeds_m_s: tuple
+    docking_force_limits_n: tuple
+    docking_force_levels: tuple
+    docking_force_controllers: tuple
+    engagement_links: int | None
+    engagement_step_s: float | None
+    engagement_output_every: int | None
+    engagement_duration_s: float | None
+    engagement_animation_after_contact_s: float
 
 
 #: The reference version of the report.
 FULL = ReportSettings(
     name="full",
+    fast=False,
     sweep_altitudes_m=(2000.0, 4000.0, 6000.0, 8000.0, 10000.0),
     sweep_airspeeds_m_s=tuple(float(v) for v in range(100, 251, 10)),
     run_duration_s=None,
@@ -100,11 +141,22 @@ FULL = ReportSettings(
     accuracy_steps_s=(0.01, 0.02, 0.025),
     accuracy_reference_step_s=0.000625,
     docking_runs=200,
+    docking_workers=2,  # the wall times in docs/engagement.md are on two
+    docking_closure_speeds_m_s=CLOSURE_SPEEDS_M_S,
+    docking_force_limits_n=FORCE_LIMITS_N,
+    docking_force_levels=FORCE_LEVELS,
+    docking_force_controllers=FORCE_CONTROLLERS,
+    engagement_links=None,
+    engagement_step_s=None,
+    engagement_output_every=None,
+    engagement_duration_s=None,
+    engagement_animation_after_contact_s=6.0,  # the whip and the hose's settling after it
 )
 
 #: The fast version (``--fast``): coarser grids, shorter runs; the page says so prominently.
 FAST = ReportSettings(
     name="fast",
+    fast=True,
     sweep_altitudes_m=(2000.0, 6000.0, 10000.0),
     sweep_airspeeds_m_s=(100.0, 150.0, 200.0, 250.0),
     run_duration_s=32.0,
@@ -124,4 +176,14 @@ FAST = ReportSettings(
     accuracy_steps_s=(0.02,),
     accuracy_reference_step_s=0.005,
     docking_runs=8,
+    docking_workers=None,  # 8 runs per cell do not pay for starting a cluster
+    docking_closure_speeds_m_s=(0.5, 1.0, 2.0),  # the ends and the shipped speed
+    docking_force_limits_n=(25.0, 100.0),  # the smallest and the middle one
+    docking_force_levels=("moderate",),
+    docking_force_controllers=("pid",),
+    engagement_links=40,  # the doubling check then runs 80
+    engagement_step_s=0.0025,  # the shipped 0.625 ms at 160 links, scaled with the link length
+    engagement_output_every=4,  # output every 10 ms, as shipped
+    engagement_duration_s=8.0,  # contact at 2 s and the whip after it
+    engagement_animation_after_contact_s=4.0,
 )

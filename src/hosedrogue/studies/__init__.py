@@ -7,5 +7,10 @@
 * :mod:`.accuracy` - accuracy against the number of links for both mass lumpings, against the
   continuum limit;
 * :mod:`.long_runs` - time to blow-up of the paper's model, the least damped mode per model
-  option, and the stable model's hour-long run.
+  option, and the stable model's hour-long run;
+* :mod:`.docking` - the capture rate of the approach scenarios per cell of a grid (turbulence
+  level x drogue controller x bow wave, the pilot, the closure speed, the force limit), one
+  campaign per cell (:func:`.docking.run_grid`), with :mod:`.docking_grid` (the cells and their
+  scenarios) and :mod:`.docking_statistics` (tables, comparisons, saturation, findings);
+* :mod:`.bow_wave` - the receiver's bow-wave field and the drogue's steady displacement.
 """

@@ -4,7 +4,8 @@
 difference from a run at a much finer step; ``link_convergence`` measures how the balance
 position and the lowest lateral and vertical modes change as the hose is cut into more links.
 These numbers justify the default step (``Numerics.step_s``) and the paper's 20 links
-(docs/convergence.md, and the report).
+(docs/convergence.md, and the report). ``with_links`` is the one rule for running a scenario on
+another number of links (the step scaled with the link length), used by link-doubling checks.
 """
 
 from __future__ import annotations
@@ -153,3 +154,31 @@ def lowest_modes(lm) -> tuple[float, float]:
         keep = [i for i in order if lam[i].imag > 0 and res[i] > 0.01 * res.max()]
         out.append(float(lam[keep[0]].imag) if keep else float("nan"))
     return out[0], out[1]
+
+
+def with_links(scenario, links: int):
+    """The scenario on ``links`` links, the RK4 step scaled with the link length and the output
+    interval [s] kept (to the nearest whole number of steps): the mesh of a link-doubling check.
+
+    Parameters
+    ----------
+    scenario : hosedrogue.scenarios.Scenario
+        The scenario (its ``hose.links``, ``numerics.step_s`` [s] and ``numerics.output_every``).
+    links : int
+        Number of links [-], >= 1.
+
+    Returns
+    -------
+    hosedrogue.scenarios.Scenario
+    """
+    import dataclasses
+
+    from ..errors import ParameterError
+
+    if isinstance(links, bool) or not isinstance(links, (int, np.integer)) or links < 1:
+        raise ParameterError(f"links = {links!r}: must be an integer >= 1")
+    p = scenario.params
+    step = p.numerics.step_s * p.hose.links / links
+    every = int(round(p.numerics.output_every * p.numerics.step_s / step))
+    return dataclasses.replace(scenario, params=p.replace(hose={"links": int(links)},
+                                                          numerics={"step_s": step, "output_every": every}))

@@ -1,4 +1,4 @@
-"""The "long runs" study (issue 15, docs/long-runs.md).
+"""The "long runs" study (docs/long-runs.md).
 
 The paper's model (midpoint drag, no structural damping) has zigzag modes of the link chain with
 damping ratios ~4e-5; turbulence feeds them until a link's yaw reaches the coordinate limit. This

@@ -132,6 +132,28 @@ def wilson_interval(successes: int, n: int, confidence: float = 0.95) -> tuple[f
     return max(0.0, centre - half), min(1.0, centre + half)
 
 
+def intervals_overlap(a, b) -> bool:
+    """Whether two confidence intervals overlap (share at least one point).
+
+    As a significance test of two proportions, "the 95 % intervals do not overlap" is
+    conservative: two independent rates whose intervals just touch differ at a level well below
+    5 %, and for cells on the same seeds (common random numbers) a paired test would be sharper
+    still. The docking studies call a difference significant only when the intervals are apart.
+
+    Parameters
+    ----------
+    a, b : (float, float)
+        The intervals' (low, high) bounds, in one unit (e.g. a rate [-]).
+
+    Returns
+    -------
+    bool
+        False when one interval lies wholly above the other.
+    """
+    (a_lo, a_hi), (b_lo, b_hi) = a, b
+    return not (a_lo > b_hi or b_lo > a_hi)
+
+
 def capture_summary(results) -> dict:
     """The ``"capture"`` block of an engagement campaign's summary.json.
 

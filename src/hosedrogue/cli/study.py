@@ -1,0 +1,147 @@
+"""``hosedrogue study``: the studies of the report run on their own; ``study docking`` runs the
+docking grid (:mod:`hosedrogue.studies.docking`)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
+
+NAME = "study"
+
+#: Largest number of runs per cell accepted on the command line [-].
+MAX_RUNS = 1_000_000
+
+
+def add_parser(sub) -> None:
+    """Register the sub-command (and its studies) on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The subparsers object of the ``hosedrogue`` parser.
+    """
+    from ..studies.docking_grid import CONTROLLERS, LEVELS
+
+    s = sub.add_parser(NAME, help="run one of the report's studies on its own",
+                       description="Run one of the report's studies without building the report.")
+    studies = s.add_subparsers(dest="study", required=True, parser_class=type(s))
+    d = studies.add_parser(
+        "docking", help="capture rate of the approach scenarios per turbulence level, controller and bow wave",
+        description=(
+            "Run the docking grid: a Monte Carlo campaign of the shipped approach-LEVEL scenario per cell "
+            "(turbulence level x drogue controller x bow wave on/off, and the pilot model flying the probe with "
+            "the bow wave on), optionally with the closure-speed and the force-limit cells, RUNS turbulence seeds "
+            "per cell (run i: run_seed(--seed, i) in every cell). Each cell is a campaign folder DIR/<cell>/ "
+            "(campaign.json with the cell's scenario, runs.csv, summary.json); running again with the same "
+            "settings resumes. Prints per cell the capture rate [-] with its Wilson 95 % interval [-] and the "
+            "counts by result, then the grid's comparisons (significant: the intervals apart). "
+            "docs/engagement.md, 'Docking statistics'."))
+    d.add_argument("--runs", metavar="N", type=bounded_int("--runs", 1, MAX_RUNS), required=True,
+                   help="runs (turbulence seeds) per cell [-], >= 1")
+    d.add_argument("--out", metavar="DIR", type=Path, default=Path("out/study-docking"),
+                   help="parent folder of the cells' campaigns (default out/study-docking)")
+    d.add_argument("--levels", metavar="LEVEL", nargs="+", choices=LEVELS, default=list(LEVELS),
+                   help=f"turbulence levels (default {' '.join(LEVELS)})")
+    d.add_argument("--controllers", metavar="TYPE", nargs="+", choices=CONTROLLERS, default=list(CONTROLLERS),
+                   help=f"drogue controllers (default {' '.join(CONTROLLERS)})")
+    d.add_argument("--no-pilot", action="store_true", help="leave out the pilot model's cells")
+    d.add_argument("--closure-speeds", metavar="V", nargs="+", type=finite_float("--closure-speeds", 0.05, 10.0, "m/s"),
+                   help="also the closure-speed cells: probe closure speeds [m/s] (each level and controller, bow "
+                        "wave on, the run as long as the probe's path)")
+    d.add_argument("--force-limits", metavar="F", nargs="+", type=finite_float("--force-limits", 0.001, 1e6, "N"),
+                   help="also the force-limit cells: the drogue controllers' force limits per axis [N] (each level "
+                        "and controller but none, bow wave on)")
+    d.add_argument("--workers", metavar="K", type=bounded_int("--workers", 1, 4096),
+                   help="dask worker processes shared by the cells [-] (default: run in this process)")
+    d.add_argument("--seed", metavar="S", type=bounded_int("--seed", 0, 2**63 - 1), default=0,
+                   help="campaign seed of every cell [-], >= 0 (default 0)")
+    d.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    d.add_argument("--quiet", action="store_true", help="no progress bars")
+    d.set_defaults(func=run_docking)
+
+
+def _specs(args) -> tuple[list, list, list]:
+    """The main grid's, the closure-speed study's and the force-limit study's cells of the command line."""
+    from ..studies.docking_grid import force_specs, grid_specs, speed_specs
+
+    grid = grid_specs(args.levels, args.controllers, () if args.no_pilot else args.levels)
+    speeds = [] if not args.closure_speeds else [
+        s for level in args.levels for s in speed_specs(args.closure_speeds, level, args.controllers)]
+    limited = [c for c in args.controllers if c != "none"]
+    forces = force_specs(args.force_limits, args.levels, limited) if args.force_limits and limited else []
+    return grid, speeds, forces
+
+
+def _cell_record(spec, cell) -> dict:
+    return {"cell": spec.name, "campaign": cell.name, "level": spec.level, "controller": spec.controller,
+            "pilot": spec.pilot, "bow_wave": spec.bow_wave, "closure_speed_m_s": cell.closure_speed_m_s,
+            "duration_s": cell.duration_s, **({} if spec.max_force_n is None else {"max_force_n": spec.max_force_n}),
+            **cell.capture}
+
+
+def _findings(grid, speeds, forces, every) -> dict:
+    """The comparisons of the main grid and, where run, the two studies' findings."""
+    from ..studies import docking_statistics as ds
+
+    n, m = len(grid), len(grid) + len(speeds)
+    out = {"comparisons": ds.comparisons(ds.capture_table(every[:n]))}
+    if speeds:  # per level: the findings compare the speeds of one level
+        latch = every[n].scenario.engagement.probe.min_closure_speed_m_s
+        pairs = list(zip(speeds, every[n:m]))
+        out["closure_speed"] = {
+            level: ds.speed_findings(ds.speed_table(*zip(*[(s, c) for s, c in pairs if s.level == level])), latch)
+            for level in dict.fromkeys(s.level for s in speeds)}
+    if forces:
+        out["force_limit"] = ds.force_findings(ds.force_table(forces, every[m:]))
+    return out
+
+
+def _print_table(specs, every, findings: dict) -> None:
+    for spec, cell in zip(specs, every):
+        cap = cell.capture
+        lo, hi = cap["ci95"]
+        by = ", ".join(f"{k} {v}" for k, v in cap["by_result"].items() if v)
+        same = "" if cell.name == spec.name else f" (= {cell.name})"
+        print(f"{spec.name}{same}: capture rate {cap['rate']:.3f} (Wilson 95 %: {lo:.3f}-{hi:.3f}) over "
+              f"{cap['runs']} runs: {by}")
+    for key, c in findings["comparisons"].items():
+        sig = "significant" if c["significant"] else "intervals overlap: not significant"
+        print(f"{key}: {c['rate_a']:.3f} against {c['rate_b']:.3f} ({sig})")
+
+
+def run_docking(args) -> int:
+    """Run the docking grid; print the capture rates (or JSON). Exit 3 if any run stopped early.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
+    # here, not at the top: the model's modules (numba) load only when the study runs
+    from ..studies.docking import run_grid
+
+    prepare_out(args.out)
+    grid, speeds, forces = _specs(args)
+    specs = grid + speeds + forces
+    every = run_grid(specs, args.runs, args.out, workers=args.workers, seed=args.seed, progress=not args.quiet)
+    findings = _findings(grid, speeds, forces, every)
+    if args.json:
+        record = {"runs_per_cell": args.runs, "seed": args.seed, "out": str(args.out),
+                  "cells": [_cell_record(s, c) for s, c in zip(specs, every)], **findings}
+        print(json.dumps(record, indent=2))
+    else:
+        _print_table(specs, every, findings)
+        print(f"wrote {len({c.name for c in every})} campaigns into {args.out}")
+    stopped = sum(int((~c.runs["completed"].astype(bool)).sum()) for c in {c.name: c for c in every}.values())
+    if stopped:
+        print(f"hosedrogue: {stopped} runs stopped early (completed = false in the cells' runs.csv)", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    return 0
