@@ -191,3 +191,27 @@ class BowWaveField:
 
 #: Former name of :class:`BowWaveField`.
 BowWave = BowWaveField
+
+
+#: Shape codes of the compiled field (:func:`bow_wave_velocity`): none, point source, line source.
+SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE = 0, 1, 2
+#: Inside this distance of the source [m] (1 mm, deep inside the forebody, never reached by the
+#: hose) the field is taken as zero instead of the singularity.
+CORE_M = 1e-3
+
+
+@njit(**JIT)
+def bow_wave_velocity(px, py, pz, shape, sx, sy, sz, q, length):
+    """Bow-wave perturbation velocity [m/s] at P of the source (``shape`` SHAPE_RANKINE) or the
+    line's forward end (SHAPE_LINE, ``length`` [m]) at S, flux q [m^3/s]; zero for SHAPE_OFF and
+    within :data:`CORE_M` of S."""
+    if shape == SHAPE_OFF:
+        return 0.0, 0.0, 0.0
+    dx = px - sx
+    dy = py - sy
+    dz = pz - sz
+    if dx * dx + dy * dy + dz * dz < CORE_M * CORE_M:
+        return 0.0, 0.0, 0.0
+    if shape == SHAPE_RANKINE:
+        return source_velocity(px, py, pz, sx, sy, sz, q)
+    return line_source_velocity(px, py, pz, sx, sy, sz, length, q)

@@ -32,15 +32,17 @@ import math
 import numpy as np
 from numba import njit
 
-from ..environment.bow_wave import line_source_velocity, source_velocity
+from ..environment.bow_wave import SHAPE_LINE, SHAPE_OFF, SHAPE_RANKINE
 from .kernels import (
-    PS_DROGUE_CDA,
+    ENV_BW,
+    ENV_BW_LEN,
+    ENV_BW_Q,
+    ENV_BW_X,
+    ENV_BW_Y,
+    ENV_BW_Z,
     PS_G,
-    PS_RHO,
-    air_velocity,
-    drag_rule,
+    fill_env,
     exit_tension,
-    segment_drag,
     JIT,
     OK,
     chain_energy,
@@ -71,7 +73,7 @@ EP_SIZE = 50
 # hose length's range [m] between the drum's end stops (fully reeled in, fully paid out)
 
 # bow-wave shapes (EP_BW); EP_BW_D* is the source (the line's forward end) minus the probe tip [m]
-BW_OFF, BW_RANKINE, BW_LINE = 0, 1, 2
+BW_OFF, BW_RANKINE, BW_LINE = SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE
 
 LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE = 0, 1, 2
 
@@ -353,61 +355,19 @@ def motor_torque(Ld, slack, ep):
 
 
 @njit(**JIT)
-def bow_wave_at(x, y, z, sx, sy, sz, ep):
-    """Bow-wave perturbation velocity [m/s] at (x, y, z) of the source at (sx, sy, sz) [m];
-    zero within 1 mm of the source (inside the forebody, never reached by the hose)."""
-    dx = x - sx
-    dy = y - sy
-    dz = z - sz
-    if dx * dx + dy * dy + dz * dz < 1e-6:
-        return 0.0, 0.0, 0.0
-    if ep[EP_BW] == BW_RANKINE:
-        return source_velocity(x, y, z, sx, sy, sz, ep[EP_BW_Q])
-    return line_source_velocity(x, y, z, sx, sy, sz, ep[EP_BW_LEN], ep[EP_BW_Q])
-
-
-@njit(**JIT)
-def bow_wave_forces(t, l, ps, env, gust, n, e, r, v, F, drogue_drag, ep, px, py, pz):
-    """Add to F (and drogue_drag) the change of the link and drogue drag that the bow wave of a
-    forebody whose probe tip is at (px, py, pz) [m] makes: at each quadrature point of
-    :func:`~hosedrogue.model.kernels.joint_forces`, the drag in the air plus the bow wave minus the
-    drag in the air alone (the non-engagement kernels stay unchanged)."""
-    rho = ps[PS_RHO]
-    if ep[EP_BW] == BW_OFF or rho <= 0.0:
-        return
-    sx = px + ep[EP_BW_DX]
-    sy = py + ep[EP_BW_DY]
-    sz = pz + ep[EP_BW_DZ]
-    q_ct, q_cn, npts, s0, s1, w = drag_rule(ps, rho)
-    for k in range(n):
-        for j in range(npts):
-            sp = s0 if j == 0 else s1
-            sf = 1.0 - sp
-            x = sf * r[k, 0] + sp * r[k + 1, 0]
-            y = sf * r[k, 1] + sp * r[k + 1, 1]
-            z = sf * r[k, 2] + sp * r[k + 1, 2]
-            wx, wy, wz = air_velocity(x, y, z, t, env, gust)
-            bx, by, bz = bow_wave_at(x, y, z, sx, sy, sz, ep)
-            d1 = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx + bx, wy + by, wz + bz)
-            d0 = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx, wy, wz)
-            for i in range(3):
-                F[k, i] += sf * (d1[i] - d0[i])
-                F[k + 1, i] += sp * (d1[i] - d0[i])
-    wx, wy, wz = air_velocity(r[n, 0], r[n, 1], r[n, 2], t, env, gust)
-    bx, by, bz = bow_wave_at(r[n, 0], r[n, 1], r[n, 2], sx, sy, sz, ep)
-    vrx = v[n, 0] - wx - bx
-    vry = v[n, 1] - wy - by
-    vrz = v[n, 2] - wz - bz
-    c = -0.5 * rho * ps[PS_DROGUE_CDA] * math.sqrt(vrx * vrx + vry * vry + vrz * vrz)
-    dx = c * vrx - drogue_drag[0]
-    dy = c * vry - drogue_drag[1]
-    dz = c * vrz - drogue_drag[2]
-    F[n, 0] += dx
-    F[n, 1] += dy
-    F[n, 2] += dz
-    drogue_drag[0] += dx
-    drogue_drag[1] += dy
-    drogue_drag[2] += dz
+def air_with_bow_wave(t, env, gust, ep, px, py, pz, scratch):
+    """This evaluation's air (``env`` into ``scratch``, with the gust at time t when uniform:
+    :func:`~hosedrogue.model.kernels.env_at`) and the bow wave of the forebody whose probe tip is
+    at (px, py, pz) [m]: its source sits ``ep[EP_BW_D*]`` from the tip. The drag kernel then adds
+    its velocity to the air at every drag point and at the drogue."""
+    fill_env(t, env, gust, scratch)
+    scratch[ENV_BW] = ep[EP_BW]
+    if ep[EP_BW] != BW_OFF:
+        scratch[ENV_BW_X] = px + ep[EP_BW_DX]
+        scratch[ENV_BW_Y] = py + ep[EP_BW_DY]
+        scratch[ENV_BW_Z] = pz + ep[EP_BW_DZ]
+        scratch[ENV_BW_Q] = ep[EP_BW_Q]
+        scratch[ENV_BW_LEN] = ep[EP_BW_LEN]
 
 
 @njit(**JIT)
@@ -441,10 +401,10 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     out[O_MZ] = m1
     out[O_CY] = c0
     out[O_CZ] = c1
-    joint_forces(t, u0, l, M, ps, env, gust, n, e, r, v, F, Mom, ws[13])
-    # probe and its forebody's bow wave
+    # the probe, and its forebody's bow wave in the air the drag sees
     px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
-    bow_wave_forces(t, l, ps, env, gust, n, e, r, v, F, ws[13], ep, px, py, pz)
+    air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[16])
+    joint_forces(t, u0, l, M, ps, ws[16], gust, n, e, r, v, F, Mom, ws[13])
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
         kp = ep[EP_KP]

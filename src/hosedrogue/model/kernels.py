@@ -36,6 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..environment.bow_wave import bow_wave_velocity
 from ..environment.turbulence import gust_at
 from ..environment.wake import wake_velocity
 
@@ -62,7 +63,11 @@ ENV_G_CUBIC = 12
 #: ENV_GU..ENV_GW hold the gust at the evaluation's time (the "uniform" distribution: one lookup
 #: per evaluation instead of one per link; the same arithmetic, so the same bits)
 ENV_G_NOW, ENV_GU, ENV_GV, ENV_GW = 13, 14, 15, 16
-ENV_SIZE = 17
+#: the receiver's bow wave (:func:`hosedrogue.environment.bow_wave.bow_wave_velocity`): shape code
+#: (0 none, the model's), source position in S_p [m], flux [m^3/s], line length [m]; the
+#: engagement writes them into its evaluation's copy of env, where the probe tip is
+ENV_BW, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, ENV_BW_Q, ENV_BW_LEN = 17, 18, 19, 20, 21, 22
+ENV_SIZE = 23
 
 # status codes of the integrators
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
@@ -70,7 +75,19 @@ OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
 
 @njit(**JIT_NO_ALLOC)
 def air_velocity(px, py, pz, t, env, gust):
-    """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]."""
+    """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]:
+    free stream, wake, gust and (in an engagement's evaluation) the receiver's bow wave."""
+    wx, wy, wz = still_air_velocity(px, py, pz, t, env, gust)
+    if env[ENV_BW] != 0.0:
+        bx, by, bz = bow_wave_velocity(px, py, pz, env[ENV_BW], env[ENV_BW_X], env[ENV_BW_Y], env[ENV_BW_Z],
+                                       env[ENV_BW_Q], env[ENV_BW_LEN])
+        return wx + bx, wy + by, wz + bz
+    return wx, wy, wz
+
+
+@njit(**JIT_NO_ALLOC)
+def still_air_velocity(px, py, pz, t, env, gust):
+    """:func:`air_velocity` without the bow wave: free stream, wake and gust [m/s]."""
     V = env[ENV_V]
     wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
     if env[ENV_G_NOW] != 0.0:
@@ -220,6 +237,10 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
                 if uniform:
                     wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
                     wx, wy, wz = ux, wy + gv, wz + gw
+                    if env[ENV_BW] != 0.0:
+                        bx, by, bz = bow_wave_velocity(px, py, pz, env[ENV_BW], env[ENV_BW_X], env[ENV_BW_Y],
+                                                       env[ENV_BW_Z], env[ENV_BW_Q], env[ENV_BW_LEN])
+                        wx, wy, wz = wx + bx, wy + by, wz + bz
                 else:
                     wx, wy, wz = air_velocity(px, py, pz, t, env, gust)
                 dx, dy, dz = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx, wy, wz)
@@ -502,8 +523,19 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
 @njit(**JIT_NO_ALLOC)
 def env_at(t, env, gust, scratch):
     """``env`` copied into ``scratch`` with, when every point sees the same gust (``uniform``),
-    the gust at time t looked up once (air_velocity then reads it instead of the record)."""
+    the gust at time t looked up once (air_velocity then reads it instead of the record);
+    returns ``scratch`` (call it from kernels without numba's runtime only: an array returned
+    across the runtime boundary is not reference-counted; elsewhere use :func:`fill_env`)."""
+    fill_env(t, env, gust, scratch)
+    return scratch
+
+
+@njit(**JIT_NO_ALLOC)
+def fill_env(t, env, gust, scratch):
+    """:func:`env_at` without the return value."""
     for i in range(ENV_G_NOW):
+        scratch[i] = env[i]
+    for i in range(ENV_BW, ENV_SIZE):
         scratch[i] = env[i]
     scratch[ENV_G_NOW] = 0.0
     if env[ENV_FROZEN] == 0.0:
@@ -513,7 +545,6 @@ def env_at(t, env, gust, scratch):
         scratch[ENV_GV] = gv
         scratch[ENV_GW] = gw
         scratch[ENV_G_NOW] = 1.0
-    return scratch
 
 
 @njit(**JIT_NO_ALLOC)
