@@ -53,7 +53,7 @@ from .kernels import (
     make_workspace_jit,
     rotational_terms,
 )
-from .integrate import actuator_rates, applied_force_at, controller_rates, step_status
+from .integrate import actuator_rates, applied_force_at, controller_rates, rk4_combine, rk4_stage, step_status
 
 # --- ep layout -------------------------------------------------------------------------------
 (EP_MU, EP_MD, EP_SPLIT, EP_JLINK, EP_L0,
@@ -570,17 +570,13 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         for i in range(nz):
             zprev[i] = z[i]
         eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
-        for i in range(nz):
-            tmp[i] = z[i] + 0.5 * h * k1[i]
+        rk4_stage(z, 0.5 * h, k1, tmp)
         eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k2)
-        for i in range(nz):
-            tmp[i] = z[i] + 0.5 * h * k2[i]
+        rk4_stage(z, 0.5 * h, k2, tmp)
         eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k3)
-        for i in range(nz):
-            tmp[i] = z[i] + h * k3[i]
+        rk4_stage(z, h, k3, tmp)
         eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
-        for i in range(nz):
-            z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        rk4_combine(z, h, k1, k2, k3, k4)
         t = t0 + s * h
         status = step_status(z, n, max_yaw)
         if status != OK:

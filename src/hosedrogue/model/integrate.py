@@ -249,7 +249,8 @@ def sensor_noise(sensor, duration_s: float, seed: int) -> np.ndarray:
 def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
              work, u):
     """One classical RK4 step of the closed loop from (t, z), in place; ``work`` (5, len(z)) is
-    scratch (the stages k1..k4 and the trial state). The only compiled RK4 formula."""
+    scratch (the stages k1..k4 and the trial state); the formula is :func:`rk4_stage` and
+    :func:`rk4_combine`."""
     closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                       work[0], u)
     rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
@@ -260,21 +261,32 @@ def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noi
 def rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                       noise_dt, ws, work, u):
     """:func:`rk4_step` when ``work[0]`` already holds k1 = dz/dt at (t, z)."""
-    nz = z.shape[0]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
-    for i in range(nz):
-        tmp[i] = z[i] + 0.5 * h * k1[i]
+    rk4_stage(z, 0.5 * h, k1, tmp)
     closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                       noise_dt, ws, k2, u)
-    for i in range(nz):
-        tmp[i] = z[i] + 0.5 * h * k2[i]
+    rk4_stage(z, 0.5 * h, k2, tmp)
     closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                       noise_dt, ws, k3, u)
-    for i in range(nz):
-        tmp[i] = z[i] + h * k3[i]
+    rk4_stage(z, h, k3, tmp)
     closed_loop_deriv(t + h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                       noise_dt, ws, k4, u)
-    for i in range(nz):
+    rk4_combine(z, h, k1, k2, k3, k4)
+
+
+@njit(**LOOP_JIT)
+def rk4_stage(z, c, k, out):
+    """A classical RK4 stage's trial state ``out = z + c k`` (c = h/2 or h [s], k a slope).
+    With :func:`rk4_combine` the one compiled RK4 formula, of the fixed-length and the
+    engagement loops."""
+    for i in range(z.shape[0]):
+        out[i] = z[i] + c * k[i]
+
+
+@njit(**LOOP_JIT)
+def rk4_combine(z, h, k1, k2, k3, k4):
+    """The classical RK4 update of z in place: ``z += h/6 (k1 + 2 k2 + 2 k3 + k4)`` (h [s])."""
+    for i in range(z.shape[0]):
         z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
