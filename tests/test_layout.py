@@ -78,13 +78,34 @@ def test_modules_and_functions_stay_small():
     assert not too_long, "; ".join(too_long)
 
 
-def test_no_import_cycles_inside_the_report():
-    # a report module may import another only if that one does not import it back, directly or
-    # through others; imports for annotations only (under TYPE_CHECKING) count too
+def test_no_import_cycles():
+    """No module imports itself back, directly or through others, inside a package or between
+    packages (function-level imports and imports for annotations under TYPE_CHECKING count too):
+    the strongly connected components of the import graph (Tarjan) are single modules."""
     import grimp
 
     graph = grimp.build_graph("hosedrogue", cache_dir=None)
-    report = sorted(m for m in graph.modules if m.startswith("hosedrogue.report."))
-    cycles = [f"{a} <-> {b}" for a in report for b in sorted(graph.find_modules_directly_imported_by(a))
-              if b.startswith("hosedrogue.report.") and graph.chain_exists(importer=b, imported=a)]
+    index, low, stack, on_stack, cycles = {}, {}, [], set(), []
+
+    def visit(module):
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        on_stack.add(module)
+        for imported in sorted(graph.find_modules_directly_imported_by(module)):
+            if imported not in index:
+                visit(imported)
+                low[module] = min(low[module], low[imported])
+            elif imported in on_stack:
+                low[module] = min(low[module], index[imported])
+        if low[module] == index[module]:
+            component = []
+            while not component or component[-1] != module:
+                component.append(stack.pop())
+                on_stack.discard(component[-1])
+            if len(component) > 1:
+                cycles.append(" <-> ".join(sorted(component)))
+
+    for module in sorted(graph.modules):
+        if module not in index:
+            visit(module)
     assert not cycles, "; ".join(cycles)
