@@ -72,7 +72,8 @@ html_theme = "alabaster"
 html_title = f"hosedrogue {release}"
 html_static_path = []
 html_theme_options = {"description": "Probe-and-drogue refuelling hose: rigid-link Kane model",
-                      "fixed_sidebar": True, "page_width": "1220px", "sidebar_width": "240px"}
+                      "fixed_sidebar": True, "page_width": "1240px", "sidebar_width": "240px",
+                      "body_max_width": "none"}
 
 
 # --- docstrings are plain text with |x| for absolute values; reST would read |x| as a substitution
