@@ -323,7 +323,7 @@ def test_controller_on_and_off_share_seeds(tiny_pid, tmp_path):
     series = sorted(p.name for p in (out / "runs").iterdir())
     assert series == [f"run_0000{i}_{c}.csv" for i in range(3) for c in ("none", "pid")]
     header = (out / "runs" / "run_00000_pid.csv").read_text().splitlines()[0]
-    assert header.startswith("t_s,") and "u_hor_n" in header
+    assert header.startswith("t_s,") and "u_y_n" in header
     assert (out / "histograms.png").exists() and (out / "cdf.png").exists()
 
 

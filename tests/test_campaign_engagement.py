@@ -135,4 +135,5 @@ def test_montecarlo_command_on_a_shipped_approach_scenario(tmp_path, capsys):
     text = capsys.readouterr().out
     assert re.search(r"capture rate \d\.\d{3} \(Wilson 95 %: \d\.\d{3}-\d\.\d{3}\) over 2 runs", text)
     header = (out / "runs.csv").read_text().splitlines()[0].split(",")
-    assert header[-4:] == ["result", "miss_distance_m", "closure_speed_m_s", "message"]
+    assert header[-7:] == ["result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n",
+                           "peak_exit_tension_n", "peak_slack_m", "message"]

@@ -125,7 +125,7 @@ def test_simulate_writes_timeseries_and_run_json(capsys, tmp_path):
     import pandas as pd
 
     ts = pd.read_csv(out_dir / "timeseries.csv")
-    for col in ("t_s", "drogue_x_m", "drogue_y_m", "drogue_z_m", "u_hor_n", "u_ver_n"):
+    for col in ("t_s", "drogue_x_m", "drogue_y_m", "drogue_z_m", "u_y_n", "u_z_n", "exit_tension_n"):
         assert col in ts.columns
     assert ts["t_s"].iloc[-1] == pytest.approx(1.0)
     meta = json.loads((out_dir / "run.json").read_text())

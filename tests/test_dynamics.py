@@ -50,7 +50,7 @@ def _dummy_equilibrium(model, x0):
 
     q = x0[: 2 * model.n]
     out = model.outputs(np.concatenate([q, 0 * q]))
-    return Equilibrium(q, out.joints_m, out.joints_m[-1], out.drogue_drag_n, out.tow_force_n,
+    return Equilibrium(q, out.joints_m, out.joints_m[-1], out.drogue_drag_n, out.tow_force_n, out.exit_tension_n,
                        0.0, 0.0, None)
 
 

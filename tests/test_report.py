@@ -358,7 +358,7 @@ def test_docking_force_limit_counts_every_run_once_and_applies_the_limit(report)
                 folder = out / "docking" / "campaigns" / cell["campaign"]
                 assert load_scenario(str(folder / "scenario.toml")).actuator.max_force_n == limit
                 r = pd.read_csv(folder / "runs.csv")
-                assert (r[["peak_u_hor_n", "peak_u_ver_n"]].max(axis=1) <= limit * (1 + tol)).all(), cell
+                assert (r[["peak_u_y_n", "peak_u_z_n"]].max(axis=1) <= limit * (1 + tol)).all(), cell
                 assert (r["peak_u_n"] <= np.sqrt(2.0) * limit * (1 + tol)).all(), cell
                 assert 0.0 <= cell["saturated_fraction"] <= 1.0
             assert fl["cells"][f"{lev}-{c}-f{min(FAST_FORCE_LIMITS_N):g}"]["saturated_fraction"] > 0.0
@@ -481,7 +481,7 @@ def _fake_result(n_links=3, n=200, seed=0, on=False):
     joints[:, :, 2] = 5.5 * s + amp * np.cos(3 * t)[:, None] * s
     return SimulationResult(
         t_s=t, states=np.zeros((n, 4 * n_links)), joints_m=joints, drogue_velocity_m_s=np.zeros((n, 3)),
-        drogue_drag_n=np.zeros((n, 3)), tow_force_n=np.zeros((n, 3)),
+        drogue_drag_n=np.zeros((n, 3)), tow_force_n=np.zeros((n, 3)), exit_tension_n=np.zeros(n),
         drogue_position_m=joints[:, -1, :], control_force_n=rng.normal(size=(n, 2)) * (30.0 if on else 0.0), completed=True, message="",
         equilibrium_m=joints[0, -1].copy())
 

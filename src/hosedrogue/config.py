@@ -6,7 +6,9 @@ paper's case. Entry points for the command line and for scenarios:
 
 * :func:`preset_names` - the shipped presets;
 * :func:`load_preset` - a preset's parameters;
-* :func:`resolve_config` - ``--config NAME_OR_PATH``: a bare preset name first, else a TOML file;
+* :func:`resolve_config` - ``--config NAME_OR_PATH``: a bare preset name first, else a TOML file
+  (which may itself start from a preset: ``[model] preset = "converged"``);
+* :func:`resolve_configs` - several ``--config`` values, applied in order;
 * :func:`read_toml`, :func:`load_params` - TOML files with one-line errors.
 """
 
@@ -58,7 +60,8 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 
 
 def load_params(path: str | Path, base: Params = PAPER) -> Params:
-    """Parameters from a TOML file of ``[section]`` tables overriding ``base``.
+    """Parameters from a TOML file of ``[section]`` tables overriding ``base``; a ``[model]
+    preset = "NAME"`` table starts from that shipped preset over ``base`` instead.
 
     Parameters
     ----------
@@ -77,10 +80,37 @@ def load_params(path: str | Path, base: Params = PAPER) -> Params:
     Raises
     ------
     ParameterError
-        If the file cannot be read or parsed (see :func:`read_toml`), or names an unknown section
-        or field, or a value of the wrong type or outside its range.
+        If the file cannot be read or parsed (see :func:`read_toml`), or names an unknown section,
+        field or preset, or a value of the wrong type or outside its range.
     """
-    return params_from_dict(read_toml(path), base=base)
+    data = dict(read_toml(path))
+    model = data.pop("model", None)
+    if model is not None:
+        if not isinstance(model, dict) or set(model) - {"preset"}:
+            raise ParameterError(f"model = {model!r}: must be a table with the field preset (a shipped model preset)")
+        if "preset" in model:
+            base = load_preset(model["preset"], base=base)
+    return params_from_dict(data, base=base)
+
+
+def resolve_configs(names_or_paths, base: Params = PAPER) -> Params:
+    """Parameters from several ``--config`` values, applied in order (each over the previous).
+
+    Parameters
+    ----------
+    names_or_paths : sequence of str or pathlib.Path
+        Preset names or TOML files (:func:`resolve_config`); empty: ``base``.
+    base : Params, optional
+        The parameters the first one overrides; default the paper's case.
+
+    Returns
+    -------
+    Params
+    """
+    params = base
+    for item in names_or_paths:
+        params = resolve_config(item, base=params)
+    return params
 
 
 # --- shipped presets ------------------------------------------------------------------------------

@@ -22,8 +22,8 @@ balance position in S_p [m]; ``dr = hypot(dy, dz)`` is the radial displacement [
 * ``peak_*``: ``max |x|`` over the window [m or N];
 * ``rms_*``: ``sqrt(mean(x^2))`` about the balance position [m];
 * ``inside_<r>m_frac``: fraction of the window's samples with ``dr <= r`` [-];
-* ``peak_u_hor_n``, ``peak_u_ver_n``, ``peak_u_n``: ``max |u_hor|``, ``max |u_ver|`` and
-  ``max hypot(u_hor, u_ver)`` of the force applied to the drogue [N].
+* ``peak_u_y_n``, ``peak_u_z_n``, ``peak_u_n``: ``max |u_y|``, ``max |u_z|`` and
+  ``max hypot(u_y, u_z)`` of the force applied to the drogue (lateral y, vertical z) [N].
 
 :func:`window_statistics` evaluates them over a saved time series (numpy); the compiled
 accumulator (:func:`accumulate`, :func:`finish`) evaluates the same formulas sample by sample
@@ -41,6 +41,8 @@ from typing import Sequence
 import numpy as np
 from numba import njit
 
+from .jit import JIT
+
 #: Capture radii [m]: 0.1 m, the drogue positioning accuracy required in Wu et al. (2018); 0.305 m,
 #: the radius of the paper's drogue basket (diameter 0.61 m, Table 1).
 DEFAULT_CAPTURE_RADII_M = (0.1, 0.305)
@@ -54,7 +56,7 @@ DISPLACEMENT_STATISTICS = (
     ("rms_dy_m", "m"), ("rms_dz_m", "m"), ("rms_radial_m", "m"),
 )
 #: (column, unit) of the control-force statistics, in column order.
-FORCE_STATISTICS = (("peak_u_hor_n", "N"), ("peak_u_ver_n", "N"), ("peak_u_n", "N"))
+FORCE_STATISTICS = (("peak_u_y_n", "N"), ("peak_u_z_n", "N"), ("peak_u_n", "N"))
 
 #: The fixed statistics and their units, in column order (the capture-radius columns follow).
 STATISTIC_UNITS = dict(DISPLACEMENT_STATISTICS + FORCE_STATISTICS)
@@ -141,7 +143,7 @@ def in_window(t_s: np.ndarray, window_s: tuple[float, float]) -> np.ndarray:
     return (t >= window_s[0] - WINDOW_EPS_S) & (t < window_s[1] - WINDOW_EPS_S)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def in_window_at(t, start_s, end_s):
     """Compiled :func:`in_window` for one sample.
 
@@ -191,7 +193,7 @@ def window_statistics(t_s: np.ndarray, offset_m: np.ndarray, control_n: np.ndarr
     row = {
         "peak_dy_m": _peak(dy), "peak_dz_m": _peak(dz), "peak_radial_m": _peak(dr),
         "rms_dy_m": _rms(dy), "rms_dz_m": _rms(dz), "rms_radial_m": _rms(dr),
-        "peak_u_hor_n": _peak(u[:, 0]), "peak_u_ver_n": _peak(u[:, 1]), "peak_u_n": _peak(force),
+        "peak_u_y_n": _peak(u[:, 0]), "peak_u_z_n": _peak(u[:, 1]), "peak_u_n": _peak(force),
     }
     for r in capture_radii_m:
         row[capture_column(r)] = float(np.mean(dr <= r)) if dr.size else math.nan
@@ -222,7 +224,7 @@ def new_accumulator(n_radii: int) -> np.ndarray:
     return np.zeros(ACCUMULATOR_FIXED + n_radii)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def reset(acc):
     """Empty an accumulator in place (compiled).
 
@@ -234,7 +236,7 @@ def reset(acc):
     acc[:] = 0.0
 
 
-@njit(cache=True)
+@njit(**JIT)
 def accumulate(acc, dy, dz, u_hor, u_ver, radii):
     """Add one window sample to the accumulator ``acc`` (compiled).
 
@@ -265,7 +267,7 @@ def accumulate(acc, dy, dz, u_hor, u_ver, radii):
     acc[_COUNT] += 1.0
 
 
-@njit(cache=True)
+@njit(**JIT)
 def finish(acc, out):
     """Write the statistics of the accumulator ``acc`` to ``out`` in column order (compiled).
 

@@ -142,7 +142,9 @@ class Wake(Section):
 
 @dataclass(frozen=True)
 class Turbulence(Section):
-    """Dryden turbulence (docs/model.md §4). The paper's case: isotropic 1.5 m/s, 530 m, on at 10 s for 20 s."""
+    """Dryden turbulence (docs/model.md §4). Enabled with no window given, it acts for the whole
+    run; the paper's case (isotropic 1.5 m/s, 530 m, on at 10 s for 20 s) states its window
+    (``paper-turbulence``)."""
 
     _section = "turbulence"
     #: Include the Dryden gusts during ``[start_s, start_s + duration_s)``.
@@ -154,10 +156,10 @@ class Turbulence(Section):
     sigma_m_s: tuple = field(default=(1.5, 1.5, 1.5), metadata=vec3(0.0, 50.0, unit="m/s"))
     #: Scale length per axis [u, v, w] (m).
     scale_length_m: tuple = field(default=(530.0, 530.0, 530.0), metadata=vec3(1.0, 1e5, unit="m"))
-    #: Time the gusts switch on [s].
+    #: Time the gusts switch on [s] (default: the start of the run).
     start_s: float = field(default=10.0, metadata=real(0.0, lo_open=False, unit="s"))
-    #: Length of the gust window [s]; the gusts are off again after it.
-    duration_s: float = field(default=20.0, metadata=real(0.0, lo_open=False, unit="s"))
+    #: Length of the gust window [s]; the gusts are off again after it (default inf: to the end of the run).
+    duration_s: float = field(default=20.0, metadata=real(0.0, lo_open=False, unit="s", inf_ok=True))
     #: "uniform": the whole hose sees the tow point's gust; "frozen": delayed by distance / airspeed.
     distribution: str = field(default="uniform", metadata=choice("uniform", "frozen"))
     #: Sample interval of the gust record [s]; independent of the integration step.
@@ -178,7 +180,7 @@ class Turbulence(Section):
     MAX_SAMPLES = 10_000_000
 
     def _check_consistency(self) -> None:
-        if self.duration_s / self.sample_time_s > self.MAX_SAMPLES:
+        if math.isfinite(self.duration_s) and self.duration_s / self.sample_time_s > self.MAX_SAMPLES:
             raise ParameterError(
                 f"turbulence.duration_s = {self.duration_s!r}: with sample_time_s = {self.sample_time_s!r} "
                 f"the gust record would exceed {self.MAX_SAMPLES:.0e} samples; shorten it or sample coarser"

@@ -14,9 +14,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import math
+
 import numpy as np
 
 from .version import __version__
+
+#: The time-series columns of every run, in file order (SI units in the names; the engagement
+#: adds its own after them, :meth:`EngagementResult.extra_columns`).
+COLUMNS = ("t_s", "drogue_x_m", "drogue_y_m", "drogue_z_m", "drogue_dx_m", "drogue_dy_m", "drogue_dz_m",
+           "drogue_vx_m_s", "drogue_vy_m_s", "drogue_vz_m_s", "drogue_drag_x_n", "drogue_drag_y_n",
+           "drogue_drag_z_n", "tow_force_x_n", "tow_force_y_n", "tow_force_z_n", "exit_tension_n", "u_y_n", "u_z_n")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -31,13 +39,18 @@ class RunResult:
     t_s: np.ndarray  #: (N,) output times [s]
     drogue_position_m: np.ndarray  #: (N, 3) drogue (last joint) position [m]
     drogue_velocity_m_s: np.ndarray  #: (N, 3) drogue velocity [m/s]
+    drogue_drag_n: np.ndarray  #: (N, 3) aerodynamic force on the drogue [N]
     tow_force_n: np.ndarray  #: (N, 3) force the hose exerts on the tow point (the hose exit) [N]
+    #: (N,) exit tension T_0: the hose's pull along the hose at the exit, the force a hose drum holds [N]
+    exit_tension_n: np.ndarray
     control_force_n: np.ndarray  #: (N, 2) control force at the drogue, lateral y and vertical z [N]
     joints_m: Any  #: per output time, (n+1, 3) joint positions [m] (row 0 the tow point)
     completed: bool  #: True if the run reached its end time
     message: str  #: "completed", or when and why the run stopped
     equilibrium_m: np.ndarray | None = None  #: (3,) drogue balance position at the start [m]
     meta: dict[str, Any] = field(default_factory=dict)  #: what was run (scenario, seed, parameters)
+    #: window [start, end) [s] of :meth:`statistics`: the turbulence window, or the whole run without turbulence
+    statistics_window_s: tuple = (0.0, math.inf)
 
     @property
     def drogue_offset_m(self) -> np.ndarray:
@@ -57,8 +70,47 @@ class RunResult:
         return pd.DataFrame(self.columns())
 
     def columns(self) -> dict[str, np.ndarray]:
-        """The time series' columns, name -> (N,) array, in file order (SI units in the names)."""
-        raise NotImplementedError
+        """The time series' columns, name -> (N,) array, in file order (SI units in the names):
+        :data:`COLUMNS` for every run, then the hose model's own (:meth:`extra_columns`)."""
+        pos, off, vel = self.drogue_position_m, self.drogue_offset_m, self.drogue_velocity_m_s
+        drag, tow, u = self.drogue_drag_n, self.tow_force_n, self.control_force_n
+        cols = {
+            "t_s": self.t_s,
+            "drogue_x_m": pos[:, 0], "drogue_y_m": pos[:, 1], "drogue_z_m": pos[:, 2],
+            "drogue_dx_m": off[:, 0], "drogue_dy_m": off[:, 1], "drogue_dz_m": off[:, 2],
+            "drogue_vx_m_s": vel[:, 0], "drogue_vy_m_s": vel[:, 1], "drogue_vz_m_s": vel[:, 2],
+            "drogue_drag_x_n": drag[:, 0], "drogue_drag_y_n": drag[:, 1], "drogue_drag_z_n": drag[:, 2],
+            "tow_force_x_n": tow[:, 0], "tow_force_y_n": tow[:, 1], "tow_force_z_n": tow[:, 2],
+            "exit_tension_n": self.exit_tension_n,
+            "u_y_n": u[:, 0], "u_z_n": u[:, 1],
+        }
+        cols.update(self.extra_columns())
+        return cols
+
+    def extra_columns(self) -> dict[str, np.ndarray]:
+        """The hose model's own columns after :data:`COLUMNS` (none for the fixed-length hose)."""
+        return {}
+
+    def statistics(self, capture_radii_m=None) -> dict[str, float]:
+        """The run's window statistics (:func:`hosedrogue.metrics.window_statistics`: peak and RMS
+        drogue offsets [m], peak control forces [N], the time fraction inside each capture radius)
+        over :attr:`statistics_window_s`.
+
+        Parameters
+        ----------
+        capture_radii_m : sequence of float, optional
+            Capture radii [m] (default :data:`hosedrogue.metrics.DEFAULT_CAPTURE_RADII_M`).
+
+        Returns
+        -------
+        dict
+            Statistic name (unit in the name) -> value; NaN where the window holds no sample.
+        """
+        from . import metrics
+
+        radii = metrics.DEFAULT_CAPTURE_RADII_M if capture_radii_m is None else capture_radii_m
+        return metrics.window_statistics(self.t_s, self.drogue_offset_m, self.control_force_n,
+                                         self.statistics_window_s, radii)
 
     #: File name of the run's figure (:meth:`plot`) in its output folder.
     FIGURE = "displacement.png"
@@ -70,7 +122,7 @@ class RunResult:
         -------
         dict
         """
-        return {**run_header(self), **self.meta}
+        return {**run_header(self), "statistics": _statistics_document(self), **self.meta}
 
     def plot(self, **kwargs):
         """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
@@ -171,7 +223,6 @@ class SimulationResult(RunResult):
     """A run of the fixed-length hose (:func:`hosedrogue.simulate`)."""
 
     states: np.ndarray  #: (N, 4n) x = [q, qd] [rad, rad/s]
-    drogue_drag_n: np.ndarray  #: (N, 3) aerodynamic force on the drogue [N]
 
     def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
         """The state (N, 4n) [rad, rad/s] with :func:`state_names`, for the MATLAB file."""
@@ -181,30 +232,6 @@ class SimulationResult(RunResult):
     def control_n(self) -> np.ndarray:
         """Former name of :attr:`control_force_n` (N, 2) [N]."""
         return self.control_force_n
-
-    def columns(self) -> dict[str, np.ndarray]:
-        """The time series' columns, name -> (N,) array, in file order (SI units in the names)."""
-        pos = self.drogue_position_m
-        off = self.drogue_offset_m
-        return {
-            "t_s": self.t_s,
-            "drogue_x_m": pos[:, 0],
-            "drogue_y_m": pos[:, 1],
-            "drogue_z_m": pos[:, 2],
-            "drogue_dy_m": off[:, 1],
-            "drogue_dz_m": off[:, 2],
-            "drogue_vx_m_s": self.drogue_velocity_m_s[:, 0],
-            "drogue_vy_m_s": self.drogue_velocity_m_s[:, 1],
-            "drogue_vz_m_s": self.drogue_velocity_m_s[:, 2],
-            "drogue_drag_x_n": self.drogue_drag_n[:, 0],
-            "drogue_drag_y_n": self.drogue_drag_n[:, 1],
-            "drogue_drag_z_n": self.drogue_drag_n[:, 2],
-            "tow_force_x_n": self.tow_force_n[:, 0],
-            "tow_force_y_n": self.tow_force_n[:, 1],
-            "tow_force_z_n": self.tow_force_n[:, 2],
-            "u_hor_n": self.control_force_n[:, 0],
-            "u_ver_n": self.control_force_n[:, 1],
-        }
 
     def plot(self, **kwargs):
         """Lateral and vertical drogue displacement against time (see hosedrogue.plotting)."""
@@ -237,7 +264,6 @@ class EngagementResult(RunResult):
 
     hose_length_m: np.ndarray  #: (N,) free hose length L [m]
     reel_speed_m_s: np.ndarray  #: (N,) take-up speed r_d w [m/s], positive reeling in
-    exit_tension_n: np.ndarray  #: (N,) T_0: hose tension at the exit along the hose [N]
     drogue_tension_n: np.ndarray  #: (N,) tension in the last link (at the drogue) [N]
     probe_force_n: np.ndarray  #: (N, 3) force of the probe on the drogue [N]
     probe_position_m: np.ndarray  #: (N, 3) probe tip position [m]
@@ -254,18 +280,12 @@ class EngagementResult(RunResult):
     events: list  #: remesh, chart and contact events (dicts, times [s], jumps [m], [m/s], [J])
     outcome: dict  #: result, contact figures and peaks (keys carry their units, e.g. ``peak_slack_m``)
 
-    def columns(self) -> dict[str, np.ndarray]:
-        """The time series' columns, name -> (N,) array, in file order (SI units in the names)."""
-        pos, off, vel, tow = self.drogue_position_m, self.drogue_offset_m, self.drogue_velocity_m_s, self.tow_force_n
-        cols = {
-            "t_s": self.t_s,
-            "drogue_x_m": pos[:, 0], "drogue_y_m": pos[:, 1], "drogue_z_m": pos[:, 2],
-            "drogue_dx_m": off[:, 0], "drogue_dy_m": off[:, 1], "drogue_dz_m": off[:, 2],
-            "drogue_vx_m_s": vel[:, 0], "drogue_vy_m_s": vel[:, 1], "drogue_vz_m_s": vel[:, 2],
-            "tow_force_x_n": tow[:, 0], "tow_force_y_n": tow[:, 1], "tow_force_z_n": tow[:, 2],
+    def extra_columns(self) -> dict[str, np.ndarray]:
+        """The engagement's columns after :data:`COLUMNS`: reel, tensions, probe, coupler-plane
+        geometry, slack, motor torque, links and the coupled flag."""
+        return {
             "hose_length_m": self.hose_length_m,
             "reel_speed_m_s": self.reel_speed_m_s,
-            "exit_tension_n": self.exit_tension_n,
             "drogue_tension_n": self.drogue_tension_n,
             "probe_load_n": np.linalg.norm(self.probe_force_n, axis=1),
             "probe_x_m": self.probe_position_m[:, 0], "probe_y_m": self.probe_position_m[:, 1],
@@ -275,11 +295,9 @@ class EngagementResult(RunResult):
             "closure_speed_m_s": self.closure_speed_series_m_s,
             "slack_m": self.slack_m,
             "motor_torque_n_m": self.motor_torque_n_m,
-            "u_y_n": self.control_force_n[:, 0], "u_z_n": self.control_force_n[:, 1],
             "links": self.links,
             "coupled": self.coupled.astype(int),
         }
-        return cols
 
     FIGURE = "engagement.png"
 
@@ -293,7 +311,8 @@ class EngagementResult(RunResult):
         """
         meta = dict(self.meta)
         events = meta.pop("events", [])
-        return {**run_header(self), "engagement": self.summary(), "events": events, **meta}
+        return {**run_header(self), "statistics": _statistics_document(self), "engagement": self.summary(),
+                "events": events, **meta}
 
     def went_slack(self) -> bool:
         """Whether the hose went (nearly) slack: the exit tension fell below
@@ -355,6 +374,13 @@ def run_header(result) -> dict:
         "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
         "equilibrium_drogue_position_m": np.asarray(result.equilibrium_m).tolist(),
     }
+
+
+def _statistics_document(result: RunResult) -> dict:
+    """run.json's ``"statistics"``: the window [s] (null end: the whole run) and the statistics."""
+    start, end = result.statistics_window_s
+    stats = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in result.statistics().items()}
+    return {"window_s": [start, None if math.isinf(end) else end], **stats}
 
 
 def save_mat(data: dict, path: str | Path) -> Path:

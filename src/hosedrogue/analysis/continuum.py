@@ -63,6 +63,12 @@ class ContinuumShape:
     position_error_m: float  #: |r(0)| of the shooting solution [m]
     solver: object = field(repr=False)  #: scipy OptimizeResult of the shooting
 
+    @property
+    def exit_tension_n(self) -> float:
+        """Exit tension [N]: the tension at the tow point, |G(0)| (the continuous hose carries its
+        load along its tangent)."""
+        return float(np.linalg.norm(self.tension_n[0]))
+
     def to_dict(self) -> dict:
         return {
             "model": "continuum",
@@ -70,6 +76,7 @@ class ContinuumShape:
             "drogue_drag_n": float(np.linalg.norm(self.drogue_drag_n)),
             "drogue_drag_vector_n": self.drogue_drag_n.tolist(),
             "tow_force_n": self.tow_force_n.tolist(),
+            "exit_tension_n": self.exit_tension_n,
             "balance_ratio": self.balance_ratio,
             "position_error_m": self.position_error_m,
             # MINPACK may stop with "no further improvement" once at round-off; what counts is

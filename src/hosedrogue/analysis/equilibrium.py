@@ -42,6 +42,8 @@ class Equilibrium:
     drogue_position_m: np.ndarray  #: (3,) [m]
     drogue_drag_n: np.ndarray  #: aerodynamic force on the drogue (3,) [N]
     tow_force_n: np.ndarray  #: force the hose exerts on the tow point (3,) [N]
+    #: exit tension T_0: the hose's pull along it at the exit, the force a hose drum holds [N]
+    exit_tension_n: float
     balance_ratio: float  #: D = V_D / L_H: drogue drop below the tow point over hose length
     residual: float  #: max |Q| over S_1 g l_1 (dimensionless)
     solver: object = field(repr=False)  #: scipy OptimizeResult of the last Newton solve
@@ -66,6 +68,7 @@ class Equilibrium:
             "drogue_drag_n": self.drogue_drag_magnitude_n,
             "drogue_drag_vector_n": self.drogue_drag_n.tolist(),
             "tow_force_n": self.tow_force_n.tolist(),
+            "exit_tension_n": self.exit_tension_n,
             "balance_ratio": self.balance_ratio,
             "link_angles_rad": self.link_angles_rad.tolist(),
             "residual": self.residual,
@@ -207,6 +210,7 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) ->
         drogue_position_m=drogue,
         drogue_drag_n=out.drogue_drag_n.copy(),
         tow_force_n=out.tow_force_n.copy(),
+        exit_tension_n=out.exit_tension_n,
         balance_ratio=float(drogue[2] / model.params.hose.length_m),
         residual=res,
         solver=sol,

@@ -60,7 +60,7 @@ def _check_args(args) -> int:
     """Validate option combinations; return the design order."""
     if args.plant == "paper":
         for opt, given in (("--altitude", args.altitude), ("--airspeed", args.airspeed), ("--links", args.links),
-                           ("--config", args.config), ("--no-wake", args.no_wake or None)):
+                           ("--config", args.config or None), ("--no-wake", args.no_wake or None)):
             if given is not None:
                 raise ParameterError(f"{opt} = {given!r}: applies to --plant model only (the paper's "
                                      f"Table 2 models have no stated flight condition)")

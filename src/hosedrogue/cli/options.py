@@ -8,8 +8,8 @@ import math
 from pathlib import Path
 
 from ..errors import ParameterError
-from ..config import resolve_config
-from ..params import PAPER, Params
+from ..config import resolve_configs
+from ..params import Params
 
 #: Exit status of bad input (one line on stderr, nothing written).
 EXIT_BAD_INPUT = 2
@@ -103,9 +103,10 @@ def add_flight_options(sp: argparse.ArgumentParser, links: bool = True, conditio
     if links:
         sp.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
                         help="number of rigid links of the hose [-], >= 1 (default 20)")
-    sp.add_argument("--config", metavar="PRESET|FILE",
+    sp.add_argument("--config", metavar="PRESET|FILE", action="append", default=[],
                     help="a shipped model preset (e.g. 'converged') or a TOML file of parameter overrides "
-                         "([hose], [flight], ...)")
+                         "([hose], [flight], ...; [model] preset = 'NAME' starts from a preset); may be given "
+                         "several times, applied in order")
     sp.add_argument("--no-wake", action="store_true", help="switch the tanker wake off (free stream only)")
 
 
@@ -146,7 +147,8 @@ def params_from_args(args) -> Params:
     -------
     Params
     """
-    base = resolve_config(args.config) if getattr(args, "config", None) else PAPER
+    configs = getattr(args, "config", None) or []
+    base = resolve_configs([configs] if isinstance(configs, str) else configs)
     over = flight_overrides(args)
     return base.replace(**over) if over else base
 

@@ -21,7 +21,7 @@ def add_parser(sub) -> None:
     """
     s = sub.add_parser(NAME, help="balance position (equilibrium) of the hose and drogue",
                        description="Print the balance position: drogue position [m] in S_p, drogue drag [N], "
-                                   "tow-point force [N] and D = V_D/L_H (drogue drop over hose length).")
+                                   "tow-point force [N], exit tension [N] and D = V_D/L_H (drogue drop over hose length).")
     add_flight_options(s)
     s.add_argument("--continuum", action="store_true",
                    help="solve the continuous hose (towed-cable limit of infinitely many links, bending "
@@ -67,5 +67,6 @@ def run(args) -> int:
     print(f"  drogue position (x fwd, y right, z down) [m]: {x:9.4f} {y:9.4f} {z:9.4f}")
     print(f"  drogue drag [N]:                               {drag:9.2f}")
     print(f"  tow-point force [N]:                           {fx:9.2f} {fy:9.2f} {fz:9.2f}")
+    print(f"  exit tension [N]:                              {eq.exit_tension_n:9.2f}")
     print(f"  balance ratio D = V_D / L_H:                   {eq.balance_ratio:9.4f}")
     return 0

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..metrics import turbulence_window
 from ..model import engagement_kernels as EK
 from ..params import Params
 from ..results import EngagementResult
@@ -50,6 +51,8 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
         Force of the hose on the exit [N].
     tdrog : array (N,)
         Tension in the last link [N].
+    drag : array (N, 3)
+        Aerodynamic force on the drogue [N].
     """
     n = chain.n
     N = ts.size
@@ -58,13 +61,15 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     scal = np.empty((N, EK.O_SIZE))
     tow = np.empty((N, 3))
     tdrog = np.empty(N)
+    drag = np.empty((N, 3))
     if loop is None:
         from .loop import no_loop
 
         loop = no_loop()
     EK.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
-                   chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, loop, joints, jvel, scal, tow, tdrog)
-    return joints, jvel, scal, tow, tdrog
+                   chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, loop, joints, jvel, scal, tow, tdrog,
+                   drag)
+    return joints, jvel, scal, tow, tdrog, drag
 
 
 def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray) -> np.ndarray:
@@ -120,14 +125,14 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
     """One segment's columns (keys of :func:`assemble_result`), joint positions and velocities."""
     chain, ep, ts, zs = segment
     n = chain.n
-    joints, jvel, scal, tow, tdrog = segment_outputs(ts, zs, chain, model, ep, loop)
+    joints, jvel, scal, tow, tdrog, drag = segment_outputs(ts, zs, chain, model, ep, loop)
     dpl, miss, vclose = _coupler_geometry(joints, jvel, scal)
     cols = {"t": ts, "L": zs[:, 4 * n + EK.Z_L], "Ld": zs[:, 4 * n + EK.Z_LD], "T0": scal[:, EK.O_T0],
             "Td": tdrog, "fp": scal[:, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "pp": scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]],
             "cp": np.full(ts.size, ep[EK.EP_COUPLED] != 0.0), "slack": scal[:, EK.O_SLACK],
             "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, EK.O_TAU],
             "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
-            "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [EK.O_UY, EK.O_UZ]]}
+            "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [EK.O_UY, EK.O_UZ]], "drag": drag}
     if energy:
         en = segment_energies(zs, chain, model, ep)
         cols["E"] = np.column_stack([en, zs[:, 4 * n + EK.Z_WM:4 * n + EK.Z_WP + 1]])
@@ -215,8 +220,9 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         t_s=cat["t"], hose_length_m=cat["L"], reel_speed_m_s=-cat["Ld"], exit_tension_n=cat["T0"],
         drogue_tension_n=cat["Td"], probe_force_n=cat["fp"], probe_position_m=cat["pp"], coupled=cat["cp"],
         slack_m=cat["slack"], drogue_position_m=cat["rd"], drogue_velocity_m_s=cat["vd"], tow_force_n=cat["tow"],
+        drogue_drag_n=cat["drag"],
         motor_torque_n_m=cat["tau"], control_force_n=cat["u"], miss_distance_series_m=cat["miss"], plane_distance_m=cat["dplane"],
         closure_speed_series_m_s=cat["vclose"],
         links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
         energy=en_dict, events=events, outcome=outcome, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
-        completed=completed, message=message, meta=meta)
+        completed=completed, message=message, meta=meta, statistics_window_s=turbulence_window(params.turbulence))

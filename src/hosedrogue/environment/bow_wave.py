@@ -33,12 +33,14 @@ import numpy as np
 import scipy.optimize
 from numba import njit
 
+from ..jit import JIT
+
 from ..errors import ParameterError
 from ..sections import BOW_WAVE_SHAPES as SHAPES  # noqa: F401 - the one list of shapes
 from ..sections import BowWave as _Geometry
 
 
-@njit(cache=True)
+@njit(**JIT)
 def source_velocity(px, py, pz, sx, sy, sz, q):
     """Velocity [m/s] at P induced by a point source of volume flux q [m^3/s] at S (S_p, [m])."""
     dx = px - sx
@@ -49,7 +51,7 @@ def source_velocity(px, py, pz, sx, sy, sz, q):
     return c * dx, c * dy, c * dz
 
 
-@njit(cache=True)
+@njit(**JIT)
 def line_source_velocity(px, py, pz, sx, sy, sz, length, q):
     """Velocity [m/s] at P of a uniform line source of total flux q [m^3/s] on the segment from
     S (its forward end) to S - length * x_hat (aft along the axis), [m] in S_p.

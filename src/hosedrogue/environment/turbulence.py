@@ -21,6 +21,8 @@ import numpy as np
 import scipy.linalg
 from numba import njit
 
+from ..jit import JIT
+
 from ..params import ParameterError, Turbulence
 from ..standards import (  # noqa: F401 - part of this module's public interface
     INTENSITY_ALTITUDE_FT,
@@ -42,7 +44,7 @@ def _noise_factor(Qd: np.ndarray) -> np.ndarray:
         return U * np.sqrt(np.clip(w, 0.0, None))
 
 
-@njit(cache=True)
+@njit(**JIT)
 def _run_filter(phi, lq, c, x0, noise, out):
     """Fill ``out[k] = c . x[k]`` with ``x[k+1] = phi x[k] + lq noise[k]``, ``x[0] = x0``."""
     n = x0.shape[0]
@@ -132,7 +134,7 @@ class GustRecord:
         return out.reshape(t.shape + (3,))
 
 
-@njit(cache=True)
+@njit(**JIT)
 def _segment(v, i, n, j, f, cubic):
     """Value of column j on the segment [i, i+1] at fraction f: linear, or the Catmull-Rom cubic
     through samples i-1 .. i+2 (end samples repeated at the ends of the record)."""
@@ -146,7 +148,7 @@ def _segment(v, i, n, j, f, cubic):
                                             + f * (3.0 * (p1 - p2) + p3 - p0)))
 
 
-@njit(cache=True)
+@njit(**JIT)
 def gust_at(t, t0, dt, values, t_on, t_off, cubic=False):
     """Gust velocity at time t from a sampled record (numba; the inner-loop lookup).
 
@@ -187,7 +189,7 @@ def gust_at(t, t0, dt, values, t_on, t_off, cubic=False):
     )
 
 
-@njit(cache=True)
+@njit(**JIT)
 def _gust_series(ts, t0, dt, values, t_on, t_off, cubic, out):
     for k in range(ts.shape[0]):
         out[k, 0], out[k, 1], out[k, 2] = gust_at(ts[k], t0, dt, values, t_on, t_off, cubic)
@@ -198,6 +200,7 @@ def generate_gusts(
     airspeed_m_s: float,
     duration_s: float | None = None,
     seed: int | None = None,
+    run_duration_s: float | None = None,
 ) -> GustRecord:
     """Draw a stationary Dryden gust record by exact discretization of the forming filters.
 
@@ -213,6 +216,10 @@ def generate_gusts(
         ``[start_s, start_s + duration_s)``.
     seed : int, optional
         Seed of the ``numpy.random.PCG64`` generator; default ``turbulence.seed``.
+    run_duration_s : float, optional
+        Length of the run [s]: an infinite window (the default ``turbulence.duration_s``: gusts
+        for the whole run) is drawn to the run's end, plus a margin of twice the smoothing width
+        and two samples, so that neither the smoothing nor the interpolation touches the run.
 
     Returns
     -------
@@ -230,9 +237,16 @@ def generate_gusts(
     if not (math.isfinite(V) and V > 0.0):
         raise ParameterError(f"airspeed_m_s = {airspeed_m_s!r}: must be a finite number > 0 m/s")
     duration = turbulence.duration_s if duration_s is None else float(duration_s)
-    if not (math.isfinite(duration) and duration >= 0.0):
-        raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number >= 0 s")
     dt = turbulence.sample_time_s
+    if math.isinf(duration) and run_duration_s is not None:
+        margin = 2.0 * turbulence.smoothing_s + 2.0 * dt
+        duration = max(float(run_duration_s) - turbulence.start_s, 0.0) + margin
+    if not (math.isfinite(duration) and duration >= 0.0):
+        raise ParameterError(f"turbulence.duration_s = {duration!r}: a gust window to the end of the run needs "
+                             "the run's length (run_duration_s), else a finite number >= 0 s")
+    if duration / dt > Turbulence.MAX_SAMPLES:
+        raise ParameterError(f"turbulence.duration_s = {duration!r}: with sample_time_s = {dt!r} the gust record "
+                             f"would exceed {Turbulence.MAX_SAMPLES:.0e} samples; shorten it or sample coarser")
     t_on = turbulence.start_s
     t_off = t_on + duration
     if not turbulence.enabled:

@@ -33,6 +33,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ..jit import JIT
+
 from ..constants import G0
 from ..params import ParameterError, Tanker, Wake
 
@@ -121,7 +123,7 @@ def wake_scalars(tanker: Tanker, wake: Wake, airspeed_m_s: float, rho: float) ->
     return wk
 
 
-@njit(cache=True)
+@njit(**JIT)
 def wake_velocity(y, z, wk, at=0):
     """Air velocity induced by the vortex pair at one point (numba).
 

@@ -1,121 +1,149 @@
-"""FMI 2.0 co-simulation export of the hose-drogue model.
+"""FMI 2.0 co-simulation export of the hose-drogue model, and a check of an exported FMU.
 
 The FMU is built with `pythonfmu <https://github.com/NTNU-IHB/PythonFMU>`_: its platform binary
-implements the FMI 2.0 C API and forwards every call to the Python class
-:class:`hosedrogue.interop.fmu_slave.HoseDrogue`, which runs the very same model code as
+implements the FMI 2.0 C API and forwards every call to a Python class
+(:class:`hosedrogue.interop.fmu_slave.HoseDrogue`), which runs the very same model code as
 ``hosedrogue simulate`` (no second implementation that could drift from it). The FMU therefore
 needs a Python with ``hosedrogue`` installed at run time (in-process for Python hosts such as
-fmpy; see ``docs/interop.md``).
-
-Interface (SI units, frame S_p: x forward, y right, z down, origin at the tow point):
-
-=================================  ==========  =================================================
-variable                           causality   meaning
-=================================  ==========  =================================================
-``u_hor_n``, ``u_ver_n``           input       control force at the drogue [N] (lateral, vertical)
-``gust_u_m_s`` .. ``gust_w_m_s``   input       gust velocity along x, y, z [m/s], uniform
-``drogue_x_m`` .. ``drogue_z_m``   output      drogue position [m]
-``tow_tension_n``                  output      force at the tow point (hose exit) [N], magnitude
-``altitude_m``                     parameter   flight altitude [m]
-``airspeed_m_s``                   parameter   true airspeed [m/s]
-``wake_enabled``                   parameter   tanker wake on/off
-=================================  ==========  =================================================
-
-Inputs are held constant over a communication step (zero-order hold); the step is split into
-sub-steps no longer than ``numerics.step_s`` of classical RK4 on
-:meth:`hosedrogue.model.system.HoseModel.derivative`, the arithmetic of
-:func:`hosedrogue.simulate` with a control function. The FMU starts at the balance position of
-its flight condition (solved when initialization ends).
+fmpy); its model description and ``documentation/index.html`` say so
+(:func:`hosedrogue.interop.fmu_core.host_requirements`), and :func:`check_fmu` checks an FMU on
+its host. The interface is the table :data:`hosedrogue.interop.fmu_core.HOSE_FMU`; see
+``docs/interop.md``.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import platform
 import shutil
 import tempfile
-from dataclasses import dataclass
+import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ParameterError
 from ..params import PAPER, Params, params_from_dict
-
-#: File in the FMU's ``resources`` folder holding the exported parameter set (JSON).
-PARAMS_RESOURCE = "hosedrogue_params.json"
-
-#: Name of the generated entry-point script (and of the Python module inside the FMU).
-SCRIPT_NAME = "hosedrogue_fmu"
-
-#: (name, unit, description) of the FMU inputs, in value-reference order.
-FMU_INPUTS = (
-    ("u_hor_n", "N", "lateral control force at the drogue (S_p y)"),
-    ("u_ver_n", "N", "vertical control force at the drogue (S_p z, down)"),
-    ("gust_u_m_s", "m/s", "gust velocity along S_p x (forward), uniform over the hose"),
-    ("gust_v_m_s", "m/s", "gust velocity along S_p y (right), uniform over the hose"),
-    ("gust_w_m_s", "m/s", "gust velocity along S_p z (down), uniform over the hose"),
+from ..units import NO_UNIT, unit_of
+from ..version import __version__
+from .fmu_core import (
+    INTERFACE_RESOURCE,
+    INTERFACES,
+    PARAMS_RESOURCE,
+    HoseDrogueCore,
+    fmu_params,
+    interface_record,
+    parameter_starts,
 )
+from .fmu_description import documentation_html
 
-#: (name, unit, description) of the FMU outputs.
-FMU_OUTPUTS = (
-    ("drogue_x_m", "m", "drogue position along S_p x (forward)"),
-    ("drogue_y_m", "m", "drogue position along S_p y (right)"),
-    ("drogue_z_m", "m", "drogue position along S_p z (down)"),
-    ("tow_tension_n", "N", "magnitude of the force the hose exerts at the tow point (exit tension)"),
-)
+#: The check's bound on the FMU's start against the balance position [m]: the equilibrium
+#: solver converges to a weight-moment residual of 1e-12, far below a micrometre.
+START_TOLERANCE_M = 1e-6
 
-#: (name, unit, description) of the real FMU parameters (set before initialization).
-FMU_REAL_PARAMETERS = (
-    ("altitude_m", "m", "flight altitude"),
-    ("airspeed_m_s", "m/s", "true airspeed"),
-)
+_SCRIPT = '''"""Entry point of a hosedrogue FMU (written by `hosedrogue export-fmu`, hosedrogue {version}).
+
+The model runs in the Python that loads this FMU; it needs hosedrogue {version} installed.
+"""
+from {module} import {model}, hold_entry_point_globals  # noqa: F401  (pythonfmu finds the class here)
+
+hold_entry_point_globals(globals())  # pythonfmu's binary releases a reference to these globals it does not own
+'''
 
 
-def fmu_params(params: Params, altitude_m: float, airspeed_m_s: float, wake_enabled: bool) -> Params:
-    """The parameter set the FMU simulates: ``params`` at the given flight condition, with
-    turbulence switched to the externally driven ``uniform`` gust field of the gust inputs.
+def check_out_path(out: str | Path, name: str = "out") -> Path:
+    """Refuse an output path that is not a ``.fmu`` file name (before anything is built).
 
     Parameters
     ----------
+    out : str or Path
+        The FMU file to write.
+    name : str
+        How the caller calls it, for the message (the command line passes ``--out``).
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ParameterError
+        If ``out`` does not end in ``.fmu`` or is a directory.
+    """
+    path = Path(out)
+    if path.suffix != ".fmu":
+        raise ParameterError(f"{name} = {str(out)!r}: must be a file name ending in .fmu")
+    if path.is_dir():
+        raise ParameterError(f"{name} = {str(out)!r}: is a directory, expected a .fmu file name")
+    return path
+
+
+def _interface(kind: str):
+    if kind not in INTERFACES:
+        raise ParameterError(f"kind = {kind!r}: must be one of {', '.join(INTERFACES)}")
+    return INTERFACES[kind]
+
+
+def _write_sources(folder: Path, interface, params: Params) -> tuple[Path, list[Path], Path]:
+    """The entry-point script, resources and documentation folder of an FMU, written in ``folder``."""
+    script = folder / f"{interface.script_name}.py"
+    script.write_text(_SCRIPT.format(version=__version__, module=interface.slave_module, model=interface.model_name))
+    resources = [folder / PARAMS_RESOURCE, folder / INTERFACE_RESOURCE, folder / "requirements.txt"]
+    resources[0].write_text(json.dumps(params.to_dict(), indent=1) + "\n")
+    resources[1].write_text(json.dumps(interface_record(interface), indent=1) + "\n")
+    resources[2].write_text(f"hosedrogue[fmu]=={__version__}\n")  # for `pythonfmu deploy -f FILE.fmu`
+    docs = folder / "documentation"
+    docs.mkdir()
+    starts = parameter_starts(interface, params) | {v.name: v.start for v in interface.of("input")}
+    (docs / "index.html").write_text(documentation_html(interface, starts))
+    return script, resources, docs
+
+
+def export_fmu(out: str | Path, params: Params = PAPER, kind: str = "fixed-length") -> Path:
+    """Write an FMI 2.0 co-simulation FMU of the hose-drogue model.
+
+    Parameters
+    ----------
+    out : str or Path
+        The ``.fmu`` file to write (its folder is created).
     params : Params
-        Exported parameter set (hose, drogue, tanker, numerics, ...).
-    altitude_m : float
-        Flight altitude [m].
-    airspeed_m_s : float
-        True airspeed [m/s].
-    wake_enabled : bool
-        Tanker wake on or off.
+        Parameters of the model (link count, hose, drogue, default flight condition and wake
+        switch, integration step ``numerics.step_s`` [s]); the flight condition and wake switch
+        stay adjustable as FMU parameters.
+    kind : str
+        Which FMU, a key of :data:`hosedrogue.interop.fmu_core.INTERFACES` (``"fixed-length"``).
 
     Returns
     -------
-    Params
-        Validated parameters (:class:`ParameterError` names a bad value).
+    Path
+        The written FMU.
+
+    Raises
+    ------
+    ParameterError
+        If ``out`` is not a ``.fmu`` file name, ``kind`` is unknown, a parameter is invalid, or
+        pythonfmu is not installed; nothing is written then.
     """
-    return params.replace(
-        flight={"altitude_m": altitude_m, "airspeed_m_s": airspeed_m_s},
-        wake={"enabled": bool(wake_enabled)},
-        turbulence={"enabled": True, "distribution": "uniform"},
-    )
-
-
-def constant_gusts(gust_m_s) -> "object":
-    """A gust record that holds ``gust_m_s`` = (u, v, w) [m/s] at all times.
-
-    Parameters
-    ----------
-    gust_m_s : sequence of 3 float
-        Gust velocity along S_p x, y, z [m/s].
-
-    Returns
-    -------
-    hosedrogue.environment.turbulence.GustRecord
-        Two equal samples, acting for all times.
-    """
-    from ..environment.turbulence import GustRecord
-
-    g = np.asarray(gust_m_s, dtype=np.float64).reshape(3)
-    return GustRecord(t0_s=0.0, dt_s=1.0, values=np.vstack([g, g]), t_on_s=-math.inf, t_off_s=math.inf)
+    path = check_out_path(out)
+    interface = _interface(kind)
+    try:
+        from pythonfmu import FmuBuilder
+    except ImportError:
+        raise ParameterError("export_fmu: needs pythonfmu (pip install 'hosedrogue[fmu]')") from None
+    fmu_params(params, params.flight.altitude_m, params.flight.airspeed_m_s, params.wake.enabled)  # validate
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="hosedrogue_fmu_") as tmp:
+        script, resources, docs = _write_sources(Path(tmp), interface, params)
+        partial = path.with_name(path.name + ".partial.fmu")
+        try:
+            FmuBuilder.build_FMU(script, dest=partial, project_files=resources, documentation_folder=docs,
+                                 needsExecutionTool=False, canHandleVariableCommunicationStepSize=True)
+            shutil.move(partial, path)
+        finally:
+            partial.unlink(missing_ok=True)
+    return path
 
 
 def prepare_python_host(links: int = 2) -> None:
@@ -123,12 +151,14 @@ def prepare_python_host(links: int = 2) -> None:
     (fmpy) loads an exported FMU here.
 
     pythonfmu's binary runs the FMU's Python code inside the host's interpreter when the host is
-    Python itself. Modules that are first imported *during* a call into the FMU are then left
-    unusable afterwards (seen here: ``scipy.optimize`` emptied - "module has no attribute
-    'root'" - and segmentation faults in a later garbage collection, in a fresh fmpy session).
-    Importing the slave's code and running one tiny model first means the FMU's calls import
-    nothing new. Simulink, OpenModelica and other non-Python hosts start their own interpreter and
-    do not need this.
+    Python itself. Modules first imported and kernels first compiled during a call into the FMU
+    have damaged the interpreter: ``scipy.optimize`` emptied ("module has no attribute 'root'")
+    and crashes in later garbage collections were seen in fresh fmpy sessions before
+    :func:`hosedrogue.interop.fmu_slave.hold_entry_point_globals`; with it, 1 of 5 fresh sessions
+    without this call still aborted at exit ("corrupted double-linked list"), 0 of 5 with it (3
+    runs each). Importing the slave's code and running one tiny model first means the FMU's calls
+    import and compile nothing. Simulink, OpenModelica and other
+    non-Python hosts start their own interpreter and do not need this.
 
     Parameters
     ----------
@@ -144,177 +174,107 @@ def prepare_python_host(links: int = 2) -> None:
     core.outputs()
 
 
-@dataclass
-class StepFailure(Exception):
-    """The state stopped being valid during a step (non-finite, or a yaw beyond the limit)."""
-
-    t_s: float  #: time at which it was detected [s]
-    reason: str  #: why the state is no longer valid
-
-    def __str__(self) -> str:
-        return f"stopped at t = {self.t_s:.6g} s: {self.reason}"
-
-
-class HoseDrogueCore:
-    """The FMU's simulation, independent of pythonfmu (tested directly and through fmpy).
+def exported_params(fmu: str | Path) -> Params:
+    """The parameter set an FMU was exported with (read from its ``resources`` in the zip).
 
     Parameters
     ----------
-    params : Params
-        The parameters to simulate (see :func:`fmu_params`).
-    """
-
-    def __init__(self, params: Params):
-        from ..analysis.equilibrium import solve_equilibrium
-        from ..model.system import HoseModel
-
-        self.params = params
-        self._gust = (0.0, 0.0, 0.0)
-        self.model = HoseModel(params, gusts=constant_gusts(self._gust))
-        self.equilibrium = solve_equilibrium(params, model=self.model)
-        self.x = self.equilibrium.state.copy()
-        self.t_s = 0.0
-        self.u_n = np.zeros(2)
-        self._max_yaw = math.radians(params.numerics.max_yaw_deg)
-
-    def set_gust(self, gust_m_s) -> None:
-        """Hold the uniform gust velocity ``gust_m_s`` = (u, v, w) [m/s] from now on.
-
-        Parameters
-        ----------
-        gust_m_s : sequence of 3 float
-            Gust velocity along S_p x, y, z [m/s].
-        """
-        g = tuple(float(v) for v in gust_m_s)
-        if g != self._gust:
-            self._gust = g
-            self.model.gusts = constant_gusts(g)  # HoseModel reads its gust record at every call
-
-    def set_force(self, u_n) -> None:
-        """Hold the control force ``u_n`` = (u_hor, u_ver) [N] (also for the outputs until the next step).
-
-        Parameters
-        ----------
-        u_n : sequence of 2 float
-            Control force at the drogue [N].
-        """
-        self.u_n = np.asarray(u_n, dtype=np.float64).reshape(2).copy()
-
-    def step(self, t_s: float, h_s: float, u_n) -> None:
-        """Advance from ``t_s`` by ``h_s`` [s] with the control force ``u_n`` [N] held constant.
-
-        Parameters
-        ----------
-        t_s : float
-            Time at the start of the step [s].
-        h_s : float
-            Communication step [s], > 0; split into equal RK4 sub-steps <= ``numerics.step_s``.
-        u_n : sequence of 2 float
-            Control force (u_hor, u_ver) [N].
-
-        Raises
-        ------
-        StepFailure
-            If the state becomes non-finite or a link yaw passes ``numerics.max_yaw_deg``.
-        """
-        self.set_force(u_n)
-        u = self.u_n
-        count = max(1, int(math.ceil(h_s / self.params.numerics.step_s - 1e-9)))
-        h = h_s / count
-        f = self.model.derivative
-        x = self.x
-        n = self.model.n
-        for k in range(count):
-            t = t_s + k * h
-            # the arithmetic of hosedrogue.simulate with a control function, operation for operation
-            k1 = f(t, x, u)
-            k2 = f(t + h / 2, x + h / 2 * k1, u)
-            k3 = f(t + h / 2, x + h / 2 * k2, u)
-            k4 = f(t + h, x + h * k3, u)
-            x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-            if not np.all(np.isfinite(x)):
-                raise StepFailure(t + h, "the state became non-finite (numerical divergence)")
-            if np.max(np.abs(x[1: 2 * n: 2])) > self._max_yaw:
-                raise StepFailure(t + h, "a link's yaw passed numerics.max_yaw_deg")
-        self.x = x
-        self.t_s = t_s + h_s
-
-    def outputs(self) -> dict[str, float]:
-        """The FMU outputs at the current state (see :data:`FMU_OUTPUTS`)."""
-        out = self.model.outputs(self.x, self.t_s, self.u_n)
-        drogue = out.joints_m[-1]
-        return {"drogue_x_m": float(drogue[0]), "drogue_y_m": float(drogue[1]),
-                "drogue_z_m": float(drogue[2]), "tow_tension_n": float(np.linalg.norm(out.tow_force_n))}
-
-
-_SCRIPT = '''"""Entry point of a hosedrogue FMU (written by `hosedrogue export-fmu`).
-
-The model runs in the Python that loads this FMU; it needs the hosedrogue package installed.
-"""
-from hosedrogue.interop.fmu_slave import HoseDrogue  # noqa: F401  (pythonfmu finds the class here)
-'''
-
-
-def export_fmu(out_path: str | Path, params: Params = PAPER) -> Path:
-    """Write an FMI 2.0 co-simulation FMU of the hose-drogue model.
-
-    Parameters
-    ----------
-    out_path : str or Path
-        The ``.fmu`` file to write (its folder is created).
-    params : Params
-        Parameters of the model (link count, hose, drogue, default flight condition and wake
-        switch, integration step ``numerics.step_s``); the flight condition and wake switch stay
-        adjustable as FMU parameters.
-
-    Returns
-    -------
-    Path
-        The written FMU.
-
-    Raises
-    ------
-    ParameterError
-        If ``out_path`` does not end in ``.fmu`` or pythonfmu is not installed.
-    """
-    out = Path(out_path)
-    if out.suffix != ".fmu":
-        raise ParameterError(f"--out = {str(out)!r}: must be a file name ending in .fmu")
-    if out.exists() and out.is_dir():
-        raise ParameterError(f"--out = {str(out)!r}: is a directory, expected a .fmu file name")
-    try:
-        from pythonfmu import FmuBuilder
-    except ImportError:
-        raise ParameterError("export-fmu: needs pythonfmu (pip install 'hosedrogue[fmu]')") from None
-    fmu_params(params, params.flight.altitude_m, params.flight.airspeed_m_s, params.wake.enabled)  # validate
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="hosedrogue_fmu_") as tmp:
-        tmp = Path(tmp)
-        script = tmp / f"{SCRIPT_NAME}.py"
-        script.write_text(_SCRIPT)
-        resource = tmp / PARAMS_RESOURCE
-        resource.write_text(json.dumps(params.to_dict(), indent=1) + "\n")
-        partial = out.with_name(out.name + ".partial.fmu")
-        try:
-            FmuBuilder.build_FMU(script, dest=partial, project_files=[resource],
-                                 needsExecutionTool=False, canHandleVariableCommunicationStepSize=True)
-            shutil.move(partial, out)
-        finally:
-            partial.unlink(missing_ok=True)
-    return out
-
-
-def load_exported_params(resources: str | Path) -> Params:
-    """The parameter set stored in an FMU's ``resources`` folder by :func:`export_fmu`.
-
-    Parameters
-    ----------
-    resources : str or Path
-        The unpacked FMU's ``resources`` folder.
+    fmu : str or Path
+        An FMU written by :func:`export_fmu`.
 
     Returns
     -------
     Params
     """
-    data = json.loads((Path(resources) / PARAMS_RESOURCE).read_text())
+    with zipfile.ZipFile(fmu) as zf:
+        data = json.loads(zf.read(f"resources/{PARAMS_RESOURCE}"))
     return params_from_dict(data, base=PAPER)
+
+
+def _unit_problems(md) -> list[str]:
+    """Variables whose unit in the model description is not the one their name's suffix gives."""
+    problems = []
+    for v in md.modelVariables:
+        expected = unit_of(v.name) if v.type == "Real" else NO_UNIT
+        if (v.unit or NO_UNIT) != expected:
+            problems.append(f"{v.name}: unit {v.unit!r}, its name says {expected!r}")
+    return problems
+
+
+def _run_from_balance(fmu: Path, md, duration_s: float) -> dict:
+    """Run the FMU in fmpy with zero inputs and compare it with the balance position."""
+    import fmpy
+
+    from ..analysis.equilibrium import solve_equilibrium
+
+    params = exported_params(fmu)
+    balance = solve_equilibrium(fmu_params(params, params.flight.altitude_m, params.flight.airspeed_m_s,
+                                           params.wake.enabled)).drogue_position_m
+    outputs = [v.name for v in md.modelVariables if v.causality == "output"]
+    start = time.perf_counter()
+    rows = fmpy.simulate_fmu(str(fmu), stop_time=duration_s, step_size=params.numerics.step_s,
+                             output_interval=params.numerics.step_s, output=outputs)
+    wall = time.perf_counter() - start
+    pos = np.column_stack([rows[f"drogue_{a}_m"] for a in "xyz"])
+    return {"duration_s": float(rows["time"][-1]), "step_s": params.numerics.step_s, "links": params.hose.links,
+            "start_offset_m": float(np.max(np.abs(pos[0] - balance))),
+            "drift_m": float(np.max(np.abs(pos - pos[0]))), "wall_s": round(wall, 3)}
+
+
+def check_fmu(fmu: str | Path, duration_s: float = 1.0) -> dict:
+    """Check an exported FMU on this host: fmpy's validator, the units, and a short run at rest.
+
+    Runs in this Python process (it calls :func:`prepare_python_host` first).
+
+    Parameters
+    ----------
+    fmu : str or Path
+        The ``.fmu`` file.
+    duration_s : float
+        Length of the run from the balance position with zero inputs [s], > 0.
+
+    Returns
+    -------
+    dict
+        ``ok`` (no problem and a start within :data:`START_TOLERANCE_M` of the balance position),
+        ``problems`` (fmpy's :func:`fmpy.validation.validate_fmu` and unit mismatches, one line
+        each), ``platforms`` (binaries in the FMU), ``host`` (this platform and the versions of
+        Python, hosedrogue, fmpy, pythonfmu), ``variables`` and ``units`` (by name), and
+        ``simulation`` (``start_offset_m`` and ``drift_m`` [m] over ``duration_s`` [s]; None if
+        the FMU did not run, which is then one of the problems).
+
+    Raises
+    ------
+    ParameterError
+        If fmpy is not installed, ``fmu`` is not a file, or ``duration_s`` is not positive.
+    """
+    try:
+        import fmpy
+        from fmpy.validation import validate_fmu
+    except ImportError:
+        raise ParameterError("check_fmu: needs fmpy (pip install fmpy)") from None
+    fmu = Path(fmu)
+    if not fmu.is_file():
+        raise ParameterError(f"fmu = {str(fmu)!r}: no such file")
+    if isinstance(duration_s, bool) or not isinstance(duration_s, (int, float)) or not 0 < duration_s < math.inf:
+        raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
+    import pythonfmu
+
+    problems = list(validate_fmu(str(fmu)))
+    md = fmpy.read_model_description(str(fmu))
+    problems += _unit_problems(md)
+    prepare_python_host()
+    try:
+        sim = _run_from_balance(fmu, md, float(duration_s))
+    except Exception as exc:  # the FMU did not run here: that is the check's finding, not a crash
+        sim = None
+        problems.append(f"running it in fmpy failed: {type(exc).__name__}: {exc}")
+    units = {v.name: v.unit for v in md.modelVariables if v.unit}
+    return {
+        "fmu": str(fmu), "ok": not problems and sim["start_offset_m"] < START_TOLERANCE_M,
+        "problems": problems, "fmi_version": md.fmiVersion, "platforms": fmpy.supported_platforms(str(fmu)),
+        "host": {"platform": fmpy.platform, "machine": platform.machine(), "python": platform.python_version(),
+                 "hosedrogue": __version__, "fmpy": fmpy.__version__, "pythonfmu": pythonfmu.__version__},
+        "variables": len(md.modelVariables), "units": units, "simulation": sim,
+        "start_tolerance_m": START_TOLERANCE_M,
+    }

@@ -1,31 +1,123 @@
-"""The pythonfmu slave class inside an exported FMU (see :mod:`hosedrogue.interop.fmu`).
+"""The pythonfmu slave classes inside an exported FMU (see :mod:`hosedrogue.interop.fmu`).
 
-Importing this module needs ``pythonfmu`` (the ``fmu`` extra). The FMU's generated entry-point
-script imports :class:`HoseDrogue` from here, so the FMU always runs the installed model code.
+Importing this module needs ``pythonfmu`` (the ``fmu`` extra; inside an FMU, the copy pythonfmu
+puts in its ``resources``). The FMU's generated entry-point script imports its slave class from
+here, so the FMU always runs the installed model code.
+
+:class:`InterfaceSlave` registers the variables of an
+:class:`~hosedrogue.interop.fmu_core.FmuInterface` and completes pythonfmu's model description
+from it; :class:`HoseDrogue` is the fixed-length FMU on top of it.
 """
 
 from __future__ import annotations
 
-import sys
-
-from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
+from pythonfmu import Boolean, DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real
+from pythonfmu import __version__ as PYTHONFMU_VERSION
 from pythonfmu.enums import Fmi2Status
 
-from ..errors import EquilibriumError, ParameterError
-from .fmu import (
-    FMU_INPUTS,
-    FMU_OUTPUTS,
-    FMU_REAL_PARAMETERS,
-    SCRIPT_NAME,
+from ..version import __version__
+from .fmu_core import (
+    HOSE_FMU,
+    FmuInterface,
     HoseDrogueCore,
     StepFailure,
+    check_interface,
     fmu_params,
     load_exported_params,
+    parameter_starts,
 )
+from .fmu_description import complete_model_description
+
+#: Stop time of the FMUs' ``DefaultExperiment`` [s] (a start for an importer; any stop time works).
+DEFAULT_STOP_S = 10.0
+
+#: References to the FMU entry-point script's globals, one per execution of the script (see
+#: :func:`hold_entry_point_globals`); they are never released.
+_ENTRY_POINT_GLOBALS: list[dict] = []
 
 
-class HoseDrogue(Fmi2Slave):
-    """FMI 2.0 co-simulation slave of the hose-drogue model (pythonfmu).
+def hold_entry_point_globals(namespace: dict) -> None:
+    """Hold one more reference to the globals of the FMU's entry-point script (the script calls this).
+
+    pythonfmu 0.7's binary, each time it instantiates an FMU, executes the entry-point script in
+    the module's globals and then releases a reference to that dict which it never owned
+    (``findClass``: ``Py_DECREF`` of the borrowed ``PyModule_GetDict`` result). The dict is freed
+    while the module still uses it, and whatever Python allocates next in its place loses a
+    reference later: in a Python host that surfaced as emptied modules (``scipy.optimize``), a
+    class the next instantiation could not find, and segmentation faults in a later garbage
+    collection. Every execution of the script holds one reference here, at least as many as the
+    binary takes away, so the dict lives as long as the process (a few hundred bytes per FMU
+    instance).
+
+    Parameters
+    ----------
+    namespace : dict
+        The script's ``globals()``.
+    """
+    _ENTRY_POINT_GLOBALS.append(namespace)
+
+
+class InterfaceSlave(Fmi2Slave):
+    """A pythonfmu slave whose variables are those of :attr:`interface` (set by a subclass).
+
+    Parameters
+    ----------
+    **kwargs
+        Passed by pythonfmu: ``instance_name``, ``resources`` (the unpacked FMU's resources
+        folder), ``visible``.
+    """
+
+    interface: FmuInterface
+
+    def register_interface(self, output, starts: dict) -> None:
+        """Register the interface's variables as attributes of this slave, in the table's order.
+
+        Parameters
+        ----------
+        output : callable
+            ``output(name) -> float``: an output's current value (computed when it is read).
+        starts : dict
+            Start value of each parameter, by name (in the unit of its name, or bool).
+        """
+        for v in self.interface.variables:
+            description = v.description
+            if v.causality == "output":
+                self.register_variable(Real(v.name, causality=Fmi2Causality.output,
+                                            variability=Fmi2Variability.continuous, initial=Fmi2Initial.calculated,
+                                            description=description, getter=lambda name=v.name: output(name)))
+                continue
+            if v.causality == "parameter":
+                setattr(self, v.name, starts[v.name])
+                causality, variability = Fmi2Causality.parameter, Fmi2Variability.fixed
+            else:
+                setattr(self, v.name, float(v.start))
+                causality, variability = Fmi2Causality.input, Fmi2Variability.continuous
+            kind = Boolean if v.kind == "Boolean" else Real
+            self.register_variable(kind(v.name, causality=causality, variability=variability, description=description))
+
+    def to_xml(self, model_options: dict | None = None):
+        """pythonfmu's model description, completed from :attr:`interface` (units, model structure).
+
+        Parameters
+        ----------
+        model_options : dict, optional
+            FMU options, passed to pythonfmu.
+
+        Returns
+        -------
+        xml.etree.ElementTree.Element
+        """
+        root = super().to_xml(model_options or {})
+        return complete_model_description(root, self.interface,
+                                          f"hosedrogue {__version__} (PythonFMU {PYTHONFMU_VERSION})")
+
+
+class HoseDrogue(InterfaceSlave):
+    """FMI 2.0 co-simulation slave of the fixed-length hose (:data:`~hosedrogue.interop.fmu_core.HOSE_FMU`).
+
+    Outputs are computed when read, from the current state and the current inputs (the tow
+    tension feeds through from the force and gust inputs); before initialization ends they are
+    those of the balance position of the current parameters.
 
     Parameters
     ----------
@@ -34,61 +126,63 @@ class HoseDrogue(Fmi2Slave):
         folder, which holds the exported parameter set), ``visible``.
     """
 
+    interface = HOSE_FMU
     author = "hosedrogue"
-    description = ("Probe-and-drogue refuelling hose, rigid-link Kane model (after Wu et al., 2018); "
-                   "frame S_p: x forward, y right, z down; SI units")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        # pythonfmu's binary empties the entry-point module when an instance is freed, but the module
-        # stays in sys.modules, so the next instantiation in this process would find no class: let the
-        # next one import it afresh (this instance's binary keeps its own reference).
-        sys.modules.pop(SCRIPT_NAME, None)
+        check_interface(self.resources, self.interface)
         self._base = load_exported_params(self.resources)
-        self.altitude_m = float(self._base.flight.altitude_m)
-        self.airspeed_m_s = float(self._base.flight.airspeed_m_s)
-        self.wake_enabled = bool(self._base.wake.enabled)
-        for name, _unit, _text in FMU_INPUTS:
-            setattr(self, name, 0.0)
-        for name, _unit, _text in FMU_OUTPUTS:
-            setattr(self, name, 0.0)
+        self.version = __version__
+        self.default_experiment = DefaultExperiment(start_time=0.0, stop_time=DEFAULT_STOP_S,
+                                                    step_size=self._base.numerics.step_s)
         self._core: HoseDrogueCore | None = None
-        for name, unit, text in FMU_REAL_PARAMETERS:
-            self.register_variable(Real(name, causality=Fmi2Causality.parameter,
-                                        variability=Fmi2Variability.fixed, description=f"{text} [{unit}]"))
-        self.register_variable(Boolean("wake_enabled", causality=Fmi2Causality.parameter,
-                                       variability=Fmi2Variability.fixed, description="tanker wake on/off"))
-        for name, unit, text in FMU_INPUTS:
-            self.register_variable(Real(name, causality=Fmi2Causality.input,
-                                        variability=Fmi2Variability.continuous, description=f"{text} [{unit}]"))
-        for name, unit, text in FMU_OUTPUTS:
-            self.register_variable(Real(name, causality=Fmi2Causality.output,
-                                        variability=Fmi2Variability.continuous, description=f"{text} [{unit}]"))
-        self._seed_outputs()
+        self._core_key = None  # the parameters the core was built for, until initialization ends
+        self._started = False
+        self._steps = 0
+        self._failure: StepFailure | None = None
+        self._values: dict[str, float] = {}
+        self._values_key = None
+        self.register_interface(self._output, parameter_starts(self.interface, self._base))
 
-    def _seed_outputs(self) -> None:
-        """Outputs of the exported flight condition's balance position, if it can be solved cheaply
-        (it is solved again at initialization with the parameters the importer set)."""
-        try:
-            core = HoseDrogueCore(fmu_params(self._base, self.altitude_m, self.airspeed_m_s, self.wake_enabled))
-        except (ParameterError, EquilibriumError):
-            return
-        self._publish(core)
+    def _flight(self) -> tuple[float, float, bool]:
+        return float(self.altitude_m), float(self.airspeed_m_s), bool(self.wake_enabled)
 
-    def _publish(self, core: HoseDrogueCore) -> None:
-        for name, value in core.outputs().items():
-            setattr(self, name, value)
+    def _inputs(self) -> tuple[float, ...]:
+        return tuple(float(getattr(self, v.name)) for v in self.interface.of("input"))
+
+    def _model(self) -> HoseDrogueCore:
+        """The simulation: fixed once initialization ends, rebuilt for new parameters before."""
+        if not self._started and self._core_key != self._flight():
+            self._core = HoseDrogueCore(fmu_params(self._base, *self._flight()))
+            self._core_key = self._flight()
+        return self._core
+
+    def _hold_inputs(self, core: HoseDrogueCore) -> tuple[float, float]:
+        u_y, u_z, gust_u, gust_v, gust_w = self._inputs()
+        core.set_gust((gust_u, gust_v, gust_w))
+        core.set_force((u_y, u_z))
+        return u_y, u_z
+
+    def _output(self, name: str) -> float:
+        key = (self._steps if self._started else self._flight(), self._inputs())
+        if key != self._values_key:
+            core = self._model()
+            self._hold_inputs(core)
+            self._values = core.outputs()
+            self._values_key = key
+        return self._values[name]
 
     def exit_initialization_mode(self):
-        """Build the model for the parameters set by the importer and start at its balance position."""
-        params = fmu_params(self._base, self.altitude_m, self.airspeed_m_s, self.wake_enabled)
-        self._core = HoseDrogueCore(params)
-        self._core.set_gust((self.gust_u_m_s, self.gust_v_m_s, self.gust_w_m_s))
-        self._core.set_force((self.u_hor_n, self.u_ver_n))
-        self._publish(self._core)
+        """Build the model for the parameters set by the importer; it starts at their balance position."""
+        self._model()
+        self._started = True
 
     def do_step(self, current_time: float, step_size: float) -> bool:
-        """Advance by ``step_size`` [s] with the inputs held; False (fmi2Error) if the run diverged.
+        """Advance by ``step_size`` [s] with the inputs held; False (fmi2Discard) if the run failed.
+
+        The reason (time, non-finite state or yaw limit) goes to the FMI logger with status
+        fmi2Discard, category ``logStatusDiscard``; every later step fails the same way.
 
         Parameters
         ----------
@@ -96,13 +190,20 @@ class HoseDrogue(Fmi2Slave):
             Communication point at the start of the step [s].
         step_size : float
             Communication step [s].
+
+        Returns
+        -------
+        bool
+            True if the step was taken.
         """
-        core = self._core
-        core.set_gust((self.gust_u_m_s, self.gust_v_m_s, self.gust_w_m_s))
-        try:
-            core.step(current_time, step_size, (self.u_hor_n, self.u_ver_n))
-        except StepFailure as exc:
-            self.log(f"hosedrogue: {exc}", Fmi2Status.error)
-            return False
-        self._publish(core)
-        return True
+        if self._failure is None:
+            core = self._model()
+            try:
+                core.step(current_time, step_size, self._hold_inputs(core))
+            except StepFailure as exc:
+                self._failure = exc
+            else:
+                self._steps += 1
+                return True
+        self.log(f"hosedrogue: {self._failure}", Fmi2Status.discard, "logStatusDiscard")
+        return False

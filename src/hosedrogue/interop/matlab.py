@@ -2,7 +2,7 @@
 
 Every array keeps full double precision (the CSV files round to 10 significant digits), every
 signal has its name and unit next to it, and names follow the project's SI suffixes
-(``_m``, ``_m_s``, ``_n``, ``_s``). In MATLAB::
+(``_m``, ``_m_s``, ``_n``, ``_s``; :func:`hosedrogue.units.unit_of`). In MATLAB::
 
     r = load('timeseries.mat');  plot(r.t_s, r.signals.drogue_dy_m)
     m = load('linear_model.mat');  sys = ss(m.A, m.B, m.C, m.D, 'InputName', cellstr(m.input_names))
@@ -68,7 +68,7 @@ def linear_mat_dict(lm, channels, table2: dict) -> dict:
     -------
     dict
         ``A, B, C, D`` (SI: states [rad, rad/s], inputs [N], outputs [m]); ``state_names``,
-        ``input_names`` (``u_hor_n``, ``u_ver_n``), ``input_units``, ``output_names``
+        ``input_names`` (``u_y_n``, ``u_z_n``: the control force at the drogue, lateral and vertical), ``input_units``, ``output_names``
         (``P_ny_m``, ``P_nz_m``), ``output_units``; ``x_eq`` (4n x 1, the balance state);
         per channel ``lateral`` / ``vertical`` structs with ``num``, ``den`` (1 x k),
         ``A, B, C, D`` of the reduced realization, ``poles`` [rad/s], ``input_name`` and
@@ -81,15 +81,15 @@ def linear_mat_dict(lm, channels, table2: dict) -> dict:
         "A": np.asarray(lm.A, dtype=np.float64), "B": np.asarray(lm.B, dtype=np.float64),
         "C": np.asarray(lm.C, dtype=np.float64), "D": np.asarray(lm.D, dtype=np.float64),
         "state_names": _cellstr(state_names(n)),
-        "input_names": _cellstr(["u_hor_n", "u_ver_n"]), "input_units": _cellstr(["N", "N"]),
+        "input_names": _cellstr(["u_y_n", "u_z_n"]), "input_units": _cellstr(["N", "N"]),
         "output_names": _cellstr(["P_ny_m", "P_nz_m"]), "output_units": _cellstr(["m", "m"]),
         "x_eq": lm.equilibrium.state.reshape(-1, 1),
         "order": 0 if channels.order is None else int(channels.order),
         "flight": {"altitude_m": float(params.flight.altitude_m), "airspeed_m_s": float(params.flight.airspeed_m_s),
                    "wake": bool(params.wake.enabled), "links": int(n)},
     }
-    for name, sys_, u, y in (("lateral", channels.lateral, "u_hor_n", "P_ny_m"),
-                             ("vertical", channels.vertical, "u_ver_n", "P_nz_m")):
+    for name, sys_, u, y in (("lateral", channels.lateral, "u_y_n", "P_ny_m"),
+                             ("vertical", channels.vertical, "u_z_n", "P_nz_m")):
         num, den = table2[name]
         poles = np.sort_complex(np.asarray(sys_.poles()))
         out[name] = {

@@ -36,9 +36,11 @@ from ..environment.bow_wave import line_source_velocity, source_velocity
 from .kernels import (
     BENDING_MOMENT,
     PS_DROGUE_CDA,
+    PS_G,
     PS_RHO,
     air_velocity,
     drag_rule,
+    exit_tension,
     segment_drag,
     JIT,
     OK,
@@ -472,17 +474,10 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
         tau2[k, 1] = 0.0
     chain_forward_dynamics(l, M, J, 0.0, n, a, b, cs, c2, F2, tau2, ws2[10], ws2[11], ws2[12], qdde, ws2[14])
     # exit tension at L'' = 0 and the effective mass the hose adds to the reel
-    T00 = 0.0
+    T00 = exit_tension(l, ps, e, F, ws[14], n)
     me = 0.0
     for i in range(3):
-        T00 += (ws[14][i] - F[0, i]) * e[0, i]
         me -= ws2[14][i] * e[0, i]
-    if ps[PS_BENDING] == BENDING_MOMENT and n > 1:
-        # the discrete bending energy (E I / lbar_0) gamma_0^2 / 2 depends on L through
-        # lbar_0 = (l_0 + l_1) / 2: its generalized force on L, -dU/dL, keeps the model conservative
-        lbar = 0.5 * (l[0] + l[1])
-        gamma = kink(e, 0)[4]
-        T00 += 0.25 * ps[PS_EI] * gamma * gamma / (lbar * lbar)
     slack = L - math.sqrt(r[n, 0] ** 2 + r[n, 1] ** 2 + r[n, 2] ** 2)
     law = ep[EP_LAW]
     rd = ep[EP_RD]
@@ -672,9 +667,12 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
 
 
 @njit(**JIT)
-def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue):
+def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
+                drogue_drag):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
-    (N, O_SIZE), tow-point force (N, 3) and the tension in the last link [N] (N,)."""
+    (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,) and the drogue's
+    drag (N, 3) [N]. The tow-point force includes the weight of the hose mass lumped at the exit
+    (half the exit link's with ``split`` lumping, as the fixed-length chain's)."""
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
     dM = np.empty(2)
@@ -688,6 +686,9 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
         # total force of the hose on the exit: F_0 + sum (F_k - M_k A_k)
         for j in range(3):
             tow[i, j] = ws[14][j] + Ldd * ws2[14][j]
+            drogue_drag[i, j] = ws[13][j]
+        if ep[EP_SPLIT] != 0.0:
+            tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
         # last link's tension: the drogue joint's load minus its inertia, along the link
         # (joint n's acceleration from the recursion: A_n = L'' e_0 + sum of link terms)
         e = ws[0]

@@ -17,6 +17,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ..jit import JIT, JIT_NO_ALLOC
+
 from .kernels import (
     NONFINITE,
     OK,
@@ -29,9 +31,8 @@ from .kernels import (
 )
 
 
-#: compilation options of the loop's functions that allocate nothing: without numba's runtime,
-#: i.e. without reference counting (see :data:`hosedrogue.model.kernels.JIT_NO_ALLOC`)
-LOOP_JIT = dict(cache=True, _nrt=False)
+#: compilation options of the loop's functions that allocate nothing (:mod:`hosedrogue.jit`)
+LOOP_JIT = JIT_NO_ALLOC
 
 
 class LoopArrays(NamedTuple):
@@ -311,12 +312,12 @@ def step_status(z, n, max_yaw):
     return OK
 
 
-@njit(cache=True)
+@njit(**JIT)
 def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-            act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
+            act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
     in ts, zs, us (the force applied at that state) and its derived outputs in joints (N, n+1, 3)
-    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] (as
+    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] and tension (N,) [N] (as
     :func:`~hosedrogue.model.kernels.outputs_series` gives them). Returns (status, saved count,
     stop time).
 
@@ -330,7 +331,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     u = np.empty(2)
     ws = make_workspace_jit(n)
     save_state(0, t0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow)
+               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
     saved = 1
     done = 0
     while done < nsteps:
@@ -348,14 +349,14 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
         done = last
         if done % save_every == 0:
             save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                       noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow)
+                       noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
             saved += 1
     return OK, saved, t0 + nsteps * h
 
 
-@njit(cache=True)
+@njit(**JIT)
 def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow):
+               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
     """Row i of the saved series: time, state, applied force, and the outputs of the evaluation
     of dz/dt at (t, z), which leaves k1 in ``work[0]`` for the step that starts there."""
     n = l.shape[0]
@@ -367,6 +368,7 @@ def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, n
     drogue_vel[i] = ws[5][n]
     drogue_drag[i] = ws[13]
     tow[i] = ws[14]
+    tension[i] = ws[17][0]
     # u is the force applied at (t, z): closed_loop_deriv measured the drogue and set it
     us[i, 0] = u[0]
     us[i, 1] = u[1]

@@ -38,19 +38,7 @@ from numba import njit
 from ..environment.turbulence import gust_at
 from ..environment.wake import wake_velocity
 
-#: Compilation options of every kernel. ``error_model="numpy"`` drops Python's zero-division
-#: checks from the inner loops; the fast-math flags allow fused multiply-adds but neither
-#: reassociation (vectorized reductions whose order depends on array alignment would make
-#: results differ in the last bits between processes) nor "no NaNs/infs" (divergence must
-#: still be detected).
-JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
-#: :data:`JIT` for the kernels of the time loop, which allocate nothing: compiled without numba's
-#: runtime (``_nrt=False``), so taking an array out of the workspace tuple or slicing the state
-#: costs no atomic reference-count update (those were ~1.5 us of a 3 us evaluation at 20
-#: links). Such a kernel cannot allocate: ``np.empty`` in one fails to compile. ``_nrt`` is an
-#: underscore option of numba's jit (numba 0.59-0.68 at least); without it the results are the
-#: same, only slower.
-JIT_NO_ALLOC = dict(JIT, _nrt=False)
+from ..jit import JIT, JIT_NO_ALLOC  # noqa: E402 - the one set of compilation options
 
 # ps layout
 (PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_JD, PS_DRAG_QUAD,
@@ -407,6 +395,7 @@ def make_workspace(n):
         np.empty(3),  # 14 tow force
         np.empty(2 * n),  # 15 qdd
         np.empty(ENV_SIZE),  # 16 this evaluation's copy of env (with the gust at its time)
+        np.empty(1),  # 17 exit tension [N] (exit_tension)
     )
 
 
@@ -551,11 +540,31 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
 
 @njit(**JIT_NO_ALLOC)
 def forward_dynamics_ws(l, M, J, ps, ws):
-    """qdd (ws[15]) and tow-point force (ws[14]) from the loads in the workspace."""
-    chain_forward_dynamics(l, M, J, ps[PS_JD], l.shape[0], ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
+    """qdd (ws[15]), tow-point force (ws[14]) and exit tension (ws[17]) from the loads in the workspace."""
+    n = l.shape[0]
+    chain_forward_dynamics(l, M, J, ps[PS_JD], n, ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
                            ws[10], ws[11], ws[12], ws[15], ws[14])
+    ws[17][0] = exit_tension(l, ps, ws[0], ws[7], ws[14], n)
     # the mass lumped at the (fixed) tow point adds only its weight to the tow-point force
     ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
+
+
+@njit(**JIT_NO_ALLOC)
+def exit_tension(l, ps, e, F, pull, n):
+    """The exit tension T_0 [N]: the hose's pull on the exit (the recursion's tow-point force
+    ``pull``, before the tow-point mass's weight) less the exit joint's own external load ``F[0]``,
+    along the exit link e_0 - the generalized force of the hose on its free length L, so the
+    force a hose drum holds. With the ``moment`` bending it includes the bending energy's
+    dependence on L through lbar_0 = (l_0 + l_1) / 2 (``-dU/dL``, which keeps the varying-length
+    model conservative); the one definition for the fixed-length and the engagement chains."""
+    T = 0.0
+    for i in range(3):
+        T += (pull[i] - F[0, i]) * e[0, i]
+    if ps[PS_BENDING] == BENDING_MOMENT and n > 1:
+        lbar = 0.5 * (l[0] + l[1])
+        gamma = kink(e, 0)[4]
+        T += 0.25 * ps[PS_EI] * gamma * gamma / (lbar * lbar)
+    return T
 
 
 @njit(**JIT_NO_ALLOC)
@@ -670,9 +679,9 @@ def mass_matrix_at(q, l, S, J, ps):
 
 
 @njit(**JIT)
-def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, drogue_drag, tow):
+def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, drogue_drag, tow, tension):
     """Derived outputs at every saved state: joints (N, n+1, 3), drogue velocity, drogue drag
-    and tow-point force (N, 3)."""
+    and tow-point force (N, 3), exit tension (N,)."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
     for i in range(ts.shape[0]):
@@ -681,3 +690,4 @@ def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, dr
         drogue_vel[i] = ws[5][n]
         drogue_drag[i] = ws[13]
         tow[i] = ws[14]
+        tension[i] = ws[17][0]

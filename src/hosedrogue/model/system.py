@@ -30,6 +30,7 @@ class StateOutputs:
     joint_velocities_m_s: np.ndarray  #: joint velocities (n+1, 3) [m/s]
     drogue_drag_n: np.ndarray  #: aerodynamic force on the drogue (3,) [N]
     tow_force_n: np.ndarray  #: force the hose exerts on the tow point (3,) [N]
+    exit_tension_n: float  #: exit tension T_0, the hose's pull along it at the exit [N]
 
 
 def lumped_masses(params: Params, lengths: np.ndarray) -> tuple[np.ndarray, float]:
@@ -95,9 +96,13 @@ class HoseModel:
         Validated parameters (default: the paper's case).
     gusts : GustRecord, optional
         Turbulence record; by default generated from ``params.turbulence`` (its window and seed).
+    duration_s : float, optional
+        Length of the run [s] the gust record must cover when the turbulence window has no end
+        (``turbulence.duration_s = inf``, the default); without it such a model has steady air
+        only (enough for balance positions and linearizations) and :meth:`gusts_cover` says so.
     """
 
-    def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None):
+    def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None, duration_s: float | None = None):
         self.params = params
         hose, drogue, flight = params.hose, params.drogue, params.flight
         n = hose.links
@@ -127,7 +132,12 @@ class HoseModel:
         ps[K.PS_M_TOW] = self.M_tow
         self.ps = ps
         if gusts is None:
-            gusts = generate_gusts(params.turbulence, flight.airspeed_m_s)
+            turb = params.turbulence
+            if turb.enabled and math.isinf(turb.duration_s) and duration_s is None:
+                # no run length: steady air only (the window is empty), see gusts_cover
+                gusts = generate_gusts(turb, flight.airspeed_m_s, duration_s=0.0)
+            else:
+                gusts = generate_gusts(turb, flight.airspeed_m_s, run_duration_s=duration_s)
         self.gusts = gusts
         self.env = self._environment(gusts)
         self.steady_env = self._environment(None)
@@ -151,6 +161,25 @@ class HoseModel:
             env[K.ENV_G_DT] = gusts.dt_s
             env[K.ENV_G_CUBIC] = 1.0 if gusts.interpolation == "cubic" else 0.0
         return env
+
+    def gusts_cover(self, duration_s: float) -> bool:
+        """Whether the gust record covers a run of ``duration_s`` [s]: turbulence off, or its
+        window ends before the run does, or the record reaches the run's end.
+
+        Parameters
+        ----------
+        duration_s : float
+            Length of the run [s].
+
+        Returns
+        -------
+        bool
+        """
+        turb = self.params.turbulence
+        if not turb.enabled:
+            return True
+        needed = min(turb.start_s + turb.duration_s, duration_s)
+        return needed <= turb.start_s or self.gusts.t_off_s >= needed
 
     @property
     def gust_values(self) -> np.ndarray:
@@ -189,7 +218,7 @@ class HoseModel:
         K.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
                       self.ps, env, self.gust_values, ws)
         qdd, r, v, dd, tf = ws[15], ws[4], ws[5], ws[13], ws[14]
-        return StateOutputs(qdd, r, v, dd, tf)
+        return StateOutputs(qdd, r, v, dd, tf, float(ws[17][0]))
 
     def accelerations(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
         """Generalized accelerations [rad/s^2] (2n,)."""

@@ -13,11 +13,11 @@ each controller and the no-controller rate of each level are the main grid's
 change the scenario's duration or turbulence window, so run ``i`` sees the same gust record in
 every cell of a level (common random numbers).
 
-Saturation is read from ``runs.csv``: ``peak_u_hor_n`` and ``peak_u_ver_n`` are ``max |u_y|`` and
+Saturation is read from ``runs.csv``: ``peak_u_y_n`` and ``peak_u_z_n`` are ``max |u_y|`` and
 ``max |u_z|`` of the applied (clipped) force over the turbulence window, which here is the whole
 run, and ``peak_u_n`` is ``max hypot(u_y, u_z)``, the magnitude. A per-axis limit is reached by a
 per-axis peak, not by the magnitude (a magnitude above the limit can have neither axis clipped), so
-a run counts as saturated when ``max(peak_u_hor_n, peak_u_ver_n) >= (1 - SATURATION_TOLERANCE)``
+a run counts as saturated when ``max(peak_u_y_n, peak_u_z_n) >= (1 - SATURATION_TOLERANCE)``
 times the limit.
 """
 
@@ -90,7 +90,7 @@ def force_specs(limits=FORCE_LIMITS_N, levels=FORCE_LEVELS, controllers=FORCE_CO
 
 def _saturated(runs, limit: float) -> np.ndarray:
     """Which runs' per-axis peak force reached ``limit`` [N] within :data:`SATURATION_TOLERANCE`."""
-    axis = np.maximum(runs["peak_u_hor_n"].to_numpy(dtype=float), runs["peak_u_ver_n"].to_numpy(dtype=float))
+    axis = np.maximum(runs["peak_u_y_n"].to_numpy(dtype=float), runs["peak_u_z_n"].to_numpy(dtype=float))
     return axis >= (1.0 - SATURATION_TOLERANCE) * limit
 
 
@@ -119,7 +119,7 @@ def force_frame(specs, cells):
     for spec, c in zip(specs, cells):
         cap, runs = c.capture, c.runs
         limit = math.inf if spec.max_force_n is None else float(spec.max_force_n)
-        axis = np.maximum(runs["peak_u_hor_n"].to_numpy(dtype=float), runs["peak_u_ver_n"].to_numpy(dtype=float))
+        axis = np.maximum(runs["peak_u_y_n"].to_numpy(dtype=float), runs["peak_u_z_n"].to_numpy(dtype=float))
         rows.append(dict(level=spec.level, controller=spec.controller, max_force_n=limit, campaign=c.name,
                          runs=cap["runs"], rate=cap["rate"], ci95_low=cap["ci95"][0], ci95_high=cap["ci95"][1],
                          **{f"n_{k.replace(' ', '_')}": v for k, v in cap["by_result"].items()},
@@ -214,7 +214,7 @@ def _prose(df, findings: dict) -> str:
         "vertical command are each clipped, so the force's magnitude can reach √2 times the limit), "
         f"{runs} runs per cell on the grid's seeds (the same gust records at every limit). The unlimited point and "
         "the no-controller rate are the main grid's campaigns, not new ones. A run counts as saturated when its "
-        "larger per-axis peak force (<code>peak_u_hor_n</code>, <code>peak_u_ver_n</code> of runs.csv: max |u| of "
+        "larger per-axis peak force (<code>peak_u_y_n</code>, <code>peak_u_z_n</code> of runs.csv: max |u| of "
         "the applied force over the run; <code>peak_u_n</code> is the magnitude, which a per-axis limit does not "
         f"bound) is within {100 * SATURATION_TOLERANCE:g} % of the limit. "
         + " ".join(_finding_text(f) for f in findings.values())
@@ -310,7 +310,7 @@ def write_force_outputs(out, df, specs, cells) -> None:
     out.csv(df, TABLE_CSV)
     frames = []
     for spec, c in zip(specs, cells):
-        f = c.runs[["run", "seed", "result", "miss_distance_m", "peak_u_hor_n", "peak_u_ver_n", "peak_u_n"]].copy()
+        f = c.runs[["run", "seed", "result", "miss_distance_m", "peak_u_y_n", "peak_u_z_n", "peak_u_n"]].copy()
         limit = math.inf if spec.max_force_n is None else float(spec.max_force_n)
         f["saturated"] = _saturated(c.runs, limit)
         f.insert(0, "campaign", c.name)

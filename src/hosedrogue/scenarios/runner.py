@@ -134,7 +134,7 @@ def run(scenario: Scenario) -> RunResult:
 
 def _run_fixed_length(scenario: Scenario) -> RunResult:
     params = scenario.params
-    model = HoseModel(params)
+    model = HoseModel(params, duration_s=scenario.duration_s)
     eq = solve_equilibrium(params, model=model)
     return simulate(params, scenario.duration_s, x0=initial_state(scenario, eq),
                     control=drogue_controller(scenario, model, eq), equilibrium=eq,

@@ -15,6 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ..jit import JIT
+
 from .. import metrics
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
@@ -29,7 +31,7 @@ from .simulate import closed_loop_state, fixed_steps
 _NFIXED = len(SUMMARY_COLUMNS)
 
 
-@njit(cache=True)
+@njit(**JIT)
 def _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, Ac, Bc, Cc, Dc, y_ref, act, noise,
                    noise_dt, max_yaw, t_w0, t_w1, radii, out):
     n = l.shape[0]
@@ -99,10 +101,11 @@ def simulate_batch(params: Params, seeds, duration_s: float, controller: LinearC
     radii = np.asarray(capture_radii_m, dtype=np.float64)
     if radii.ndim != 1 or radii.size == 0 or not np.all(np.isfinite(radii) & (radii > 0)):
         raise ParameterError(f"capture_radii_m = {list(capture_radii_m)!r}: must be numbers > 0 m")
-    model = HoseModel(params)
+    model = HoseModel(params, duration_s=duration_s)
     eq = equilibrium if equilibrium is not None else solve_equilibrium(params, model=model)
     V = params.flight.airspeed_m_s
-    gusts = np.stack([generate_gusts(params.turbulence, V, seed=s).values for s in seeds])
+    gusts = np.stack([generate_gusts(params.turbulence, V, seed=s, run_duration_s=duration_s).values
+                      for s in seeds])
     ctrl = controller if controller is not None else LinearController.static_zero()
     z0 = closed_loop_state(eq.state, ctrl, actuator)
     h, nsteps = fixed_steps(params, duration_s)

@@ -22,6 +22,7 @@ from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loo
                                sensor_noise)
 from ..model.system import HoseModel
 from ..params import PAPER, Actuator, ParameterError, Params, Sensor
+from ..metrics import turbulence_window
 from ..results import SimulationResult
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
@@ -79,7 +80,10 @@ def simulate(
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
     if model is None:
-        model = HoseModel(params)
+        model = HoseModel(params, duration_s=duration_s)
+    elif not model.gusts_cover(duration_s):
+        raise ParameterError(f"model: its gust record ends at {model.gusts.t_off_s:g} s, before the run's "
+                             f"{duration_s:g} s; build it with HoseModel(params, duration_s={duration_s:g})")
     if equilibrium is None:
         equilibrium = solve_equilibrium(params, model=model)
     n = model.n
@@ -114,11 +118,13 @@ def simulate(
         drogue_velocity_m_s=outs[1],
         drogue_drag_n=outs[2],
         tow_force_n=outs[3],
+        exit_tension_n=outs[4],
         control_force_n=us,
         completed=completed,
         message=message,
         equilibrium_m=equilibrium.drogue_position_m.copy(),
         meta={"seed": params.turbulence.seed, "params": params.to_dict()},
+        statistics_window_s=turbulence_window(params.turbulence),
     )
 
 
@@ -191,9 +197,10 @@ def output_arrays(count: int, n: int) -> tuple[np.ndarray, ...]:
     -------
     tuple of numpy.ndarray
         Joint positions (count, n+1, 3) [m], drogue velocity [m/s], drogue drag [N] and
-        tow-point force [N] (count, 3 each).
+        tow-point force [N] (count, 3 each), exit tension [N] (count,).
     """
-    return np.empty((count, n + 1, 3)), np.empty((count, 3)), np.empty((count, 3)), np.empty((count, 3))
+    return (np.empty((count, n + 1, 3)), np.empty((count, 3)), np.empty((count, 3)), np.empty((count, 3)),
+            np.empty(count))
 
 
 def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
@@ -294,7 +301,7 @@ def _run_python_control(model, params, x0, duration_s, control):
 
 
 def _derived_outputs(model: HoseModel, ts, xs, us):
-    joints, vel, drag, tow = output_arrays(ts.size, model.n)
+    outs = output_arrays(ts.size, model.n)
     K.outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
-                     *model.kernel_args(), joints, vel, drag, tow)
-    return joints, vel, drag, tow
+                     *model.kernel_args(), *outs)
+    return outs

@@ -233,9 +233,10 @@ def capture_category(outcome: dict, completed: bool) -> str:
 
 
 def outcome_columns(result) -> dict:
-    """An engagement run's capture columns (nothing for the fixed-length hose): the capture
-    test's ``result`` (:func:`capture_category`), the radial miss [m] and the closure speed [m/s]
-    at the coupler plane (NaN without contact).
+    """An engagement run's columns (nothing for the fixed-length hose): the capture test's
+    ``result`` (:func:`capture_category`), the radial miss [m] and the closure speed [m/s] at the
+    coupler plane (NaN without contact), and the run's peak probe load [N], peak exit tension [N]
+    and peak slack [m] (:data:`hosedrogue.studies.store.ENGAGEMENT_COLUMNS`).
 
     Parameters
     ----------
@@ -253,6 +254,7 @@ def outcome_columns(result) -> dict:
         "result": capture_category(out, result.completed),
         "miss_distance_m": math.nan if out.get("miss_distance_m") is None else float(out["miss_distance_m"]),
         "closure_speed_m_s": math.nan if out.get("closure_speed_m_s") is None else float(out["closure_speed_m_s"]),
+        **{key: float(out[key]) for key in ("peak_probe_load_n", "peak_exit_tension_n", "peak_slack_m")},
     }
 
 

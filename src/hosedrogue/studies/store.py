@@ -32,8 +32,10 @@ COMPARED_SETTINGS = ("format", "scenario", "runs", "seed", "capture_radii_m", "c
 
 _KEY_COLUMNS = ("run", "controller", "seed", "completed", "t_end_s")
 #: Columns of an engagement campaign's runs.csv: the capture test's result ("captured", "miss",
-#: "failed latch", "no contact", "stopped"), radial miss [m] and closure speed [m/s] at the coupler plane
-ENGAGEMENT_COLUMNS = ("result", "miss_distance_m", "closure_speed_m_s")
+#: "failed latch", "no contact", "stopped"), radial miss [m] and closure speed [m/s] at the coupler
+#: plane, and the run's peak probe load [N], peak exit tension [N] and peak slack [m]
+ENGAGEMENT_COLUMNS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",
+                      "peak_slack_m")
 def is_engagement(settings: dict) -> bool:
     """Whether campaign settings (:func:`make_settings`) are those of an engagement scenario.
 
