@@ -12,8 +12,9 @@ files the examples write stay out of the source tree. Pages with examples are re
 build (``executed_pages`` in conf.py): their output comes from the package, which Sphinx does
 not track.
 
-The README's examples are checked the same way when the build starts (:func:`check_readme`):
-they are not shown on a page of their own (the getting-started page and the tutorial show the
+The README's examples are checked the same way when the build starts (:func:`check_readme`),
+and the output the README shows under a command must be what it prints now; they are not shown
+on a page of their own (the getting-started page and the tutorial show the
 same commands and calls, run).
 """
 
@@ -164,9 +165,24 @@ def _always_read(app, env, added, changed, removed):
     return [page for page in app.config.executed_pages if page in env.found_docs]
 
 
+def shown_outputs(text: str) -> dict[str, list[str]]:
+    """``{command: the lines shown under it}`` of a shell block (commands shown without output
+    map to an empty list)."""
+    shown: dict[str, list[str]] = {}
+    current = None
+    for line in text.splitlines():
+        if line.startswith("$ "):
+            current = line[2:]
+            shown[current] = []
+        elif current is not None:
+            shown[current].append(line.rstrip())
+    return shown
+
+
 def check_readme(app) -> None:
     """Run the README's Python blocks and ``$ hosedrogue`` lines (``hd_readme``) in
-    ``<hd_run_dir>/readme``; a failure stops the build."""
+    ``<hd_run_dir>/readme``; a failure, or a command that no longer prints the output the README
+    shows under it, stops the build."""
     readme = Path(app.config.hd_readme)
     if not readme.is_file():
         return
@@ -178,8 +194,14 @@ def check_readme(app) -> None:
             for language, code in FENCE.findall(readme.read_text(encoding="utf-8")):
                 if language == "python":
                     run_python(code, namespace, f"{readme.name} (python example)")
-                else:
-                    run_commands(code, readme.name)
+                    continue
+                expected = shown_outputs(code)
+                for command, printed in run_commands(code, readme.name):
+                    want = expected.get(command)
+                    got = [line.rstrip() for line in printed.rstrip("\n").splitlines()]
+                    if want and want != got:
+                        raise RuntimeError(f"{readme.name}: '{command}' now prints\n" + "\n".join(got)
+                                           + "\nbut the README shows\n" + "\n".join(want))
         except RuntimeError as exc:
             raise ExtensionError(f"README example failed: {exc}") from None
 
