@@ -1,0 +1,297 @@
+"""The scenario reference: every table and key a scenario file may hold, with its unit, default,
+allowed range and meaning, generated from the sections' field metadata so that it cannot drift
+from the code (the documentation's "Scenario reference" page is this module's output).
+
+* :func:`reference_tables` - the tables in the order of the page, each with its rows;
+* :func:`problems` - what the metadata lacks (a field without a unit, a range or a ``#:`` comment);
+* :func:`scenario_reference_markdown` - the page's body (Markdown).
+
+The rows of the model's sections (:data:`hosedrogue.params.SECTIONS`) and the run's sections
+(:data:`hosedrogue.sections.LOOP_SECTIONS`, :data:`hosedrogue.sections.ENGAGEMENT_SECTIONS`)
+come from :func:`hosedrogue.fields.field_table`; ``[scenario]``, ``[model]``, ``[controller]``
+and the pseudo-key ``turbulence.intensity`` are not sections of fields, so their rows are built
+here from the constants that validate them.
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import inspect
+import math
+import re
+import textwrap
+from typing import Any
+
+from .config import preset_names
+from .constants import FT_TO_M
+from .fields import field_table
+from .params import SECTIONS, TURBULENCE_PRESET_KEY
+from .scenarios import MAX_DURATION_S, MAX_OFFSET_DEG, SCENARIO_KEYS, Scenario
+from .sections import (CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, LQR_DESIGNS,
+                       Controller)
+from .standards import INTENSITY_ALTITUDE_FT, INTENSITY_FT_S, PROBABILITY_OF_EXCEEDANCE
+
+#: The unit shown for a dimensionless number (its ``#:`` comment says ``[-]``) or a non-numeric key.
+NO_UNIT = "-"
+
+#: What each ``[controller]`` option is: (type, option) -> (unit, meaning). A new option in
+#: :data:`hosedrogue.sections.CONTROLLER_OPTIONS` needs a line here (:func:`problems` says so).
+CONTROLLER_OPTION_DOCS = {
+    ("pid", "lateral"): ("N/m, N/(m s), N s/m, rad/s",
+                         "[K_P, K_I, K_D, N] of the lateral channel (force u_y on the drogue's lateral offset), "
+                         "K_P + K_I/s + K_D N s/(s + N) (paper Eq. 33)"),
+    ("pid", "vertical"): ("N/m, N/(m s), N s/m, rad/s",
+                          "[K_P, K_I, K_D, N] of the vertical channel (force u_z on the drogue's vertical offset)"),
+    ("lqr", "design"): (NO_UNIT,
+                        "\"balanced\": the paper's Q on the balanced states of each 2nd-order channel, with Kalman "
+                        "observers (reproduces Table 3's lateral LQR row); \"integral\": Eq. 34 read as integral "
+                        "action on the offsets (docs: Where this project and the paper differ)"),
+    ("lqr", "q_diag"): ("1/(m N) (balanced); 1/m^2, 1/(m s)^2 (integral)",
+                        "diagonal of Q: the 4 balanced states, lateral then vertical (balanced); the weights on "
+                        "[P_ny, P_nz, z_ny, z_nz] (integral)"),
+    ("lqr", "r_diag"): ("1/N^2", "diagonal of R: the weights on [u_y, u_z]"),
+}
+
+#: Defaults of the ``[controller]`` options (missing entries take the paper's values).
+CONTROLLER_OPTION_DEFAULTS = {("lqr", "design"): "balanced"}
+
+#: Meanings of the ``[scenario]`` keys that are not fields of :class:`~hosedrogue.scenarios.Scenario`.
+SCENARIO_EXTRA_DOCS = {
+    "extends": "a shipped scenario name, or a TOML path relative to this file, to start from: this file's "
+               "tables override it key by key (a [controller] of another type replaces the parent's table); "
+               "the name is this file's own",
+}
+
+#: Introductions of the tables, in the order of the page: table -> one paragraph.
+TABLE_DOCS = {
+    "scenario": "The run: its name, length and initial state. `duration_s` is the one required key.",
+    "model": "A shipped model preset to start from; the file's parameter sections then override it.",
+    "tanker": "The tanker aircraft (paper Table 1).",
+    "hose": "The hose, modelled as `links` rigid links of equal length (paper Table 1).",
+    "drogue": "The drogue (paper Table 1).",
+    "flight": "The straight and level flight condition (paper Sec. 2.3.3: 150 m/s at 8000 m).",
+    "wake": "The tanker's Hallock-Burnham wake vortices. `wake = false` at the top level is short for "
+            "`[wake] enabled = false`.",
+    "turbulence": "Dryden turbulence and its time window. `turbulence = true` at the top level is short for "
+                  "`[turbulence] enabled = true`; `intensity` names a standard intensity instead of `sigma_m_s`.",
+    "numerics": "Time integration.",
+    "controller": "The drogue controller: its `type`, then the options of that type. Options not given take "
+                  "the paper's values.",
+    "actuator": "Limits on the control force applied to the drogue.",
+    "sensor": "Noise on the measured drogue offset the controller reads.",
+    "reel": "The hose drum unit. With `[reel]` or `[probe]` the scenario runs the hose of varying length "
+            "(the engagement).",
+    "probe": "The receiver's probe: its prescribed path, the capture test and the coupling once captured.",
+    "bow_wave": "The receiver's forebody flow, moving with the probe tip (needs an enabled `[probe]`).",
+    "pilot": "A pilot model flying the probe's lateral and vertical position toward the drogue (needs an "
+             "enabled `[probe]`).",
+}
+
+
+def _dataclass_comments(cls: type) -> dict[str, str]:
+    """The ``#:`` comment of each field of a dataclass, above the field or at the end of its line."""
+    source = textwrap.dedent(inspect.getsource(cls))
+    lines = source.splitlines()
+    out = {}
+    for node in ast.parse(source).body[0].body:
+        if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+            above, i = [], node.lineno - 2
+            while i >= 0 and lines[i].strip().startswith("#:"):
+                above.insert(0, lines[i].strip()[2:].strip())
+                i -= 1
+            line = lines[node.end_lineno - 1]
+            trailing = line.split("#:", 1)[1].strip() if "#:" in line else ""
+            out[node.target.id] = " ".join(above + ([trailing] if trailing else []))
+    return out
+
+
+def toml_value(value: Any) -> str:
+    """A default as a scenario file writes it (``true``, ``"paper"``, ``[1.5, 1.5, 1.5]``, ``inf``).
+
+    Parameters
+    ----------
+    value : Any
+        A field's default (bool, number, string, list or tuple, or None).
+
+    Returns
+    -------
+    str
+        TOML text; ``"(none)"`` for None.
+    """
+    if value is None:
+        return "(none)"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, float):
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return f"{value:.12g}" if value != int(value) or abs(value) >= 1e16 else f"{value:.1f}"
+    return str(value)
+
+
+def _unit(row: dict) -> str:
+    if row["unit"]:
+        return row["unit"]
+    numeric = row["allowed"].startswith(("a finite number", "a number", "an integer", "one number"))
+    if not numeric or "[-]" in row["meaning"]:
+        return NO_UNIT
+    return ""  # a number with no unit and not marked dimensionless: problems() reports it
+
+
+def section_rows(cls: type) -> list[dict]:
+    """The reference rows of a section class.
+
+    Parameters
+    ----------
+    cls : type
+        A :class:`hosedrogue.fields.Section` dataclass.
+
+    Returns
+    -------
+    list of dict
+        Per field: ``key``, ``unit`` (:data:`NO_UNIT` for a dimensionless or non-numeric key;
+        "" when a number has no unit and its comment does not mark it ``[-]``), ``default``
+        (TOML text), ``allowed`` and ``meaning`` (its ``#:`` comment).
+    """
+    return [{"key": r["name"], "unit": _unit(r), "default": toml_value(r["default"]), "allowed": r["allowed"],
+             "meaning": r["meaning"]} for r in field_table(cls)]
+
+
+def _scenario_rows() -> list[dict]:
+    docs = _dataclass_comments(Scenario)
+    fields = {f.name: f for f in dataclasses.fields(Scenario)}
+    allowed = {
+        "name": ("a string", NO_UNIT, "the file's stem"),
+        "description": ("a string", NO_UNIT, '""'),
+        "duration_s": (f"a finite number in (0, {MAX_DURATION_S:g}] s", "s", "(required)"),
+        "extends": ("a shipped scenario name or a TOML path", NO_UNIT, "(none)"),
+        "initial": ("one of 'equilibrium', 'displaced'", NO_UNIT, None),
+        "initial_pitch_offset_deg": (f"a finite number in [-{MAX_OFFSET_DEG:g}, {MAX_OFFSET_DEG:g}] deg", "deg", None),
+        "initial_yaw_offset_deg": (f"a finite number in [-{MAX_OFFSET_DEG:g}, {MAX_OFFSET_DEG:g}] deg", "deg", None),
+    }
+    rows = []
+    for key in SCENARIO_KEYS:
+        text, unit, default = allowed.get(key, ("", "", None))
+        if default is None and key in fields:
+            default = toml_value(fields[key].default)
+        rows.append({"key": key, "unit": unit, "default": default or "", "allowed": text,
+                     "meaning": SCENARIO_EXTRA_DOCS.get(key, docs.get(key, ""))})
+    return rows
+
+
+def _model_rows() -> list[dict]:
+    return [{"key": "preset", "unit": NO_UNIT, "default": "(none: the paper's model)",
+             "allowed": "one of " + ", ".join(repr(n) for n in preset_names()),
+             "meaning": "a shipped model preset (its [hose], ... tables) applied before this file's parameter "
+                        "sections; 'converged' is the stable model for runs beyond the paper's window"}]
+
+
+def _controller_rows() -> list[dict]:
+    type_doc = _dataclass_comments(Controller)["type"]
+    rows = [{"key": "type", "unit": NO_UNIT, "default": toml_value(Controller().type),
+             "allowed": "one of " + ", ".join(repr(t) for t in CONTROLLER_TYPES),
+             "meaning": f"the controller: {type_doc} (paper Eqs. 33-37)"}]
+    for ctype, options in CONTROLLER_OPTIONS.items():
+        for key, spec in options.items():
+            unit, meaning = CONTROLLER_OPTION_DOCS.get((ctype, key), ("", ""))
+            if spec is None:
+                allowed = "one of " + ", ".join(repr(d) for d in LQR_DESIGNS)
+            else:
+                size, lo, strict = spec
+                allowed = f"a list of {size} finite numbers {'>' if strict else '>='} {lo:g}"
+            default = CONTROLLER_OPTION_DEFAULTS.get((ctype, key))
+            rows.append({"key": key, "unit": unit, "type": ctype,
+                         "default": toml_value(default) if default else "the paper's",
+                         "allowed": f"type {ctype!r}: {allowed}", "meaning": meaning})
+    return rows
+
+
+def _intensity_row() -> dict:
+    lo, hi = INTENSITY_ALTITUDE_FT[0] * FT_TO_M, INTENSITY_ALTITUDE_FT[-1] * FT_TO_M
+    levels = ", ".join(f"{k} {v:g}" for k, v in PROBABILITY_OF_EXCEEDANCE.items())
+    return {"key": TURBULENCE_PRESET_KEY, "unit": NO_UNIT, "default": "(none)",
+            "allowed": "one of " + ", ".join(repr(k) for k in INTENSITY_FT_S),
+            "meaning": f"not a field: sets sigma_m_s to the MIL-F-8785C high-altitude intensity of that level "
+                       f"(probability of exceedance {levels}) at flight.altitude_m, tabulated for "
+                       f"[{lo:g}, {hi:g}] m; give either intensity or sigma_m_s"}
+
+
+def reference_tables() -> dict[str, list[dict]]:
+    """Every table of a scenario file with its rows, in the order of the reference page.
+
+    Returns
+    -------
+    dict
+        Table name (``"scenario"``, ``"model"``, ``"tanker"``, ..., ``"pilot"``) -> rows as in
+        :func:`section_rows` (the ``[controller]`` rows also carry the option's ``type``).
+    """
+    tables: dict[str, list[dict]] = {"scenario": _scenario_rows(), "model": _model_rows()}
+    for name, cls in SECTIONS.items():
+        tables[name] = section_rows(cls)
+    tables["turbulence"].append(_intensity_row())
+    tables["controller"] = _controller_rows()
+    for name, cls in {**LOOP_SECTIONS, **ENGAGEMENT_SECTIONS}.items():
+        tables[name] = section_rows(cls)
+    return tables
+
+
+def problems(tables: dict[str, list[dict]] | None = None) -> list[str]:
+    """What the reference cannot say: ``table.key: no unit`` (a number neither given a unit nor
+    marked ``[-]``), ``no range`` or ``no meaning`` (no ``#:`` comment).
+
+    Parameters
+    ----------
+    tables : dict, optional
+        :func:`reference_tables` (computed if missing).
+
+    Returns
+    -------
+    list of str
+        Empty when every key is documented.
+    """
+    tables = reference_tables() if tables is None else tables
+    found = []
+    for table, rows in tables.items():
+        for row in rows:
+            for what in ("unit", "allowed", "meaning"):
+                if not str(row[what]).strip():
+                    label = {"allowed": "range"}.get(what, what)
+                    found.append(f"{table}.{row['key']}: no {label}")
+    return found
+
+
+_ROLE = re.compile(r":[a-z]+:`~?([^`]+)`")
+
+
+def _cell(text: str) -> str:
+    """Table-cell Markdown: Sphinx roles as code, ``|`` escaped, one line."""
+    text = _ROLE.sub(r"`\1`", str(text)).replace("``", "`")
+    parts = re.split(r"(`[^`]*`)", text)
+    return " ".join("".join(p if k % 2 else p.replace("|", "\\|") for k, p in enumerate(parts)).split())
+
+
+def scenario_reference_markdown() -> str:
+    """The scenario reference page's body: one heading and table per scenario-file table.
+
+    Returns
+    -------
+    str
+        Markdown (MyST): per table a ``## [name]`` heading, its introduction and a table of
+        key, unit, default, allowed values and meaning.
+    """
+    out = []
+    for table, rows in reference_tables().items():
+        out += [f"## `[{table}]`", "", TABLE_DOCS.get(table, ""), ""]
+        out += ["| key | unit | default | allowed | meaning |", "|---|---|---|---|---|"]
+        for r in rows:
+            default = r["default"]
+            default = _cell(default) if default.startswith(("(", "the ")) else f"`{default}`"
+            out.append(f"| `{r['key']}` | {_cell(r['unit'])} | {default} | {_cell(r['allowed'])} | "
+                       f"{_cell(r['meaning'])} |")
+        out.append("")
+    return "\n".join(out)
