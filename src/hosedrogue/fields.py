@@ -89,7 +89,8 @@ def flag() -> dict:
     return {"kind": "bool"}
 
 
-def vec3(lo: float, hi: float = INF, *, lo_open: bool = False, unit: str = "") -> dict:
+def vec3(lo: float, hi: float = INF, *, lo_open: bool = False, unit: str = "",
+         labels: tuple = ("u", "v", "w")) -> dict:
     """Metadata of a field of three reals (one number means the same three), each in [lo, hi].
 
     Parameters
@@ -100,12 +101,16 @@ def vec3(lo: float, hi: float = INF, *, lo_open: bool = False, unit: str = "") -
         Whether ``lo`` itself is excluded.
     unit : str
         The components' unit.
+    labels : tuple of str
+        What the three components are, for the messages and the reference (default the gust
+        axes u, v, w).
 
     Returns
     -------
     dict
     """
-    return {"kind": "vec3", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": False, "unit": unit}
+    return {"kind": "vec3", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": False, "unit": unit,
+            "labels": tuple(labels)}
 
 
 def text() -> dict:
@@ -151,7 +156,7 @@ def describe(meta: Mapping[str, Any]) -> str:
     if closed_inf:
         range_text += " (inf: no limit)"
     if kind == "vec3":
-        return f"one number or a list of 3 numbers [u, v, w], each {range_text}"
+        return f"one number or a list of 3 numbers [{', '.join(meta.get('labels', ('u', 'v', 'w')))}], each {range_text}"
     return range_text
 
 

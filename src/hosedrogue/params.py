@@ -201,9 +201,9 @@ class Numerics(Section):
     output_every: int = field(default=2, metadata=integer(1, 10**6))
     #: Relative tolerance of the adaptive integrator [-].
     rtol: float = field(default=1e-9, metadata=real(0.0, 1.0))
-    #: Absolute tolerance of the adaptive integrator, alike on every state component (link angles
-    #: [rad], their rates [rad/s], controller and actuator states).
-    atol: float = field(default=1e-11, metadata=real(0.0, 1.0))
+    #: Absolute tolerance of the adaptive integrator, alike on every state component, in that
+    #: component's own unit (link angles rad, their rates rad/s, controller and actuator states).
+    atol: float = field(default=1e-11, metadata=real(0.0, 1.0, unit="state units"))
     #: A link yaw beyond this [deg] stops the run: the angle coordinates are singular at 90 deg.
     max_yaw_deg: float = field(default=85.0, metadata=real(0.0, 89.9, unit="deg"))
 

@@ -173,7 +173,7 @@ class Reel(Section):
     #: c_r [N m s]: viscous friction torque per drum speed
     friction_n_m_s: float = field(default=1.0, metadata=real(0.0, 1e5, lo_open=False, unit="N m s"))
     #: T_set [N]; < 0 means "the steady trail tension at the balance position" (the default)
-    tension_set_n: float = field(default=-1.0, metadata=real(-1.0, 1e6, lo_open=False, unit="N (-1: steady trail tension)"))
+    tension_set_n: float = field(default=-1.0, metadata=real(-1.0, 1e6, lo_open=False, unit="N"))
     #: motor torque limit |tau_m| [N m]
     max_torque_n_m: float = field(default=2000.0, metadata=real(0.0, 1e6, unit="N m"))
     #: take-up (reel-in) and payout speed limits [m/s], held by the governor
@@ -266,7 +266,8 @@ class BowWave(Section):
     #: fuselage radius R far aft of the nose [m]; source flux pi R^2 V
     forebody_radius_m: float = field(default=0.75, metadata=real(0.0, 5.0, unit="m"))
     #: probe tip relative to the nose (forward, right, down) [m]
-    probe_offset_m: tuple = field(default=(2.5, 0.0, 0.0), metadata=vec3(-20.0, 20.0, unit="m"))
+    probe_offset_m: tuple = field(default=(2.5, 0.0, 0.0),
+                                  metadata=vec3(-20.0, 20.0, unit="m", labels=("forward", "right", "down")))
     #: "rankine": point source (Rankine half-body); "source-line": uniform line source of nose_length_m
     shape: str = field(default="rankine", metadata=choice(*BOW_WAVE_SHAPES))
     #: length of the source line [m] (shape "source-line")

@@ -248,7 +248,10 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
 
 def _miss_figure(table, settings: dict, capture: dict):
     """The miss-distance CDF of an engagement campaign, its capture radius from the scenario."""
-    radius = ((settings["scenario"].get("extra") or {}).get("probe") or {}).get("capture_radius_m", 0.305)
+    from ..sections import Probe
+
+    probe = settings["scenario"].get("probe") or {}
+    radius = probe.get("capture_radius_m", Probe().capture_radius_m)
     lo, hi = capture["ci95"]
     title = (f"capture rate {capture['rate']:.3f} (Wilson 95 %: {lo:.3f}-{hi:.3f}) over {capture['runs']} runs"
              if capture["runs"] else "")
