@@ -82,7 +82,8 @@ def test_locked_reel_keeps_its_length(shipped):
 
 def test_responsive_reel_takes_up_and_cuts_slack(shipped):
     """The brief: the responsive reel takes up at least 1 m and cuts the peak slack at least
-    fivefold against the locked reel (measured at 160 links: 1.90 m; 1.71 m vs 0.32 m of slack, x5.4)."""
+    fivefold against the locked reel (measured at 160 elastic links: 1.90 m; 1.71 m vs 0.32 m of
+    slack, x5.3)."""
     resp, locked = shipped["response"].outcome, shipped["locked"].outcome
     assert resp["length_taken_up_m"] >= 1.0
     assert locked["peak_slack_m"] >= 5 * resp["peak_slack_m"]
@@ -99,8 +100,9 @@ def test_hose_mass_in_air_during_engagement(shipped):
 
 # --- link-count convergence ----------------------------------------------------------------------
 def _doubled_links(law):
-    """The shipped scenario on twice its links, the RK4 step halved with the link length, output
-    at the same 10 ms (the report's doubling rule, hosedrogue.studies.convergence.with_links)."""
+    """The shipped scenario on twice its links, the step scaled as the scheme needs (the stiff
+    SDIRK's with the square of the link length: 1 ms -> 0.25 ms), output at the same 10 ms (the
+    report's doubling rule, hosedrogue.studies.convergence.with_links)."""
     from hosedrogue.studies.convergence import with_links
 
     sc = load_scenario(f"engage-{law}")
@@ -114,31 +116,60 @@ def doubled():
     return {law: _doubled_links(law) for law in LAWS}
 
 
+#: The brief's bound on the change of a converged peak when the links are doubled.
+DOUBLING_BOUND = 0.03
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("law", LAWS)
-def test_doubling_links_changes_peaks_less_than_5_percent(shipped, doubled, law):
-    """The brief's bound, at the shipped 160 links: 160 -> 320 links (step halved with the link
-    length, 15 s) moves the peak probe load and the peak slack by less than 5 %. Measured: locked
-    0.4 % / 0.4 %, constant tension 0.03 % / 1.7 %, response 2.4 % / 0.9 %. (At 80 links the
-    responsive reel's probe load moved by 5.7 % from 80 to 160, hence 160 links; docs/engagement.md
-    has 40 to 320 links.)"""
-    a, b = shipped[law].outcome, doubled[law].outcome
+def test_doubling_links_changes_converged_peaks_less_than_3_percent(shipped, doubled, law):
+    """The brief's bound at the shipped 160 elastic links: 160 -> 320 links (the step from 1 ms to
+    0.25 ms, 15 s) moves every peak that run.json calls converged by less than 3 %, and the
+    constant-tension and the responsive reel call their peak exit tension, probe load and slack
+    converged. Measured changes of the exit tension / its rise / the drogue-end tension / the probe
+    load / the slack: constant tension +0.39 / +1.1 / +1.0 / 0.00 / -1.8 %, response -0.35 / -0.48 /
+    (-20, not converged) / -0.19 / -0.91 %. The locked reel's loop flails to the end of the run:
+    only its slack is called converged (-0.37 %; its exit tension moves by -40 %, its probe load by
+    +27 %; docs/engagement.md, "Link-count convergence")."""
+    a, b = shipped[law].summary(), doubled[law].summary()
     assert shipped[law].links[0] == 160 and doubled[law].links[0] == 320
-    for key in ("peak_probe_load_n", "peak_slack_m"):
-        assert abs(b[key] - a[key]) < 0.05 * a[key], (law, key, a[key], b[key])
+    for key, converged in a["converged"].items():
+        if converged:
+            assert abs(b[key] - a[key]) < DOUBLING_BOUND * abs(a[key]), (law, key, a[key], b[key])
+    if law != "locked":
+        assert all(a["converged"][k] for k in ("peak_exit_tension_n", "peak_probe_load_n", "peak_slack_m"))
+        assert a["peak_tension_converged"]
 
 
-def test_whipping_runs_say_their_tension_peak_is_not_converged(shipped):
-    """The hose goes slack (exit tension below 10 % of the trail tension) with the locked and the
-    responsive reel, not with the constant-tension one (measured minimum exit tension at 160 links:
-    locked -1.9 kN, response 38 N, constant tension 551 N, of a 1.53 kN trail tension); run.json
-    then says that the exit-tension peak is not converged."""
-    for law, r in shipped.items():
-        s = r.summary()
-        whips = law != "constant-tension"
-        assert (r.outcome["min_exit_tension_n"] < 0.1 * r.exit_tension_n[0]) == whips, law
-        assert s["peak_tension_converged"] is (not whips)
-        assert bool(s["notes"]) == whips and (not whips or "not converged" in s["notes"][0])
+def test_runs_say_which_peaks_are_converged(shipped):
+    """The constant-tension reel keeps the hose taut (measured minimum exit tension 404 N of a
+    1.53 kN trail tension): every peak converged, no note. The responsive reel lets it go slack
+    (the exit even in compression, -1.6 kN) and it snaps taut at the end of the push: its exit
+    tension, rise and probe load are converged, the drogue-end tension of the snap is not. The
+    locked reel's hose keeps 1.7 m of slack and flails to the end: only the slack is converged
+    (docs/engagement.md). The rise is the peak exit tension above the trail tension at the start."""
+    ct, resp, locked = (shipped[k].summary() for k in ("constant-tension", "response", "locked"))
+    assert all(ct["converged"].values()) and not ct["notes"] and ct["peak_tension_converged"]
+    assert resp["peak_tension_converged"] and not resp["converged"]["peak_drogue_tension_n"]
+    assert resp["converged"]["peak_tension_rise_n"] and "snapped taut" in resp["notes"][0]
+    assert not locked["peak_tension_converged"] and locked["converged"]["peak_slack_m"]
+    assert "flailing" in locked["notes"][0]
+    for law in LAWS:
+        s = shipped[law].summary()
+        assert s["peak_tension_rise_n"] == pytest.approx(s["peak_exit_tension_n"] - shipped[law].exit_tension_n[0],
+                                                         rel=1e-12)
+
+
+def test_elastic_peaks_are_taken_at_every_step(shipped):
+    """The peaks of an elastic run come from the loads after every integration step (the snap's
+    tension pulse lasts milliseconds, the outputs are 10 ms apart): at least the saved outputs'
+    largest value, and the record's exit tension at the output times is the output's (the same
+    state, the same formula: 1e-9 N)."""
+    for r in shipped.values():
+        rec = r.step_loads
+        assert r.outcome["peak_exit_tension_n"] >= np.max(r.exit_tension_n)
+        idx = np.searchsorted(rec[:, 0], r.t_s - 1e-9)
+        assert np.max(np.abs(rec[idx, 1] - r.exit_tension_n)) < 1e-9 * np.max(np.abs(r.exit_tension_n))
 
 
 # --- the reel's end stops ------------------------------------------------------------------------

@@ -254,6 +254,22 @@ SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail 
               "with the link count (docs/engagement.md). The peak probe load and the peak slack of the shipped "
               "scenarios change by less than 5 % when their links are doubled")
 
+#: Elastic links: the hose flails when its slack stays above FLAIL_SLACK_M [m] (ten times the ~1 cm
+#: sag of the steady trail, five times the responsive reel's dead band) over the run's last FLAIL_WINDOW_S [s]
+FLAIL_SLACK_M, FLAIL_WINDOW_S = 0.1, 1.0
+
+#: ``notes`` entry of an elastic run whose hose is still slack at its end (:meth:`EngagementResult.flailing`).
+FLAIL_NOTE = ("the hose is still slack at the end of the run (a loop flailing in the air stream): a chaotic "
+              "motion whose peak loads change with every change of the mesh or the step; of the peaks only "
+              "peak_slack_m is converged (docs/engagement.md, \"Link-count convergence\")")
+#: ``notes`` entry of an elastic run whose hose went slack and snapped taut again.
+SNAP_NOTE = ("the hose went slack and snapped taut: the snap's tension wave is smoothed by the axial damping on "
+             "its way to the exit, so peak_exit_tension_n, peak_tension_rise_n and the probe load are converged "
+             "with the link count, peak_drogue_tension_n (the snap at the drogue end) is not (docs/engagement.md)")
+
+#: The peaks whose convergence with the link count a run reports (``"converged"`` in its summary).
+PEAK_KEYS = ("peak_exit_tension_n", "peak_tension_rise_n", "peak_drogue_tension_n", "peak_probe_load_n", "peak_slack_m")
+
 
 @dataclass(frozen=True, kw_only=True)
 class EngagementResult(RunResult):
@@ -276,9 +292,14 @@ class EngagementResult(RunResult):
     links: np.ndarray  #: (N,) number of links
     hose_mass_kg: np.ndarray  #: (N,) hose mass in the air from the lumped masses [kg]
     joint_velocities_m_s: list  #: per output time, (n+1, 3) joint velocities [m/s]
-    energy: dict  #: "kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe" (N,) [J]
+    energy: dict  #: "kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe", "axial" (N,) [J]
     events: list  #: remesh, chart and contact events (dicts, times [s], jumps [m], [m/s], [J])
     outcome: dict  #: result, contact figures and peaks (keys carry their units, e.g. ``peak_slack_m``)
+    #: elastic links: (steps + 1, 5) the loads after every integration step: time [s], exit
+    #: tension [N], drogue-end tension [N], probe load [N], slack [m] (None for rigid links)
+    step_loads: np.ndarray | None = None
+    #: elastic links: per output time, every link's tension [N] (n,), exit link first (None for rigid links)
+    link_tensions_n: list | None = None
 
     def extra_columns(self) -> dict[str, np.ndarray]:
         """The engagement's columns after :data:`COLUMNS`: reel, tensions, probe, coupler-plane
@@ -341,10 +362,45 @@ class EngagementResult(RunResult):
         o = self.outcome
         out = {k: o.get(k) for k in SUMMARY_KEYS}
         out.update({k: v for k, v in o.items() if k not in out})
-        slack = self.went_slack()
-        out["peak_tension_converged"] = not slack
-        out["notes"] = [SLACK_NOTE] if slack else []
+        converged, notes = self.converged_peaks()
+        out["peak_tension_converged"] = converged["peak_exit_tension_n"]
+        out["converged"] = converged
+        out["notes"] = notes
         return out
+
+    def flailing(self) -> bool:
+        """Whether the hose is still slack at the end of the run (the locked reel's loop):
+        its slack above :data:`FLAIL_SLACK_M` throughout the last :data:`FLAIL_WINDOW_S`.
+
+        Returns
+        -------
+        bool
+        """
+        t = np.asarray(self.t_s)
+        return bool(t.size and np.min(np.asarray(self.slack_m)[t >= t[-1] - FLAIL_WINDOW_S]) > FLAIL_SLACK_M)
+
+    def converged_peaks(self) -> tuple[dict, list]:
+        """Which peaks of :data:`PEAK_KEYS` are converged with the link count, and the notes saying
+        why the others are not (docs/engagement.md, "Link-count convergence"). Rigid links: in a
+        hose that went slack (:meth:`went_slack`) the tension peaks are impulses of the
+        inextensible chain. Elastic links: a snap's exit tension converges, its drogue-end tension
+        does not; a hose still flailing at the end (:meth:`flailing`) has no converged peak but
+        the slack.
+
+        Returns
+        -------
+        converged : dict
+            Peak key -> bool.
+        notes : list of str
+        """
+        slack = self.went_slack()
+        if self.step_loads is None:  # rigid links
+            return {k: not slack or k in PEAK_KEYS[3:] for k in PEAK_KEYS}, [SLACK_NOTE] if slack else []
+        if self.flailing():
+            return {k: k == "peak_slack_m" for k in PEAK_KEYS}, [FLAIL_NOTE]
+        flags = {k: True for k in PEAK_KEYS}
+        flags["peak_drogue_tension_n"] = not slack
+        return flags, [SNAP_NOTE] if slack else []
 
     def plot(self, **kwargs):
         """The engagement's time histories (drogue, tensions, probe load, slack, reel; see hosedrogue.plotting)."""

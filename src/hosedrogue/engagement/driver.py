@@ -103,6 +103,9 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
         ep[EK.EP_VC] = 0.0
         ep[EK.EP_P0X] = drogue_eq[0] - 1e3  # parked far aft, never used
     ep[EK.EP_T_CAP] = math.inf
+    ep[EK.EP_ELASTIC] = 1.0 if hose.elastic else 0.0
+    ep[EK.EP_SCHEME] = EK.SCHEME_SDIRK2 if params.numerics.integrator == "sdirk2" else EK.SCHEME_RK4
+    ep[EK.EP_ITER] = params.numerics.sdirk_corrections
     set_bow_wave(ep, params, bow_wave)
     return ep
 
@@ -228,6 +231,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     """
     _check_duration(duration_s)
     params.numerics.steps(duration_s)
+    _check_integrator(params)
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
     reel = Reel() if reel is None else reel
@@ -235,7 +239,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2,
                                                 duration_s)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
-    L0 = z[4 * chain.n + EK.Z_L]
+    L0 = z[EK.tail_start(chain.n, ep) + EK.Z_L]
     if not reel.min_length_m <= L0 <= reel.max_length_m:
         raise ParameterError(f"hose.length_m = {L0!r}: the free length must lie between the reel's end stops "
                              f"reel.min_length_m = {reel.min_length_m!r} and reel.max_length_m = {reel.max_length_m!r} m")
@@ -249,12 +253,26 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     outcome: dict[str, Any] = {"result": "no contact", "miss_distance_m": None, "closure_speed_m_s": None}
     if probe is None or not probe.enabled:
         outcome["result"] = "no probe"
-    run = _Run(z=z, chain=chain, ep=ep, outcome=outcome, loop=loop,
-               hist=drogue_history(ep, int(round(duration_s / params.numerics.step_s))),
+    total_steps = int(round(duration_s / params.numerics.step_s))
+    run = _Run(z=z, chain=chain, ep=ep, outcome=outcome, loop=loop, hist=drogue_history(ep, total_steps),
+               loads=np.full((total_steps + 1 if params.hose.elastic else 1, 4), math.nan),
                segments=[(chain, ep.copy(), np.array([0.0]), z[None, :].copy())])
     status, message = _integrate(run, params, probe, model, duration_s)
     return assemble_result(params, run.segments, run.events, run.outcome, model, drogue_eq, energy,
-                           status == K.OK, message, run.delta_total, t_set, reel, probe, loop=loop)
+                           status == K.OK, message, run.delta_total, t_set, reel, probe, loop=loop,
+                           step_loads=run.loads[: run.step + 1] if params.hose.elastic else None)
+
+
+def _check_integrator(params: Params) -> None:
+    """The engagement runs fixed steps: RK4 (rigid or elastic links) or, for elastic links, the
+    stiff SDIRK (docs/model.md §9)."""
+    integrator = params.numerics.integrator
+    if params.hose.elastic and integrator == "adaptive":
+        raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "
+                             "(hose.axial_stiffness_n finite); use 'sdirk2' or 'rk4'")
+    if not params.hose.elastic and integrator == "sdirk2":
+        raise ParameterError("numerics.integrator = 'sdirk2': the stiff integrator of elastic hoses; "
+                             "with rigid links (hose.axial_stiffness_n = inf) use 'rk4'")
 
 
 def _check_duration(duration_s) -> None:
@@ -276,10 +294,11 @@ def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: floa
     n = chain.n
     L0 = float(np.sum(chain.l))
     hose0 = equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
-    if hose0.shape != (4 * n,) or not np.all(np.isfinite(hose0)):
-        raise ParameterError(f"x0: must be a finite array of shape ({4 * n},)")
+    nh = model.state_size  # 4n, or 6n for elastic links [q, qd, lam, lamd]
+    if hose0.shape != (nh,) or not np.all(np.isfinite(hose0)):
+        raise ParameterError(f"x0: must be a finite array of shape ({nh},)")
     if equilibrium is None:
-        drogue_eq = model.joint_positions(hose0[: 2 * n])[-1]
+        drogue_eq = model.joint_positions(hose0[: 2 * n], hose0[4 * n: 5 * n] if model.elastic else None)[-1]
     else:
         drogue_eq = equilibrium.drogue_position_m.copy()
     z = np.concatenate([hose0, [L0, float(length_rate_m_s)], np.zeros(EK.Z_TAIL - 2)])
@@ -298,6 +317,9 @@ class _Run:
     segments: list
     loop: Any  #: the controller's LoopArrays (empty without a controller)
     hist: np.ndarray  #: the drogue history the pilot's delay reads (loop.drogue_history)
+    #: elastic links: the loads after every step (exit and drogue-end tension [N], probe load [N],
+    #: slack [m]; engagement_kernels.state_loads), NaN until written; a (1, 4) placeholder otherwise
+    loads: np.ndarray = field(default_factory=lambda: np.full((1, 4), math.nan))
     events: list = field(default_factory=list)
     step: int = 0
     t: float = 0.0
@@ -317,7 +339,7 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
         if code in (K.NONFINITE, K.YAW_LIMIT):
             return code, f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
         if code == EK.REEL_END:
-            L = run.z[4 * run.chain.n + EK.Z_L]
+            L = run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_L]
             return code, (f"stopped at t = {run.t:.4f} s: {_STATUS[code]}: L = {L:.3f} m, range "
                           f"[{run.ep[EK.EP_L_MIN]:g}, {run.ep[EK.EP_L_MAX]:g}] m")
         if code == EK.CHART:
@@ -343,7 +365,7 @@ def _segment(run: _Run, model, h: float, every: int, remaining: int, max_yaw: fl
     code, done, saved = EK.eng_segment(
         z, run.t, run.step, h, remaining, every, chain.n, lw, Mw, Jw, model.ps, model.env, model.gust_values,
         run.ep, chain.chart, run.loop, run.hist, max_yaw, math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom,
-        MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs)
+        MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs, run.loads)
     run.step += done
     run.t = run.step * h
     if saved:
@@ -385,7 +407,7 @@ def _remesh(run: _Run, code: int, params: Params, model) -> None:
     """Split or merge the exit link; record the event with its jumps."""
     before, e_before = _at(run, model)
     n_before = run.chain.n
-    Ld_before = run.z[4 * n_before + EK.Z_LD]
+    Ld_before = run.z[EK.tail_start(n_before, run.ep) + EK.Z_LD]
     if code == EK.SPLIT:
         run.z, run.chain = split(run.z, run.chain, params)
         delta = 0.0
@@ -398,7 +420,7 @@ def _remesh(run: _Run, code: int, params: Params, model) -> None:
         "kind": "split" if code == EK.SPLIT else "merge", "t_s": run.t, "links_before": n_before,
         "links_after": run.chain.n, "position_jump_m": pos_jump, "velocity_jump_m_s": vel_jump,
         "length_lost_m": float(delta),
-        "reel_speed_jump_m_s": 0.0 if code == EK.SPLIT else float(-(run.z[4 * run.chain.n + EK.Z_LD] - Ld_before)),
+        "reel_speed_jump_m_s": 0.0 if code == EK.SPLIT else float(-(run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_LD] - Ld_before)),
         "energy_jump_j": float(np.sum(e_after) - np.sum(e_before)),
     })
 

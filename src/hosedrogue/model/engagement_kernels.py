@@ -48,11 +48,15 @@ from .kernels import (
     chain_energy,
     chain_forward_dynamics,
     joint_forces,
+    joint_forces_stretched,
     joint_kinematics,
     link_frames,
     make_workspace_jit,
     rotational_terms,
 )
+from .elastic import (add_axial_rates, axial_tensions, elastic_exit_tension, elastic_forward_dynamics,
+                      make_elastic_workspace_jit, stiff_terms, strain_energy)
+from .implicit import SDIRK2_GAMMA, after_stage1, stage_point
 from .integrate import actuator_rates, applied_force_at, controller_rates, rk4_combine, rk4_stage, step_status
 
 # --- ep layout -------------------------------------------------------------------------------
@@ -64,22 +68,29 @@ from .integrate import actuator_rates, applied_force_at, controller_rates, rk4_c
  EP_S_CAP, EP_JD,
  EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_Q, EP_BW_LEN,
  EP_CTRL, EP_NPIL, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV, EP_PIL_VMAX, EP_PIL_AMAX, EP_H,
- EP_L_MIN, EP_L_MAX) = range(50)
-EP_SIZE = 50
+ EP_L_MIN, EP_L_MAX, EP_ELASTIC, EP_SCHEME, EP_ITER) = range(53)
+EP_SIZE = 53
 # EP_CTRL: 1 with a drogue controller in the loop (its states follow the pilot's, see below);
 # EP_NPIL: number of pilot states (0 or PIL_STATES); EP_PIL_*: the pilot's reaction time [s], lag
 # [s], velocity time constant [s], speed [m/s] and acceleration [m/s^2] bounds; EP_H: the RK4
 # step [s] (the index of the drogue history the pilot's delay reads); EP_L_MIN, EP_L_MAX: the free
-# hose length's range [m] between the drum's end stops (fully reeled in, fully paid out)
+# hose length's range [m] between the drum's end stops (fully reeled in, fully paid out);
+# EP_ELASTIC: 1 for elastic links (the hose state [q, qd, lam, lamd], 6n; hosedrogue.model.elastic);
+# EP_SCHEME: the integrator, SCHEME_RK4 or SCHEME_SDIRK2 (elastic only; hosedrogue.model.implicit);
+# EP_ITER: the SDIRK's corrections per stage
 
 # bow-wave shapes (EP_BW); EP_BW_D* is the source (the line's forward end) minus the probe tip [m]
 BW_OFF, BW_RANKINE, BW_LINE = SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE
 
 LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE = 0, 1, 2
 
-# state tail (after the 4n hose entries)
-Z_L, Z_LD, Z_WM, Z_WF, Z_WX, Z_WFLUX, Z_WP = range(7)
-Z_TAIL = 7
+# integrators of the elastic chain (EP_SCHEME): RK4, or the stiff SDIRK of hosedrogue.model.implicit
+SCHEME_RK4, SCHEME_SDIRK2 = 0, 1
+
+# state tail (after the hose entries: 4n, or 6n for elastic links, see tail_start)
+Z_L, Z_LD, Z_WM, Z_WF, Z_WX, Z_WFLUX, Z_WP, Z_WAX = range(8)
+Z_TAIL = 8
+# Z_WAX: heat of the links' axial damping [J] (elastic links; 0 otherwise)
 # after the tail: the pilot's states (if any: probe tip y, z [m] and their rates [m/s]), then the
 # controller's states and, for a rate-limited actuator, the applied force [N] - the layout of
 # hosedrogue.model.integrate's closed loop with x = everything before the controller
@@ -89,15 +100,23 @@ PIL_STATES = 4
 # out layout (scalars of one evaluation)
 (O_T0, O_LDD, O_TAU, O_SLACK, O_PX, O_PY, O_PZ, O_FPX, O_FPY, O_FPZ, O_VPX, O_VPY, O_VPZ,
  O_PMOTOR, O_PFRIC, O_PEXIT, O_PFLUX, O_PPROBE,
- O_UY, O_UZ, O_MY, O_MZ, O_CY, O_CZ) = range(24)
-O_SIZE = 24
+ O_UY, O_UZ, O_MY, O_MZ, O_CY, O_CZ, O_PAXIAL) = range(25)
+O_SIZE = 25
 # O_UY, O_UZ: control force applied at the drogue [N]; O_MY, O_MZ: the measured drogue offsets
-# [m]; O_CY, O_CZ: the commanded force [N] (differs from the applied one for a rate-limited actuator)
+# [m]; O_CY, O_CZ: the commanded force [N] (differs from the applied one for a rate-limited actuator);
+# O_PAXIAL: power dissipated by the links' axial damping [W] (elastic links)
 
 # segment stop codes (besides kernels.OK / NONFINITE / YAW_LIMIT)
 SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13
 # failure code: the free hose length left [EP_L_MIN, EP_L_MAX] (the reel reached an end stop)
 REEL_END = 20
+
+
+@njit(**JIT)
+def tail_start(n, ep):
+    """Index of the state's tail (L, L', the work states, ...): after the 4n hose entries
+    ``[q, qd]``, or the 6n ``[q, qd, lam, lamd]`` of elastic links."""
+    return 6 * n if ep[EP_ELASTIC] != 0.0 else 4 * n
 
 
 @njit(**JIT)
@@ -216,7 +235,7 @@ def probe_tip(t, z, n, ep):
     lateral and vertical motion the pilot's states replace when a pilot flies the probe."""
     px, py, pz, vpx, vpy, vpz = probe_state(t, ep)
     if ep[EP_NPIL] != 0.0:
-        b = 4 * n + Z_TAIL
+        b = tail_start(n, ep) + Z_TAIL
         py = z[b + PIL_Y]
         pz = z[b + PIL_Z]
         vpy = z[b + PIL_VY]
@@ -257,7 +276,7 @@ def pilot_rates(t, z, n, ep, hist, dz):
     chase the drogue at t = 0), the commanded speed ``(aim - p) / lag`` clipped to the speed
     bound, and the acceleration ``(v_cmd - v) / tau_v`` clipped to the acceleration bound. Once
     coupled the pilot holds station (v_cmd = 0): the drogue is on the probe."""
-    b = 4 * n + Z_TAIL
+    b = tail_start(n, ep) + Z_TAIL
     tq = t - ep[EP_PIL_DELAY]
     if tq < 0.0:
         ay = ep[EP_P0Y]
@@ -281,15 +300,33 @@ def pilot_rates(t, z, n, ep, hist, dz):
 def chain_kinematics(z, n, l, M, J, ep, chart, ws):
     """Set the exit link's length from L and write the frames (ws[0:4]), joint positions (ws[4]),
     velocities (ws[5]) and velocity-product accelerations (ws[6]) of state z, the reel's L' terms
-    included (the accelerations in the standard chart: no ``rotate_rows``)."""
-    set_variable_link(z[4 * n + Z_L], n, l, M, J, ep)
+    included (the accelerations in the standard chart: no ``rotate_rows``). Elastic links: with
+    their actual lengths and stretching rates, the exit's hose material at ``L' lam_0 / l_0``."""
+    nh = tail_start(n, ep)
+    set_variable_link(z[nh + Z_L], n, l, M, J, ep)
     q = z[: 2 * n]
     qd = z[2 * n: 4 * n]
     e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
     link_frames(q, n, e, a, b, cs)
     apply_charts(n, chart, e, a, b)
+    if ep[EP_ELASTIC] != 0.0:
+        lam = z[4 * n: 5 * n]
+        joint_kinematics(q, qd, lam, n, e, a, b, cs, r, v, c)
+        add_axial_rates(n, e, a, b, qd, z[5 * n: 6 * n], v, c)
+        exit_material_velocity(z[nh + Z_LD], lam, l, e, v)
+        return
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     patch_kinematics(z[4 * n + Z_LD], n, e, a, b, qd, v, c)
+
+
+@njit(**JIT)
+def exit_material_velocity(Ld, lam, l, e, v):
+    """Elastic links: the hose material at the exit (joint 0's row of v) moves along the exit
+    link at ``L' lam_0 / l_0`` (material paid out at L' is stretched as the exit link is)."""
+    s0 = Ld * lam[0] / l[0]
+    v[0, 0] = s0 * e[0, 0]
+    v[0, 1] = s0 * e[0, 1]
+    v[0, 2] = s0 * e[0, 2]
 
 
 @njit(**JIT)
@@ -488,6 +525,14 @@ def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, d
         dz[i] = z[2 * n + i]
         dz[2 * n + i] = qdd[i]
     b = 4 * n
+    tail_rates(z, b, out, dz)
+    dz[b + Z_WAX] = 0.0
+    loop_rates(t, z, n, b, ep, loop, hist, out, dz)
+
+
+@njit(**JIT)
+def tail_rates(z, b, out, dz):
+    """dz/dt of L, L' and the work states (the tail starting at b) from the outputs ``out``."""
     dz[b + Z_L] = z[b + Z_LD]
     dz[b + Z_LD] = out[O_LDD]
     dz[b + Z_WM] = out[O_PMOTOR]
@@ -495,6 +540,11 @@ def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, d
     dz[b + Z_WX] = out[O_PEXIT]
     dz[b + Z_WFLUX] = out[O_PFLUX]
     dz[b + Z_WP] = out[O_PPROBE]
+
+
+@njit(**JIT)
+def loop_rates(t, z, n, b, ep, loop, hist, out, dz):
+    """dz/dt of the pilot's, the controller's and the actuator's states (after the tail at b)."""
     npil = int(ep[EP_NPIL])
     if npil != 0:
         pilot_rates(t, z, n, ep, hist, dz)
@@ -506,6 +556,222 @@ def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, d
         else:  # coupled: the controller (and actuator) states are frozen
             for i in range(nx, z.shape[0]):
                 dz[i] = 0.0
+
+
+@njit(**JIT)
+def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess):
+    """:func:`eng_evaluate` of the elastic chain (docs/model.md §9): z = [q, qd, lam, lamd, tail,
+    ...]. Joints 1..n are material points, so L moves no joint: the exit link's strain
+    ``lam_0 / l_0 - 1`` (l_0 from L) carries the reel's pull, the hose's force on L is
+    :func:`~hosedrogue.model.elastic.elastic_exit_tension` and the reel equation gives L''
+    explicitly - one O(n) solve (:func:`~hosedrogue.model.elastic.elastic_forward_dynamics`; qdd in
+    ws[15], the length accelerations in ews[7], the tensions in ews[3]). ``hg`` and ``guess`` (the
+    stage's slope guess, len(z)): an implicit stage's (:func:`~hosedrogue.model.elastic.stiff_terms`;
+    hg = 0 for the true derivative, guess then unused). In a stage the exit link's spring-damper
+    is implicit in its length and in L together: the reel's equation is eliminated into the exit
+    link's joint block (its augmentation in series with the reel's mass), so a stiff hose on a free
+    reel costs no extra solve."""
+    nh = 6 * n
+    L = z[nh + Z_L]
+    Ld = z[nh + Z_LD]
+    set_variable_link(L, n, l, M, J, ep)
+    q = z[: 2 * n]
+    qd = z[2 * n: 4 * n]
+    lam = z[4 * n: 5 * n]
+    lamd = z[5 * n: 6 * n]
+    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    link_frames(q, n, e, a, b, cs)
+    apply_charts(n, chart, e, a, b)
+    joint_kinematics(q, qd, lam, n, e, a, b, cs, r, v, c)
+    rotate_rows(n, chart, c, False)  # joint_kinematics writes lam d2e/dt2 in the standard chart
+    add_axial_rates(n, e, a, b, qd, lamd, v, c)
+    exit_material_velocity(Ld, lam, l, e, v)
+    u0 = ws[12][0]  # the control force at the drogue (ws[12] is the rigid recursion's scratch)
+    u0[0] = 0.0
+    u0[1] = 0.0
+    m0 = m1 = c0 = c1 = 0.0
+    if ep[EP_CTRL] != 0.0 and ep[EP_COUPLED] == 0.0:
+        nx = nh + Z_TAIL + int(ep[EP_NPIL])
+        m0, m1, c0, c1 = applied_force_at(t, z, nx, r[n, 1], r[n, 2], loop.Cc, loop.Dc, loop.y_ref, loop.act,
+                                          loop.noise, loop.noise_dt, u0)
+    out[O_UY] = u0[0]
+    out[O_UZ] = u0[1]
+    out[O_MY] = m0
+    out[O_MZ] = m1
+    out[O_CY] = c0
+    out[O_CZ] = c1
+    px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
+    air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[16])
+    joint_forces_stretched(t, u0, l, lam, M, ps, ws[16], gust, n, e, r, v, F, Mom, ws[13])
+    fx = fy = fz = 0.0
+    if ep[EP_COUPLED] != 0.0:
+        kp = ep[EP_KP]
+        cp = ep[EP_CP]
+        fx = kp * (px - r[n, 0]) + cp * (vpx - v[n, 0])
+        fy = kp * (py - r[n, 1]) + cp * (vpy - v[n, 1])
+        fz = kp * (pz - r[n, 2]) + cp * (vpz - v[n, 2])
+        F[n, 0] += fx
+        F[n, 1] += fy
+        F[n, 2] += fz
+    rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
+    rotational_terms(qd, J, n, cs, Mom, tau)
+    T, epsd, aug, taul = ews[3], ews[4], ews[5], ews[6]
+    p_axial = axial_tensions(n, l, lam, lamd, Ld, ps, T, epsd)
+    stiff_terms(n, l, hg, ps, guess[5 * n: 6 * n], T, aug, taul)
+    T0 = elastic_exit_tension(n, l, lam, ps, e, epsd)
+    chord = math.sqrt(r[n, 0] ** 2 + r[n, 1] ** 2 + r[n, 2] ** 2)
+    arc = 0.0
+    for k in range(n):
+        arc += lam[k]
+    slack = arc - chord  # the stretched hose's length minus the straight exit-to-drogue distance
+    law = ep[EP_LAW]
+    rd = ep[EP_RD]
+    taum = 0.0
+    pm = 0.0
+    pf = 0.0
+    Ldd = 0.0
+    rest = 0.0
+    mr = 1.0
+    if law == LAW_LOCKED:
+        Ldd = schedule_acceleration(t, ep)
+    else:
+        taum = motor_torque(Ld, slack, ep)
+        rest = -taum / rd - ep[EP_CR] * Ld / (rd * rd)  # the motor's and the friction's force on L
+        mr = ep[EP_JR] / (rd * rd)
+        pm = -taum * Ld / rd
+        pf = ep[EP_CR] * Ld * Ld / (rd * rd)
+    d0 = aug[0]
+    aLg = guess[nh + Z_LD]
+    s_r = 0.0
+    if hg != 0.0:
+        # the exit link's spring-damper couples its length to L: implicit in both (docs/model.md §9)
+        if law == LAW_LOCKED:
+            taul[0] += d0 * (Ldd - aLg)
+        else:
+            s_r = d0 / (mr + d0)
+            taul[0] = -T[0] + (1.0 - s_r) * d0 * guess[5 * n] + s_r * (T0 + rest - mr * aLg)
+            aug[0] = (1.0 - s_r) * d0
+    elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, ews[0], ews[1], ews[2], ws[15],
+                             ews[7], ws[14])
+    if law != LAW_LOCKED:
+        if hg != 0.0:
+            Ldd = (T0 + d0 * (ews[7][0] - guess[5 * n] + aLg) + rest) / (mr + d0)
+        else:
+            Ldd = (T0 + rest) / mr
+    mass_rates(Ld, n, l, ep, dM)
+    v1 = v[1, 0] ** 2 + v[1, 1] ** 2 + v[1, 2] ** 2
+    pflux = 0.5 * dM[0] * v1
+    if ep[EP_JLINK] < 0.0:
+        c20 = cs[0, 2]
+        pflux += 0.5 * 0.25 * ep[EP_MU] * l[0] * l[0] * Ld * (c20 * c20 * qd[0] * qd[0] + qd[1] * qd[1])
+    out[O_T0] = T0
+    out[O_LDD] = Ldd
+    out[O_TAU] = taum
+    out[O_SLACK] = slack
+    out[O_PX] = px
+    out[O_PY] = py
+    out[O_PZ] = pz
+    out[O_FPX] = fx
+    out[O_FPY] = fy
+    out[O_FPZ] = fz
+    out[O_VPX] = vpx
+    out[O_VPY] = vpy
+    out[O_VPZ] = vpz
+    out[O_PMOTOR] = pm
+    out[O_PFRIC] = pf
+    out[O_PEXIT] = -Ld * T0
+    out[O_PFLUX] = pflux
+    out[O_PPROBE] = fx * v[n, 0] + fy * v[n, 1] + fz * v[n, 2]
+    out[O_PAXIAL] = p_axial
+
+
+@njit(**JIT)
+def eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz):
+    """:func:`eng_deriv` of the elastic chain (``hg``, ``guess`` (len(z)): see :func:`eng_evaluate_elastic`)."""
+    eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
+    qdd = ws[15]
+    lamdd = ews[7]
+    for i in range(2 * n):
+        dz[i] = z[2 * n + i]
+        dz[2 * n + i] = qdd[i]
+    for k in range(n):
+        dz[4 * n + k] = z[5 * n + k]
+        dz[5 * n + k] = lamdd[k]
+    b = 6 * n
+    tail_rates(z, b, out, dz)
+    dz[b + Z_WAX] = out[O_PAXIAL]
+    loop_rates(t, z, n, b, ep, loop, hist, out, dz)
+
+
+def elastic_pairs(n, npil):
+    """The second-order pairs (position row, velocity row, count) of the elastic engagement state:
+    angles, lengths, the free length L and, if flown, the pilot's probe position.
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+    npil : int
+        Number of pilot states (0 or ``PIL_STATES``).
+
+    Returns
+    -------
+    numpy.ndarray (3 or 4, 3) of int64
+    """
+    b = 6 * n
+    rows = [[0, 2 * n, 2 * n], [4 * n, 5 * n, n], [b + Z_L, b + Z_LD, 1]]
+    if npil:
+        rows.append([b + Z_TAIL + PIL_Y, b + Z_TAIL + PIL_VY, 2])
+    return np.array(rows, dtype=np.int64)
+
+
+elastic_pairs_jit = njit(**JIT)(elastic_pairs)
+
+
+@njit(**JIT)
+def eng_elastic_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, work):
+    """One step of size h [s] of the elastic engagement from (t, z), in place: RK4 or the SDIRK of
+    :mod:`hosedrogue.model.implicit` (``ep[EP_SCHEME]``). ``work`` (8, len(z)): the stages;
+    ``work[7]`` holds the SDIRK's first slope guess (the last stage slope of the previous step, or
+    dz/dt at z) and receives the next one."""
+    if ep[EP_SCHEME] == SCHEME_RK4:
+        k1, k2, k3, k4, tmp, g = work[0], work[1], work[2], work[3], work[4], work[5]
+        eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, g, k1)
+        rk4_stage(z, 0.5 * h, k1, tmp)
+        eng_deriv_elastic(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
+                          0.0, g, k2)
+        rk4_stage(z, 0.5 * h, k2, tmp)
+        eng_deriv_elastic(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
+                          0.0, g, k3)
+        rk4_stage(z, h, k3, tmp)
+        eng_deriv_elastic(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, g, k4)
+        rk4_combine(z, h, k1, k2, k3, k4)
+        return
+    hg = h * SDIRK2_GAMMA
+    Kg, K1, zhat, Y, K2 = work[0], work[1], work[2], work[3], work[7]
+    iters = int(ep[EP_ITER])
+    for i in range(z.shape[0]):
+        Kg[i] = K2[i]
+    for it in range(iters):
+        stage_point(z, Kg, hg, pairs, Y)
+        eng_deriv_elastic(t + hg, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg,
+                          K1)
+        for i in range(z.shape[0]):
+            Kg[i] = K1[i]
+    stage_point(z, K1, hg, pairs, Y)
+    after_stage1(z, h, K1, zhat)
+    for i in range(z.shape[0]):
+        Kg[i] = K1[i]  # the second stage's guess: the first stage's slope
+    for it in range(iters):
+        stage_point(zhat, Kg, hg, pairs, Y)
+        eng_deriv_elastic(t + h, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg,
+                          K2)
+        for i in range(z.shape[0]):
+            Kg[i] = K2[i]
+    stage_point(zhat, K2, hg, pairs, Y)
+    for i in range(z.shape[0]):
+        z[i] = Y[i]
+
 
 
 @njit(**JIT)
@@ -523,20 +789,25 @@ def plane_distance(z, n, l, ws, t, ep):
 @njit(**JIT)
 def eng_energy(z, n, l, M, J, ps, ep, chart):
     """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z
-    (:func:`~hosedrogue.model.kernels.chain_energy`; gravity's work is in the balance's terms)."""
+    (:func:`~hosedrogue.model.kernels.chain_energy`; gravity's work is in the balance's terms);
+    with elastic links the elastic energy includes their strain energy."""
     ws = make_workspace_jit(n)
     chain_kinematics(z, n, l, M, J, ep, chart, ws)
     T, _, U = chain_energy(n, l, M, J, ps, ws[0], ws[3], ws[4], ws[5], z[2 * n: 4 * n])
+    nh = tail_start(n, ep)
+    if ep[EP_ELASTIC] != 0.0:
+        U += strain_energy(n, l, z[4 * n: 5 * n], ps)
     Tr = 0.0
     if ep[EP_LAW] != LAW_LOCKED:
-        Tr = 0.5 * ep[EP_JR] * (z[4 * n + Z_LD] / ep[EP_RD]) ** 2
+        Tr = 0.5 * ep[EP_JR] * (z[nh + Z_LD] / ep[EP_RD]) ** 2
     return T, U, Tr
 
 
 @njit(**JIT)
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs):
-    """RK4 from (t0, z) (global step index step0) for at most ``nsteps`` steps, in place.
+                max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads):
+    """Steps of size h from (t0, z) (global step index step0) for at most ``nsteps`` steps, in
+    place: RK4, or for elastic links the integrator ``ep[EP_SCHEME]`` (:func:`eng_elastic_step`).
 
     Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
     the step at which the exit link's length leaves [merge_at, split_at] (SPLIT / MERGE), the probe
@@ -544,7 +815,9 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     step), or the state fails (NONFINITE / YAW_LIMIT, or REEL_END: the free length left the reel's
     range). Returns (status, steps done, saved count).
     With a pilot (``ep[EP_NPIL]``) the drogue's y, z, y', z' after every global step k go to
-    ``hist[k]`` (row 0 at the start), for the pilot's delayed view of the drogue.
+    ``hist[k]`` (row 0 at the start), for the pilot's delayed view of the drogue. With elastic
+    links the loads of the state after every global step k go to ``loads[k]`` (:func:`state_loads`;
+    ``loads`` has one row per step of the run, or is a (1, 4) placeholder for rigid links).
     """
     nz = z.shape[0]
     k1 = np.empty(nz)
@@ -556,6 +829,16 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     ws2 = make_workspace_jit(n)
     dM = np.empty(2)
     out = np.empty(O_SIZE)
+    elastic = ep[EP_ELASTIC] != 0.0
+    nh = tail_start(n, ep)
+    ews = make_elastic_workspace_jit(n)
+    work = np.zeros((8, nz))
+    pairs = elastic_pairs_jit(n, int(ep[EP_NPIL]))
+    if elastic:  # the SDIRK's first slope guess: dz/dt at the start
+        eng_deriv_elastic(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, work[6],
+                          work[7])
+        if step0 == 0:
+            state_loads(t0, z, n, l, M, J, ps, ep, chart, ws, ews, loads[0])
     saved = 0
     probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
     piloted = ep[EP_NPIL] != 0.0
@@ -563,30 +846,36 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         hist[0, 0], hist[0, 1], hist[0, 2], hist[0, 3] = drogue_motion(z, n, l, M, J, ep, chart, ws)
     d_before = 0.0
     if probing:
-        eng_evaluate(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+        evaluate_state(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ews, dM, out)
         d_before = plane_distance(z, n, l, ws, t0, ep)
     for s in range(1, nsteps + 1):
         t = t0 + (s - 1) * h
         for i in range(nz):
             zprev[i] = z[i]
-        eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
-        rk4_stage(z, 0.5 * h, k1, tmp)
-        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k2)
-        rk4_stage(z, 0.5 * h, k2, tmp)
-        eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k3)
-        rk4_stage(z, h, k3, tmp)
-        eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
-        rk4_combine(z, h, k1, k2, k3, k4)
+        if elastic:
+            eng_elastic_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs,
+                             work)
+        else:
+            eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
+            rk4_stage(z, 0.5 * h, k1, tmp)
+            eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k2)
+            rk4_stage(z, 0.5 * h, k2, tmp)
+            eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k3)
+            rk4_stage(z, h, k3, tmp)
+            eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
+            rk4_combine(z, h, k1, k2, k3, k4)
         t = t0 + s * h
         status = step_status(z, n, max_yaw)
         if status != OK:
             return status, s, saved
-        L = z[4 * n + Z_L]
+        L = z[nh + Z_L]
         if L < ep[EP_L_MIN] or L > ep[EP_L_MAX]:
             return REEL_END, s, saved
         if piloted:
             hist[step0 + s, 0], hist[step0 + s, 1], hist[step0 + s, 2], hist[step0 + s, 3] = drogue_motion(
                 z, n, l, M, J, ep, chart, ws)
+        if elastic:
+            state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, loads[step0 + s])
         if (step0 + s) % save_every == 0:
             ts[saved] = t
             zs[saved, :] = z
@@ -594,13 +883,13 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         for k in range(n):
             if abs(z[2 * k + 1]) > switch_yaw:
                 return CHART, s, saved
-        set_variable_link(z[4 * n + Z_L], n, l, M, J, ep)
+        set_variable_link(z[nh + Z_L], n, l, M, J, ep)
         if l[0] > split_at:
             return SPLIT, s, saved
         if allow_merge and l[0] < merge_at:
             return MERGE, s, saved
         if probing:
-            eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+            evaluate_state(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ews, dM, out)
             d = plane_distance(z, n, l, ws, t, ep)
             if d_before > 0.0 and d <= 0.0:
                 return PLANE, s, saved
@@ -609,18 +898,75 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
 
 
 @njit(**JIT)
+def state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, row):
+    """The loads of an elastic state z from its kinematics alone (no solve): exit tension
+    (:func:`~hosedrogue.model.elastic.elastic_exit_tension`) and drogue-end tension [N], probe
+    load [N] and slack [m] into ``row`` (4,): the per-step record the run's peaks are taken from
+    (docs/engagement.md, "What a run reports")."""
+    nh = tail_start(n, ep)
+    chain_kinematics(z, n, l, M, J, ep, chart, ws)
+    lam = z[4 * n: 5 * n]
+    T, epsd = ews[3], ews[4]
+    axial_tensions(n, l, lam, z[5 * n: 6 * n], z[nh + Z_LD], ps, T, epsd)
+    row[0] = elastic_exit_tension(n, l, lam, ps, ws[0], epsd)
+    row[1] = T[n - 1]
+    r, v = ws[4], ws[5]
+    f = 0.0
+    if ep[EP_COUPLED] != 0.0:
+        px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
+        kp = ep[EP_KP]
+        cp = ep[EP_CP]
+        fx = kp * (px - r[n, 0]) + cp * (vpx - v[n, 0])
+        fy = kp * (py - r[n, 1]) + cp * (vpy - v[n, 1])
+        fz = kp * (pz - r[n, 2]) + cp * (vpz - v[n, 2])
+        f = math.sqrt(fx * fx + fy * fy + fz * fz)
+    row[2] = f
+    arc = 0.0
+    for k in range(n):
+        arc += lam[k]
+    row[3] = arc - math.sqrt(r[n, 0] ** 2 + r[n, 1] ** 2 + r[n, 2] ** 2)
+
+
+@njit(**JIT)
+def evaluate_state(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ews, dM, out):
+    """The true accelerations and outputs of state z, rigid (:func:`eng_evaluate`) or elastic
+    (:func:`eng_evaluate_elastic`)."""
+    if ep[EP_ELASTIC] != 0.0:
+        eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0, z)
+    else:
+        eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+
+
+@njit(**JIT)
 def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                drogue_drag):
+                drogue_drag, link_tension):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
-    (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,) and the drogue's
-    drag (N, 3) [N]. The tow-point force includes the weight of the hose mass lumped at the exit
-    (half the exit link's with ``split`` lumping, as the fixed-length chain's)."""
+    (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
+    drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
+    untouched for rigid links). The tow-point force includes the weight of the hose mass lumped
+    at the exit (half the exit link's with ``split`` lumping, as the fixed-length chain's)."""
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
+    ews = make_elastic_workspace_jit(n)
     dM = np.empty(2)
     out = np.empty(O_SIZE)
     for i in range(ts.shape[0]):
+        if ep[EP_ELASTIC] != 0.0:
+            eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
+                                 zs[i])
+            joints[i] = ws[4]
+            jvel[i] = ws[5]
+            scal[i] = out
+            for j in range(3):
+                tow[i, j] = ws[14][j]
+                drogue_drag[i, j] = ws[13][j]
+            if ep[EP_SPLIT] != 0.0:
+                tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
+            tension_drogue[i] = ews[3][n - 1]  # the last link's tension EA eps + c_a deps/dt
+            link_tension[i] = ews[3]
+            continue
         eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+        out[O_PAXIAL] = 0.0
         joints[i] = ws[4]
         jvel[i] = ws[5]
         scal[i] = out

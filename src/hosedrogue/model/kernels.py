@@ -48,7 +48,10 @@ from ..jit import JIT, JIT_NO_ALLOC  # noqa: E402 - the one set of compilation o
 #: mass lumped at the tow point (joint 0) [kg]: carried by the tanker, it never moves, so it
 #: enters only the tow-point force (its weight); nonzero for the ``split`` lumping
 PS_M_TOW = 11
-PS_SIZE = 12
+#: axial stiffness EA [N] of the hose (inf: rigid, inextensible links, the paper's) and its
+#: Kelvin-Voigt axial damping c_a [N s] (tension EA eps + c_a deps/dt; :mod:`hosedrogue.model.elastic`)
+PS_EA, PS_CA = 12, 13
+PS_SIZE = 14
 BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
 DRAG_MIDPOINT, DRAG_GAUSS2 = 0, 1
 #: Two-point Gauss-Legendre abscissa on [0, 1] measured from the link's centre: 1/(2 sqrt 3).
@@ -210,6 +213,15 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
     structural bending damping."""
+    joint_forces_stretched(t, u, l, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag)
+
+
+@njit(**JIT_NO_ALLOC)
+def joint_forces_stretched(t, u, l, lam, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
+    """:func:`joint_forces` of a chain whose links have the material (unstretched) lengths l and
+    the actual lengths lam [m] (the elastic chain, :mod:`hosedrogue.model.elastic`): the drag
+    area and the bending's lbar are per material length, the links' angular velocities (the
+    structural damping) use the actual lengths; ``lam`` is ``l`` for rigid links."""
     g = ps[PS_G]
     rho = ps[PS_RHO]
     for k in range(n + 1):
@@ -305,9 +317,9 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     # sum (c_b / lbar) |w_k+1 - w_k|^2.
     cb = ps[PS_BEND_DAMP]
     if cb > 0.0:
-        ox, oy, oz = link_omega(0, l, e, v)
+        ox, oy, oz = link_omega(0, lam, e, v)
         for k in range(n - 1):
-            px, py, pz = link_omega(k + 1, l, e, v)
+            px, py, pz = link_omega(k + 1, lam, e, v)
             cd = cb / (0.5 * (l[k] + l[k + 1]))
             mx = cd * (px - ox)
             my = cd * (py - oy)

@@ -87,9 +87,11 @@ def simulate(
     if equilibrium is None:
         equilibrium = solve_equilibrium(params, model=model)
     n = model.n
+    nh = model.state_size  # 4n, or 6n for elastic links
+    _check_integrator(model)
     x0 = equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
-    if x0.shape != (4 * n,) or not np.all(np.isfinite(x0)):
-        raise ParameterError(f"x0: must be a finite array of shape ({4 * n},), got shape {x0.shape}")
+    if x0.shape != (nh,) or not np.all(np.isfinite(x0)):
+        raise ParameterError(f"x0: must be a finite array of shape ({nh},), got shape {x0.shape}")
     y_ref = equilibrium.drogue_position_m[1:].copy()
 
     outs = None  # derived outputs: the compiled RK4 loop saves them with the states
@@ -100,11 +102,13 @@ def simulate(
         noise = sensor_noise(sensor, duration_s, params.turbulence.seed)
         loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s)
         z0 = closed_loop_state(x0, ctrl, actuator)
-        if params.numerics.integrator == "rk4":
+        if model.elastic:
+            ts, zs, us, status, t_stop, outs = _run_elastic(model, z0, duration_s, loop)
+        elif params.numerics.integrator == "rk4":
             ts, zs, us, status, t_stop, outs = _run_rk4(model, z0, duration_s, loop)
         else:
             ts, zs, us, status, t_stop = _run_adaptive(model, z0, duration_s, loop)
-        xs = zs[:, : 4 * n]
+        xs = zs[:, :nh]
 
     if outs is None:
         outs = _derived_outputs(model, ts, xs, us)
@@ -180,6 +184,37 @@ def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
     max_yaw = math.radians(model.params.numerics.max_yaw_deg)
     status, saved, t_stop = rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw,
                                     ts, zs, us, *outs)
+    return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)
+
+
+def _check_integrator(model: HoseModel) -> None:
+    """The integrators of each chain: the elastic one runs RK4 or the stiff SDIRK, the rigid one
+    RK4 or the adaptive DOP853 (docs/model.md §5, §9)."""
+    integrator = model.params.numerics.integrator
+    if model.elastic and integrator == "adaptive":
+        raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "
+                             "(hose.axial_stiffness_n finite); use 'sdirk2' or 'rk4'")
+    if not model.elastic and integrator == "sdirk2":
+        raise ParameterError("numerics.integrator = 'sdirk2': the stiff integrator of elastic hoses; "
+                             "with rigid links (hose.axial_stiffness_n = inf) use 'rk4' or 'adaptive'")
+
+
+def _run_elastic(model: HoseModel, z0, duration_s, loop: LoopArrays):
+    """The fixed-length elastic chain, compiled: RK4 or the SDIRK (``numerics.integrator``)."""
+    from ..model.elastic_loop import SCHEME_RK4, SCHEME_SDIRK2, elastic_run
+
+    h, nsteps = fixed_steps(model.params, duration_s)
+    every = model.params.numerics.output_every
+    nsave = nsteps // every + 1
+    ts = np.empty(nsave)
+    zs = np.empty((nsave, z0.size))
+    us = np.empty((nsave, 2))
+    outs = output_arrays(nsave, model.n)
+    scheme = SCHEME_SDIRK2 if model.params.numerics.integrator == "sdirk2" else SCHEME_RK4
+    max_yaw = math.radians(model.params.numerics.max_yaw_deg)
+    status, saved, t_stop = elastic_run(z0, 0.0, h, nsteps, every, scheme, model.params.numerics.sdirk_corrections,
+                                        model.l, model.M, model.J, model.ps,
+                                        model.env, model.gust_values, *loop, max_yaw, ts, zs, us, *outs)
     return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)
 
 
@@ -302,6 +337,12 @@ def _run_python_control(model, params, x0, duration_s, control):
 
 def _derived_outputs(model: HoseModel, ts, xs, us):
     outs = output_arrays(ts.size, model.n)
+    if model.elastic:
+        from ..model.elastic import elastic_outputs_series
+
+        elastic_outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
+                               model.l, model.M, model.J, model.ps, model.env, model.gust_values, *outs)
+        return outs
     K.outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
                      *model.kernel_args(), *outs)
     return outs

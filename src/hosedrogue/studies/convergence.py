@@ -159,6 +159,9 @@ def lowest_modes(lm) -> tuple[float, float]:
 def with_links(scenario, links: int):
     """The scenario on ``links`` links, the RK4 step scaled with the link length and the output
     interval [s] kept (to the nearest whole number of steps): the mesh of a link-doubling check.
+    With the stiff SDIRK (``numerics.integrator = "sdirk2"``, elastic links) a finer mesh scales
+    the step with the square of the link length: its explicit part is bounded by the bending
+    waves of the shortest links, whose frequency grows as 1 / l^2 (docs/model.md §9).
 
     Parameters
     ----------
@@ -178,7 +181,8 @@ def with_links(scenario, links: int):
     if isinstance(links, bool) or not isinstance(links, (int, np.integer)) or links < 1:
         raise ParameterError(f"links = {links!r}: must be an integer >= 1")
     p = scenario.params
-    step = p.numerics.step_s * p.hose.links / links
+    ratio = p.hose.links / links
+    step = p.numerics.step_s * (ratio * ratio if p.numerics.integrator == "sdirk2" and ratio < 1.0 else ratio)
     every = int(round(p.numerics.output_every * p.numerics.step_s / step))
     return dataclasses.replace(scenario, params=p.replace(hose={"links": int(links)},
                                                           numerics={"step_s": step, "output_every": every}))
