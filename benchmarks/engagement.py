@@ -1,10 +1,16 @@
-"""Speed of the engagement driver, printed as figures (never asserted).
+"""Speed of the engagement driver, printed as figures next to their targets (never asserted).
 
-* real-time factor (simulated seconds per wall second) of the shipped ``engage-response``
-  scenario (160 links, wake on, RK4 at 0.625 ms, 15 s with a capture and 19 remeshes), the whole
-  driver timed (balance position, segments, remeshes, derived outputs), compile time excluded
-  and reported apart;
-* the same with twice the links at half the step (the link-doubling check, 320 links).
+* real-time factor (simulated seconds per second) of each shipped engagement scenario at its
+  converged settings (elastic links, 160 links, the stiff SDIRK at 1 ms, 15 s with a capture;
+  docs/engagement.md, "Link-count convergence"), the whole driver timed (balance position,
+  segments, remeshes, derived outputs), compile time excluded; target 50;
+* the same scenario with rigid links on the settings it shipped with before (RK4 at 0.625 ms,
+  two O(n) solves per evaluation), and the elastic link-doubling mesh (320 links at 0.25 ms);
+* one run of ``approach-moderate`` (the docking campaigns' unit: rigid links, 20 links, RK4 at
+  5 ms, 4.5 s), whose speed the elastic chain must not change.
+
+Each figure is the best of ``--repeats`` runs of the CPU time of this process (``time.process_time``:
+a shared machine's other jobs stretch the wall time, much less the CPU time) and of the wall time.
 
 Run:  .venv/bin/python benchmarks/engagement.py   (one core: NUMBA_NUM_THREADS=1 is set here)
 """
@@ -19,36 +25,69 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+import argparse  # noqa: E402
+import dataclasses  # noqa: E402
 import math  # noqa: E402
 import time  # noqa: E402
 
-from hosedrogue.engagement import simulate_engagement  # noqa: E402
 from hosedrogue.scenarios import load_scenario  # noqa: E402
+from hosedrogue.scenarios.runner import run  # noqa: E402
+from hosedrogue.studies.convergence import with_links  # noqa: E402
+
+SCENARIOS = ("engage-locked", "engage-constant-tension", "engage-response")
+TARGET_RTF = 50.0
 
 
-def timed(params, reel, probe, duration_s, repeats=3):
-    best = math.inf
+def timed(scenario, repeats):
+    """Best CPU and wall time [s] of ``repeats`` runs, and the last result."""
+    cpu = wall = math.inf
     for _ in range(repeats):
-        t0 = time.perf_counter()
-        r = simulate_engagement(params, duration_s, reel=reel, probe=probe)
-        best = min(best, time.perf_counter() - t0)
-    return best, r
+        c0, w0 = time.process_time(), time.perf_counter()
+        r = run(scenario)
+        cpu = min(cpu, time.process_time() - c0)
+        wall = min(wall, time.perf_counter() - w0)
+    return cpu, wall, r
 
 
-def main():
-    sc = load_scenario("engage-response")
-    reel, probe = sc.engagement.reel, sc.engagement.probe
+def rigid(scenario):
+    """The scenario with rigid links on its former settings: RK4 at 0.625 ms, output every 10 ms."""
+    p = scenario.params.replace(hose={"axial_stiffness_n": math.inf, "axial_damping_n_s": 0.0},
+                                numerics={"integrator": "rk4", "step_s": 0.000625, "output_every": 16})
+    return dataclasses.replace(scenario, params=p)
+
+
+def line(label, scenario, cpu, wall, r, target=None):
+    steps = int(round(scenario.duration_s / scenario.params.numerics.step_s))
+    rtf = scenario.duration_s / cpu
+    goal = f" (target {target:g}: {'met' if rtf >= target else 'NOT met'})" if target else ""
+    print(f"{label}: {scenario.params.hose.links} links, h = {scenario.params.numerics.step_s * 1e3:g} ms "
+          f"({scenario.params.numerics.integrator}): CPU {cpu:.3f} s, wall {wall:.3f} s for {scenario.duration_s:g} s "
+          f"-> real-time factor {rtf:.1f} (wall {scenario.duration_s / wall:.1f}){goal}; "
+          f"{cpu / steps * 1e6:.1f} us per step; result {r.outcome['result']!r}")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--repeats", type=int, default=3, help="runs per figure (the best is reported)")
+    ap.add_argument("--no-doubled", action="store_true", help="skip the 320-link meshes")
+    args = ap.parse_args(argv)
     t0 = time.perf_counter()
-    simulate_engagement(sc.params, 0.5, reel=reel, probe=probe)
-    print(f"compile + first short run: {time.perf_counter() - t0:.1f} s")
-    n, h = sc.params.hose.links, sc.params.numerics.step_s
-    for links, step in ((n, h), (2 * n, h / 2)):
-        p = sc.params.replace(hose={"links": links}, numerics={"step_s": step})
-        wall, r = timed(p, reel, probe, sc.duration_s)
-        steps = int(round(sc.duration_s / step))
-        print(f"engage-response, {links} links, h = {step * 1e3:.3g} ms: {wall:.3f} s wall for {sc.duration_s:g} s "
-              f"-> real-time factor {sc.duration_s / wall:.1f}; {wall / steps * 1e6:.1f} us per RK4 step "
-              f"(driver total); {r.outcome['remesh_events']} remeshes, result {r.outcome['result']!r}")
+    for name in SCENARIOS:
+        sc = load_scenario(name)
+        run(dataclasses.replace(sc, duration_s=0.05))
+        run(dataclasses.replace(rigid(sc), duration_s=0.05))
+    print(f"compile + first short runs: {time.perf_counter() - t0:.1f} s; load average {os.getloadavg()[0]:.1f}")
+    for name in SCENARIOS:
+        sc = load_scenario(name)
+        line(f"{name} (elastic, shipped)", sc, *timed(sc, args.repeats), target=TARGET_RTF)
+        line(f"{name} (rigid, former settings)", rigid(sc), *timed(rigid(sc), args.repeats))
+        if not args.no_doubled:
+            d = with_links(sc, 2 * sc.params.hose.links)
+            line(f"{name} (elastic, doubled)", d, *timed(d, 1))
+    sc = load_scenario("approach-moderate")
+    run(sc)
+    line("approach-moderate (the campaigns' run)", sc, *timed(sc, 5 * args.repeats))
+    print(f"load average at the end {os.getloadavg()[0]:.1f}")
 
 
 if __name__ == "__main__":

@@ -268,8 +268,8 @@ def _folder(path):
 
 def test_engagement_section_alone_marks_the_fast_runs(tmp_path):
     """The fast version's engagement runs are not the shipped mesh: the section says so; every
-    reel captures, the locked reel whips (its exit-tension peak flagged), the constant-tension
-    reel does not."""
+    reel captures, the locked reel's loop flails (its exit-tension peak flagged not converged), the
+    constant-tension reel's does not; the tension wave is drawn and written."""
     from hosedrogue.report import engagement
     from hosedrogue.report.settings import FAST
 
@@ -282,11 +282,16 @@ def test_engagement_section_alone_marks_the_fast_runs(tmp_path):
     for law, run in eng["runs"].items():
         assert run["captured"] is True, law
         assert run["peak_probe_load_n"] > 0 and run["peak_slack_m"] > 0, law
-    assert eng["runs"]["locked"]["peak_exit_tension_converged"] is False
-    assert eng["runs"]["constant-tension"]["peak_exit_tension_converged"] is True
+    assert eng["runs"]["locked"]["converged"]["peak_exit_tension_n"] is False
+    assert eng["runs"]["constant-tension"]["converged"]["peak_exit_tension_n"] is True
     (section,) = [s.html for s in out.sections if s.anchor == "engagement"]
     assert 'id="engagement-fast"' in section and f"{eng['links']} links" in section
     assert "not converged" in section
+    # the elastic hose's tension wave: a figure and its data around each run's peak exit tension
+    assert 'id="fig-engagement-wave"' in section and (tmp_path / "fig_engagement_wave.png").exists()
+    wave = np.genfromtxt(tmp_path / "engagement_wave.csv", delimiter=",", names=True, dtype=None, encoding=None)
+    assert set(wave["scenario"]) == {"engage-locked", "engage-constant-tension", "engage-response"}
+    assert np.max(wave["tension_n"]) > 1000.0 and np.max(wave["s_m"]) > 15.0
 
 
 @pytest.fixture(scope="module")

@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from .load_convergence import converged_peaks, went_slack
 from .version import __version__
 
 #: The time-series columns of every run, in file order (SI units in the names; the engagement
@@ -244,33 +245,6 @@ class SimulationResult(RunResult):
 SUMMARY_KEYS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",
                 "peak_slack_m", "peak_drogue_excursion_m", "peak_control_force_n")
 
-#: The hose counts as gone slack when its exit tension falls below this fraction of the steady
-#: trail tension (the exit tension at the start, at the balance position).
-SLACK_TENSION_FRACTION = 0.1
-
-#: ``notes`` entry of a run in which the hose went slack (:meth:`EngagementResult.went_slack`).
-SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail tension): peak_exit_tension_n "
-              "and min_exit_tension_n are snap spikes of an inextensible link chain and are not converged "
-              "with the link count (docs/engagement.md). The peak probe load and the peak slack of the shipped "
-              "scenarios change by less than 5 % when their links are doubled")
-
-#: Elastic links: the hose flails when its slack stays above FLAIL_SLACK_M [m] (ten times the ~1 cm
-#: sag of the steady trail, five times the responsive reel's dead band) over the run's last FLAIL_WINDOW_S [s]
-FLAIL_SLACK_M, FLAIL_WINDOW_S = 0.1, 1.0
-
-#: ``notes`` entry of an elastic run whose hose is still slack at its end (:meth:`EngagementResult.flailing`).
-FLAIL_NOTE = ("the hose is still slack at the end of the run (a loop flailing in the air stream): a chaotic "
-              "motion whose peak loads change with every change of the mesh or the step; of the peaks only "
-              "peak_slack_m is converged (docs/engagement.md, \"Link-count convergence\")")
-#: ``notes`` entry of an elastic run whose hose went slack and snapped taut again.
-SNAP_NOTE = ("the hose went slack and snapped taut: the snap's tension wave is smoothed by the axial damping on "
-             "its way to the exit, so peak_exit_tension_n, peak_tension_rise_n and the probe load are converged "
-             "with the link count, peak_drogue_tension_n (the snap at the drogue end) is not (docs/engagement.md)")
-
-#: The peaks whose convergence with the link count a run reports (``"converged"`` in its summary).
-PEAK_KEYS = ("peak_exit_tension_n", "peak_tension_rise_n", "peak_drogue_tension_n", "peak_probe_load_n", "peak_slack_m")
-
-
 @dataclass(frozen=True, kw_only=True)
 class EngagementResult(RunResult):
     """Time histories (S_p, SI units) and the outcome of one engagement run.
@@ -337,22 +311,19 @@ class EngagementResult(RunResult):
 
     def went_slack(self) -> bool:
         """Whether the hose went (nearly) slack: the exit tension fell below
-        :data:`SLACK_TENSION_FRACTION` of the steady trail tension. Then the hose whips, and the
-        exit-tension spikes when it snaps taut again are not converged with the link count
-        (docs/engagement.md; the shipped scenarios' minimum exit tension: locked reel -1.9 kN,
-        responsive reel 38 N, of a 1.53 kN trail tension; the constant-tension reel keeps 551 N and
-        all its peaks converge).
+        :data:`~hosedrogue.load_convergence.SLACK_TENSION_FRACTION` of the steady trail tension
+        (:func:`hosedrogue.load_convergence.went_slack`).
 
         Returns
         -------
         bool
         """
-        T = np.asarray(self.exit_tension_n)
-        return bool(T.size and np.min(T) < SLACK_TENSION_FRACTION * T[0])
+        return went_slack(self.exit_tension_n)
 
     def summary(self) -> dict[str, Any]:
         """The run's ``"engagement"`` object: :data:`SUMMARY_KEYS` first, then the supporting
-        figures, ``peak_tension_converged`` and ``notes`` (what not to read as converged).
+        figures, ``peak_tension_converged``, ``converged`` (which peaks are converged with the link
+        count) and ``notes`` (why the others are not; :func:`hosedrogue.load_convergence.converged_peaks`).
 
         Returns
         -------
@@ -362,45 +333,12 @@ class EngagementResult(RunResult):
         o = self.outcome
         out = {k: o.get(k) for k in SUMMARY_KEYS}
         out.update({k: v for k, v in o.items() if k not in out})
-        converged, notes = self.converged_peaks()
+        converged, notes = converged_peaks(self.t_s, self.exit_tension_n, self.slack_m,
+                                           self.hose_length_m[0] / self.links[0], self.step_loads is not None)
         out["peak_tension_converged"] = converged["peak_exit_tension_n"]
         out["converged"] = converged
         out["notes"] = notes
         return out
-
-    def flailing(self) -> bool:
-        """Whether the hose is still slack at the end of the run (the locked reel's loop):
-        its slack above :data:`FLAIL_SLACK_M` throughout the last :data:`FLAIL_WINDOW_S`.
-
-        Returns
-        -------
-        bool
-        """
-        t = np.asarray(self.t_s)
-        return bool(t.size and np.min(np.asarray(self.slack_m)[t >= t[-1] - FLAIL_WINDOW_S]) > FLAIL_SLACK_M)
-
-    def converged_peaks(self) -> tuple[dict, list]:
-        """Which peaks of :data:`PEAK_KEYS` are converged with the link count, and the notes saying
-        why the others are not (docs/engagement.md, "Link-count convergence"). Rigid links: in a
-        hose that went slack (:meth:`went_slack`) the tension peaks are impulses of the
-        inextensible chain. Elastic links: a snap's exit tension converges, its drogue-end tension
-        does not; a hose still flailing at the end (:meth:`flailing`) has no converged peak but
-        the slack.
-
-        Returns
-        -------
-        converged : dict
-            Peak key -> bool.
-        notes : list of str
-        """
-        slack = self.went_slack()
-        if self.step_loads is None:  # rigid links
-            return {k: not slack or k in PEAK_KEYS[3:] for k in PEAK_KEYS}, [SLACK_NOTE] if slack else []
-        if self.flailing():
-            return {k: k == "peak_slack_m" for k in PEAK_KEYS}, [FLAIL_NOTE]
-        flags = {k: True for k in PEAK_KEYS}
-        flags["peak_drogue_tension_n"] = not slack
-        return flags, [SNAP_NOTE] if slack else []
 
     def plot(self, **kwargs):
         """The engagement's time histories (drogue, tensions, probe load, slack, reel; see hosedrogue.plotting)."""
