@@ -30,6 +30,7 @@ The motion table sits in the model's ``env`` after the ``ENV_SIZE`` scalars of
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -268,3 +269,58 @@ def with_motion(env: np.ndarray, table: np.ndarray | None, airspeed_m_s: float) 
     out[ENV_M_ON] = 1.0
     out[ENV_M_V0] = float(airspeed_m_s)
     return out
+
+
+@dataclass(frozen=True)
+class SteadyFrame:
+    """The frame terms of a steady flight (a coordinated turn and/or a climb at constant speed),
+    in the tanker's body axes B: what the continuum's loads (:mod:`hosedrogue.analysis.continuum`)
+    need. Straight and level flight is ``SteadyFrame((0, 0, g), (0, 0, 0), 1)``."""
+
+    #: the uniform part of the apparent acceleration, ``g b_g - a_0`` (3,) [m/s^2]
+    acceleration_m_s2: tuple
+    #: B's angular velocity Omega (3,) [rad/s]: the centrifugal field ``-Omega x (Omega x r)`` and
+    #: the air's rotation ``-Omega x r`` relative to B
+    omega_rad_s: tuple
+    #: the wake's circulation over its level-flight value at the model's airspeed, ``n V_0 / V`` [-]
+    wake_factor: float
+    #: the rotation the air is seen with, ``-Omega_air x r`` [rad/s] (3,); None: ``omega_rad_s``, as
+    #: in flight (a study of a turn's parts may separate the two)
+    air_omega_rad_s: tuple | None = None
+
+    @property
+    def air_omega(self) -> tuple:
+        """The rotation the air is seen with [rad/s]."""
+        return self.omega_rad_s if self.air_omega_rad_s is None else self.air_omega_rad_s
+
+    @property
+    def is_level(self) -> bool:
+        """Straight and level flight: no rotation, gravity along z, the level wake."""
+        return (tuple(self.acceleration_m_s2) == (0.0, 0.0, G0) and not any(self.omega_rad_s)
+                and not any(self.air_omega) and self.wake_factor == 1.0)
+
+
+def steady_frame(motion: TankerMotion, airspeed_m_s: float) -> SteadyFrame:
+    """The frame terms of the motion's initial steady flight, from :func:`frame_terms` (the
+    compiled core's one definition).
+
+    Parameters
+    ----------
+    motion : TankerMotion
+        Its ``bank_deg`` and ``flight_path_deg`` (the segments are ignored).
+    airspeed_m_s : float
+        The airspeed [m/s].
+
+    Returns
+    -------
+    SteadyFrame
+    """
+    table = motion_table(motion, airspeed_m_s, steady=True)
+    if table is None:
+        return SteadyFrame((0.0, 0.0, G0), (0.0, 0.0, 0.0), 1.0)
+    env = with_motion(np.zeros(ENV_M_END), table, airspeed_m_s)
+    scratch = np.zeros(ENV_M_END)
+    _, factor = frame_terms(0.0, env, ENV_M_END, scratch)
+    acc = G0 * scratch[ENV_M_G:ENV_M_G + 3] - scratch[ENV_M_A0:ENV_M_A0 + 3]
+    return SteadyFrame(tuple(float(a) for a in acc), tuple(float(w) for w in scratch[ENV_M_W:ENV_M_W + 3]),
+                       float(factor))
