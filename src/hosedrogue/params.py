@@ -110,14 +110,16 @@ class Drogue(Section):
 
 @dataclass(frozen=True)
 class Flight(Section):
-    """Straight and level flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m)."""
+    """Flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m): straight and level, or
+    the start of its manoeuvres (:class:`~hosedrogue.manoeuvres.TankerMotion`)."""
 
     _section = "flight"
     #: Flight altitude [m]; sets the ICAO standard-atmosphere air density.
     altitude_m: float = field(
         default=8000.0, metadata=real(0.0, H_MAX_ATMOSPHERE, lo_open=False, unit="m")
     )
-    #: True airspeed of the tanker [m/s] (the free stream the hose sees).
+    #: True airspeed of the tanker [m/s] (the free stream the hose sees; at the start when the
+    #: tanker manoeuvres, [tanker_motion]).
     airspeed_m_s: float = field(default=150.0, metadata=real(0.0, 400.0, unit="m/s"))
     #: Multiplies the ICAO density [-]; 0 switches all air forces off (used by energy checks).
     density_scale: float = field(default=1.0, metadata=real(0.0, 10.0, lo_open=False))
