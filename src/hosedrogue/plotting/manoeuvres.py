@@ -21,7 +21,7 @@ def plot_steady_flight(bank, flight_path) -> Figure:
     matplotlib.figure.Figure
     """
     fig = Figure(figsize=(8.0, 6.0), constrained_layout=True)
-    axes = fig.subplots(2, 2, sharex="col")
+    axes = fig.subplots(2, 2)
     for col, (sw, label) in enumerate(((bank, "bank angle [deg] (> 0 turning right)"),
                                        (flight_path, "flight-path angle [deg] (> 0 climbing)"))):
         ax, ax_t = axes[0, col], axes[1, col]
@@ -34,8 +34,8 @@ def plot_steady_flight(bank, flight_path) -> Figure:
         ax.legend(fontsize=8)
         ax_t.plot(a, sw.exit_tension_n, "o-", color="C3")
         ax_t.set_ylabel("exit tension [N]")
-        ax_t.set_xlabel(label)
         for a_ in (ax, ax_t):
+            a_.set_xlabel(label)
             a_.grid(True, alpha=0.3)
     axes[0, 0].set_title("steady coordinated level turn")
     axes[0, 1].set_title("steady climb or descent, wings level")
@@ -55,7 +55,7 @@ def plot_turn_entry(entry) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(8.0, 8.0), constrained_layout=True)
+    fig = Figure(figsize=(8.0, 9.0), constrained_layout=True)
     ax_b, ax_y, ax_z, ax_u = fig.subplots(4, 1, sharex=True)
     t = entry.t_s
     ax_b.plot(t, entry.bank_deg, color="k")
@@ -70,9 +70,9 @@ def plot_turn_entry(entry) -> Figure:
     ax_u.plot(t, entry.pid_force_n[:, 0], color="C1", ls="-", label="u_y")
     ax_u.plot(t, entry.pid_force_n[:, 1], color="C3", ls="-", label="u_z")
     ax_u.set_ylabel("PID force [N]")
-    ax_u.set_xlabel("time t [s]")
     ax_u.legend(fontsize=8)
     for ax in (ax_b, ax_y, ax_z, ax_u):
+        ax.set_xlabel("time t [s]")
         ax.axvspan(entry.roll_start_s, entry.roll_end_s, color="0.9", zorder=0)
         ax.grid(True, alpha=0.3)
     return fig
@@ -100,6 +100,7 @@ def plot_turn_capture(capture) -> Figure:
     ax.errorbar(x, rate, yerr=[rate - lo, hi - rate], fmt="none", ecolor="k", capsize=6)
     ax.set_xticks(x, [f"{lbl}\n({c['runs']} runs)" for lbl, c in zip(capture.labels, capture.capture)])
     ax.set_ylim(0.0, 1.05)
+    ax.set_xlabel("the tanker's flight [-]")
     ax.set_ylabel("capture rate [-]")
     ax.set_title("approach in moderate turbulence (95 % Wilson intervals)", fontsize=9)
     ax.grid(True, axis="y", alpha=0.3)
