@@ -76,7 +76,7 @@ def _steady_html(steady) -> str:
     from ..analysis.steady_flight import TURN_TERMS
 
     b = steady.breakdown
-    rows = [(esc(term), _mm(c[0]), _mm(c[1]), _mm(c[2])) for term, c in zip(TURN_TERMS, b.contributions_m)]
+    rows = [(term, _mm(c[0]), _mm(c[1]), _mm(c[2])) for term, c in zip(TURN_TERMS, b.contributions_m)]
     rows.append((("html", "<b>the whole turn</b>"), *(_mm(v) for v in b.turn_m)))
     rows.append((("html", "<b>besides the apparent gravity</b>"), *(_mm(v) for v in b.beyond_apparent_gravity_m)))
     table = html_table(["term (added in this order)", "dx [mm]", "dy [mm]", "dz [mm]"], rows,
@@ -103,6 +103,7 @@ def _steady_html(steady) -> str:
 def _entry_html(entry) -> str:
     s1, s2 = (entry.settling_time_s[b] for b in sorted(entry.settling_time_s, reverse=True))
     shift = entry.turn_m - entry.level_m
+    fy, fz = entry.pid_final_force_n
     fine = f"{s2:.0f} s" if np.isfinite(s2) else "more than the run"
     return (
         f"<p><b>Turn entry</b> (scenario <code>turn-entry-30</code>, the converged model): from {entry.roll_start_s:g} s "
@@ -113,12 +114,12 @@ def _entry_html(entry) -> str:
         f"roll it is at most {entry.overshoot_m:.2f} m from the turn's balance position, within 1 cm of it for good "
         f"{s1:.0f} s after the roll and within 1 mm {fine} after. The paper's PID (designed for level flight, its "
         f"reference the level balance position) holds the drogue within {1e3 * entry.pid_peak_offset_m:.0f} mm of it "
-        f"through the whole entry, ending with {entry.pid_final_force_n[1]:.0f} N vertically and "
-        f"{entry.pid_final_force_n[0]:.0f} N laterally to hold it there in the turn.</p>")
+        f"through the whole entry, ending with {abs(fz):.0f} N {'up' if fz < 0 else 'down'} and {abs(fy):.0f} N "
+        f"{'left' if fy < 0 else 'right'} to hold it there in the turn.</p>")
 
 
 def _capture_html(capture) -> str:
-    rows = [(esc(lbl), ("html", f"<code>{esc(name)}</code>"), c["runs"], f"{c['rate']:.3f}",
+    rows = [(lbl, ("html", f"<code>{esc(name)}</code>"), c["runs"], f"{c['rate']:.3f}",
              f"[{c['ci95'][0]:.3f}, {c['ci95'][1]:.3f}]", c["by_result"].get("miss", 0),
              c["by_result"].get("failed latch", 0))
             for lbl, name, c in zip(capture.labels, capture.scenarios, capture.capture)]
