@@ -304,3 +304,35 @@ def test_bad_steady_flight_options_are_one_line(capsys, argv):
         cli.main(argv)
     err = capsys.readouterr().err
     assert exc.value.code == 2 and err.count("\n") == 1 and argv[1] in err
+
+
+def test_steady_command_in_a_turn_and_a_climb(capsys):
+    """``hosedrogue steady --bank-deg 25 --climb-deg -3 --json`` is the library's balance position
+    in that steady flight, and ``--continuum`` the continuous hose's; the table names the turn."""
+    import json
+
+    from hosedrogue import cli
+
+    p = steady_params(PAPER, bank_deg=25.0, flight_path_deg=-3.0)
+    assert cli.main(["steady", "--bank-deg", "25", "--climb-deg", "-3", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["drogue_position_m"] == solve_equilibrium(p).drogue_position_m.tolist()
+    assert doc["tanker_motion"] == {"bank_deg": 25.0, "flight_path_deg": -3.0}
+    assert cli.main(["steady", "--bank-deg", "25", "--climb-deg", "-3", "--continuum", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["drogue_position_m"] == solve_continuum(p).drogue_position_m.tolist()
+    assert cli.main(["steady", "--bank-deg", "-25"]) == 0
+    assert "in a 25 deg coordinated turn to the left" in capsys.readouterr().out
+
+
+def test_the_motion_slots_follow_the_kernels_env():
+    """The frame's slots of env start right after the bow wave's and end at the kernels' ENV_SIZE,
+    where a manoeuvring model's motion table begins (one layout for both modules)."""
+    from hosedrogue.model import frame, kernels as K
+
+    assert frame.ENV_M_ON == K.ENV_BW_LEN + 1 and K.ENV_SIZE == frame.ENV_M_END
+    assert frame.ENV_M_D + 3 == frame.ENV_M_END
+    level = HoseModel(PAPER)
+    assert level.env.size == K.ENV_SIZE and level.motion_table is None
+    turn = HoseModel(steady_params(PAPER, bank_deg=10.0))
+    assert turn.env.size == K.ENV_SIZE + turn.motion_table.size and turn.env[frame.ENV_M_ON] == 1.0

@@ -26,7 +26,10 @@ bending mode (0 off, 1 paper, 2 moment), link drag quadrature (0 midpoint, 1 two
 structural bending damping c_b [N m^2 s], mass lumped at the tow point. The drogue's rotational
 inertia is the last link's transverse inertia (in ``J[n-1]``, docs/model.md §2).
 ``env`` (air): airspeed, frozen flag, gust window on/off, gust record t0/dt, then the 6 wake
-scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag.
+scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag,
+the per-evaluation gust, the bow wave and the tanker's motion (slots ``ENV_M_*`` of
+:mod:`hosedrogue.model.frame`; when the tanker manoeuvres, its motion table follows the
+``ENV_SIZE`` scalars and every evaluation's copy of env holds the frame terms at its time).
 """
 
 from __future__ import annotations

@@ -119,6 +119,12 @@ class HoseModel:
         ``hose.length_m`` (the engagement's chain at a given mesh and free length); the model's
         ``params`` then carry ``hose.length_m = sum(lengths)`` and ``hose.links = n``. Masses and
         inertias follow from the lengths (:func:`lumped_masses`, :func:`link_inertias`).
+
+    Notes
+    -----
+    The tanker's motion (``params.tanker_motion``, docs/model.md §9) is part of the environment:
+    ``env`` carries its table (the kernels evaluate the frame terms at every time),
+    ``steady_env`` its initial steady flight (level, or a steady coordinated turn or climb).
     """
 
     def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None, duration_s: float | None = None,
