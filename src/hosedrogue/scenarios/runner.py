@@ -3,8 +3,8 @@ the fixed-length or the varying-length (engagement) driver.
 
 * :func:`run` - balance position, controller (designed once per process and design), initial
   state, simulation; returns a :class:`~hosedrogue.results.RunResult`;
-* :func:`write` - ``timeseries.csv``, ``run.json``, the figure and, with ``formats=("csv",
-  "mat")``, ``timeseries.mat``, for either kind of result.
+* :func:`write` - ``timeseries.csv``, ``run.json``, ``hose.npz`` (the hose's shape over time),
+  the figure and, with ``formats=("csv", "mat")``, ``timeseries.mat``, for either kind of result.
 """
 
 from __future__ import annotations
@@ -168,8 +168,10 @@ def _meta(scenario: Scenario) -> dict:
 
 
 def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
-    """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, its figure
-    (``displacement.png`` or ``engagement.png``) and, with ``"mat"``, ``timeseries.mat``.
+    """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, ``hose.npz`` (the
+    joint positions at every output time, :meth:`~hosedrogue.results.RunResult.to_hose_npz`; what
+    ``hosedrogue view`` draws), its figure (``displacement.png`` or ``engagement.png``) and, with
+    ``"mat"``, ``timeseries.mat``.
 
     Parameters
     ----------
@@ -195,6 +197,7 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
     paths = [result.to_csv(out_dir / "timeseries.csv")]
     (out_dir / "run.json").write_text(json.dumps(result.run_document(), indent=2, default=float) + "\n")
     paths.append(out_dir / "run.json")
+    paths.append(result.to_hose_npz(out_dir / result.HOSE_FILE))
     if plot and result.t_s.size > 1:
         from ..plotting.figures import save_figure
 
