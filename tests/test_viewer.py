@@ -180,6 +180,25 @@ def test_view_command_writes_one_page_of_several_runs(folders, tmp_path, capsys)
     assert np.allclose(np.diff(frames)[:-1], 0.05, atol=1e-9)  # 20 frames per simulated second
 
 
+def test_a_window_keeps_the_output_times_inside_it(folders, tmp_path, capsys):
+    """--start/--end keep the output times in [start, end] with their own joints (the window
+    crosses the first merge at 2.68 s: 21 joints, then 20)."""
+    run = viewer.read_run(folders / "engaged")
+    part = run.between(2.5, 3.0)
+    inside = (run.t_s >= 2.5) & (run.t_s <= 3.0)
+    assert np.array_equal(part.t_s, run.t_s[inside]) and set(part.joint_count) == {21, 20}
+    offsets = np.concatenate([[0], np.cumsum(run.joint_count)])
+    i = int(np.flatnonzero(inside)[-1])
+    assert np.array_equal(part.joints_m[-part.joint_count[-1]:], run.joints_m[offsets[i]:offsets[i + 1]])
+    out = tmp_path / "part.html"
+    assert cli.main(["view", str(folders / "engaged"), "--start", "2.5", "--end", "3", "--out", str(out), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)["runs"][0]
+    assert (report["t_start_s"], report["t_end_s"], report["output_times"]) == (2.5, 3.0, int(inside.sum()))
+    code = cli.main(["view", str(folders / "engaged"), "--start", "9", "--out", str(tmp_path / "none.html")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "holds no output time" in err and not (tmp_path / "none.html").exists()
+
+
 def test_simulate_view_writes_the_page_with_the_run(tmp_path, capsys):
     path = tmp_path / "tiny.toml"
     path.write_text(TINY)
@@ -206,3 +225,15 @@ def test_a_campaigns_runs_run_again_are_its_runs(tmp_path):
     page, shown = write_campaign_view(summary, tmp_path / "mc" / "view.html", tmp_path / "mc" / "view")
     assert len(_payload(page.read_text())["runs"]) == 3
     assert all(viewer.read_run(p["folder"]).label == "tiny-swing" for p in shown)
+
+
+def test_montecarlo_view_writes_the_campaigns_page(tmp_path, capsys):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY)
+    out = tmp_path / "mc"
+    code = cli.main(["montecarlo", str(path), "--runs", "3", "--scheduler", "synchronous", "--quiet", "--out", str(out),
+                     "--view"])
+    assert code == 0 and f"wrote {out / 'view.html'} (run " in capsys.readouterr().out
+    labels = [r["label"] for r in _payload((out / "view.html").read_text())["runs"]]
+    assert len(labels) == 3 and all(label.startswith("run ") for label in labels)
+    assert len(list((out / "view").glob("run_*_none/hose.npz"))) == 3

@@ -34,6 +34,10 @@ def add_parser(sub) -> None:
     s.add_argument("--frame-rate", metavar="HZ", type=finite_float("--frame-rate", 1e-3, 1e4, "1/s"),
                    help="3D frames kept per simulated second [1/s] (default: every output time); fewer make a "
                         "smaller file, and the page interpolates between frames")
+    s.add_argument("--start", metavar="S", type=finite_float("--start", -1e9, 1e9, "s"),
+                   help="show the runs from this time on [s] (default: their start)")
+    s.add_argument("--end", metavar="S", type=finite_float("--end", -1e9, 1e9, "s"),
+                   help="show the runs up to this time [s] (default: their end)")
     s.add_argument("--label", metavar="NAME", action="append", default=[],
                    help="name of a run on the page, once per RUN_DIR in order (default: the scenario's name, "
                         "or the folder's when two runs share one)")
@@ -86,14 +90,17 @@ def run(args) -> int:
     out = Path(args.out)
     if out.is_dir():
         raise ParameterError(f"--out = {args.out!r}: is a folder; give the HTML file to write")
+    if args.start is not None and args.end is not None and args.end <= args.start:
+        raise ParameterError(f"--end = {args.end:g}: must be after --start = {args.start:g} [s]")
     runs = [read_run(folder) for folder in args.runs]
     runs = [dataclasses.replace(r, label=name) for r, name in zip(runs, labels(args.runs, args.label, runs))]
+    runs = [r.between(args.start, args.end) for r in runs]
     path = write_view(runs, out, layout=args.layout, frame_rate_hz=args.frame_rate, title=args.title)
     size = path.stat().st_size
     if args.json:
         print(json.dumps({"file": str(path), "bytes": size, "layout": args.layout, "frame_rate_hz": args.frame_rate,
                           "runs": [{"label": r.label, "folder": r.source, "output_times": int(r.t_s.size),
-                                    "t_end_s": float(r.t_s[-1]), "max_links": int(r.joint_count.max()) - 1}
+                                    "t_start_s": float(r.t_s[0]), "t_end_s": float(r.t_s[-1]), "max_links": int(r.joint_count.max()) - 1}
                                    for r in runs]}, indent=2))
     else:
         print(f"wrote {path} ({size / 1e6:.2f} MB, {len(runs)} run{'s' if len(runs) > 1 else ''})")

@@ -152,7 +152,8 @@ def _script_json(payload: dict) -> str:
 
 
 def view_html(runs: Sequence[ViewRun], *, layout: str = "overlay", frame_rate_hz: float | None = None,
-              title: str | None = None, max_series_points: int = MAX_SERIES_POINTS) -> str:
+              window_s: tuple | None = None, title: str | None = None,
+              max_series_points: int = MAX_SERIES_POINTS) -> str:
     """The viewer page of one or more runs.
 
     Parameters
@@ -164,6 +165,9 @@ def view_html(runs: Sequence[ViewRun], *, layout: str = "overlay", frame_rate_hz
     frame_rate_hz : float, optional
         3D frames kept per simulated second [1/s] (default: every output time); the page
         interpolates between frames of the same link count.
+    window_s : (float or None, float or None), optional
+        Show only the output times in [start, end] [s] (:meth:`ViewRun.between`; None: that end
+        of each run).
     title : str, optional
         The page's title (default: the runs' labels).
     max_series_points : int
@@ -179,6 +183,8 @@ def view_html(runs: Sequence[ViewRun], *, layout: str = "overlay", frame_rate_hz
         raise ParameterError("runs: give at least one run")
     if layout not in LAYOUTS:
         raise ParameterError(f"layout = {layout!r}: must be one of {', '.join(map(repr, LAYOUTS))}")
+    if window_s is not None:
+        runs = [r.between(*window_s) for r in runs]
     title = title or "hosedrogue viewer: " + ", ".join(r.label for r in runs)
     payload = {"version": __version__, "title": title, "layout": layout,
                "runs": [{**_facts(r), "frames": _frames(r, frame_rate_hz), "series": _series(r, max_series_points)}
@@ -200,7 +206,8 @@ def write_view(runs: Sequence[ViewRun], out: str | Path, **options) -> Path:
     out : str or pathlib.Path
         The HTML file to write; its folder is created if missing.
     **options
-        ``layout``, ``frame_rate_hz``, ``title``, ``max_series_points`` of :func:`view_html`.
+        ``layout``, ``frame_rate_hz``, ``window_s``, ``title``, ``max_series_points`` of
+        :func:`view_html`.
 
     Returns
     -------

@@ -72,6 +72,36 @@ class ViewRun:
         """(N,) output times [s]."""
         return np.asarray(self.columns["t_s"], dtype=np.float64)
 
+    def between(self, start_s: float | None = None, end_s: float | None = None) -> "ViewRun":
+        """The run's output times in [start_s, end_s] only.
+
+        Parameters
+        ----------
+        start_s, end_s : float, optional
+            The window [s] (default: the run's first and last output time).
+
+        Returns
+        -------
+        ViewRun
+
+        Raises
+        ------
+        ParameterError
+            If no output time of the run lies in the window.
+        """
+        t = self.t_s
+        lo = t[0] if start_s is None else float(start_s)
+        hi = t[-1] if end_s is None else float(end_s)
+        keep = (t >= lo) & (t <= hi)
+        if not keep.any():
+            raise ParameterError(f"window [{lo:g}, {hi:g}] s: holds no output time of run {self.label!r} "
+                                 f"(it runs from {t[0]:g} to {t[-1]:g} s)")
+        offsets = np.concatenate([[0], np.cumsum(self.joint_count)])
+        rows = np.concatenate([np.arange(offsets[i], offsets[i + 1]) for i in np.flatnonzero(keep)])
+        return ViewRun(label=self.label, columns={k: v[keep] for k, v in self.columns.items()},
+                       joint_count=self.joint_count[keep], joints_m=self.joints_m[rows], document=self.document,
+                       source=self.source)
+
     @classmethod
     def from_result(cls, result: RunResult, label: str | None = None) -> "ViewRun":
         """The view of a run in memory (either hose model).

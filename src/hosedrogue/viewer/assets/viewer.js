@@ -9,7 +9,7 @@
   const H = window.HDV;
   const DATA = JSON.parse(document.getElementById("hd-data").textContent);
   const COLORS = ["#1f5fae", "#d9731a", "#2e8b57", "#8e44ad", "#c0392b", "#16a0a8", "#7f6a00", "#4d4d4d"];
-  const PROBE_MAST_M = 3.0; // drawn length of the probe aft of its tip [m] (a marker, not modelled)
+  const PROBE_MAST_M = 1.5; // drawn length of the probe aft of its tip [m] (a marker, not modelled)
   const BASKET_DEPTH_M = 0.6; // drawn depth of the drogue's cone [m] (a marker; its diameter is the model's)
 
   // ---- data -------------------------------------------------------------------------------
@@ -98,9 +98,24 @@
   // ---- the 3D scene -------------------------------------------------------------------------
   const canvas = document.getElementById("view3d");
   const stage = document.getElementById("stage");
+  /** The WebGL implementation's name, and whether it draws in software on the CPU (SwiftShader,
+   * llvmpipe: headless browsers, machines without a GPU), where multisampling halves the frame rate. */
+  function glInfo() {
+    try {
+      const gl = document.createElement("canvas").getContext("webgl2") || document.createElement("canvas").getContext("webgl");
+      const ext = gl.getExtension("WEBGL_debug_renderer_info");
+      const name = String(gl.getParameter(ext ? ext.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+      const lose = gl.getExtension("WEBGL_lose_context");
+      if (lose) lose.loseContext();
+      return { name, software: /swiftshader|llvmpipe|software/i.test(name) };
+    } catch (err) {
+      return { name: "none", software: false };
+    }
+  }
+  const GL = glInfo();
   let renderer = null;
   try {
-    renderer = new H.WebGLRenderer({ canvas, antialias: true });
+    renderer = new H.WebGLRenderer({ canvas, antialias: !GL.software });
   } catch (err) {
     stage.insertAdjacentHTML("beforeend", '<p class="chart-note" style="position:absolute;top:40%;left:10%">' +
       "WebGL is not available in this browser, so the 3D view is off; the charts work.</p>");
@@ -157,7 +172,7 @@
   function runObjects(run) {
     const group = new H.Group();
     const links = Math.max(1, run.maxCount - 1);
-    const hose = new H.InstancedMesh(new H.CylinderGeometry(1, 1, 1, 10, 1, false), material(run.color), links);
+    const hose = new H.InstancedMesh(new H.CylinderGeometry(1, 1, 1, 8, 1, false), material(run.color), links);
     hose.instanceMatrix.setUsage(H.DynamicDrawUsage);
     hose.frustumCulled = false;
     group.add(hose);
@@ -177,7 +192,7 @@
     let probe = null, tip = null;
     if (run.probe) {
       probe = new H.Group();
-      const mast = new H.Mesh(new H.CylinderGeometry(0.045, 0.06, PROBE_MAST_M, 12), material("#59606b"));
+      const mast = new H.Mesh(new H.CylinderGeometry(0.04, 0.05, PROBE_MAST_M, 12), material("#59606b"));
       mast.rotation.z = Math.PI / 2; // along X, the tip forward
       mast.position.x = -PROBE_MAST_M / 2;
       tip = new H.Mesh(new H.SphereGeometry(0.07, 16, 12), material("#d0342c"));
@@ -244,7 +259,7 @@
   function setCamera(name) {
     const target = name === "behind" ? drogueStart.clone() : center.clone();
     let offset;
-    if (name === "behind") offset = new H.Vector3(-9, 1.2, 0);
+    if (name === "behind") offset = new H.Vector3(-12, 1.5, 0); // aft of the probe, a little above
     else if (name === "side") offset = new H.Vector3(0, 0, fit(extent.x + 2, extent.y + 2) + extent.z / 2);
     else if (name === "above") offset = new H.Vector3(-1e-3, fit(extent.z + 2, extent.x + 2) + extent.y / 2, 0);
     else if (name === "orbit") offset = new H.Vector3(-0.55, 0.45, 0.7).normalize().multiplyScalar(fit(extent.length(), extent.length() * 0.7));
@@ -266,6 +281,7 @@
     for (const b of document.querySelectorAll("[data-layout]")) b.classList.toggle("on", b.dataset.layout === layout);
     const labels = document.getElementById("labels");
     labels.innerHTML = "";
+    document.body.classList.toggle("side-layout", layout === "side");
     if (layout === "side") {
       runs.forEach((r, i) => {
         const d = document.createElement("div");
@@ -425,7 +441,8 @@
     hud.textContent = hudText(states);
     clock.textContent = `t = ${time.toFixed(3)} s`;
     if (!dragging) scrub.value = String(Math.round((1000 * (time - T0)) / SPAN));
-    playButton.innerHTML = playing ? "&#10074;&#10074;" : "&#9654;";
+    const icon = playing ? "\u275A\u275A" : "\u25B6";
+    if (playButton.textContent !== icon) playButton.textContent = icon;
     placeCursors();
     drawCount++;
     if (stamps) stamps.push(performance.now());
@@ -512,7 +529,7 @@
   /** For tests and benchmarks: the clock, the cameras, the layout, what is drawn, the frame rate. */
   window.hdViewer = {
     get time() { return time; }, get playing() { return playing; }, get drawCount() { return drawCount; },
-    span: [T0, T1], labels: runs.map((r) => r.label), get camera() { return cameraName; }, get layout() { return layout; },
+    span: [T0, T1], labels: runs.map((r) => r.label), gl: { name: GL.name, antialias: !GL.software }, get camera() { return cameraName; }, get layout() { return layout; },
     setTime, play, pause, setCamera, setLayout, setSpeed(s) { speed = Number(s); requestDraw(); },
     setLoop(on) { loop = !!on; },
     /** Per run: the frame shown and its joint count (after the last draw). */
