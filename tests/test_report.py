@@ -505,7 +505,7 @@ def test_animate_hose_writes_a_small_gif(tmp_path):
     assert plt.get_fignums() == []
 
 
-def test_existing_figure_helpers_still_work(tmp_path):
+def test_figure_helpers_draw_and_save(tmp_path):
     fig = F.plot_displacement(_fake_result(), labels=["a", "b"], others=[_fake_result(seed=5)])
     _check_figure(fig)
     assert F.save_figure(fig, tmp_path / "d.png").is_file()

@@ -72,35 +72,8 @@ def run(args) -> int:
         raise
     for p in paths:
         print(f"wrote {p}")
-    print(headline(result))
+    print(result.headline())
     if not result.completed:
         print(f"hosedrogue: run incomplete: {result.message}", file=sys.stderr)
         return EXIT_INCOMPLETE
     return 0
-
-
-def headline(result) -> str:
-    """The run's headline statistics in one or two lines: over the statistics window, the peak and
-    RMS radial drogue offset [m] and the peak control force [N]; for an engagement, the outcome,
-    the miss [m], the peak probe load [N] and the peak exit tension [N].
-
-    Parameters
-    ----------
-    result : hosedrogue.results.RunResult
-        The run.
-
-    Returns
-    -------
-    str
-    """
-    st = result.statistics()
-    start, end = result.statistics_window_s
-    window = "the whole run" if end == float("inf") else f"{start:g}-{end:g} s"
-    text = (f"drogue offset over {window}: peak {st['peak_radial_m']:.4g} m, RMS {st['rms_radial_m']:.4g} m; "
-            f"peak control force {st['peak_u_n']:.4g} N")
-    if hasattr(result, "summary"):
-        s = result.summary()
-        miss = "none" if s["miss_distance_m"] is None else f"{s['miss_distance_m']:.3f} m"
-        text += (f"\nengagement: {s['result']}; miss {miss}; peak probe load {s['peak_probe_load_n']:.4g} N; "
-                 f"peak exit tension {s['peak_exit_tension_n']:.4g} N")
-    return text
