@@ -12,6 +12,7 @@ import pytest
 
 import hosedrogue as hd
 from hosedrogue import cli, viewer
+from hosedrogue.hose_file import read_hose_npz, split_joints, stack_joints
 from hosedrogue.viewer.page import envelope_indices, frame_indices
 from viewer_cases import ENGAGE, TINY
 
@@ -48,7 +49,7 @@ def _link_lengths(counts, joints):
 def test_the_hose_file_holds_every_joint_of_the_fixed_length_hose(fixed, folders):
     """hose.npz is the run's joints at full precision (the same bits), one row per output time; its
     links keep their length (rigid links: the sum is the hose length to rounding, 1e-12 m)."""
-    t, counts, joints = viewer.read_hose(folders / "fixed" / "hose.npz")
+    t, counts, joints = read_hose_npz(folders / "fixed" / "hose.npz")
     n = 6  # TINY's links
     assert np.array_equal(t, fixed.t_s) and np.all(counts == n + 1)
     assert np.array_equal(joints.reshape(t.size, n + 1, 3), np.asarray(fixed.joints_m))
@@ -61,13 +62,20 @@ def test_the_hose_file_follows_the_engagements_remeshes(engaged, folders):
     """The engagement's link count changes where links merge; each time's joints are the run's, and
     the sum of their link lengths is the free hose length the run reports (hose_length_m) to 1e-9 m
     (the chain is the hose: a remesh conserves the length up to the merge loss the run books)."""
-    t, counts, joints = viewer.read_hose(folders / "engaged" / "hose.npz")
+    t, counts, joints = read_hose_npz(folders / "engaged" / "hose.npz")
     merges = [e for e in engaged.events if e["kind"] == "merge"]
     assert merges and counts[0] == 21 and counts[-1] == 21 - len(merges)
     offsets = np.concatenate([[0], np.cumsum(counts)])
     for i in (0, t.size // 2, t.size - 1):
         assert np.array_equal(joints[offsets[i]:offsets[i + 1]], engaged.joints_m[i])
     assert np.allclose(_link_lengths(counts, joints), engaged.hose_length_m, rtol=0.0, atol=1e-9)
+
+
+def test_stacking_and_splitting_the_joints_are_inverse(engaged):
+    counts, joints = engaged.hose_shapes()
+    again = split_joints(counts, joints)
+    assert len(again) == engaged.t_s.size and all(np.array_equal(a, b) for a, b in zip(again, engaged.joints_m))
+    assert all(np.array_equal(a, b) for a, b in zip(stack_joints(again), (counts, joints)))
 
 
 def test_write_adds_the_hose_file_and_keeps_the_others(fixed, tmp_path):

@@ -146,51 +146,11 @@ class RunResult:
         """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
         raise NotImplementedError
 
-    #: File name of the hose's shape over time (:meth:`to_hose_npz`) in the run's output folder.
-    HOSE_FILE = "hose.npz"
-
     def hose_shapes(self) -> tuple[np.ndarray, np.ndarray]:
-        """The hose's joint positions at every output time, stacked in one array.
-
-        Both hose models give them the same way: the fixed-length hose has n+1 joints at every
-        output time, the engagement's count changes where the hose is remeshed (its links split or
-        merge as the reel pays out or takes up; docs/engagement.md).
-
-        Returns
-        -------
-        joint_count : numpy.ndarray
-            (N,) int64: joints n+1 at each output time [-].
-        joints_m : numpy.ndarray
-            (sum(joint_count), 3) joint positions in S_p [m], time after time, each from the tow
-            point (row 0 of a time) to the drogue; the rows of output time i are
-            ``offsets[i]:offsets[i + 1]`` with ``offsets = [0, *cumsum(joint_count)]``.
-        """
-        shapes = [np.asarray(joints, dtype=np.float64) for joints in self.joints_m]
-        counts = np.array([j.shape[0] for j in shapes], dtype=np.int64)
-        return counts, (np.concatenate(shapes) if shapes else np.empty((0, 3)))
-
-    def to_hose_npz(self, path: str | Path) -> Path:
-        """Write the hose's shape over time to a NumPy ``.npz`` file (uncompressed, full precision).
-
-        The file holds ``t_s`` (N,) [s], ``joint_count`` (N,) [-] and ``joints_m``
-        (sum(joint_count), 3) [m], as :meth:`hose_shapes` gives them (``numpy.load`` reads it;
-        :func:`hosedrogue.viewer.read_run` reads a run's folder).
-
-        Parameters
-        ----------
-        path : str or pathlib.Path
-            File to write (``hose.npz`` in a run's folder).
-
-        Returns
-        -------
-        pathlib.Path
-            ``path``.
-        """
-        path = Path(path)
-        counts, joints = self.hose_shapes()
-        with path.open("wb") as fh:  # a file object: numpy adds no ".npz" to the name
-            np.savez(fh, t_s=np.asarray(self.t_s, dtype=np.float64), joint_count=counts, joints_m=joints)
-        return path
+        """(joint_count (N,) [-], joints_m (sum of joint_count, 3) [m] in S_p): the joints at every
+        output time, stacked alike for both hose models (:func:`hosedrogue.hose_file.stack_joints`)."""
+        from .hose_file import stack_joints
+        return stack_joints(self.joints_m)
 
     def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
         """Arrays a MATLAB file carries besides the time series: name -> (array (N, k), column names)."""

@@ -17,6 +17,7 @@ from typing import Sequence
 
 import numpy as np
 
+from .. import hose_file
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..errors import ParameterError
 from ..model.system import HoseModel
@@ -169,8 +170,8 @@ def _meta(scenario: Scenario) -> dict:
 
 def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
     """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, ``hose.npz`` (the
-    joint positions at every output time, :meth:`~hosedrogue.results.RunResult.to_hose_npz`; what
-    ``hosedrogue view`` draws), its figure (``displacement.png`` or ``engagement.png``) and, with
+    joint positions at every output time, :mod:`hosedrogue.hose_file`; what ``hosedrogue view``
+    draws), its figure (``displacement.png`` or ``engagement.png``) and, with
     ``"mat"``, ``timeseries.mat``.
 
     Parameters
@@ -197,7 +198,7 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
     paths = [result.to_csv(out_dir / "timeseries.csv")]
     (out_dir / "run.json").write_text(json.dumps(result.run_document(), indent=2, default=float) + "\n")
     paths.append(out_dir / "run.json")
-    paths.append(result.to_hose_npz(out_dir / result.HOSE_FILE))
+    paths.append(hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *result.hose_shapes()))
     if plot and result.t_s.size > 1:
         from ..plotting.figures import save_figure
 

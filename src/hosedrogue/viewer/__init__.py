@@ -17,6 +17,6 @@ Quick start::
 """
 
 from .page import LAYOUTS, view_html, write_view
-from .runs import RUN_FILES, ViewRun, read_hose, read_run
+from .runs import RUN_FILES, ViewRun, read_run
 
-__all__ = ["ViewRun", "read_run", "read_hose", "view_html", "write_view", "LAYOUTS", "RUN_FILES"]
+__all__ = ["ViewRun", "read_run", "view_html", "write_view", "LAYOUTS", "RUN_FILES"]

@@ -21,6 +21,7 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import ParameterError
+from ..hose_file import split_joints
 from ..version import __version__
 from .runs import SERIES, ViewRun
 
@@ -101,12 +102,11 @@ def _frames(run: ViewRun, rate_hz: float | None) -> dict:
     """The run's 3D frames: times [s], joints per frame, positions [m], probe tip [m], coupled flag."""
     t = run.t_s
     keep = frame_indices(t, rate_hz)
-    offsets = np.concatenate([[0], np.cumsum(run.joint_count)])
     if run.joint_count.max(initial=0) > MAX_JOINTS:
         raise ParameterError(f"run {run.label!r}: {int(run.joint_count.max())} joints: the viewer draws at most {MAX_JOINTS}")
-    rows = np.concatenate([np.arange(offsets[i], offsets[i + 1]) for i in keep])
+    shapes = split_joints(run.joint_count, run.joints_m)
     out = {"t": _b64(t[keep], "<f8"), "count": _b64(run.joint_count[keep], "<u2"),
-           "joints": _b64(run.joints_m[rows], "<f4"), "probe": None, "coupled": None}
+           "joints": _b64(np.concatenate([shapes[i] for i in keep]), "<f4"), "probe": None, "coupled": None}
     cols = run.columns
     if all(c in cols for c in ("probe_x_m", "probe_y_m", "probe_z_m")):
         probe = np.column_stack([cols["probe_x_m"], cols["probe_y_m"], cols["probe_z_m"]])[keep]

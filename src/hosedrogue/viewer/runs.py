@@ -2,7 +2,7 @@
 
 A run's folder (``hosedrogue simulate --out DIR``, :func:`hosedrogue.write`) holds
 ``timeseries.csv``, ``run.json`` and ``hose.npz`` (the hose's joints at every output time,
-:meth:`hosedrogue.results.RunResult.to_hose_npz`). :func:`read_run` reads them and
+:mod:`hosedrogue.hose_file`). :func:`read_run` reads them and
 :meth:`ViewRun.from_result` takes the same three things from a
 :class:`~hosedrogue.results.RunResult`, so the page is the same for a run written to disk and
 one that never was.
@@ -17,12 +17,13 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
+from ..hose_file import FILE as HOSE_FILE, read_hose_npz, split_joints
 from ..results import RunResult
 
-__all__ = ["ViewRun", "read_run", "read_hose", "SERIES", "RUN_FILES"]
+__all__ = ["ViewRun", "read_run", "SERIES", "RUN_FILES"]
 
 #: The files that make a folder a run's folder: the time series, what was run, the hose's shape.
-RUN_FILES = ("timeseries.csv", "run.json", RunResult.HOSE_FILE)
+RUN_FILES = ("timeseries.csv", "run.json", HOSE_FILE)
 
 #: Time-series columns the page charts (those a run has): drogue offset from its balance position
 #: [m], exit tension [N], probe load [N], probe tip [m], coupled flag [-] and links [-].
@@ -96,10 +97,10 @@ class ViewRun:
         if not keep.any():
             raise ParameterError(f"window [{lo:g}, {hi:g}] s: holds no output time of run {self.label!r} "
                                  f"(it runs from {t[0]:g} to {t[-1]:g} s)")
-        offsets = np.concatenate([[0], np.cumsum(self.joint_count)])
-        rows = np.concatenate([np.arange(offsets[i], offsets[i + 1]) for i in np.flatnonzero(keep)])
+        shapes = split_joints(self.joint_count, self.joints_m)
         return ViewRun(label=self.label, columns={k: v[keep] for k, v in self.columns.items()},
-                       joint_count=self.joint_count[keep], joints_m=self.joints_m[rows], document=self.document,
+                       joint_count=self.joint_count[keep],
+                       joints_m=np.concatenate([shapes[i] for i in np.flatnonzero(keep)]), document=self.document,
                        source=self.source)
 
     @classmethod
@@ -126,41 +127,6 @@ class ViewRun:
 def _series(columns) -> dict:
     """``t_s`` and the charted columns the run has, as float64 arrays."""
     return {name: np.asarray(columns[name], dtype=np.float64) for name in ("t_s", *SERIES) if name in columns}
-
-
-def read_hose(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Read a run's ``hose.npz``, checking that its arrays agree.
-
-    Parameters
-    ----------
-    path : str or pathlib.Path
-        The file (:meth:`hosedrogue.results.RunResult.to_hose_npz`).
-
-    Returns
-    -------
-    t_s : numpy.ndarray
-        (N,) output times [s].
-    joint_count : numpy.ndarray
-        (N,) joints at each output time [-].
-    joints_m : numpy.ndarray
-        (sum(joint_count), 3) joint positions in S_p [m].
-
-    Raises
-    ------
-    ParameterError
-        If it is not such a file (unreadable, arrays missing, shapes that disagree).
-    """
-    try:
-        with np.load(Path(path), allow_pickle=False) as data:
-            t, counts, joints = (np.asarray(data[k]) for k in ("t_s", "joint_count", "joints_m"))
-    except (OSError, ValueError, KeyError, EOFError) as exc:
-        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise ParameterError(f"{str(path)!r}: not a run's hose file (arrays t_s, joint_count, joints_m): {first}") from None
-    if (t.ndim != 1 or counts.shape != t.shape or joints.ndim != 2 or joints.shape[1:] != (3,)
-            or (counts.size and counts.min() < 2) or int(counts.sum()) != joints.shape[0]):
-        raise ParameterError(f"{str(path)!r}: t_s {t.shape}, joint_count {counts.shape} and joints_m {joints.shape} "
-                             "disagree: must be (N,), (N,) each >= 2, and (sum of joint_count, 3)")
-    return t.astype(np.float64), counts.astype(np.int64), joints.astype(np.float64)
 
 
 def read_run(folder: str | Path, label: str | None = None) -> ViewRun:
@@ -191,7 +157,7 @@ def read_run(folder: str | Path, label: str | None = None) -> ViewRun:
     missing = [name for name in RUN_FILES if not (path / name).is_file()]
     if missing:
         hint = ("written before hosedrogue wrote the hose's shape: run the scenario again"
-                if missing == [RunResult.HOSE_FILE] else "give the --out folder of hosedrogue simulate")
+                if missing == [HOSE_FILE] else "give the --out folder of hosedrogue simulate")
         raise ParameterError(f"RUN_DIR = {str(folder)!r}: not a run folder (no {', '.join(missing)}; {hint})")
     try:
         doc = json.loads((path / "run.json").read_text())
@@ -201,7 +167,7 @@ def read_run(folder: str | Path, label: str | None = None) -> ViewRun:
     if not isinstance(doc, dict) or "t_s" not in table.columns:
         raise ParameterError(f"RUN_DIR = {str(folder)!r}: not a run folder (run.json is not an object or "
                              "timeseries.csv has no t_s column)")
-    t_hose, counts, joints = read_hose(path / RunResult.HOSE_FILE)
+    t_hose, counts, joints = read_hose_npz(path / HOSE_FILE)
     columns = _series({c: table[c].to_numpy() for c in table.columns})
     # timeseries.csv has 10 significant digits: 1e-9 relative is the rounding of its times
     if t_hose.shape != columns["t_s"].shape or not np.allclose(t_hose, columns["t_s"], rtol=1e-9, atol=1e-12):
