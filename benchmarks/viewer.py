@@ -76,7 +76,8 @@ def main() -> None:
     pages = {"one run, every output time": viewer.write_view([locked], out / "locked-all.html"),
              "one run, 25 frames/s": viewer.write_view([locked], out / "locked-25.html", frame_rate_hz=25.0),
              "three reels, 25 frames/s (the report's)": viewer.write_view(list(views.values()), out / "reels-25.html",
-                                                                          frame_rate_hz=25.0)}
+                                                                          frame_rate_hz=25.0),
+             "three reels, every output time": viewer.write_view(list(views.values()), out / "reels-all.html")}
     print("\npage sizes")
     for what, path in pages.items():
         print(f"  {what:<42} {path.stat().st_size / 1e6:6.2f} MB")
