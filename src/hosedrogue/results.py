@@ -146,6 +146,12 @@ class RunResult:
         """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
         raise NotImplementedError
 
+    def hose_shapes(self) -> tuple[np.ndarray, np.ndarray]:
+        """(joint_count (N,) [-], joints_m (sum of joint_count, 3) [m] in S_p): the joints at every
+        output time, stacked alike for both hose models (:func:`hosedrogue.hose_file.stack_joints`)."""
+        from .hose_file import stack_joints
+        return stack_joints(self.joints_m)
+
     def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
         """Arrays a MATLAB file carries besides the time series: name -> (array (N, k), column names)."""
         return {}

@@ -22,7 +22,8 @@ def add_parser(sub) -> None:
     s = sub.add_parser(NAME, help="run a scenario file (time simulation)",
                        description="Run SCENARIO (a shipped name such as 'swing-release' or "
                                    "'paper-turbulence', or a TOML path) and write DIR/timeseries.csv "
-                                   "(SI units), DIR/run.json and DIR/displacement.png.")
+                                   "(SI units), DIR/run.json, DIR/hose.npz (the hose's joints at every output time) "
+                                   "and DIR/displacement.png (DIR/engagement.png for an engagement).")
     s.add_argument("scenario", metavar="SCENARIO", help="scenario name or TOML file")
     s.add_argument("--duration", metavar="S", type=finite_float("--duration", 1e-9, 86400, "s"),
                    help="simulated time [s] (overrides the file)")
@@ -32,6 +33,9 @@ def add_parser(sub) -> None:
     s.add_argument("--format", choices=("csv", "mat"), default="csv",
                    help="'mat': also write DIR/timeseries.mat (MATLAB, full precision, named signals with SI "
                         "units, the state [rad, rad/s]); default 'csv' only")
+    s.add_argument("--view", action="store_true",
+                   help="also write DIR/view.html: the run in 3D with its time series, one self-contained page "
+                        "(hosedrogue view DIR writes the same)")
     s.set_defaults(func=run)
 
 
@@ -58,6 +62,10 @@ def run(args) -> int:
     created = not out.exists()
     try:
         paths = write(result, out, formats=("csv", args.format))
+        if args.view:
+            from ..viewer import ViewRun, write_view
+
+            paths.append(write_view([ViewRun.from_result(result)], out / "view.html"))
     except BaseException:  # leave no half-written output folder behind
         if created and out.exists():
             shutil.rmtree(out, ignore_errors=True)
