@@ -336,3 +336,20 @@ def test_the_motion_slots_follow_the_kernels_env():
     assert level.env.size == K.ENV_SIZE and level.motion_table is None
     turn = HoseModel(steady_params(PAPER, bank_deg=10.0))
     assert turn.env.size == K.ENV_SIZE + turn.motion_table.size and turn.env[frame.ENV_M_ON] == 1.0
+
+
+@pytest.mark.parametrize("law", ["constant-tension", "response"])
+def test_engagement_with_a_free_reel_rests_at_the_balance_position_of_a_steady_turn(law):
+    """A descending 30-degree turn, the engagement with a free reel and no probe, started at the
+    fixed-length chain's balance position in that turn: the reel's tension set point is the
+    exit tension there, so nothing moves - the drogue within 1e-9 m of the balance position for
+    2 s and the free length constant (measured 5e-15 m and 0). A frame load missing from either
+    chain, or from the engagement's length equation, would set the hose moving (the turn's loads
+    shift the drogue by decimetres)."""
+    sc = scenario_from_dict({"scenario": {"name": "rest", "duration_s": 2.0}, "model": {"preset": "converged"},
+                             "reel": {"law": law}, "tanker_motion": {"bank_deg": 30.0, "flight_path_deg": -5.0}})
+    res = hd.run(sc)
+    eq = solve_equilibrium(sc.params)
+    assert res.completed
+    assert np.max(np.abs(res.drogue_position_m - eq.drogue_position_m)) < 1e-9
+    assert np.ptp(res.hose_length_m) < 1e-9
