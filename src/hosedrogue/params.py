@@ -18,6 +18,7 @@ from typing import Any, Mapping
 from .constants import H_MAX_ATMOSPHERE
 from .errors import ParameterError
 from .fields import Section, choice, flag, integer, real, vec3
+from .manoeuvres import TankerMotion
 from .standards import standard_intensity
 
 INF = math.inf
@@ -78,12 +79,12 @@ class Hose(Section):
     #: eta E I / omega_ref, is derived in docs/long-runs.md).
     bending_damping_n_m2_s: float = field(default=0.0, metadata=real(0.0, 1e6, lo_open=False, unit="N m^2 s"))
     #: Axial stiffness EA of the hose [N]: every link becomes a spring of stiffness EA / l along
-    #: itself, its length a coordinate of the chain (docs/model.md §9); inf (the paper's case):
-    #: rigid, inextensible links. The engagement scenarios' 1e6 N is reasoned in docs/model.md §9.
+    #: itself, its length a coordinate of the chain (docs/model.md §10); inf (the paper's case):
+    #: rigid, inextensible links. The engagement scenarios' 1e6 N is reasoned in docs/model.md §10.
     axial_stiffness_n: float = field(default=INF, metadata=real(0.0, unit="N", inf_ok=True))
     #: Kelvin-Voigt axial damping c_a of the hose wall [N s]: a link's tension is
     #: EA eps + c_a deps/dt for its strain eps (0: none; needs a finite ``axial_stiffness_n``);
-    #: c_a = eta EA / omega for a loss factor eta at the frequency omega (docs/model.md §9).
+    #: c_a = eta EA / omega for a loss factor eta at the frequency omega (docs/model.md §10).
     axial_damping_n_s: float = field(default=0.0, metadata=real(0.0, 1e9, lo_open=False, unit="N s"))
 
     def _check_consistency(self) -> None:
@@ -127,14 +128,16 @@ class Drogue(Section):
 
 @dataclass(frozen=True)
 class Flight(Section):
-    """Straight and level flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m)."""
+    """Flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m): straight and level, or
+    the start of its manoeuvres (:class:`~hosedrogue.manoeuvres.TankerMotion`)."""
 
     _section = "flight"
     #: Flight altitude [m]; sets the ICAO standard-atmosphere air density.
     altitude_m: float = field(
         default=8000.0, metadata=real(0.0, H_MAX_ATMOSPHERE, lo_open=False, unit="m")
     )
-    #: True airspeed of the tanker [m/s] (the free stream the hose sees).
+    #: True airspeed of the tanker [m/s] (the free stream the hose sees; at the start when the
+    #: tanker manoeuvres, [tanker_motion]).
     airspeed_m_s: float = field(default=150.0, metadata=real(0.0, 400.0, unit="m/s"))
     #: Multiplies the ICAO density [-]; 0 switches all air forces off (used by energy checks).
     density_scale: float = field(default=1.0, metadata=real(0.0, 10.0, lo_open=False))
@@ -213,7 +216,7 @@ class Numerics(Section):
     #: "rk4": fixed-step classical Runge-Kutta (the paper's); "adaptive": DOP853 with
     #: ``rtol`` and ``atol`` (cross-checks); "sdirk2": the fixed-step, L-stable two-stage SDIRK
     #: with each link's axial spring-damper implicit inside the O(n) recursion, for elastic
-    #: hoses (``hose.axial_stiffness_n`` finite; docs/model.md §9).
+    #: hoses (``hose.axial_stiffness_n`` finite; docs/model.md §10).
     integrator: str = field(default="rk4", metadata=choice("rk4", "adaptive", "sdirk2"))
     #: RK4 step [s]; the adaptive integrator outputs every ``step_s * output_every``.
     step_s: float = field(default=0.005, metadata=real(0.0, 1.0, unit="s"))
@@ -225,7 +228,7 @@ class Numerics(Section):
     #: component's own unit (link angles rad, their rates rad/s, controller and actuator states).
     atol: float = field(default=1e-11, metadata=real(0.0, 1.0, unit="state units"))
     #: Corrections per stage of the "sdirk2" integrator [-]: each evaluates the chain at the
-    #: stage's current guess with the axial spring-damper implicit (docs/model.md §9); 2 keeps
+    #: stage's current guess with the axial spring-damper implicit (docs/model.md §10); 2 keeps
     #: the violent snaps of a whip stable at the engagement scenarios' steps, where 1 does not.
     sdirk_corrections: int = field(default=2, metadata=integer(1, 10))
     #: A link yaw beyond this [deg] stops the run: the angle coordinates are singular at 90 deg.
@@ -273,6 +276,7 @@ SECTIONS = {
     "wake": Wake,
     "turbulence": Turbulence,
     "numerics": Numerics,
+    "tanker_motion": TankerMotion,
 }
 
 
@@ -294,21 +298,23 @@ class Params:
     turbulence: Turbulence = field(default_factory=Turbulence)
     #: Time integration settings.
     numerics: Numerics = field(default_factory=Numerics)
+    #: The tanker's manoeuvres (default: straight and level flight at constant speed).
+    tanker_motion: TankerMotion = field(default_factory=TankerMotion)
+
+    def __post_init__(self) -> None:
+        # the segments' timeline depends on the airspeed they start from (a speed change's length)
+        self.tanker_motion.ramps(self.flight.airspeed_m_s)
 
     def replace(self, **sections: Mapping[str, Any]) -> "Params":
         """Return a copy with fields overridden, e.g. ``p.replace(flight={"airspeed_m_s": 200})``."""
         return params_from_dict(sections, base=self)
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
-        """``{section: {field: value}}`` of every field, tuples as lists (TOML/JSON-ready)."""
-        return {
-            name: {f.name: _plain(getattr(getattr(self, name), f.name)) for f in dataclasses.fields(cls)}
-            for name, cls in SECTIONS.items()
-        }
-
-
-def _plain(v: Any) -> Any:
-    return list(v) if isinstance(v, tuple) else v
+        """``{section: {field: value}}`` of every field, tuples as lists (TOML/JSON-ready); the
+        ``tanker_motion`` only when the tanker manoeuvres (straight and level flight, the default,
+        is what a parameter set without it means, so level runs record what they always did)."""
+        return {name: getattr(self, name).to_dict() for name in SECTIONS
+                if not (name == "tanker_motion" and self.tanker_motion == TankerMotion())}
 
 
 #: The paper's case (Table 1, 16 m hose in 20 links, 150 m/s, 8000 m): the one definition.

@@ -265,7 +265,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
 
 def _check_integrator(params: Params) -> None:
     """The engagement runs fixed steps: RK4 (rigid or elastic links) or, for elastic links, the
-    stiff SDIRK (docs/model.md §9)."""
+    stiff SDIRK (docs/model.md §10)."""
     integrator = params.numerics.integrator
     if params.hose.elastic and integrator == "adaptive":
         raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "

@@ -123,11 +123,14 @@ def export_fmu(out: str | Path, params: Params = PAPER, kind: str = "fixed-lengt
     Raises
     ------
     ParameterError
-        If ``out`` is not a ``.fmu`` file name, ``kind`` is unknown, a parameter is invalid, or
-        pythonfmu is not installed; nothing is written then.
+        If ``out`` is not a ``.fmu`` file name, ``kind`` is unknown, a parameter is invalid (an
+        elastic hose among them), or pythonfmu is not installed; nothing is written then.
     """
     path = check_out_path(out)
     interface = _interface(kind)
+    if params.hose.elastic:
+        raise ParameterError(f"hose.axial_stiffness_n = {params.hose.axial_stiffness_n!r}: the FMU carries the rigid "
+                             "chain (axial_stiffness_n = inf); an elastic hose is simulated by hosedrogue simulate")
     try:
         from pythonfmu import FmuBuilder
     except ImportError:

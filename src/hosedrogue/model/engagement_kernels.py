@@ -58,6 +58,7 @@ from .elastic import (add_axial_rates, axial_tensions, elastic_exit_tension, ela
                       make_elastic_workspace_jit, stiff_terms, strain_energy)
 from .implicit import SDIRK2_GAMMA, after_stage1, stage_point
 from .integrate import actuator_rates, applied_force_at, controller_rates, rk4_combine, rk4_stage, step_status
+from .frame import frame_loads
 
 # --- ep layout -------------------------------------------------------------------------------
 (EP_MU, EP_MD, EP_SPLIT, EP_JLINK, EP_L0,
@@ -442,6 +443,9 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
     air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[16])
     joint_forces(t, u0, l, M, ps, ws[16], gust, n, e, r, v, F, Mom, ws[13])
+    # the tanker's motion (nothing in level flight); the exit's share of the hose mass, carried by
+    # the tanker, feels its acceleration too (its weight is added with the tow force)
+    frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, l, M, J, n, e, r, v, ws[16], F, Mom)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
         kp = ep[EP_KP]
@@ -560,7 +564,7 @@ def loop_rates(t, z, n, b, ep, loop, hist, out, dz):
 
 @njit(**JIT)
 def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess):
-    """:func:`eng_evaluate` of the elastic chain (docs/model.md §9): z = [q, qd, lam, lamd, tail,
+    """:func:`eng_evaluate` of the elastic chain (docs/model.md §10): z = [q, qd, lam, lamd, tail,
     ...]. Joints 1..n are material points, so L moves no joint: the exit link's strain
     ``lam_0 / l_0 - 1`` (l_0 from L) carries the reel's pull, the hose's force on L is
     :func:`~hosedrogue.model.elastic.elastic_exit_tension` and the reel equation gives L''
@@ -603,6 +607,9 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
     px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
     air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[16])
     joint_forces_stretched(t, u0, l, lam, M, ps, ws[16], gust, n, e, r, v, F, Mom, ws[13])
+    # the tanker's motion (as the rigid chain's; the links' rates from their actual lengths)
+    frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, lam, M, J, n, e, r, v, ws[16], F,
+                Mom)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
         kp = ep[EP_KP]
@@ -644,7 +651,7 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
     aLg = guess[nh + Z_LD]
     s_r = 0.0
     if hg != 0.0:
-        # the exit link's spring-damper couples its length to L: implicit in both (docs/model.md §9)
+        # the exit link's spring-damper couples its length to L: implicit in both (docs/model.md §10)
         if law == LAW_LOCKED:
             taul[0] += d0 * (Ldd - aLg)
         else:

@@ -93,6 +93,14 @@ class ReportSettings:
         Links of its runs; None: the shipped scenarios' mesh and step.
     whip_step_s : float or None
         Integration step of its runs [s] (with ``whip_links``).
+    manoeuvre_banks_deg : tuple of float
+        Bank angles of the steady-turn sweep [deg].
+    manoeuvre_flight_paths_deg : tuple of float
+        Flight-path angles of the steady climb and descent sweep [deg].
+    manoeuvre_runs : int
+        Runs per capture campaign of the approach in a turn and in level flight.
+    manoeuvre_workers : int or None
+        Dask worker processes of those campaigns; None: in this process.
     """
 
     name: str
@@ -130,6 +138,10 @@ class ReportSettings:
     whip_closure_speeds_m_s: tuple
     whip_links: int | None
     whip_step_s: float | None
+    manoeuvre_banks_deg: tuple
+    manoeuvre_flight_paths_deg: tuple
+    manoeuvre_runs: int
+    manoeuvre_workers: int | None
 
 
 #: The reference version of the report.
@@ -169,6 +181,10 @@ FULL = ReportSettings(
     whip_closure_speeds_m_s=WHIP_CLOSURE_SPEEDS_M_S,
     whip_links=None,
     whip_step_s=None,
+    manoeuvre_banks_deg=tuple(float(b) for b in range(0, 46, 5)),
+    manoeuvre_flight_paths_deg=(-10.0, -7.5, -5.0, -2.5, 0.0, 2.5, 5.0, 7.5, 10.0),
+    manoeuvre_runs=200,
+    manoeuvre_workers=2,
 )
 
 #: The fast version (``--fast``): coarser grids, shorter runs; the page says so prominently.
@@ -208,4 +224,8 @@ FAST = ReportSettings(
     whip_closure_speeds_m_s=(1.0, 2.5),
     whip_links=40,
     whip_step_s=0.0025,  # as the fast engagement runs
+    manoeuvre_banks_deg=(0.0, 15.0, 30.0, 45.0),
+    manoeuvre_flight_paths_deg=(-10.0, 0.0, 10.0),
+    manoeuvre_runs=2,  # the campaigns' machinery, not their statistics
+    manoeuvre_workers=None,
 )
