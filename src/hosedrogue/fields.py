@@ -15,6 +15,7 @@ import ast
 import dataclasses
 import inspect
 import math
+import re
 import textwrap
 from typing import Any, Mapping
 
@@ -123,6 +124,34 @@ def text() -> dict:
     return {"kind": "str"}
 
 
+def table() -> dict:
+    """Metadata of a field that holds a table of keyword options (``[reel.options]``), passed as
+    they are to a user's factory (:func:`entry`); a mapping with string keys.
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "table"}
+
+
+_DOTTED = r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*"
+#: An entry point: ``"package.module:factory"`` (dotted module path, a colon, a dotted attribute path).
+ENTRY_PATTERN = re.compile(f"^{_DOTTED}:{_DOTTED}$")
+
+
+def entry() -> dict:
+    """Metadata of a field naming Python code: ``"package.module:factory"`` in a file, or (from
+    Python) the factory itself; "" for none. Only its form is checked here: the code is imported
+    by that name when the run starts (:mod:`hosedrogue.controllers.sampled`).
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "entry"}
+
+
 def describe(meta: Mapping[str, Any]) -> str:
     """What a field allows, as the error messages and the scenario reference say it.
 
@@ -145,6 +174,10 @@ def describe(meta: Mapping[str, Any]) -> str:
         return "one of " + ", ".join(repr(c) for c in meta["choices"])
     if kind == "str":
         return "a string"
+    if kind == "table":
+        return "a table of options (keyword arguments of the factory)"
+    if kind == "entry":
+        return 'an entry point "package.module:factory" (or, from Python, the factory itself)'
     lo, hi = meta["lo"], meta["hi"]
     left = "(" if meta.get("lo_open") else "["
     closed_inf = meta.get("inf_ok", False)
@@ -214,6 +247,12 @@ def validate_field(section: str, f: dataclasses.Field, value: Any) -> Any:
         if not isinstance(value, str):
             raise ParameterError(f"{name} = {value!r}: must be a string")
         return value
+    if kind == "table":
+        if not isinstance(value, Mapping) or not all(isinstance(k, str) for k in value):
+            raise ParameterError(f"{name} = {value!r}: must be {describe(meta)}")
+        return dict(value)
+    if kind == "entry":
+        return check_entry(name, value)
     if kind == "vec3":
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             value = (value, value, value)
@@ -221,6 +260,34 @@ def validate_field(section: str, f: dataclasses.Field, value: Any) -> Any:
             raise ParameterError(f"{name} = {value!r}: must be {describe(meta)}")
         return tuple(_check_real(f"{name}[{i}]", v, meta) for i, v in enumerate(value))
     raise AssertionError(kind)  # pragma: no cover - metadata is defined in this module
+
+
+def check_entry(name: str, value: Any) -> Any:
+    """The checked value of an entry-point field: ``""``, a ``"package.module:factory"`` string,
+    or a callable (the factory, given from Python).
+
+    Parameters
+    ----------
+    name : str
+        The field's name for the message (``"reel.entry"``).
+    value : Any
+        The value given.
+
+    Returns
+    -------
+    str or callable
+
+    Raises
+    ------
+    ParameterError
+        Neither "" nor of the form ``package.module:factory`` nor callable.
+    """
+    if callable(value) or value == "":
+        return value
+    if not isinstance(value, str) or not ENTRY_PATTERN.match(value):
+        raise ParameterError(f'{name} = {value!r}: must be an entry point "package.module:factory" '
+                             "(a module importable by that name, a colon, the factory's name)")
+    return value
 
 
 class Section:
@@ -283,7 +350,31 @@ class Section:
 
 
 def _plain(v: Any) -> Any:
+    if callable(v):
+        return entry_name(v)
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
     return list(v) if isinstance(v, tuple) else v
+
+
+def entry_name(value: Any) -> str:
+    """An entry point as text: the string itself, or ``"module:qualname"`` of a callable (how a
+    factory given from Python is recorded in ``run.json``).
+
+    Parameters
+    ----------
+    value : str or callable
+        The entry.
+
+    Returns
+    -------
+    str
+    """
+    if isinstance(value, str):
+        return value
+    module = getattr(value, "__module__", None) or type(value).__module__
+    qualname = getattr(value, "__qualname__", None) or type(value).__qualname__
+    return f"{module}:{qualname}"
 
 
 def field_docs(cls: type) -> dict[str, str]:
