@@ -295,6 +295,22 @@ class Reel(Section):
     #: drive sets the torque this needs, within max_torque_n_m; the command is clipped to the speed limits
     speed_time_constant_s: float = field(default=0.05, metadata=real(0.0, 10.0, unit="s"))
 
+    #: The keys of the "python" law, which mean nothing to the others (left out of their :meth:`to_dict`).
+    PYTHON_KEYS = ("entry", "sample_time_s", "options", "speed_time_constant_s")
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{field: value}`` (TOML/JSON-ready); the "python" law's keys only with that law.
+
+        Returns
+        -------
+        dict
+        """
+        out = super().to_dict()
+        if self.law != "python":
+            for key in self.PYTHON_KEYS:
+                out.pop(key)
+        return out
+
     def _check_consistency(self) -> None:
         if self.law != "python" and self.entry != "":
             raise ParameterError(f"reel.entry = {entry_name(self.entry)!r}: only law 'python' names a factory "

@@ -348,7 +348,8 @@ def command_problem(role: str, value) -> tuple[str | None, tuple]:
         return f"returned {what}, expected {COMMANDS[role]}", ()
     for v in values:
         if not math.isfinite(v):
-            return f"returned {'NaN' if math.isnan(v) else v!r} in {value!r}, expected finite numbers", ()
+            bad = "NaN" if math.isnan(v) else repr(v)
+            return f"returned {bad} in {value!r}, expected finite numbers", ()
     return None, values
 
 

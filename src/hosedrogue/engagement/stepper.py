@@ -27,7 +27,7 @@ import numpy as np
 from ..controllers.linear import LinearController
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
-from ..model.sampled import C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, hold_controller_arrays
+from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, hold_controller_arrays
 from ..params import Actuator, Params, Sensor
 from ..sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.stepper import StepperBase, sensor_noise3
@@ -229,6 +229,7 @@ class EngagementStepper(StepperBase):
             self._finish(False, message, state_valid=False)
             return True
         self._close_record()
+        self.ctr[C_ORIGIN] = self.ctr[C_STEP]  # the next compiled segment counts its times from here, as the driver's
         if code == EK.CHART:
             switch_event(run, self.model)
         elif code in (EK.SPLIT, EK.MERGE):

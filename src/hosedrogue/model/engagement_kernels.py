@@ -55,7 +55,7 @@ from .kernels import (
 )
 from .integrate import actuator_rates, applied_force_at, controller_rates, rk4_combine, rk4_stage, step_status
 from .kernels import NONFINITE, YAW_LIMIT
-from .sampled import (C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
+from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
                       R_REEL_V, R_T0, deliver)
 
 # --- ep layout -------------------------------------------------------------------------------
@@ -336,6 +336,8 @@ def commanded_reel(T00, me, Ld, z, n, ep):
         tau = tmax
     elif tau < -tmax:
         tau = -tmax
+    else:
+        return tau, target  # within the torque limit the drive gives the acceleration asked for
     return tau, (T00 - tau / rd - fric) / (mr + me)
 
 
@@ -621,19 +623,21 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     ws2 = make_workspace_jit(n)
     dM = np.empty(2)
     out = np.empty(O_SIZE)
-    return eng_steps(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
+    return eng_steps(z, t0, 0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
                      max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, True, 0, work, ws, ws2,
                      dM, out)
 
 
 @njit(**JIT)
-def eng_steps(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
+def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
               max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, saved0, work, ws, ws2,
               dM, out):
     """:func:`eng_segment` with its scratch given (``work`` (5, nz): the RK4 stages and the trial
     state; the workspaces ``ws``, ``ws2``, ``dM``, ``out`` of :func:`eng_evaluate`), the saved
-    rows written from row ``saved0`` on and only if ``record``. Returns (status, steps done,
-    saved count)."""
+    rows written from row ``saved0`` on and only if ``record``, the state ``s0`` steps after the
+    time origin ``t0`` of its segment (step k after it is at ``t0 + k h``, as one uninterrupted
+    segment counts: a segment continued in several calls takes the same times). Returns (status,
+    steps done, saved count)."""
     nz = z.shape[0]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     saved = saved0
@@ -644,9 +648,9 @@ def eng_steps(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep
     d_before = 0.0
     if probing:
         chain_kinematics(z, n, l, M, J, ep, chart, ws)  # the frames and joint positions of z
-        d_before = plane_distance(z, n, l, ws, t0, ep)
+        d_before = plane_distance(z, n, l, ws, t0 + s0 * h, ep)
     for s in range(1, nsteps + 1):
-        t = t0 + (s - 1) * h
+        t = t0 + (s0 + s - 1) * h
         for i in range(nz):
             zprev[i] = z[i]
         eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
@@ -657,7 +661,7 @@ def eng_steps(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep
         rk4_stage(z, h, k3, tmp)
         eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
         rk4_combine(z, h, k1, k2, k3, k4)
-        t = t0 + s * h
+        t = t0 + (s0 + s) * h
         status = step_status(z, n, max_yaw)
         if status != OK:
             return status, s, saved
@@ -713,15 +717,17 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
                 switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring,
                 delay, sample_h, noise3, noise3_dt, balance, mbuf):
     """Integrate from the counters ``ctr`` (``hosedrogue.model.sampled.C_*``: global step,
-    saved rows; updated in place) toward global step ``ctr[C_TARGET]`` (:func:`eng_steps`); when it is
+    saved rows, the segment's origin ``C_ORIGIN``; updated in place) toward global step
+    ``ctr[C_TARGET]`` (:func:`eng_steps`); when it is
     reached, the raw measurement of the next sample (``ctr[C_SAMPLE] + 1``) into the ring and
     its measurement (delayed by ``delay`` samples) into ``mbuf``, and the sample counter moves on.
     Returns the status of the segment (an event - a remesh, the coupler plane - stops it early)."""
     step0 = ctr[C_STEP]
     target = ctr[C_TARGET]
-    status, done, saved = eng_steps(z, step0 * h, step0, h, target - step0, save_every, n, l, M, J, ps, env, gust,
-                                    ep, chart, loop, hist, max_yaw, switch_yaw, split_at, merge_at, allow_merge,
-                                    zprev, ts, zs, record, ctr[C_SAVED], work, ws, ws2, dM, out)
+    origin = ctr[C_ORIGIN]
+    status, done, saved = eng_steps(z, origin * h, step0 - origin, step0, h, target - step0, save_every, n, l, M, J,
+                                    ps, env, gust, ep, chart, loop, hist, max_yaw, switch_yaw, split_at, merge_at,
+                                    allow_merge, zprev, ts, zs, record, ctr[C_SAVED], work, ws, ws2, dM, out)
     ctr[C_STEP] = step0 + done
     ctr[C_SAVED] = saved
     ctr[C_STATUS] = status

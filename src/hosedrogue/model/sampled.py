@@ -135,10 +135,11 @@ def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, n
 
 
 #: The counters of a stepped run (an int64 array the advance kernels update in place): global RK4
-#: step, saved rows, sample index, total steps, RK4 steps per control step, the last status, the
-#: step a control step integrates to (the engagement's).
-C_STEP, C_SAVED, C_SAMPLE, C_TOTAL, C_SPC, C_STATUS, C_TARGET = range(7)
-C_SIZE = 7
+#: step, saved rows, sample index, total steps, RK4 steps per control step, the last status, and
+#: the engagement's step a control step integrates to and step of the last event (the origin of
+#: the times of its compiled segment, as the driver counts them).
+C_STEP, C_SAVED, C_SAMPLE, C_TOTAL, C_SPC, C_STATUS, C_TARGET, C_ORIGIN = range(8)
+C_SIZE = 8
 
 
 @njit(**JIT)
