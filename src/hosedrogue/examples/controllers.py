@@ -26,8 +26,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 
 class PDDocking:
     """Probe-tip velocity command (v_x, v_y, v_z) [m/s] toward the drogue.
@@ -265,7 +263,7 @@ class DiscretePID:
         self.xf = [0.0, 0.0]
         self.t_last = None
 
-    def __call__(self, t: float, m) -> np.ndarray:
+    def __call__(self, t: float, m) -> list:
         """The force (u_y, u_z) [N] at time t [s]; advances the controller's states.
 
         Parameters
@@ -277,19 +275,20 @@ class DiscretePID:
 
         Returns
         -------
-        numpy.ndarray (2,)
+        list of float
+            (u_y, u_z) [N].
         """
         if self.t_last is not None and abs(t - self.t_last - self.T) > 1e-9 * max(self.T, 1.0):
             raise ValueError(f"called {t - self.t_last:g} s after the last call; the option sample_time_s = "
                              f"{self.T:g} s must be the scenario's sample_time_s")
         self.t_last = t
-        u = np.empty(2)
-        for c in range(2):
+        u = [0.0, 0.0]
+        y = (m.drogue_position_m[1] - m.drogue_balance_m[1], m.drogue_position_m[2] - m.drogue_balance_m[2])
+        for c in (0, 1):
             kp, ki, kd, n = self.gains[c]
-            y = m.drogue_position_m[1 + c] - m.drogue_balance_m[1 + c]
-            u[c] = -(ki * self.xi[c] - kd * n * n * self.xf[c] + (kp + kd * n) * y)
-            self.xi[c] += self.T * y
-            self.xf[c] = self.a[c] * self.xf[c] + (1.0 - self.a[c]) / n * y
+            u[c] = -(ki * self.xi[c] - kd * n * n * self.xf[c] + (kp + kd * n) * y[c])
+            self.xi[c] += self.T * y[c]
+            self.xf[c] = self.a[c] * self.xf[c] + (1.0 - self.a[c]) / n * y[c]
         return u
 
 

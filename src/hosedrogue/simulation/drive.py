@@ -72,18 +72,19 @@ def drive(stepper: StepperBase, controllers: Mapping[str, SampledController], bu
             stepper.stop(_failure(role, name, 0.0, "reset", f"raised {type(exc).__name__}: {one_line(exc)}"))
             return stepper.result()
     k = 0
-    hold, advance = stepper.hold, stepper._advance
+    dt_steps, h, advance = stepper.spc, stepper.h, stepper._advance
+    plan = [(role, ctrl, every, name, stepper.holder(role)) for role, ctrl, every, name in plan]
     while not stepper.done:
-        for role, ctrl, every, name in plan:
+        t = (k * dt_steps) * h  # the stepper's time, to the bit
+        for role, ctrl, every, name, hold in plan:
             if k % every:
                 continue
-            t = stepper.t_s
             try:
                 value = ctrl(t, m)
             except Exception as exc:
                 stepper.stop(_failure(role, name, t, "call", f"raised {type(exc).__name__}: {one_line(exc)}"))
                 break
-            problem = hold(role, value)
+            problem = hold(value)
             if problem is not None:
                 stepper.stop(_failure(role, name, t, "call", problem))
                 break

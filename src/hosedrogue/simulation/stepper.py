@@ -251,34 +251,72 @@ class StepperBase:
             None, or what is wrong ("returned NaN ...", the shape): the text a controller's
             failure message takes.
         """
-        slots = self._slots.get(role)
-        if slots is None:
+        if role not in self._slots:
             return f"this run takes no {role} command (it commands {', '.join(self.roles) or 'nothing'})"
-        cmd = self._commands
-        try:
-            if len(slots) == 1:
-                a = float(value)
+        return self.holder(role)(value)
+
+    def holder(self, role: str):
+        """The function that holds a command of ``role`` (:meth:`hold` without the look-up: the
+        loop of a run calls it at every sample).
+
+        Parameters
+        ----------
+        role : str
+            One of :attr:`roles`.
+
+        Returns
+        -------
+        callable
+            ``value -> None`` or what is wrong with it.
+        """
+        cmd, slots = self._commands, self._slots[role]
+
+        def bad(value):
+            return command_problem(role, value)[0] or f"returned {value!r}, expected {COMMANDS[role]}"
+
+        if len(slots) == 1:
+            i = slots[0]
+
+            def hold1(value):
+                try:
+                    a = float(value)
+                except (TypeError, ValueError):
+                    return bad(value)
                 if a - a != 0.0:  # NaN or inf
-                    return command_problem(role, value)[0]
-                cmd[slots[0]] = a
-            elif len(slots) == 2:
-                a, b = value
-                a, b = float(a), float(b)
+                    return bad(value)
+                cmd[i] = a
+                return None
+            return hold1
+        if len(slots) == 2:
+            i, j = slots
+
+            def hold2(value):
+                try:
+                    a, b = value
+                    a, b = float(a), float(b)
+                except (TypeError, ValueError):
+                    return bad(value)
                 if a - a != 0.0 or b - b != 0.0:
-                    return command_problem(role, value)[0]
-                cmd[slots[0]] = a
-                cmd[slots[1]] = b
-            else:
+                    return bad(value)
+                cmd[i] = a
+                cmd[j] = b
+                return None
+            return hold2
+        i, j, k = slots
+
+        def hold3(value):
+            try:
                 a, b, c = value
                 a, b, c = float(a), float(b), float(c)
-                if a - a != 0.0 or b - b != 0.0 or c - c != 0.0:
-                    return command_problem(role, value)[0]
-                cmd[slots[0]] = a
-                cmd[slots[1]] = b
-                cmd[slots[2]] = c
-        except (TypeError, ValueError):
-            return command_problem(role, value)[0] or f"returned {value!r}, expected {COMMANDS[role]}"
-        return None
+            except (TypeError, ValueError):
+                return bad(value)
+            if a - a != 0.0 or b - b != 0.0 or c - c != 0.0:
+                return bad(value)
+            cmd[i] = a
+            cmd[j] = b
+            cmd[k] = c
+            return None
+        return hold3
 
 
 class FixedLengthStepper(StepperBase):
