@@ -1,7 +1,8 @@
 """Validated, immutable sections: the field metadata and the validator every section shares.
 
 A *section* is a frozen dataclass whose fields carry metadata (kind, range, unit) made by the
-helpers below; :class:`Section` validates every field at construction, so a bad value raises a
+helpers below (reals, integers, choices, flags, 3-vectors, text, option tables and entry points
+naming Python code); :class:`Section` validates every field at construction, so a bad value raises a
 one-line :class:`~hosedrogue.errors.ParameterError` naming the field, the value and what is
 allowed. The model's sections (:mod:`hosedrogue.params`) and the run's sections
 (:mod:`hosedrogue.sections`: actuator, sensor, reel, probe, bow wave, pilot) are built on it,

@@ -140,7 +140,9 @@ def run(scenario: Scenario) -> RunResult:
 
     Solves the balance position, designs the controller (:func:`drogue_controller`), starts
     from :func:`initial_state` and simulates ``scenario.duration_s`` with the scenario's
-    actuator and sensor; the engagement adds the reel, probe, bow wave and pilot.
+    actuator and sensor; the engagement adds the reel, probe, bow wave and pilot or receiver.
+    The user's sampled-data controllers (:func:`sampled_controllers`) are imported and built
+    before the run starts; a built-in controller with ``sample_time_s`` > 0 runs sampled.
 
     Parameters
     ----------
