@@ -69,14 +69,21 @@ def test_run_json_records_the_sampled_controllers(pid_runs):
     assert "sampled_controllers" not in pid_runs["continuous"].meta
 
 
-def test_builtin_through_the_interface_is_the_compiled_one(pid_case):
-    """The built-in PID as a Python controller of the interface (DiscreteLinearController, numpy
-    matrices) against the same law compiled in the loop: round-off (measured 1e-14 m)."""
-    sc, ctrl = pid_case
+@pytest.mark.parametrize("kind,T", [("pid", 0.01), ("lqr", 0.02)])
+def test_builtin_through_the_interface_is_the_compiled_one(pid_case, kind, T):
+    """The built-in PID and LQR (its observers included) as Python controllers of the interface
+    (DiscreteLinearController, numpy matrices) against the same law compiled in the loop:
+    round-off (measured 1e-14 m; bound 1e-9 m)."""
+    from hosedrogue.controllers.design import design_controller
+
+    sc, _ = pid_case
     p = sc.params
-    compiled = simulate(p, 40.0, control=ctrl, sample_time_s=0.02)
-    python = simulate(p, 40.0, control=SampledController("drogue", linear_controller_factory(ctrl, 0.02), 0.02))
+    ctrl = design_controller(kind, {}, p)
+    compiled = simulate(p, 40.0, control=ctrl, sample_time_s=T)
+    python = simulate(p, 40.0, control=SampledController("drogue", linear_controller_factory(ctrl, T), T))
+    assert compiled.completed and python.completed
     assert np.max(np.abs(compiled.drogue_position_m - python.drogue_position_m)) < 1e-9
+    assert np.max(np.abs(compiled.control_force_n)) > 10.0  # the controller acts
 
 
 def test_sampled_loop_converges_to_the_continuous_one_at_first_order(pid_case):

@@ -355,7 +355,9 @@ def _plain(v: Any) -> Any:
         return entry_name(v)
     if isinstance(v, dict):
         return {k: _plain(x) for k, x in v.items()}
-    return list(v) if isinstance(v, tuple) else v
+    if hasattr(v, "tolist") and not isinstance(v, (int, float, bool, str)):  # numpy arrays and scalars
+        return v.tolist()
+    return [_plain(x) for x in v] if isinstance(v, (tuple, list)) else v
 
 
 def entry_name(value: Any) -> str:

@@ -186,9 +186,7 @@ class Controller:
                     "options": dict(self.options)}
         out = {"type": self.type, **{k: (list(v) if isinstance(v, (list, tuple)) else v)
                                      for k, v in self.options.items()}}
-        if self.sampled:
-            out["sample_time_s"] = self.sample_time_s
-        return out
+        return {**out, "sample_time_s": self.sample_time_s} if self.sampled else out
 
 
 def _sample_time(ctype: str, value: Any) -> float:
@@ -306,10 +304,7 @@ class Reel(Section):
         dict
         """
         out = super().to_dict()
-        if self.law != "python":
-            for key in self.PYTHON_KEYS:
-                out.pop(key)
-        return out
+        return out if self.law == "python" else {k: v for k, v in out.items() if k not in self.PYTHON_KEYS}
 
     def _check_consistency(self) -> None:
         if self.law != "python" and self.entry != "":

@@ -239,6 +239,15 @@ def _sampled_meta(scenario: Scenario) -> dict:
     return out
 
 
+def _json_value(value):
+    """A value json does not know: a number as a float (numpy scalars), anything else (an option of
+    a user's controller given from Python) as its text."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return repr(value)
+
+
 def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
     """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, its figure
     (``displacement.png`` or ``engagement.png``) and, with ``"mat"``, ``timeseries.mat``.
@@ -265,7 +274,7 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [result.to_csv(out_dir / "timeseries.csv")]
-    (out_dir / "run.json").write_text(json.dumps(result.run_document(), indent=2, default=float) + "\n")
+    (out_dir / "run.json").write_text(json.dumps(result.run_document(), indent=2, default=_json_value) + "\n")
     paths.append(out_dir / "run.json")
     if plot and result.t_s.size > 1:
         from ..plotting.figures import save_figure
