@@ -125,10 +125,15 @@ def _check_files(out: Path, page: str) -> None:
         gif = out / name
         assert gif.read_bytes()[:6] in (b"GIF87a", b"GIF89a"), name
         assert gif.stat().st_size < 3e6, name
+    # the 3D viewer pages of the engagement and the docking approach, framed in their sections
+    # (each self-contained: its libraries and data inside; docs/viewer.md gives their sizes)
+    for fig_id, name in (("view-engagement", "view_engagement.html"), ("view-docking-approach", "view_docking_approach.html")):
+        assert f'id="{fig_id}"' in page and f'<iframe src="{name}"' in page, name
+        assert 0.6e6 < (out / name).stat().st_size < 8e6, name
 
 
 def _check_self_contained(out: Path, page: str) -> None:
-    for src in re.findall(r'<img[^>]+src="([^"]+)"', page):
+    for src in re.findall(r'<(?:img|iframe)[^>]+src="([^"]+)"', page):
         assert "://" not in src and not src.startswith("/"), src
         assert (out / src).is_file(), src
     for href in re.findall(r'href="([^"]+)"', page):
@@ -500,7 +505,7 @@ def test_animate_hose_writes_a_small_gif(tmp_path):
     assert plt.get_fignums() == []
 
 
-def test_existing_figure_helpers_still_work(tmp_path):
+def test_figure_helpers_draw_and_save(tmp_path):
     fig = F.plot_displacement(_fake_result(), labels=["a", "b"], others=[_fake_result(seed=5)])
     _check_figure(fig)
     assert F.save_figure(fig, tmp_path / "d.png").is_file()
