@@ -229,3 +229,25 @@ def test_elastic_engagement_rests_at_the_balance_position_of_a_steady_turn(law):
     assert np.max(np.abs(res.drogue_position_m - eq.drogue_position_m)) < 1e-8
     assert np.ptp(res.hose_length_m) < 1e-9
     assert np.linalg.norm(eq.drogue_position_m - level.drogue_position_m) > 0.1
+
+
+def test_zero_takeup_user_reel_is_the_locked_reel_for_elastic_links():
+    """The commanded reel (a user law, here zero take-up at 100 Hz, on a drive strong enough for
+    the whip: 1e5 N m) with an elastic hose: the speed servo asks for L'' = 0, which the elastic
+    chain takes as a prescribed length (as the locked reel's), so the run is the locked reel's -
+    engage-locked on 40 elastic links (the SDIRK at 2 ms), the drogue within 1e-9 m, the length
+    constant (measured: the same bits)."""
+    import dataclasses
+
+    from hosedrogue import load_scenario, run
+    from hosedrogue.studies.convergence import with_links
+
+    sc = with_links(load_scenario("engage-locked"), 40)
+    sc = dataclasses.replace(sc, params=sc.params.replace(numerics={"step_s": 0.002, "output_every": 5}))
+    locked = run(sc)
+    zero = Reel(law="python", entry="hosedrogue.examples.controllers:constant_takeup", sample_time_s=0.01,
+                max_torque_n_m=1e5)
+    got = run(dataclasses.replace(sc, engagement=dataclasses.replace(sc.engagement, reel=zero)))
+    assert got.completed and got.outcome["result"] == "captured"
+    assert np.all(got.hose_length_m == got.hose_length_m[0])
+    assert np.max(np.abs(got.drogue_position_m - locked.drogue_position_m)) < 1e-9
