@@ -1,4 +1,4 @@
-"""Linear stability of the stiff SDIRK of the elastic chains (docs/model.md §10), printed as figures.
+"""Linear stability of the stiff SDIRK of the elastic chains (docs/model.md §11), printed as figures.
 
 The scheme of :mod:`hosedrogue.model.implicit` (Alexander's two-stage SDIRK, each stage
 corrected ``corrections`` times from the previous stage's slope, the stiff part taken implicitly

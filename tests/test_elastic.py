@@ -1,4 +1,4 @@
-"""The elastic link chain (docs/model.md §10): the O(n) recursion against Lagrange's equations of
+"""The elastic link chain (docs/model.md §11): the O(n) recursion against Lagrange's equations of
 its own energy, energy conservation and its order in the step for RK4 and the stiff SDIRK, the
 snap of a straight hose against the exact wave-equation solution, the balance position's stretch
 against the elastic continuum, and the rigid link as the limit of a stiff one."""

@@ -1,4 +1,4 @@
-"""The elastic hose of varying length (docs/model.md §10): agreement with the fixed-length elastic
+"""The elastic hose of varying length (docs/model.md §11): agreement with the fixed-length elastic
 chain at L' = 0 and with simulate for the locked reel, the energy balance with the strain energy
 and the axial damping through remeshes and chart switches (RK4 and the stiff SDIRK), and the
 remesh of stretched links."""
@@ -140,7 +140,7 @@ def test_elastic_free_run_exercises_split_merge_and_charts(free_runs):
 def test_elastic_energy_balance_with_moving_reel(free_runs, integrator, steps, factor):
     """Kinetic + bending + strain + reel energy changes by the motor's work, minus the drum
     friction and the links' axial damping heat, plus the kinetic energy carried by hose joining
-    or leaving the moving masses, through splits and merges (docs/model.md §10). The residual must
+    or leaving the moving masses, through splits and merges (docs/model.md §11). The residual must
     shrink with the step at the scheme's order (RK4: > 8 per halving, h^4 with room for the
     remesh instants moving with the step; the SDIRK: > 2.5 per halving, h^2 reached from above:
     measured ratios 2.8 and 3.5) and close below 1e-6 of the initial kinetic energy at RK4's finest

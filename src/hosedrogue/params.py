@@ -79,12 +79,12 @@ class Hose(Section):
     #: eta E I / omega_ref, is derived in docs/long-runs.md).
     bending_damping_n_m2_s: float = field(default=0.0, metadata=real(0.0, 1e6, lo_open=False, unit="N m^2 s"))
     #: Axial stiffness EA of the hose [N]: every link becomes a spring of stiffness EA / l along
-    #: itself, its length a coordinate of the chain (docs/model.md §10); inf (the paper's case):
-    #: rigid, inextensible links. The engagement scenarios' 1e6 N is reasoned in docs/model.md §10.
+    #: itself, its length a coordinate of the chain (docs/model.md §11); inf (the paper's case):
+    #: rigid, inextensible links. The engagement scenarios' 1e6 N is reasoned in docs/model.md §11.
     axial_stiffness_n: float = field(default=INF, metadata=real(0.0, unit="N", inf_ok=True))
     #: Kelvin-Voigt axial damping c_a of the hose wall [N s]: a link's tension is
     #: EA eps + c_a deps/dt for its strain eps (0: none; needs a finite ``axial_stiffness_n``);
-    #: c_a = eta EA / omega for a loss factor eta at the frequency omega (docs/model.md §10).
+    #: c_a = eta EA / omega for a loss factor eta at the frequency omega (docs/model.md §11).
     axial_damping_n_s: float = field(default=0.0, metadata=real(0.0, 1e9, lo_open=False, unit="N s"))
 
     def _check_consistency(self) -> None:
@@ -216,7 +216,7 @@ class Numerics(Section):
     #: "rk4": fixed-step classical Runge-Kutta (the paper's); "adaptive": DOP853 with
     #: ``rtol`` and ``atol`` (cross-checks); "sdirk2": the fixed-step, L-stable two-stage SDIRK
     #: with each link's axial spring-damper implicit inside the O(n) recursion, for elastic
-    #: hoses (``hose.axial_stiffness_n`` finite; docs/model.md §10).
+    #: hoses (``hose.axial_stiffness_n`` finite; docs/model.md §11).
     integrator: str = field(default="rk4", metadata=choice("rk4", "adaptive", "sdirk2"))
     #: RK4 step [s]; the adaptive integrator outputs every ``step_s * output_every``.
     step_s: float = field(default=0.005, metadata=real(0.0, 1.0, unit="s"))
@@ -228,7 +228,7 @@ class Numerics(Section):
     #: component's own unit (link angles rad, their rates rad/s, controller and actuator states).
     atol: float = field(default=1e-11, metadata=real(0.0, 1.0, unit="state units"))
     #: Corrections per stage of the "sdirk2" integrator [-]: each evaluates the chain at the
-    #: stage's current guess with the axial spring-damper implicit (docs/model.md §10); 2 keeps
+    #: stage's current guess with the axial spring-damper implicit (docs/model.md §11); 2 keeps
     #: the violent snaps of a whip stable at the engagement scenarios' steps, where 1 does not.
     sdirk_corrections: int = field(default=2, metadata=integer(1, 10))
     #: A link yaw beyond this [deg] stops the run: the angle coordinates are singular at 90 deg.

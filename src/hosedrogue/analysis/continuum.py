@@ -21,7 +21,7 @@ with the load per length ``f = mu g z + d(r, e)``: gravity and the same drag law
 
 An elastic hose (finite ``hose.axial_stiffness_n`` = EA) is stretched by its tension: with s
 the material (unstretched) arc length and the loads per material length, ``dr/ds = (1 + |G| /
-EA) G / |G|`` (docs/model.md §10); its actual length is ``L + int |G| / EA ds``.
+EA) G / |G|`` (docs/model.md §11); its actual length is ``L + int |G| / EA ds``.
 
 Because the drogue end carries a known load once its position is known, the problem is solved by
 shooting on the drogue position ``r_L`` (3 unknowns): integrate the six equations from s = L

@@ -324,7 +324,7 @@ def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
 
 
 def _merge_elastic(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chain, float]:
-    """:func:`merge` of elastic links (docs/model.md §10): the new exit link runs straight to old
+    """:func:`merge` of elastic links (docs/model.md §11): the new exit link runs straight to old
     joint 2 (which with everything aft keeps position and velocity), its actual length ``|r_2|``
     and rate ``V_2 . e``; it keeps the two links' mean strain, so it holds the material
     ``|r_2| / (1 + eps)`` and the free length L drops by the rest. L' (the reel's) is unchanged."""

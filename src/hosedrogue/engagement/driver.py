@@ -335,7 +335,7 @@ def step_record(params: Params, run) -> np.ndarray | None:
 
 def _check_integrator(params: Params) -> None:
     """The engagement runs fixed steps: RK4 (rigid or elastic links) or, for elastic links, the
-    stiff SDIRK (docs/model.md §10)."""
+    stiff SDIRK (docs/model.md §11)."""
     integrator = params.numerics.integrator
     if params.hose.elastic and integrator == "adaptive":
         raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "

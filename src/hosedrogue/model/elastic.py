@@ -1,7 +1,7 @@
 """The elastic link chain (numba): each link's length is a coordinate, with an axial spring-damper.
 
 Shared by the fixed-length chain (:mod:`hosedrogue.model.elastic_loop`) and the engagement's
-chain of varying length (:mod:`hosedrogue.model.engagement_kernels`); docs/model.md §10.
+chain of varying length (:mod:`hosedrogue.model.engagement_kernels`); docs/model.md §11.
 
 Link k (0-based) has its pitch and yaw ``q[2k], q[2k+1]`` as in :mod:`hosedrogue.model.kernels`
 and its actual length ``lam[k]`` [m]; its material (unstretched) length is ``l[k]``. Joint
@@ -16,7 +16,7 @@ Every joint is then a three-degree-of-freedom joint (two angles and the length):
 articulated-body recursion of :func:`~hosedrogue.model.kernels.chain_forward_dynamics` with 3x3
 joint blocks, :func:`elastic_forward_dynamics`, still O(n). Its argument ``aug`` adds a
 diagonal term to each link's length block: an implicit integrator's stiffness ``h g c_a / l +
-(h g)^2 EA / l`` (docs/model.md §10, "Time integration"), which makes the axial spring-damper
+(h g)^2 EA / l`` (docs/model.md §11, "Time integration"), which makes the axial spring-damper
 implicit inside the O(n) solve at no extra cost.
 
 Elastic workspace ``ews`` (:func:`make_elastic_workspace`): 0 U (n, 9), 1 D^-1 (n, 6), 2 joint
@@ -132,7 +132,7 @@ def elastic_exit_tension(n, l, lam, ps, e, epsd):
     of the strain energy, the Rayleigh function ``sum c_a l (deps/dt)^2 / 2`` and (``moment``
     bending) the bending energy through lbar_0, with the exit link's material length l_0 = L -
     sum of the others: ``EA eps_0 (1 + eps_0 / 2) + c_a deps_0/dt (1 + eps_0) + E I gamma_0^2 /
-    (4 lbar_0^2)``. It differs from the exit link's tension by O(eps) (docs/model.md §10); the
+    (4 lbar_0^2)``. It differs from the exit link's tension by O(eps) (docs/model.md §11); the
     one definition of the exit tension of both elastic chains."""
     eps = lam[0] / l[0] - 1.0
     T = ps[PS_EA] * eps * (1.0 + 0.5 * eps) + ps[PS_CA] * epsd[0] * (1.0 + eps)
@@ -149,7 +149,7 @@ def stiff_terms(n, l, hg, ps, guess, T, aug, taul):
     implicit stage (hg = h g [s]; 0 for an explicit evaluation) and the generalized forces on the
     lengths ``-T_k + aug_k guess_k`` [N], guess the stage's length accelerations before the solve
     [m/s^2]: the recursion then solves ``(M + diag(aug)) a = Q + aug guess``, whose solution is
-    the stage's with the axial spring-damper taken at the new accelerations (docs/model.md §10)."""
+    the stage's with the axial spring-damper taken at the new accelerations (docs/model.md §11)."""
     EA = ps[PS_EA]
     ca = ps[PS_CA]
     for k in range(n):

@@ -1,4 +1,4 @@
-"""The fixed-length elastic chain's closed loop (numba): RK4 or the stiff SDIRK (docs/model.md §10).
+"""The fixed-length elastic chain's closed loop (numba): RK4 or the stiff SDIRK (docs/model.md §11).
 
 The state is ``z = [x, xc, (ua)]`` with the elastic hose state ``x = [q, qd, lam, lamd]`` (6n:
 angles [rad], their rates [rad/s], the links' actual lengths [m] and their rates [m/s]), then the

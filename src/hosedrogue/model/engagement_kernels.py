@@ -76,7 +76,7 @@ from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R
 # the sampled-data controllers' entries (docs/controllers.md): the pilot flag, the receiver and
 # the commanded reel
 (EP_PIL, EP_RCV, EP_RCV_TV, EP_RCV_VMAX, EP_RCV_AMAX, EP_REEL_SLOT, EP_REEL_TV) = (50, 51, 52, 53, 56, 59, 60)
-# the elastic links' entries (docs/model.md §10): EP_ELASTIC 1 for elastic links (the hose state
+# the elastic links' entries (docs/model.md §11): EP_ELASTIC 1 for elastic links (the hose state
 # [q, qd, lam, lamd], 6n; hosedrogue.model.elastic); EP_SCHEME the integrator, SCHEME_RK4 or
 # SCHEME_SDIRK2 (elastic only; hosedrogue.model.implicit); EP_ITER the SDIRK's corrections per stage
 EP_ELASTIC, EP_SCHEME, EP_ITER = 61, 62, 63
@@ -637,7 +637,7 @@ def loop_rates(t, z, n, b, ep, loop, hist, out, dz):
 
 @njit(**JIT)
 def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess):
-    """:func:`eng_evaluate` of the elastic chain (docs/model.md §10): z = [q, qd, lam, lamd, tail,
+    """:func:`eng_evaluate` of the elastic chain (docs/model.md §11): z = [q, qd, lam, lamd, tail,
     ...]. Joints 1..n are material points, so L moves no joint: the exit link's strain
     ``lam_0 / l_0 - 1`` (l_0 from L) carries the reel's pull, the hose's force on L is
     :func:`~hosedrogue.model.elastic.elastic_exit_tension` and the reel equation gives L''
@@ -731,7 +731,7 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
     aLg = guess[nh + Z_LD]
     s_r = 0.0
     if hg != 0.0:
-        # the exit link's spring-damper couples its length to L: implicit in both (docs/model.md §10)
+        # the exit link's spring-damper couples its length to L: implicit in both (docs/model.md §11)
         if prescribed:
             taul[0] += d0 * (Ldd - aLg)
         else:

@@ -1,5 +1,5 @@
 """The stiff integrator of the elastic chains (numba): two-stage L-stable SDIRK, each stage solved
-by one linearly implicit correction inside the O(n) recursion (docs/model.md §10, "Time integration").
+by one linearly implicit correction inside the O(n) recursion (docs/model.md §11, "Time integration").
 
 Alexander's two-stage, second-order, L-stable, stiffly accurate SDIRK (Alexander 1977, SIAM J.
 Numer. Anal. 14, 1006; Hairer & Wanner, Solving ODEs II, IV.6), g = 1 - 1/sqrt(2)::

@@ -353,7 +353,7 @@ def _doubling_text(st: _Study) -> str:
         f"of the link length) every peak the runs call converged changes by at most {100 * worst:.1f} % "
         f"({'within' if worst < DOUBLING_BOUND else 'beyond'} the 3 % bound; the peaks are taken at every step, "
         "not only at the 10 ms outputs). The hose is elastic (axial stiffness 1e6 N, axial damping 3000 N s; "
-        "docs/model.md §10): when it snaps taut the load is a tension wave of about v sqrt(EA mu), which the axial "
+        "docs/model.md §11): when it snaps taut the load is a tension wave of about v sqrt(EA mu), which the axial "
         "damping smooths on its way to the exit, so the exit tension and its rise converge; the snap's "
         "drogue-end tension, made where the last slack goes out of the hose, is finer than the links "
         "and is marked not converged when the hose went slack. "

@@ -259,7 +259,7 @@ def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
 
 def _check_integrator(model: HoseModel) -> None:
     """The integrators of each chain: the elastic one runs RK4 or the stiff SDIRK, the rigid one
-    RK4 or the adaptive DOP853 (docs/model.md §5, §10)."""
+    RK4 or the adaptive DOP853 (docs/model.md §5, §11)."""
     integrator = model.params.numerics.integrator
     if model.elastic and integrator == "adaptive":
         raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "

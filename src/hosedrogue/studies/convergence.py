@@ -161,7 +161,7 @@ def with_links(scenario, links: int):
     interval [s] kept (to the nearest whole number of steps): the mesh of a link-doubling check.
     With the stiff SDIRK (``numerics.integrator = "sdirk2"``, elastic links) a finer mesh scales
     the step with the square of the link length: its explicit part is bounded by the bending
-    waves of the shortest links, whose frequency grows as 1 / l^2 (docs/model.md §10).
+    waves of the shortest links, whose frequency grows as 1 / l^2 (docs/model.md §11).
 
     Parameters
     ----------

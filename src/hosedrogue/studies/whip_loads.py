@@ -5,7 +5,7 @@ A grid of the shipped engagement scenarios (``engage-locked``, ``engage-constant
 everything else is the scenario's. The axial damping follows EA at the shipped loss factor: the
 Kelvin-Voigt damping ``c_a = eta EA / omega_1`` with ``eta`` = 0.1 at the trailed hose's first
 axial mode ``omega_1`` (:func:`first_axial_mode_rad_s`), so every EA has the same damping ratio
-of its slowest axial wave (docs/model.md §10). The probe's latch window is opened down to
+of its slowest axial wave (docs/model.md §11). The probe's latch window is opened down to
 :data:`MIN_CLOSURE_SPEED_M_S` so that the slowest probe couples (the coupler sees the closure
 speed along the inclined last link, 0.48 m/s of 0.5 m/s), and each run lasts until
 :data:`SETTLE_S` after the probe stops. Each row reports the peaks of :mod:`hosedrogue.results`
@@ -207,7 +207,7 @@ def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEE
 
 def snap_scale_n(params: Params, speed_m_s: float) -> float:
     """The tension behind a snap front of speed ``speed_m_s`` [m/s] in the elastic hose,
-    ``v sqrt(EA mu)`` [N] (the wave equation's, docs/model.md §10).
+    ``v sqrt(EA mu)`` [N] (the wave equation's, docs/model.md §11).
 
     Parameters
     ----------
