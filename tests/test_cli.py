@@ -354,6 +354,7 @@ BAD_DESIGN_ARGS = [
     (["design", "lqr", "--q", "nan", "1", "1", "1"], "--q"),
     (["design", "lqr", "--r", "0", "0.5"], "--r"),
     (["design", "lqr", "--plant", "paper", "--altitude", "3000"], "--altitude"),
+    (["design", "pid", "--plant", "paper", "--bank-deg", "20"], "--bank-deg"),
     (["design", "lqr", "--plant", "moon"], "--plant"),
     (["design", "lqr", "--order", "6"], "--order"),
     (["design", "pid", "--plant", "paper", "--order", "3"], "--order"),

@@ -91,6 +91,24 @@ class RunResult:
         """The hose model's own columns after :data:`COLUMNS` (none for the fixed-length hose)."""
         return {}
 
+    def outcome_columns(self) -> dict[str, Any]:
+        """The hose model's own columns of a campaign's ``runs.csv`` row (none here; the
+        engagement's capture test and peaks, :meth:`EngagementResult.outcome_columns`)."""
+        return {}
+
+    def row_message(self) -> str:
+        """The ``message`` column of a campaign's ``runs.csv`` row."""
+        return self.message
+
+    def headline(self) -> str:
+        """The run's headline statistics in a line, as ``hosedrogue simulate`` prints them: over
+        the statistics window, the peak and RMS radial drogue offset [m] and the peak control force [N]."""
+        st = self.statistics()
+        start, end = self.statistics_window_s
+        window = "the whole run" if math.isinf(end) else f"{start:g}-{end:g} s"
+        return (f"drogue offset over {window}: peak {st['peak_radial_m']:.4g} m, RMS {st['rms_radial_m']:.4g} m; "
+                f"peak control force {st['peak_u_n']:.4g} N")
+
     def statistics(self, capture_radii_m=None) -> dict[str, float]:
         """The run's window statistics (:func:`hosedrogue.metrics.window_statistics`: peak and RMS
         drogue offsets [m], peak control forces [N], the time fraction inside each capture radius)
@@ -127,6 +145,12 @@ class RunResult:
     def plot(self, **kwargs):
         """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
         raise NotImplementedError
+
+    def hose_shapes(self) -> tuple[np.ndarray, np.ndarray]:
+        """(joint_count (N,) [-], joints_m (sum of joint_count, 3) [m] in S_p): the joints at every
+        output time, stacked alike for both hose models (:func:`hosedrogue.hose_file.stack_joints`)."""
+        from .hose_file import stack_joints
+        return stack_joints(self.joints_m)
 
     def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
         """Arrays a MATLAB file carries besides the time series: name -> (array (N, k), column names)."""
@@ -313,6 +337,40 @@ class EngagementResult(RunResult):
         events = meta.pop("events", [])
         return {**run_header(self), "statistics": _statistics_document(self), "engagement": self.summary(),
                 "events": events, **meta}
+
+    def capture_category(self) -> str:
+        """The capture test's result in a word: "captured", "miss", "failed latch", "no contact"
+        (the probe never reached the coupler plane) or "stopped" (a failed state)."""
+        head = str(self.outcome.get("result", "")).split(":", 1)[0]
+        if head in ("captured", "miss", "failed latch"):
+            return head
+        return "no contact" if self.completed else "stopped"
+
+    def outcome_columns(self) -> dict[str, Any]:
+        """The engagement's columns of a campaign's ``runs.csv`` row: the capture test's
+        ``result`` (:meth:`capture_category`), the radial miss [m] and the closure speed [m/s] at
+        the coupler plane (NaN without contact), and the run's peak probe load [N], peak exit
+        tension [N] and peak slack [m] (``hosedrogue.studies.store.ENGAGEMENT_COLUMNS``)."""
+        out = self.outcome
+
+        def number(key):
+            return math.nan if out.get(key) is None else float(out[key])
+
+        return {"result": self.capture_category(), "miss_distance_m": number("miss_distance_m"),
+                "closure_speed_m_s": number("closure_speed_m_s"), "peak_probe_load_n": number("peak_probe_load_n"),
+                "peak_exit_tension_n": number("peak_exit_tension_n"), "peak_slack_m": number("peak_slack_m")}
+
+    def row_message(self) -> str:
+        """The ``message`` column of a campaign's row: the capture test's result, then the run's message."""
+        return f"{self.outcome.get('result')}; {self.message}"
+
+    def headline(self) -> str:
+        """:meth:`RunResult.headline`, then the outcome, the miss [m], the peak probe load [N] and the
+        peak exit tension [N]."""
+        s = self.summary()
+        miss = "none" if s["miss_distance_m"] is None else f"{s['miss_distance_m']:.3f} m"
+        return (super().headline() + f"\nengagement: {s['result']}; miss {miss}; peak probe load "
+                f"{s['peak_probe_load_n']:.4g} N; peak exit tension {s['peak_exit_tension_n']:.4g} N")
 
     def went_slack(self) -> bool:
         """Whether the hose went (nearly) slack: the exit tension fell below

@@ -84,6 +84,8 @@ def _check_args(args) -> int:
     """Validate option combinations; return the design order."""
     if args.plant == "paper":
         for opt, given in (("--altitude", args.altitude), ("--airspeed", args.airspeed), ("--links", args.links),
+                           ("--bank-deg", getattr(args, "bank_deg", None)),
+                           ("--climb-deg", getattr(args, "climb_deg", None)),
                            ("--config", args.config or None), ("--no-wake", args.no_wake or None)):
             if given is not None:
                 raise ParameterError(f"{opt} = {given!r}: applies to --plant model only (the paper's "

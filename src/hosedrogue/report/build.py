@@ -17,7 +17,7 @@ from typing import Callable
 
 from ..version import __version__
 from . import (accuracy, closed_loop, controllers, convergence, differences, docking, engagement, hose_views, linear,
-               long_runs, paper_table, parameters, pid_tuning, sweep, turbulence_speeds)
+               long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep, turbulence_speeds)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -64,6 +64,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("long_runs", "long runs", long_runs.build),
     Section("engagement", "engagement", engagement.build),
     Section("docking", "docking statistics and bow wave", docking.build),
+    Section("manoeuvres", "manoeuvres", manoeuvres.build),
 )
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.
