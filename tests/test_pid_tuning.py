@@ -240,3 +240,15 @@ def test_the_family_passes_through_the_papers_lateral_design():
     g = PAPER_PID["lateral"]
     at = [np.exp(np.interp(np.log(g.n_filter), np.log(fam[:, 3]), np.log(fam[:, j]))) for j in range(3)]
     assert at == pytest.approx([g.kp, g.ki, g.kd], rel=0.02)
+
+
+def test_full_order_check_names_the_unstable_channel():
+    """The CLI's full-order check: a loop that is unstable around the larger model is reported as
+    such for its channel only, the other channel keeps its figures (no traceback)."""
+    from hosedrogue.cli.design import _full_order
+
+    design = channel_models("paper", 2)
+    unstable = control.tf([-0.01], [1.0, 1.0, 1.0])  # the force's sign reversed: negative feedback becomes positive
+    out = _full_order(dict(PAPER_PID), design, (unstable, channel_models("paper", 6)[1]))
+    assert out["lateral"]["stable"] is False and "unstable" in out["lateral"]["message"]
+    assert out["vertical"]["stable"] is True and out["vertical"]["rise_time_s"] > 0.0

@@ -163,7 +163,8 @@ def _realization(controller, state_names, state_units) -> dict:
         "B": np.asarray(controller.B, dtype=np.float64), "C": np.asarray(controller.C, dtype=np.float64),
         "D": np.asarray(controller.D, dtype=np.float64),
         "state_names": _cellstr(names), "state_units": _cellstr(state_units),
-        "input_names": _cellstr([n for n, _ in CONTROLLER_INPUTS]), "input_units": _cellstr([u for _, u in CONTROLLER_INPUTS]),
+        "input_names": _cellstr([n for n, _ in CONTROLLER_INPUTS]),
+        "input_units": _cellstr([u for _, u in CONTROLLER_INPUTS]),
         "output_names": _cellstr([n for n, _ in CONTROLLER_OUTPUTS]),
         "output_units": _cellstr([u for _, u in CONTROLLER_OUTPUTS]),
         "convention": CONTROLLER_CONVENTION,
@@ -265,7 +266,8 @@ def lqr_mat_dict(design, *, reading: str, plant: dict, steps: dict | None = None
             n = c.balanced.A.shape[0]
             names += [f"{ch}_xhat_{k + 1}" for k in range(n)]
             units += ["sqrt(m N)"] * n
-            channels[ch] = {"K": np.atleast_2d(c.gain), "prefilter": float(c.prefilter), "L": np.asarray(c.observer_gain).reshape(-1, 1),
+            channels[ch] = {"K": np.atleast_2d(c.gain), "prefilter": float(c.prefilter),
+                            "L": np.asarray(c.observer_gain).reshape(-1, 1),
                             "A_balanced": np.asarray(c.balanced.A), "B_balanced": np.asarray(c.balanced.B),
                             "C_balanced": np.asarray(c.balanced.C), "Q_diag": np.diag(c.Q).reshape(1, -1), "R": float(c.R),
                             "regulator_poles": np.sort_complex(c.regulator_poles).reshape(-1, 1),

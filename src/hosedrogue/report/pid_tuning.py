@@ -53,7 +53,8 @@ def _table(rows) -> str:
     for r in rows:
         ref = TABLE3[("PID", r["channel"])]
         body.append((_PLANT[r["plant"]], r["gains"], r["channel"],
-                     f"{r['kp_n_per_m']:.5g} / {r['ki_n_per_m_s']:.5g} / {r['kd_n_s_per_m']:.5g} / {r['n_filter_rad_s']:.4g}",
+                     f"{r['kp_n_per_m']:.5g} / {r['ki_n_per_m_s']:.5g} / {r['kd_n_s_per_m']:.5g} / "
+                     f"{r['n_filter_rad_s']:.4g}",
                      _cell(r["min_damping"], ".3f"),
                      f"{r['rise_time_s']:.4f} / {r['settling_time_s']:.3f} / {r['overshoot_pct']:.2f}",
                      f"{ref['rise_time_s']:g} / {ref['settling_time_s']:g} / {ref['overshoot_pct']:g}",
@@ -131,6 +132,8 @@ def build(out: ReportFolder, settings: ReportSettings) -> None:
     out.figure(plot_closed_loop_steps(_T_S, curves, log_time=True, reference_rows=dashed), "pid_tuning_steps.png")
     duration = settings.run_duration_s or 60.0
     out.section("pid-tuning", "PID tuning", _html(study, rows, duration))
-    out.record("pid_tuning", [{k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in r.items()}
+    # report.json holds finite numbers only: a figure that does not exist (no turbulence run on the
+    # paper's models, an unstable loop around the larger model) is left out of its row
+    out.record("pid_tuning", [{k: v for k, v in r.items() if not (isinstance(v, float) and not math.isfinite(v))}
                               for r in rows])
     return None
