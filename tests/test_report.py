@@ -39,6 +39,7 @@ FIGURES = {
     "fig12": "fig12_controller_on_off.png",
     "fig13": "fig13_control_forces.png",
     "fig-hose3d": "fig_hose3d.png",
+    "fig-pid-tuning": "pid_tuning_steps.png",
     "fig-accuracy": "fig_accuracy.png",
     "fig-long-runs": "fig_long_runs.png",
     "fig-engagement-history": "fig_engagement_history.png",
@@ -69,6 +70,7 @@ TABLES = {
     "table-3": "table3.csv",
     "table-3-lqr-integral": "table3_lqr_integral.csv",
     "table-closed-loop": "closed_loop_peaks.csv",
+    "table-pid-tuning": "pid_tuning.csv",
     "table-realization-spread": "realization_spread.csv",
     "table-comparison": "comparison.csv",
     "table-accuracy-position": "accuracy_links.csv",
@@ -95,7 +97,7 @@ FIGURE_DATA = [
     "convergence_steps.csv", "convergence_links.csv", "fig03_sweep.csv", "fig04_turbulence_speeds.csv",
     "fig05_linear_steps.csv", "fig06_pole_zero.csv", "fig07_bode.csv", "fig08_step_compare.csv",
     "fig10_closed_loop_steps.csv", "fig11_pid_orders.csv", "fig12_controller_on_off.csv",
-    "fig13_control_forces.csv", "fig_hose3d.csv", "anim_turbulence.csv",
+    "fig13_control_forces.csv", "fig_hose3d.csv", "anim_turbulence.csv", "pid_tuning.csv",
     "accuracy_links.csv", "accuracy_continuum.csv", "long_runs_blowup.csv", "long_runs_modes.csv",
     "long_runs_stable_run.csv",
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
@@ -107,8 +109,8 @@ FIGURE_DATA = [
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
 SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
-            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation", "accuracy", "long-runs", "engagement",
-            "docking", "manoeuvres"]
+            "fig5-8", "table3", "fig10-11", "fig12-13", "pid-tuning", "hose3d", "animation", "accuracy", "long-runs",
+            "engagement", "docking", "manoeuvres"]
 
 
 # --- the whole fast report, once -------------------------------------------------------------------

@@ -96,6 +96,29 @@ def drogue_controller(scenario: Scenario, model: HoseModel | None = None, eq: Eq
     return _DESIGNS[key]
 
 
+def controller_record(scenario: Scenario) -> dict:
+    """What ``run.json`` records of the scenario's drogue controller (``controller_design``): its
+    type, where its numbers come from, and the gains (PID) or the regulator and observer gains
+    (LQR) with the realization that ran (:func:`hosedrogue.controllers.design.controller_record`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Its ``loop.controller``; the design is :func:`drogue_controller`'s (cached).
+
+    Returns
+    -------
+    dict
+        JSON-ready.
+    """
+    from ..controllers.design import controller_record as record
+
+    ctrl = scenario.loop.controller
+    if ctrl.type not in ("pid", "lqr"):
+        return {"type": ctrl.type}
+    return record(ctrl.type, dict(ctrl.options), drogue_controller(scenario))
+
+
 #: Former name of :func:`drogue_controller`.
 build_controller = drogue_controller
 
@@ -210,6 +233,7 @@ def _meta(scenario: Scenario) -> dict:
     meta = {"scenario": scenario.name, "source": scenario.source, "model": scenario.model,
             "duration_s": scenario.duration_s, "initial": scenario.initial,
             "controller": scenario.loop.controller.type, "controller_options": dict(scenario.loop.controller.options),
+            "controller_design": controller_record(scenario),
             "actuator": scenario.loop.actuator.to_dict(), "sensor": scenario.loop.sensor.to_dict()}
     if scenario.engagement is not None:
         e = scenario.engagement
