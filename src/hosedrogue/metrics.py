@@ -61,6 +61,13 @@ FORCE_STATISTICS = (("peak_u_y_n", "N"), ("peak_u_z_n", "N"), ("peak_u_n", "N"))
 #: The fixed statistics and their units, in column order (the capture-radius columns follow).
 STATISTIC_UNITS = dict(DISPLACEMENT_STATISTICS + FORCE_STATISTICS)
 
+#: (column, unit) of a drogue actuator's statistics (:func:`surface_statistics`), in column order.
+SURFACE_STATISTICS = (("peak_deflection_deg", "deg"), ("peak_deflection_rate_deg_s", "deg/s"),
+                      ("deflection_saturated_frac", "1"), ("rate_saturated_frac", "1"))
+#: A surface counts as at its limit within this fraction of it [-] (the second-order servo's soft
+#: stop approaches the deflection limit exponentially, so "at the limit" needs a margin).
+SATURATION_MARGIN = 0.01
+
 #: Fixed columns of a batch summary: whether the run completed, when it stopped [s], then the
 #: statistics; one :func:`capture_column` per capture radius follows.
 SUMMARY_COLUMNS = ("completed", "t_end_s", *STATISTIC_UNITS)
@@ -198,6 +205,41 @@ def window_statistics(t_s: np.ndarray, offset_m: np.ndarray, control_n: np.ndarr
     for r in capture_radii_m:
         row[capture_column(r)] = float(np.mean(dr <= r)) if dr.size else math.nan
     return row
+
+
+def surface_statistics(t_s: np.ndarray, deflection_rad: np.ndarray, rate_rad_s: np.ndarray,
+                       window_s: tuple[float, float], max_deflection_rad: float, max_rate_rad_s: float) -> dict:
+    """A drogue actuator's statistics inside a window (:data:`SURFACE_STATISTICS`): the largest
+    deflection [deg] and deflection rate [deg/s] of any surface, and the fractions of the window's
+    samples in which some surface is within :data:`SATURATION_MARGIN` of its deflection limit
+    (saturated in authority) or of its rate limit (saturated in rate) [-].
+
+    Parameters
+    ----------
+    t_s : array (N,)
+        Sample times [s].
+    deflection_rad, rate_rad_s : array (N, n_s)
+        Each surface's deflection [rad] and deflection rate [rad/s].
+    window_s : (float, float)
+        Statistics window [s] (:func:`in_window`).
+    max_deflection_rad, max_rate_rad_s : float
+        The deflection [rad] and rate [rad/s] limits.
+
+    Returns
+    -------
+    dict
+        Column -> value; NaN where the window holds no sample.
+    """
+    inside = in_window(t_s, window_s)
+    d = np.abs(np.asarray(deflection_rad)[inside])
+    r = np.abs(np.asarray(rate_rad_s)[inside])
+    keep = 1.0 - SATURATION_MARGIN
+    if not d.size:
+        return {name: math.nan for name, _ in SURFACE_STATISTICS}
+    return {"peak_deflection_deg": math.degrees(float(d.max())),
+            "peak_deflection_rate_deg_s": math.degrees(float(r.max())),
+            "deflection_saturated_frac": float(np.mean(np.any(d >= keep * max_deflection_rad, axis=1))),
+            "rate_saturated_frac": float(np.mean(np.any(r >= keep * max_rate_rad_s, axis=1)))}
 
 
 def _peak(x: np.ndarray) -> float:

@@ -51,6 +51,14 @@ class RunResult:
     meta: dict[str, Any] = field(default_factory=dict)  #: what was run (scenario, seed, parameters)
     #: window [start, end) [s] of :meth:`statistics`: the turbulence window, or the whole run without turbulence
     statistics_window_s: tuple = (0.0, math.inf)
+    #: (N, n_s) deflection of each of the drogue's control surfaces [rad] (None: the ideal force)
+    surface_deflection_rad: np.ndarray | None = None
+    #: (N, n_s) deflection rate of each control surface [rad/s] (None: the ideal force)
+    surface_rate_rad_s: np.ndarray | None = None
+    #: (N,) dynamic pressure of the air at the drogue the surfaces see [Pa] (None: the ideal force)
+    drogue_q_pa: np.ndarray | None = None
+    #: the surfaces' (deflection [rad], rate [rad/s]) limits (None: the ideal force)
+    surface_limits: tuple | None = None
 
     @property
     def drogue_offset_m(self) -> np.ndarray:
@@ -71,7 +79,8 @@ class RunResult:
 
     def columns(self) -> dict[str, np.ndarray]:
         """The time series' columns, name -> (N,) array, in file order (SI units in the names):
-        :data:`COLUMNS` for every run, then the hose model's own (:meth:`extra_columns`)."""
+        :data:`COLUMNS` for every run, then the hose model's own (:meth:`extra_columns`), then
+        a drogue actuator's (:meth:`actuator_columns`)."""
         pos, off, vel = self.drogue_position_m, self.drogue_offset_m, self.drogue_velocity_m_s
         drag, tow, u = self.drogue_drag_n, self.tow_force_n, self.control_force_n
         cols = {
@@ -85,11 +94,23 @@ class RunResult:
             "u_y_n": u[:, 0], "u_z_n": u[:, 1],
         }
         cols.update(self.extra_columns())
+        cols.update(self.actuator_columns())
         return cols
 
     def extra_columns(self) -> dict[str, np.ndarray]:
         """The hose model's own columns after :data:`COLUMNS` (none for the fixed-length hose)."""
         return {}
+
+    def actuator_columns(self) -> dict[str, np.ndarray]:
+        """The drogue actuator's columns (none with the ideal force): ``deflection_k_deg`` and
+        ``deflection_rate_k_deg_s`` of each surface k = 1..n_s, then ``drogue_q_pa``."""
+        if self.surface_deflection_rad is None:
+            return {}
+        d, r = np.degrees(self.surface_deflection_rad), np.degrees(self.surface_rate_rad_s)
+        cols = {f"deflection_{k + 1}_deg": d[:, k] for k in range(d.shape[1])}
+        cols.update({f"deflection_rate_{k + 1}_deg_s": r[:, k] for k in range(r.shape[1])})
+        cols["drogue_q_pa"] = self.drogue_q_pa
+        return cols
 
     def statistics(self, capture_radii_m=None) -> dict[str, float]:
         """The run's window statistics (:func:`hosedrogue.metrics.window_statistics`: peak and RMS
@@ -109,8 +130,25 @@ class RunResult:
         from . import metrics
 
         radii = metrics.DEFAULT_CAPTURE_RADII_M if capture_radii_m is None else capture_radii_m
-        return metrics.window_statistics(self.t_s, self.drogue_offset_m, self.control_force_n,
-                                         self.statistics_window_s, radii)
+        stats = metrics.window_statistics(self.t_s, self.drogue_offset_m, self.control_force_n,
+                                          self.statistics_window_s, radii)
+        return {**stats, **self.surface_statistics()}
+
+    def surface_statistics(self) -> dict[str, float]:
+        """A drogue actuator's window statistics (:func:`hosedrogue.metrics.surface_statistics`:
+        peak deflection [deg] and rate [deg/s], the fractions of time saturated in deflection
+        and in rate [-]); empty with the ideal force.
+
+        Returns
+        -------
+        dict
+        """
+        from . import metrics
+
+        if self.surface_deflection_rad is None:
+            return {}
+        return metrics.surface_statistics(self.t_s, self.surface_deflection_rad, self.surface_rate_rad_s,
+                                          self.statistics_window_s, *self.surface_limits)
 
     #: File name of the run's figure (:meth:`plot`) in its output folder.
     FIGURE = "displacement.png"
@@ -351,6 +389,30 @@ class EngagementResult(RunResult):
         from .plotting.engagement import plot_engagement_history
 
         return plot_engagement_history({self.meta.get("scenario", "run"): self}, **kwargs)
+
+
+def actuator_outputs(deflection_rad: np.ndarray, rate_rad_s: np.ndarray, q_pa: np.ndarray,
+                     section) -> dict[str, Any]:
+    """A drogue actuator's result fields (keyword arguments of :class:`RunResult`).
+
+    Parameters
+    ----------
+    deflection_rad, rate_rad_s : array (N, n_s)
+        Each surface's deflection [rad] and deflection rate [rad/s] at the output times.
+    q_pa : array (N,)
+        Dynamic pressure at the drogue [Pa].
+    section : hosedrogue.sections.DrogueActuator
+        The surfaces (their deflection [deg] and rate [deg/s] limits).
+
+    Returns
+    -------
+    dict
+        ``surface_deflection_rad``, ``surface_rate_rad_s``, ``drogue_q_pa``, ``surface_limits``.
+    """
+    return {"surface_deflection_rad": np.ascontiguousarray(deflection_rad),
+            "surface_rate_rad_s": np.ascontiguousarray(rate_rad_s),
+            "drogue_q_pa": np.ascontiguousarray(q_pa),
+            "surface_limits": (math.radians(section.max_deflection_deg), math.radians(section.max_rate_deg_s))}
 
 
 def run_header(result) -> dict:

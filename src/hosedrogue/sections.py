@@ -1,12 +1,12 @@
 """The run's sections besides the model's parameters: the control loop's actuator and sensor, the
-drogue controller, and the engagement's reel, probe, bow wave and pilot (scenario tables
-``[actuator]``, ``[sensor]``, ``[controller]``, ``[reel]``, ``[probe]``, ``[bow_wave]``,
-``[pilot]``).
+drogue's control surfaces, the drogue controller, and the engagement's reel, probe, bow wave and
+pilot (scenario tables ``[actuator]``, ``[sensor]``, ``[drogue_actuator]``, ``[controller]``,
+``[reel]``, ``[probe]``, ``[bow_wave]``, ``[pilot]``).
 
 Validated at construction like :mod:`hosedrogue.params` (:class:`hosedrogue.fields.Section`): a
 wrong field raises a one-line :class:`~hosedrogue.errors.ParameterError` naming field, value and
 allowed range. SI units, the unit in every field name. The defaults and their reasons are in
-``docs/engagement.md`` (engagement) and ``docs/model.md`` (actuator, sensor).
+``docs/engagement.md`` (engagement) and ``docs/model.md`` (actuator, sensor, drogue actuator).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from .errors import ParameterError
-from .fields import Section, choice, flag, real, vec3
+from .fields import Section, choice, flag, integer, real, vec3
 
 
 @dataclass(frozen=True)
@@ -56,6 +56,51 @@ class Sensor(Section):
     noise_std_m: float = field(default=0.0, metadata=real(0.0, lo_open=False, unit="m"))
     #: Time each noise sample is held [s].
     sample_time_s: float = field(default=0.01, metadata=real(0.0, unit="s"))
+
+
+@dataclass(frozen=True)
+class DrogueActuator(Section):
+    """The drogue's control surfaces: the force they make, their limits and their servos
+    (docs/model.md, "Actuated drogue": the model and where each default comes from).
+
+    ``surfaces`` surfaces sit at equal roll intervals around the drogue; surface k deflected by
+    delta_k pushes the drogue with ``q S C_F,delta delta_k`` along its own direction in the S_p
+    y-z plane, q the dynamic pressure of the local air at the drogue (free stream, wake,
+    turbulence, bow wave). A force command is mixed to the surfaces by the minimum-norm inversion
+    at the measured q, each deflection command is clipped to the deflection limit and followed
+    by the surface's servo, whose rate is clipped to the rate limit. Deflected surfaces add drag
+    ``q S k_D sum delta_k^2`` along the relative wind.
+    """
+
+    _section = "drogue_actuator"
+    #: Number of control surfaces n [-], at roll intervals of 360 / n deg.
+    surfaces: int = field(default=4, metadata=integer(3, 8))
+    #: Roll position of surface 1 from the S_p y axis (right) toward z (down) [deg]; 0: the "+"
+    #: layout (two surfaces per axis), 45: the "x" layout.
+    roll_angle_deg: float = field(default=0.0, metadata=real(-180.0, 180.0, lo_open=False, unit="deg"))
+    #: Deflection limit |delta_k| of every surface [deg] (the linear force slope holds to about 20 deg).
+    max_deflection_deg: float = field(default=20.0, metadata=real(0.0, 90.0, unit="deg"))
+    #: Rate limit |d delta_k / dt| of every surface's servo [deg/s].
+    max_rate_deg_s: float = field(default=100.0, metadata=real(0.0, 1e5, unit="deg/s"))
+    #: Order of the servo from the deflection command to the deflection [-]: 1 (a lag of
+    #: bandwidth_hz) or 2 (natural frequency bandwidth_hz, damping ``damping``).
+    servo_order: int = field(default=2, metadata=integer(1, 2))
+    #: Servo bandwidth [Hz]: the corner frequency 1 / (2 pi tau) of the first-order servo, the
+    #: natural frequency omega_n / (2 pi) of the second-order one.
+    bandwidth_hz: float = field(default=30.0, metadata=real(0.0, 1000.0, unit="Hz"))
+    #: Damping ratio zeta of the second-order servo [-].
+    damping: float = field(default=0.7, metadata=real(0.0, 10.0))
+    #: Side-force coefficient slope C_F,delta of one surface on the reference area [1/rad].
+    force_slope_per_rad: float = field(default=0.45, metadata=real(0.0, 20.0, unit="1/rad"))
+    #: Reference area S of the coefficients [m^2]: the paper's basket, pi (0.61 m)^2 / 4.
+    reference_area_m2: float = field(default=0.2922, metadata=real(0.0, 10.0, unit="m^2"))
+    #: Drag increment k_D of one surface on the reference area [1/rad^2]: Delta C_D = k_D delta_k^2.
+    drag_slope_per_rad2: float = field(default=0.25, metadata=real(0.0, 50.0, lo_open=False, unit="1/rad^2"))
+
+    @property
+    def roll_angles_rad(self) -> list[float]:
+        """Roll position phi_k of each surface [rad] (surface 1 first)."""
+        return [math.radians(self.roll_angle_deg) + 2.0 * math.pi * k / self.surfaces for k in range(self.surfaces)]
 
 
 #: The drogue controller's types: none, the paper's PID (Eq. 33) or its LQR (Eq. 34).
@@ -299,27 +344,39 @@ class Pilot(Section):
 #: The engagement's sections by table name.
 ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe, "bow_wave": BowWave, "pilot": Pilot}
 #: The control loop's sections by table name (besides ``[controller]``).
-LOOP_SECTIONS = {"actuator": Actuator, "sensor": Sensor}
+LOOP_SECTIONS = {"actuator": Actuator, "sensor": Sensor, "drogue_actuator": DrogueActuator}
 
 
 @dataclass(frozen=True)
 class Loop:
     """The drogue's control loop: the controller, the actuator that applies its force, the sensor
-    that measures the drogue (``[controller]``, ``[actuator]``, ``[sensor]``)."""
+    that measures the drogue (``[controller]``, ``[actuator]``, ``[sensor]``) and, for a drogue
+    that steers itself with control surfaces, those surfaces (``[drogue_actuator]``; then they
+    make the force and ``[actuator]`` must keep its defaults)."""
 
     controller: Controller = field(default_factory=Controller)  #: the controller's type and design options
     actuator: Actuator = field(default_factory=Actuator)  #: force and rate limits
     sensor: Sensor = field(default_factory=Sensor)  #: measurement noise
+    drogue_actuator: DrogueActuator | None = None  #: the drogue's control surfaces (None: the ideal force)
+
+    def __post_init__(self) -> None:
+        if self.drogue_actuator is not None and self.actuator != Actuator():
+            raise ParameterError(f"actuator = {self.actuator.to_dict()!r}: with [drogue_actuator] the control "
+                                 "surfaces make the force and limit it; remove the [actuator] limits")
 
     def to_dict(self) -> dict[str, Any]:
-        """``{"controller": ..., "actuator": ..., "sensor": ...}`` tables (TOML/JSON-ready).
+        """``{"controller": ..., "actuator": ..., "sensor": ...}`` tables (TOML/JSON-ready), and
+        ``"drogue_actuator"`` when there is one.
 
         Returns
         -------
         dict
         """
-        return {"controller": self.controller.to_dict(), "actuator": self.actuator.to_dict(),
-                "sensor": self.sensor.to_dict()}
+        out = {"controller": self.controller.to_dict(), "actuator": self.actuator.to_dict(),
+               "sensor": self.sensor.to_dict()}
+        if self.drogue_actuator is not None:
+            out["drogue_actuator"] = self.drogue_actuator.to_dict()
+        return out
 
 
 @dataclass(frozen=True)

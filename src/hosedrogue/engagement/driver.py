@@ -26,7 +26,7 @@ from .result import EngagementResult, assemble_result
 from .result import segment_energies as _energies
 from .result import segment_outputs as _outputs
 from .loop import drogue_history, engagement_loop, extra_states, set_pilot
-from ..sections import BowWave, Engagement, Pilot, Probe, Reel
+from ..sections import BowWave, Engagement, Loop, Pilot, Probe, Reel
 
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
@@ -169,7 +169,8 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
                         bow_wave: BowWave | None = None, pilot: Pilot | None = None, control=None,
                         actuator: Actuator = Actuator(), sensor: Sensor = Sensor(), x0: np.ndarray | None = None,
                         equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
-                        energy: bool = False, gravity_m_s2: float | None = None) -> EngagementResult:
+                        energy: bool = False, gravity_m_s2: float | None = None,
+                        drogue_actuator=None) -> EngagementResult:
     """Simulate an engagement from the balance position at rest (steady air plus the
     ``params.turbulence`` gusts if enabled).
 
@@ -212,6 +213,10 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         Also evaluate the energy terms at every output time (for the energy balance).
     gravity_m_s2 : float, optional
         Overrides g [m/s^2] (0 for the energy balance without gravity).
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue steers itself with these control surfaces (the fixed-length loop's model,
+        docs/model.md, "Actuated drogue"); once coupled their command is zero (they return to
+        neutral). ``actuator`` must then have no limits.
 
     Returns
     -------
@@ -240,8 +245,11 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         raise ParameterError(f"hose.length_m = {L0!r}: the free length must lie between the reel's end stops "
                              f"reel.min_length_m = {reel.min_length_m!r} and reel.max_length_m = {reel.max_length_m!r} m")
     set_pilot(ep, pilot, params.numerics.step_s)
-    z = np.concatenate([z, extra_states(ep, control, actuator, pilot)])
-    loop = engagement_loop(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed)
+    if drogue_actuator is not None:
+        Loop(actuator=actuator, drogue_actuator=drogue_actuator)  # the loop's rule: the surfaces set the limits
+    z = np.concatenate([z, extra_states(ep, control, actuator, pilot, drogue_actuator)])
+    loop = engagement_loop(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed,
+                           drogue_actuator)
     t_set = reel.tension_set_n
     if t_set < 0:
         t_set = exit_tension_at_rest(params, chain, z, ep, model)
@@ -254,7 +262,8 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
                segments=[(chain, ep.copy(), np.array([0.0]), z[None, :].copy())])
     status, message = _integrate(run, params, probe, model, duration_s)
     return assemble_result(params, run.segments, run.events, run.outcome, model, drogue_eq, energy,
-                           status == K.OK, message, run.delta_total, t_set, reel, probe, loop=loop)
+                           status == K.OK, message, run.delta_total, t_set, reel, probe, loop=loop,
+                           drogue_actuator=drogue_actuator)
 
 
 def _check_duration(duration_s) -> None:

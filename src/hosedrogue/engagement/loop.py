@@ -2,7 +2,8 @@
 drogue controller's (docs/engagement.md, "Drogue controller during the approach" and "Pilot
 model").
 
-The state is ``z = [q, qd, L, L', 5 work states, pilot (4, if flown), xc, (ua)]``: after the
+The state is ``z = [q, qd, L, L', 5 work states, pilot (4, if flown), xc, (ua or the drogue's
+surfaces)]``: after the
 pilot's states the layout is the fixed-length closed loop's ``[x, xc, (ua)]``
 (:mod:`hosedrogue.model.integrate`) with ``x`` everything before the controller, so the one
 control law (:func:`~hosedrogue.model.integrate.control_law`) and the one actuator law serve both.
@@ -19,11 +20,11 @@ from ..controllers.linear import LinearController
 from ..model import engagement_kernels as EK
 from ..model.integrate import LoopArrays, loop_arrays, loop_states, sensor_noise
 from ..params import Actuator, ParameterError, Sensor
-from ..sections import Pilot
+from ..sections import DrogueActuator, Pilot
 
 
 def engagement_loop(control: LinearController | None, y_ref: np.ndarray, actuator: Actuator, sensor: Sensor,
-                    duration_s: float, seed: int) -> LoopArrays:
+                    duration_s: float, seed: int, drogue_actuator: DrogueActuator | None = None) -> LoopArrays:
     """The controller, actuator and sensor arrays of the kernels (:func:`~hosedrogue.model.integrate.loop_arrays`;
     a zero controller without noise when there is none: ``EP_CTRL`` keeps the kernels from using it).
 
@@ -41,14 +42,18 @@ def engagement_loop(control: LinearController | None, y_ref: np.ndarray, actuato
         Simulated time [s] the noise samples cover.
     seed : int
         Turbulence seed (the noise is an independent stream of it, as in the fixed-length loop).
+    drogue_actuator : DrogueActuator, optional
+        The drogue's control surfaces (the fixed-length semantics; without a controller they
+        stay at neutral).
 
     Returns
     -------
     LoopArrays
     """
     if control is None:
-        return loop_arrays(LinearController.static_zero(), y_ref, actuator, np.zeros((1, 2)), 1.0)
-    return loop_arrays(control, y_ref, actuator, sensor_noise(sensor, duration_s, seed), sensor.sample_time_s)
+        return loop_arrays(LinearController.static_zero(), y_ref, actuator, np.zeros((1, 2)), 1.0, drogue_actuator)
+    return loop_arrays(control, y_ref, actuator, sensor_noise(sensor, duration_s, seed), sensor.sample_time_s,
+                       drogue_actuator)
 
 
 def no_loop() -> LoopArrays:
@@ -62,7 +67,7 @@ def no_loop() -> LoopArrays:
 
 
 def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Actuator,
-                 pilot: Pilot | None) -> np.ndarray:
+                 pilot: Pilot | None, drogue_actuator: DrogueActuator | None = None) -> np.ndarray:
     """The initial pilot, controller and actuator states; sets ``EP_CTRL`` and ``EP_NPIL``.
 
     Parameters
@@ -75,6 +80,9 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
         A rate-limited one adds the applied force [N] (starting at zero).
     pilot : Pilot or None
         An enabled pilot adds the probe tip's y, z [m] (at the start point) and rates (zero).
+    drogue_actuator : DrogueActuator, optional
+        The drogue's control surfaces add their states (at rest) after the controller's, and
+        set ``EP_CTRL`` even without a controller (their force and drag act all the same).
 
     Returns
     -------
@@ -86,9 +94,10 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
     if pilot is not None and pilot.enabled:
         ep[EK.EP_NPIL] = EK.PIL_STATES
         parts.append([ep[EK.EP_P0Y], ep[EK.EP_P0Z], 0.0, 0.0])
-    ep[EK.EP_CTRL] = 0.0 if control is None else 1.0
-    if control is not None:
-        parts.append(loop_states(control, actuator))
+    ep[EK.EP_CTRL] = 0.0 if control is None and drogue_actuator is None else 1.0
+    if control is not None or drogue_actuator is not None:
+        ctrl = control if control is not None else LinearController.static_zero()
+        parts.append(loop_states(ctrl, actuator, drogue_actuator))
     return np.concatenate([np.asarray(p, dtype=np.float64) for p in parts]) if parts else np.zeros(0)
 
 

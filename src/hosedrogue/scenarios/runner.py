@@ -103,7 +103,8 @@ def run(scenario: Scenario) -> RunResult:
 
     Solves the balance position, designs the controller (:func:`drogue_controller`), starts
     from :func:`initial_state` and simulates ``scenario.duration_s`` with the scenario's
-    actuator and sensor; the engagement adds the reel, probe, bow wave and pilot.
+    actuator and sensor (and the drogue's control surfaces, if any); the engagement adds the reel,
+    probe, bow wave and pilot.
 
     Parameters
     ----------
@@ -138,7 +139,8 @@ def _run_fixed_length(scenario: Scenario) -> RunResult:
     eq = solve_equilibrium(params, model=model)
     return simulate(params, scenario.duration_s, x0=initial_state(scenario, eq),
                     control=drogue_controller(scenario, model, eq), equilibrium=eq,
-                    actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, model=model)
+                    actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, model=model,
+                    drogue_actuator=scenario.loop.drogue_actuator)
 
 
 def _run_engagement(scenario: Scenario) -> RunResult:
@@ -150,7 +152,8 @@ def _run_engagement(scenario: Scenario) -> RunResult:
         x0 = initial_state(scenario, solve_equilibrium(scenario.params))
     return simulate_engagement(scenario.params, scenario.duration_s, reel=e.reel, probe=e.probe,
                                bow_wave=e.bow_wave, pilot=e.pilot, control=drogue_controller(scenario),
-                               actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, x0=x0)
+                               actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, x0=x0,
+                               drogue_actuator=scenario.loop.drogue_actuator)
 
 
 def _meta(scenario: Scenario) -> dict:
@@ -159,6 +162,8 @@ def _meta(scenario: Scenario) -> dict:
             "duration_s": scenario.duration_s, "initial": scenario.initial,
             "controller": scenario.loop.controller.type, "controller_options": dict(scenario.loop.controller.options),
             "actuator": scenario.loop.actuator.to_dict(), "sensor": scenario.loop.sensor.to_dict()}
+    if scenario.loop.drogue_actuator is not None:
+        meta["drogue_actuator"] = scenario.loop.drogue_actuator.to_dict()
     if scenario.engagement is not None:
         e = scenario.engagement
         meta["pilot"] = None if e.pilot is None else e.pilot.to_dict()
