@@ -134,10 +134,16 @@ class RunResult:
                                           self.statistics_window_s, radii)
         return {**stats, **self.surface_statistics()}
 
-    def surface_statistics(self) -> dict[str, float]:
+    def surface_statistics(self, window_s: tuple | None = None) -> dict[str, float]:
         """A drogue actuator's window statistics (:func:`hosedrogue.metrics.surface_statistics`:
         peak deflection [deg] and rate [deg/s], the fractions of time saturated in deflection
         and in rate [-]); empty with the ideal force.
+
+        Parameters
+        ----------
+        window_s : (float, float), optional
+            Window [start, end) [s] (default :attr:`statistics_window_s`); an engagement ends it
+            at contact (after it the surfaces only return to neutral).
 
         Returns
         -------
@@ -147,8 +153,13 @@ class RunResult:
 
         if self.surface_deflection_rad is None:
             return {}
+        window = self._surface_window(self.statistics_window_s if window_s is None else window_s)
         return metrics.surface_statistics(self.t_s, self.surface_deflection_rad, self.surface_rate_rad_s,
-                                          self.statistics_window_s, *self.surface_limits)
+                                          window, *self.surface_limits)
+
+    def _surface_window(self, window_s: tuple) -> tuple:
+        """The window of :meth:`surface_statistics` (the given one; an engagement's ends at contact)."""
+        return tuple(window_s)
 
     #: File name of the run's figure (:meth:`plot`) in its output folder.
     FIGURE = "displacement.png"
@@ -338,6 +349,12 @@ class EngagementResult(RunResult):
         }
 
     FIGURE = "engagement.png"
+
+    def _surface_window(self, window_s: tuple) -> tuple:
+        """``window_s`` ended at contact: once the probe touches the coupler the drogue controller
+        is off and the surfaces return to neutral at their rate limit, which is no station keeping."""
+        tc = self.outcome.get("contact_time_s")
+        return (window_s[0], window_s[1] if tc is None else min(window_s[1], float(tc)))
 
     def run_document(self) -> dict[str, Any]:
         """The content of the run's ``run.json``: :func:`run_header`, the ``"engagement"`` summary

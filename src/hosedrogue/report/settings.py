@@ -8,7 +8,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..studies.docking_grid import CLOSURE_SPEEDS_M_S, FORCE_CONTROLLERS, FORCE_LEVELS, FORCE_LIMITS_N
+from ..studies.docking_grid import (ACTUATOR_LEVELS, CLOSURE_SPEEDS_M_S, DEFLECTION_LIMITS_DEG, FORCE_CONTROLLERS,
+                                    FORCE_LEVELS, FORCE_LIMITS_N, SERVO_BANDWIDTHS_HZ)
+from ..studies.drogue_actuator import LEVELS as ACTUATOR_CLAIM_LEVELS
 
 __all__ = ["ReportSettings", "FULL", "FAST"]
 
@@ -83,6 +85,18 @@ class ReportSettings:
         Simulated length of those runs [s]; None: the scenarios' own.
     engagement_animation_after_contact_s : float
         The engagement GIF runs from 0.5 s before contact to this long after it [s].
+    actuator_seeds : int
+        Turbulence realisations per case of the actuated drogue's claims (level x controller x drogue).
+    actuator_levels : tuple of str
+        Turbulence cases of those claims (``hosedrogue.studies.drogue_actuator.LEVELS``).
+    actuator_runs : int
+        Runs per campaign of the capture rate against the surfaces' deflection limit and bandwidth.
+    actuator_deflections_deg : tuple of float
+        Deflection limits of that study [deg].
+    actuator_bandwidths_hz : tuple of float
+        Servo bandwidths of that study [Hz].
+    actuator_capture_levels : tuple of str
+        Turbulence levels of that study.
     """
 
     name: str
@@ -116,6 +130,12 @@ class ReportSettings:
     engagement_output_every: int | None
     engagement_duration_s: float | None
     engagement_animation_after_contact_s: float
+    actuator_seeds: int
+    actuator_levels: tuple
+    actuator_runs: int
+    actuator_deflections_deg: tuple
+    actuator_bandwidths_hz: tuple
+    actuator_capture_levels: tuple
 
 
 #: The reference version of the report.
@@ -151,6 +171,12 @@ FULL = ReportSettings(
     engagement_output_every=None,
     engagement_duration_s=None,
     engagement_animation_after_contact_s=6.0,  # the whip and the hose's settling after it
+    actuator_seeds=8,  # as spread_seeds: the claims' peaks over the realisations
+    actuator_levels=ACTUATOR_CLAIM_LEVELS,
+    actuator_runs=200,
+    actuator_deflections_deg=DEFLECTION_LIMITS_DEG,
+    actuator_bandwidths_hz=SERVO_BANDWIDTHS_HZ,
+    actuator_capture_levels=ACTUATOR_LEVELS,
 )
 
 #: The fast version (``--fast``): coarser grids, shorter runs; the page says so prominently.
@@ -186,4 +212,10 @@ FAST = ReportSettings(
     engagement_output_every=4,  # output every 10 ms, as shipped
     engagement_duration_s=8.0,  # contact at 2 s and the whip after it
     engagement_animation_after_contact_s=4.0,
+    actuator_seeds=1,
+    actuator_levels=("paper", "severe"),  # the paper's case and the one where the claim fails
+    actuator_runs=4,
+    actuator_deflections_deg=(2.0, 20.0),  # below the PID's peak force in moderate turbulence, and the default
+    actuator_bandwidths_hz=(10.0, 30.0),  # below the PID's stability limit, and the default
+    actuator_capture_levels=("moderate",),
 )

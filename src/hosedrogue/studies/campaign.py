@@ -59,8 +59,7 @@ from typing import Any, Iterator, Sequence
 import numpy as np
 
 from ..errors import ParameterError
-from ..metrics import (DEFAULT_CAPTURE_RADII_M, capture_column, surface_statistics, turbulence_window,
-                       window_statistics)
+from ..metrics import DEFAULT_CAPTURE_RADII_M, capture_column, turbulence_window, window_statistics
 from ..progress import progress_bar, progress_enabled
 from ..scenarios import Scenario, load_scenario
 from ..scenarios.runner import run
@@ -166,28 +165,6 @@ def summarize_run(result, window_s: tuple[float, float], capture_radii_m: Sequen
     return window_statistics(result.t_s, result.drogue_offset_m, result.control_force_n, window_s, capture_radii_m)
 
 
-def surface_columns(result, window_s: tuple[float, float]) -> dict:
-    """A drogue actuator's columns of a run (:data:`hosedrogue.studies.store.ACTUATOR_COLUMNS`,
-    :func:`hosedrogue.metrics.surface_statistics` over the campaign's window); nothing with the
-    ideal force.
-
-    Parameters
-    ----------
-    result : hosedrogue.results.RunResult
-        The run.
-    window_s : (float, float)
-        Statistics window [start, end) [s].
-
-    Returns
-    -------
-    dict
-    """
-    if result.surface_deflection_rad is None:
-        return {}
-    return surface_statistics(result.t_s, result.surface_deflection_rad, result.surface_rate_rad_s, window_s,
-                              *result.surface_limits)
-
-
 def run_task(task: RunTask) -> dict:
     """Simulate one run and return its row of ``runs.csv`` (plus ``_wall_s`` [s], kept out of it).
 
@@ -216,7 +193,7 @@ def run_task(task: RunTask) -> dict:
         "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
         **summarize_run(result, task.window_s, task.capture_radii_m),
         **outcome_columns(result),
-        **surface_columns(result, task.window_s),
+        **result.surface_statistics(task.window_s),  # a drogue actuator's columns (to contact)
         "message": run_message(result),
     }
     _write_series(result, task.timeseries_path)
