@@ -15,10 +15,10 @@ Quick start::
 from .version import __version__
 from .config import load_params, resolve_config
 from .params import PAPER, Params, ParameterError
-from .sections import Actuator, BowWave, Controller, Engagement, Loop, Pilot, Probe, Reel, Sensor
+from .sections import Actuator, BowWave, Controller, DrogueActuator, Engagement, Loop, Pilot, Probe, Reel, Sensor
 
 __all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "Actuator", "BowWave",
-           "Controller", "Engagement", "Loop", "Pilot", "Probe", "Reel", "Sensor", "Scenario", "load_scenario",
+           "Controller", "DrogueActuator", "Engagement", "Loop", "Pilot", "Probe", "Reel", "Sensor", "Scenario", "load_scenario",
            "run", "write", "solve_equilibrium", "simulate", "simulate_engagement", "__version__"]
 
 # heavy modules (numba compilation) load on first use: name -> (module, attribute)

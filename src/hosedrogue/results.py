@@ -408,30 +408,6 @@ class EngagementResult(RunResult):
         return plot_engagement_history({self.meta.get("scenario", "run"): self}, **kwargs)
 
 
-def actuator_outputs(deflection_rad: np.ndarray, rate_rad_s: np.ndarray, q_pa: np.ndarray,
-                     section) -> dict[str, Any]:
-    """A drogue actuator's result fields (keyword arguments of :class:`RunResult`).
-
-    Parameters
-    ----------
-    deflection_rad, rate_rad_s : array (N, n_s)
-        Each surface's deflection [rad] and deflection rate [rad/s] at the output times.
-    q_pa : array (N,)
-        Dynamic pressure at the drogue [Pa].
-    section : hosedrogue.sections.DrogueActuator
-        The surfaces (their deflection [deg] and rate [deg/s] limits).
-
-    Returns
-    -------
-    dict
-        ``surface_deflection_rad``, ``surface_rate_rad_s``, ``drogue_q_pa``, ``surface_limits``.
-    """
-    return {"surface_deflection_rad": np.ascontiguousarray(deflection_rad),
-            "surface_rate_rad_s": np.ascontiguousarray(rate_rad_s),
-            "drogue_q_pa": np.ascontiguousarray(q_pa),
-            "surface_limits": (math.radians(section.max_deflection_deg), math.radians(section.max_rate_deg_s))}
-
-
 def run_header(result) -> dict:
     """The first entries of a run's ``run.json``, common to every driver: package, version,
     completed, message, end time [s] and the drogue's balance position [m].

@@ -15,7 +15,7 @@ from ..metrics import turbulence_window
 from ..model import drogue_actuator as DA
 from ..model import engagement_kernels as EK
 from ..params import Params
-from ..results import EngagementResult, actuator_outputs
+from ..results import EngagementResult
 from .chain import Chain, hose_mass_in_air
 
 #: Names of the energy terms, in the order of the columns of the energy kernel and the work states.
@@ -218,7 +218,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         joints_all.extend(list(joints))
         jvel_all.extend(list(jvel))
     cat = {k: np.concatenate(v) for k, v in cols.items()}
-    surfaces = {} if "defl" not in cat else actuator_outputs(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
+    surfaces = {} if "defl" not in cat else DA.result_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
     outcome.update(_peaks(cat, drogue_eq, events, delta_total, t_set))
     if reel.law == "locked":

@@ -276,3 +276,26 @@ def surface_directions(section) -> np.ndarray:
     """
     phi = np.asarray(section.roll_angles_rad)
     return np.column_stack([-np.sin(phi), np.cos(phi)])
+
+
+def result_fields(deflection_rad: np.ndarray, rate_rad_s: np.ndarray, q_pa: np.ndarray, section) -> dict:
+    """A drogue actuator's result fields (keyword arguments of :class:`hosedrogue.results.RunResult`).
+
+    Parameters
+    ----------
+    deflection_rad, rate_rad_s : array (N, n_s)
+        Each surface's deflection [rad] and deflection rate [rad/s] at the output times.
+    q_pa : array (N,)
+        Dynamic pressure at the drogue [Pa].
+    section : hosedrogue.sections.DrogueActuator
+        The surfaces (their deflection [deg] and rate [deg/s] limits).
+
+    Returns
+    -------
+    dict
+        ``surface_deflection_rad``, ``surface_rate_rad_s``, ``drogue_q_pa``, ``surface_limits``.
+    """
+    return {"surface_deflection_rad": np.ascontiguousarray(deflection_rad),
+            "surface_rate_rad_s": np.ascontiguousarray(rate_rad_s),
+            "drogue_q_pa": np.ascontiguousarray(q_pa),
+            "surface_limits": (math.radians(section.max_deflection_deg), math.radians(section.max_rate_deg_s))}

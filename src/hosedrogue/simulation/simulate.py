@@ -24,7 +24,7 @@ from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loo
 from ..model.system import HoseModel
 from ..params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..metrics import turbulence_window
-from ..results import SimulationResult, actuator_outputs
+from ..results import SimulationResult
 from ..sections import Loop
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
@@ -121,7 +121,7 @@ def simulate(
         xs = zs[:, : 4 * n]
         if drogue_actuator is not None:
             ns, na = drogue_actuator.surfaces, 4 * n + ctrl.n_states
-            surfaces = actuator_outputs(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], drogue_actuator)
+            surfaces = DA.result_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], drogue_actuator)
         us = us[:, :2]
 
     if outs is None:
