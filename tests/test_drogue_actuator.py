@@ -235,8 +235,8 @@ def test_surfaces_return_to_neutral_once_coupled():
 def test_anti_windup_cuts_the_overshoot_after_saturation():
     """The drogue released 0.5 deg off in yaw on every link (0.14 m sideways), surfaces limited to
     3 deg (81 N per axis against a PID command of tens of kN at release): while they saturate
-    (0.14 s with anti-windup, 0.31 s without), the PID's integrator winds up without anti-windup
-    and the drogue overshoots the balance position on the other side: measured 27.8 mm without,
+    (0.14 s with anti-windup, 0.29 s without), the PID's integrator winds up without anti-windup
+    and the drogue overshoots the balance position on the other side: measured 27.5 mm without,
     1.2 mm with the back-calculation. Asserted: the overshoot with anti-windup below half of that
     without (the textbook effect, Astrom and Hagglund), both runs completed and saturated."""
     p = PAPER

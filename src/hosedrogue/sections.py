@@ -81,7 +81,7 @@ class DrogueActuator(Section):
     #: Deflection limit |delta_k| of every surface [deg] (the linear force slope holds to about 20 deg).
     max_deflection_deg: float = field(default=20.0, metadata=real(0.0, 90.0, unit="deg"))
     #: Rate limit |d delta_k / dt| of every surface's servo [deg/s].
-    max_rate_deg_s: float = field(default=100.0, metadata=real(0.0, 1e5, unit="deg/s"))
+    max_rate_deg_s: float = field(default=200.0, metadata=real(0.0, 1e5, unit="deg/s"))
     #: Order of the servo from the deflection command to the deflection [-]: 1 (a lag of
     #: bandwidth_hz) or 2 (natural frequency bandwidth_hz, damping ``damping``).
     servo_order: int = field(default=2, metadata=integer(1, 2))

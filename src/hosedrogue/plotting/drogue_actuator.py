@@ -29,7 +29,7 @@ def plot_actuated_run(ideal, actuated, window_s=None, max_deflection_deg: float 
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = new_figure(3, 2, size=(11.5, 8.0), sharex=True)
+    fig, axes = new_figure(3, 2, size=(11.5, 8.5))
     # the ideal force wide and light under the surfaces' thin dark line: both visible where they agree
     styles = {"ideal force": (ideal, dict(lw=2.6, color="0.65")), "surfaces": (actuated, dict(lw=0.8, color="C0"))}
     for j, (axis, name) in enumerate(((1, "lateral dy"), (2, "vertical dz"))):
@@ -52,7 +52,6 @@ def plot_actuated_run(ideal, actuated, window_s=None, max_deflection_deg: float 
     for ax in axes.ravel():
         _shade_window(ax, window_s)
         _grid(ax)
-    for ax in axes[2]:
         ax.set_xlabel("t [s]")
     axes[0, 0].legend(fontsize="small")
     cx.legend(fontsize="x-small", ncol=2)
@@ -94,7 +93,7 @@ def plot_claims(table, one_cm_m: float = 0.01):
         ax.set_yscale("log")
         ax.set_ylim(1e-3, top * 1.5)
         ax.set_xticks(np.arange(len(levels)), levels)
-        ax.set_xlabel("turbulence")
+        ax.set_xlabel("turbulence case [-]")
         ax.set_ylabel("largest peak |dy|, |dz| over the seeds [m]")
         ax.set_title(f"{c.upper()} (x: a run diverged, drawn at {top:g} m)")
         _grid(ax)
@@ -144,16 +143,14 @@ def plot_capture_vs_surfaces(table, newtons_per_deg: float | None = None):
                         label=f"{level}, surfaces")
         ax.set_xscale("log")
         ticks = sorted(set(table.loc[np.isfinite(table[x_col].to_numpy(dtype=float)), x_col]))
-        ax.set_xticks(ticks, [f"{v:g}" for v in ticks])
+        force = newtons_per_deg and x_col == "max_deflection_deg"  # the authority under each limit
+        ax.set_xticks(ticks, [f"{v:g}\n{v * newtons_per_deg:.0f} N" if force else f"{v:g}" for v in ticks])
         ax.minorticks_off()
-        ax.set_xlabel(label)
+        ax.set_xlabel(label + (" (below: per-axis authority at the nominal q [N])" if force else ""))
         ax.set_ylim(-0.02, 1.05)
         ax.set_ylabel("capture rate [-]")
         _grid(ax)
         ax.legend(fontsize="x-small", loc="best")
     axes[0].set_title(f"authority (servo {default.bandwidth_hz:g} Hz)")
-    if newtons_per_deg:
-        top = axes[0].secondary_xaxis("top", functions=(lambda d: d * newtons_per_deg, lambda f: f / newtons_per_deg))
-        top.set_xlabel("authority per axis at the nominal dynamic pressure [N]")
     axes[1].set_title(f"bandwidth (limit {default.max_deflection_deg:g} deg)")
     return fig

@@ -242,15 +242,23 @@ def _write(out, st: dict) -> None:
     out.figure(plot_capture_vs_surfaces(st["capture"], st["newtons_per_deg"]), "fig_actuated_capture.png")
 
 
+def _finite(record: dict) -> dict:
+    """The entries of a record that are not non-finite numbers (report.json holds no nulls: an
+    ideal force has no bandwidth or deflection limit, a first row no convergence order)."""
+    return {k: v for k, v in record.items() if not (isinstance(v, float) and not np.isfinite(v))}
+
+
 def _record(st: dict) -> dict:
     cap = st["capture"]
-    return {"paper_case": st["paper"], "within_1cm": st["one_cm"],
-            "servo_margins": st["margins"].to_dict(orient="records"),
-            "convergence": st["convergence"].to_dict(orient="records"),
-            "claims": st["claims"].to_dict(orient="records"),
-            "capture": {r["campaign"]: {**capture_record(r, cap.columns), "max_deflection_deg": r["max_deflection_deg"],
-                                        "bandwidth_hz": r["bandwidth_hz"],
-                                        "saturated_runs_fraction": r["saturated_runs_fraction"]}
+    one_cm = {k: {**v, "worst_peak_m": _finite(v["worst_peak_m"])} for k, v in st["one_cm"].items()}
+    return {"paper_case": st["paper"], "within_1cm": one_cm,
+            "servo_margins": [_finite(r) for r in st["margins"].to_dict(orient="records")],
+            "convergence": [_finite(r) for r in st["convergence"].to_dict(orient="records")],
+            "claims": [_finite(r) for r in st["claims"].to_dict(orient="records")],
+            "capture": {r["campaign"]: _finite({**capture_record(r, cap.columns),
+                                                "max_deflection_deg": r["max_deflection_deg"],
+                                                "bandwidth_hz": r["bandwidth_hz"],
+                                                "saturated_runs_fraction": r["saturated_runs_fraction"]})
                         for _, r in cap.iterrows()}}
 
 
