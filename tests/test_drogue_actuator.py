@@ -31,8 +31,11 @@ from hosedrogue.simulation import simulate
 
 
 def _with_surfaces(scenario, **fields):
-    """The scenario with a [drogue_actuator] of these fields (the defaults otherwise)."""
-    return dataclasses.replace(scenario, loop=dataclasses.replace(scenario.loop, drogue_actuator=DrogueActuator(**fields)))
+    """The scenario with a [drogue_actuator] of these fields (the defaults otherwise), its RK4 step
+    halved as often as the servo needs (studies.drogue_actuator.with_surfaces)."""
+    from hosedrogue.studies.drogue_actuator import with_surfaces
+
+    return with_surfaces(scenario, DrogueActuator(**fields))
 
 
 # --- the force at a fixed deflection ---------------------------------------------------------------
@@ -202,9 +205,9 @@ def test_engagement_with_locked_reel_reproduces_fixed_length_surfaces(kind):
     (they saturate: 54 N per axis against a ~100 N command): the engagement kernels give the
     fixed-length loop's drogue, force, deflections and q. The two chains are independent
     implementations (test_engagement_control's reasoning, bound 1e-5 m and 0.1 N); measured
-    5e-15 m and 1e-10 N here. Deflections to 1e-9 rad and q to 1e-6 Pa (the same loop gains on a
+    4e-15 m and 9e-11 N here. Deflections to 1e-9 rad and q to 1e-6 Pa (the same loop gains on a
     position 1e-5 m off)."""
-    p = load_scenario("approach-moderate").params
+    p = load_scenario("approach-moderate").params.replace(numerics={"step_s": 0.0025, "output_every": 4})
     section = DrogueActuator(max_deflection_deg=2.0)
     ctrl = design_controller(kind, {}, p)
     fixed = simulate(p, 3.0, control=ctrl, drogue_actuator=section)
@@ -239,7 +242,7 @@ def test_anti_windup_cuts_the_overshoot_after_saturation():
     and the drogue overshoots the balance position on the other side: measured 27.5 mm without,
     1.2 mm with the back-calculation. Asserted: the overshoot with anti-windup below half of that
     without (the textbook effect, Astrom and Hagglund), both runs completed and saturated."""
-    p = PAPER
+    p = PAPER.replace(numerics={"step_s": 0.0025})  # the 30 Hz servo needs <= 4.7 ms
     model = HoseModel(p)
     eq = solve_equilibrium(p, model=model)
     x0 = eq.state.copy()
@@ -278,6 +281,24 @@ def test_bad_drogue_actuator_is_one_line_exit_2_nothing_written(tmp_path, capsys
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and field in err[0] and "must be" in err[0], err
     assert not out.exists()
+
+
+def test_servo_too_fast_for_the_step_is_refused(tmp_path, capsys):
+    """The default 30 Hz servo's rate loop (2 zeta omega = 264 1/s) needs an RK4 step <= 1.25 / 264 =
+    4.74 ms (docs/model.md §9, "Numerics"): paper-turbulence-pid's 5 ms with [drogue_actuator] is
+    refused in one line, exit 2, nothing written; the API refuses it too."""
+    from hosedrogue.cli import main
+
+    f = tmp_path / "coarse.toml"
+    f.write_text('[scenario]\nextends = "paper-turbulence-pid"\n\n[drogue_actuator]\n')
+    out = tmp_path / "out"
+    assert main(["simulate", str(f), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "numerics.step_s = 0.005" in err[0] and "0.004737" in err[0], err
+    assert not out.exists()
+    assert DrogueActuator().max_step_s == pytest.approx(1.25 / (2 * 0.7 * 2 * math.pi * 30.0))
+    with pytest.raises(ParameterError, match="numerics.step_s"):
+        simulate(PAPER, 1.0, drogue_actuator=DrogueActuator())
 
 
 def test_drogue_actuator_with_actuator_limits_is_refused():

@@ -102,6 +102,39 @@ class DrogueActuator(Section):
         """Roll position phi_k of each surface [rad] (surface 1 first)."""
         return [math.radians(self.roll_angle_deg) + 2.0 * math.pi * k / self.surfaces for k in range(self.surfaces)]
 
+    #: Largest ``rate x step`` of the servo RK4 may take [-]: the RK4 update of a lag x' = w (u - x)
+    #: is a weighted mean of x and the stage inputs u (all weights positive, so the surfaces' limits
+    #: hold exactly) for w h <= 1.2956 (the root of a^3 - 2 a^2 + 4 a - 4); with a margin.
+    RK4_RATE_STEP = 1.25
+
+    @property
+    def max_step_s(self) -> float:
+        """The largest RK4 step [s] that resolves the servo: ``RK4_RATE_STEP / w_max``, w_max its
+        fastest rate [1/s] (omega for the first order; max(2 zeta omega, omega) for the second,
+        2 zeta omega being its rate loop's and its soft stop's)."""
+        w = 2.0 * math.pi * self.bandwidth_hz
+        fastest = w if self.servo_order == 1 else max(2.0 * self.damping * w, w)
+        return self.RK4_RATE_STEP / fastest
+
+    def check_step(self, step_s: float) -> None:
+        """Refuse an RK4 step [s] too long for the servo (:attr:`max_step_s`).
+
+        Parameters
+        ----------
+        step_s : float
+            The RK4 step [s] (``numerics.step_s``).
+
+        Raises
+        ------
+        ParameterError
+            One line naming ``numerics.step_s``, the servo and the largest step allowed.
+        """
+        if step_s > self.max_step_s:
+            raise ParameterError(
+                f"numerics.step_s = {step_s!r}: the drogue actuator's {self.bandwidth_hz:g} Hz servo needs an RK4 step "
+                f"<= {self.max_step_s:.4g} s (its fastest rate x step <= {self.RK4_RATE_STEP:g}, where RK4 keeps the "
+                "surfaces within their limits); shorten the step or slow the servo")
+
 
 #: The drogue controller's types: none, the paper's PID (Eq. 33) or its LQR (Eq. 34).
 CONTROLLER_TYPES = ("none", "pid", "lqr")

@@ -72,9 +72,11 @@ def run(args) -> int:
 
 
 def headline(result) -> str:
-    """The run's headline statistics in one or two lines: over the statistics window, the peak and
-    RMS radial drogue offset [m] and the peak control force [N]; for an engagement, the outcome,
-    the miss [m], the peak probe load [N] and the peak exit tension [N].
+    """The run's headline statistics in a few lines: over the statistics window, the peak and
+    RMS radial drogue offset [m] and the peak control force [N]; for a drogue with control
+    surfaces, their largest deflection [deg] and rate [deg/s] and the time at their limits [%];
+    for an engagement, the outcome, the miss [m], the peak probe load [N] and the peak exit
+    tension [N].
 
     Parameters
     ----------
@@ -90,6 +92,11 @@ def headline(result) -> str:
     window = "the whole run" if end == float("inf") else f"{start:g}-{end:g} s"
     text = (f"drogue offset over {window}: peak {st['peak_radial_m']:.4g} m, RMS {st['rms_radial_m']:.4g} m; "
             f"peak control force {st['peak_u_n']:.4g} N")
+    if "peak_deflection_deg" in st:
+        text += (f"\ncontrol surfaces: largest deflection {st['peak_deflection_deg']:.3g} deg, rate "
+                 f"{st['peak_deflection_rate_deg_s']:.3g} deg/s; at the deflection limit "
+                 f"{100 * st['deflection_saturated_frac']:.3g} % and at the rate limit "
+                 f"{100 * st['rate_saturated_frac']:.3g} % of the window")
     if hasattr(result, "summary"):
         s = result.summary()
         miss = "none" if s["miss_distance_m"] is None else f"{s['miss_distance_m']:.3f} m"

@@ -247,6 +247,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     set_pilot(ep, pilot, params.numerics.step_s)
     if drogue_actuator is not None:
         Loop(actuator=actuator, drogue_actuator=drogue_actuator)  # the loop's rule: the surfaces set the limits
+        drogue_actuator.check_step(params.numerics.step_s)
     z = np.concatenate([z, extra_states(ep, control, actuator, pilot, drogue_actuator)])
     loop = engagement_loop(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed,
                            drogue_actuator)

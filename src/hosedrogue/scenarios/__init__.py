@@ -92,6 +92,8 @@ class Scenario:
         num = self.params.numerics
         if num.integrator == "rk4" or self.engagement is not None:
             num.steps(self.duration_s, "scenario.duration_s")  # at least one step
+        if self.loop.drogue_actuator is not None and (num.integrator == "rk4" or self.engagement is not None):
+            self.loop.drogue_actuator.check_step(num.step_s)
         if self.engagement is not None and num.integrator != "rk4":
             raise ParameterError(f"numerics.integrator = {num.integrator!r}: the engagement (hose of varying "
                                  "length) is integrated with fixed-step RK4 only; use 'rk4'")

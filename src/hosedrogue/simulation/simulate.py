@@ -104,6 +104,8 @@ def simulate(
     surfaces = {}
     if drogue_actuator is not None:
         Loop(actuator=actuator, drogue_actuator=drogue_actuator)  # the loop's rule: the surfaces set the limits
+        if params.numerics.integrator == "rk4":
+            drogue_actuator.check_step(params.numerics.step_s)
     if callable(control) and not isinstance(control, LinearController):
         if drogue_actuator is not None:
             raise ParameterError("drogue_actuator: a Python control function commands the force itself; give a "

@@ -313,7 +313,7 @@ def approach_duration_s(probe, closure_speed_m_s: float) -> float:
 def cell_scenario(spec: CellSpec):
     """The scenario of one cell: the shipped ``approach-LEVEL`` with the cell's drogue controller,
     bow wave, pilot (its defaults), closure speed (with the duration of :func:`approach_duration_s`),
-    force limit and control surfaces, named ``approach-<cell>``.
+    force limit and control surfaces (with the RK4 step their servo needs), named ``approach-<cell>``.
 
     The turbulence window is set explicitly in every cell: from the shipped scenario's start to the
     end of the cell's run, so the gusts last the whole approach at every closure speed.
@@ -344,11 +344,14 @@ def cell_scenario(spec: CellSpec):
     loop = base.with_controller(spec.controller).loop
     if spec.max_force_n is not None:
         loop = dataclasses.replace(loop, actuator=dataclasses.replace(loop.actuator, max_force_n=float(spec.max_force_n)))
+    params = base.params.replace(turbulence={"start_s": base.params.turbulence.start_s, "duration_s": duration})
     if spec.surfaces is not None:
+        from .drogue_actuator import resolved_params
+
         loop = dataclasses.replace(loop, drogue_actuator=spec.surfaces)
-    window = {"start_s": base.params.turbulence.start_s, "duration_s": duration}
+        params = resolved_params(params, spec.surfaces)  # the RK4 step the servo needs
     return dataclasses.replace(base, name=f"approach-{spec.name}", description=description, duration_s=duration,
-                               params=base.params.replace(turbulence=window), loop=loop, engagement=eng, source="")
+                               params=params, loop=loop, engagement=eng, source="")
 
 
 def same_scenario(a, b) -> bool:

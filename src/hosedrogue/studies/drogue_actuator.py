@@ -31,7 +31,7 @@ from ..errors import ParameterError
 from ..sections import DrogueActuator
 
 __all__ = ["LEVELS", "CONTROLLERS", "VARIANTS", "MARGIN_BANDWIDTHS_HZ", "CONVERGENCE_BANDWIDTHS_HZ", "ONE_CM_M",
-           "with_surfaces", "authority_n", "claims_scenario", "claims_runs", "claims_table", "within_one_cm", "servo_margins",
+           "resolved_params", "with_surfaces", "authority_n", "claims_scenario", "claims_runs", "claims_table", "within_one_cm", "servo_margins",
            "convergence_table"]
 
 #: Turbulence cases of the claims: the paper's (isotropic 1.5 m/s, its scenario) and the MIL-F-8785C
@@ -53,8 +53,30 @@ VARIANTS = {"ideal": None, "actuated": {}, "actuated-5deg": {"max_deflection_deg
             "actuated-12hz": {"bandwidth_hz": 12.0}}
 
 
+def resolved_params(params, section: DrogueActuator):
+    """``params`` with the RK4 step halved (and ``output_every`` doubled: the same output times)
+    until it resolves the surfaces' servo (:attr:`hosedrogue.sections.DrogueActuator.max_step_s`).
+
+    Parameters
+    ----------
+    params : hosedrogue.params.Params
+        The parameters (``numerics.step_s`` [s], ``output_every`` [-]).
+    section : DrogueActuator
+        The surfaces.
+
+    Returns
+    -------
+    hosedrogue.params.Params
+    """
+    h, every = params.numerics.step_s, params.numerics.output_every
+    while h > section.max_step_s:
+        h, every = h / 2.0, every * 2
+    return params if h == params.numerics.step_s else params.replace(numerics={"step_s": h, "output_every": every})
+
+
 def with_surfaces(scenario, section: DrogueActuator | None = None):
-    """The scenario with its drogue steered by control surfaces.
+    """The scenario with its drogue steered by control surfaces, its RK4 step halved as often as
+    the servo needs (:func:`resolved_params`).
 
     Parameters
     ----------
@@ -68,7 +90,8 @@ def with_surfaces(scenario, section: DrogueActuator | None = None):
     hosedrogue.scenarios.Scenario
     """
     section = DrogueActuator() if section is None else section
-    return dataclasses.replace(scenario, loop=dataclasses.replace(scenario.loop, drogue_actuator=section))
+    return dataclasses.replace(scenario, params=resolved_params(scenario.params, section),
+                               loop=dataclasses.replace(scenario.loop, drogue_actuator=section))
 
 
 def authority_n(section: DrogueActuator, params=None) -> float:
@@ -112,7 +135,7 @@ def claims_scenario(level: str, controller: str, variant: str = "ideal", duratio
     variant : str
         A key of :data:`VARIANTS`: the ideal force, or the drogue's surfaces ("actuated": the
         ``[drogue_actuator]`` defaults, i.e. ``paper-turbulence-pid-actuated`` for the paper's PID
-        case).
+        case). Every variant runs at the RK4 step the default surfaces need (2.5 ms).
     duration_s : float, optional
         Run length [s] (default the scenario's 60 s).
 
@@ -126,8 +149,11 @@ def claims_scenario(level: str, controller: str, variant: str = "ideal", duratio
         raise ParameterError(f"level, controller, variant = {level!r}, {controller!r}, {variant!r}: must be one of "
                              f"{LEVELS}, {CONTROLLERS} and {tuple(VARIANTS)}")
     sc = load_scenario(f"paper-turbulence-{controller}").with_overrides(duration_s=duration_s)
+    params = resolved_params(sc.params, DrogueActuator())  # every drogue at the defaults' step: like with like
     if level != "paper":
-        sc = dataclasses.replace(sc, name=f"{sc.name}-{level}", params=sc.params.replace(turbulence={"intensity": level}))
+        params = params.replace(turbulence={"intensity": level})
+        sc = dataclasses.replace(sc, name=f"{sc.name}-{level}")
+    sc = dataclasses.replace(sc, params=params)
     fields = VARIANTS[variant]
     return sc if fields is None else with_surfaces(sc, DrogueActuator(**fields))
 
