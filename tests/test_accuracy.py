@@ -96,18 +96,14 @@ def _converged_preset():
     from hosedrogue.config import load_params
 
     path = files("hosedrogue").joinpath("presets", "converged.toml")
-    if not path.is_file():
-        return None
+    assert path.is_file(), "the 'converged' preset must be shipped (hosedrogue/presets/converged.toml)"
     return load_params(str(path))
 
 
 def test_converged_preset_frequencies_converge_at_second_order():
     """The ``converged`` preset's lowest lateral and vertical frequencies converge at order
-    >= 1.8 (links 10-20-40 around its own count). Skipped until the preset exists; point
-    ``_converged_preset`` at it."""
+    >= 1.8 (links 10-20-40 around its own count); the preset must be shipped."""
     base = _converged_preset()
-    if base is None:
-        pytest.skip("the 'converged' preset is not shipped yet")
     fs = frequency_convergence(base, links=(10, 20, 40))
     assert fs.lateral_orders[0] >= MIN_SECOND_ORDER
     assert fs.vertical_orders[0] >= MIN_SECOND_ORDER

@@ -352,12 +352,26 @@ def test_cli_main_runs_montecarlo(tiny, tmp_path):
     assert not (tmp_path / "bad").exists()
 
 
-def test_columns_read_like_the_batch_module():
-    from hosedrogue.simulation import batch
+def test_runs_csv_statistics_are_the_batch_module_s_columns(tiny):
+    """A campaign row's statistics are the columns a real simulate_batch DataFrame has, in its
+    order, and their values agree with the batch's for the same seed (both come from
+    hosedrogue.metrics: the batch's compiled accumulator over every RK4 step, the campaign's pass
+    over the saved series, here saved at every step too; 1e-12 relative covers the different
+    summation orders)."""
+    import dataclasses
+
+    from hosedrogue.scenarios import load_scenario
+    from hosedrogue.simulation import simulate_batch
+    from hosedrogue.studies.campaign import RunTask, run_task, statistics_window
 
     radii = (0.1, 0.305)
-    expected = [*batch.SUMMARY_COLUMNS, *(batch.capture_column(r) for r in radii)]
-    assert store.run_columns(radii)[3:-1] == expected
+    sc = load_scenario(tiny)
+    sc = dataclasses.replace(sc, params=sc.params.replace(numerics={"output_every": 1}))
+    df = simulate_batch(sc.params, [run_seed(0, 3)], sc.duration_s, capture_radii_m=radii)
+    assert store.run_columns(radii)[3:-1] == [c for c in df.columns if c != "seed"]
+    row = run_task(RunTask(sc, 3, run_seed(0, 3), "none", statistics_window(sc), radii))
+    for column in ("peak_dy_m", "rms_radial_m", "inside_0.305m_frac"):
+        assert row[column] == pytest.approx(df[column][0], rel=1e-12, abs=1e-15), column
 
 
 def test_without_dask_the_default_runs_here_and_workers_are_refused(reference, tiny, tmp_path, monkeypatch):

@@ -57,6 +57,10 @@ def missing_from_page(markdown: str) -> list[str]:
     in full (a row with every column filled)."""
     shown = page_tables(markdown)
     expected = {name: [f.name for f in dataclasses.fields(cls)] for name, cls in FIELD_SECTIONS.items()}
+    for name, cls in FIELD_SECTIONS.items():  # a list of sub-tables: its keys as "field.key"
+        for f in dataclasses.fields(cls):
+            if f.metadata.get("kind") == "records":
+                expected[name] += [f"{f.name}.{g.name}" for g in dataclasses.fields(f.metadata["section"])]
     expected["turbulence"] = expected["turbulence"] + ["intensity"]
     expected["scenario"] = list(SCENARIO_KEYS)
     expected["model"] = ["preset"]

@@ -216,9 +216,9 @@ def test_engagement_with_locked_reel_reproduces_fixed_length_surfaces(kind):
     np.testing.assert_array_equal(fixed.t_s, eng.t_s)
     assert np.max(np.abs(fixed.joints_m[:, -1, :] - eng.drogue_position_m)) < 1e-5
     assert np.max(np.abs(fixed.control_force_n - eng.control_force_n)) < 0.1
-    assert np.max(np.abs(fixed.surface_deflection_rad - eng.surface_deflection_rad)) < 1e-9
-    assert np.max(np.abs(fixed.drogue_q_pa - eng.drogue_q_pa)) < 1e-6
-    assert np.max(np.abs(eng.surface_deflection_rad)) == pytest.approx(math.radians(2.0), rel=1e-3)
+    assert np.max(np.abs(fixed.surfaces.deflection_rad - eng.surfaces.deflection_rad)) < 1e-9
+    assert np.max(np.abs(fixed.surfaces.q_pa - eng.surfaces.q_pa)) < 1e-6
+    assert np.max(np.abs(eng.surfaces.deflection_rad)) == pytest.approx(math.radians(2.0), rel=1e-3)
 
 
 def test_surfaces_return_to_neutral_once_coupled():
@@ -229,8 +229,8 @@ def test_surfaces_return_to_neutral_once_coupled():
     r = run(load_scenario("approach-moderate-pid-actuated"))
     assert r.outcome["result"] == "captured"
     tc = r.outcome["contact_time_s"]
-    before = np.max(np.abs(r.surface_deflection_rad[r.t_s < tc]))
-    after = np.max(np.abs(r.surface_deflection_rad[r.t_s > tc + 0.5]))
+    before = np.max(np.abs(r.surfaces.deflection_rad[r.t_s < tc]))
+    after = np.max(np.abs(r.surfaces.deflection_rad[r.t_s > tc + 0.5]))
     assert before > 0 and after < 1e-3 * before
 
 
@@ -256,7 +256,7 @@ def test_anti_windup_cuts_the_overshoot_after_saturation():
         assert r.completed
         dy = r.drogue_offset_m[:, 1]
         overshoot[name] = -np.min(dy) if dy[0] > 0 else np.max(dy)
-        assert np.max(np.abs(r.surface_deflection_rad)) > 0.99 * math.radians(3.0)
+        assert np.max(np.abs(r.surfaces.deflection_rad)) > 0.99 * math.radians(3.0)
     assert overshoot["aw"] < 0.5 * overshoot["none"], overshoot
 
 
@@ -285,7 +285,7 @@ def test_bad_drogue_actuator_is_one_line_exit_2_nothing_written(tmp_path, capsys
 
 def test_servo_too_fast_for_the_step_is_refused(tmp_path, capsys):
     """The default 30 Hz servo's rate loop (2 zeta omega = 264 1/s) needs an RK4 step <= 1.25 / 264 =
-    4.74 ms (docs/model.md §9, "Numerics"): paper-turbulence-pid's 5 ms with [drogue_actuator] is
+    4.74 ms (docs/model.md §10, "Numerics"): paper-turbulence-pid's 5 ms with [drogue_actuator] is
     refused in one line, exit 2, nothing written; the API refuses it too."""
     from hosedrogue.cli import main
 

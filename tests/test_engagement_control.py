@@ -93,7 +93,7 @@ def test_control_force_is_off_once_coupled(approach_runs):
     assert approach_runs["none"].outcome["peak_control_force_n"] == 0.0
 
 
-def test_controller_states_are_frozen_once_coupled(moderate):
+def test_controller_states_are_frozen_once_coupled(moderate, monkeypatch):
     """After capture the controller's states do not change (the drogue is held by the probe)."""
     from hosedrogue.engagement import driver
 
@@ -104,11 +104,8 @@ def test_controller_states_are_frozen_once_coupled(moderate):
         seen.extend(segments)
         return original(params, segments, *args, **kwargs)
 
-    driver.assemble_result = spy
-    try:
-        r = run_engagement(moderate.with_controller("pid"))
-    finally:
-        driver.assemble_result = original
+    monkeypatch.setattr(driver, "assemble_result", spy)
+    r = run_engagement(moderate.with_controller("pid"))
     assert r.outcome["result"] == "captured"
     coupled = [(chain, zs) for chain, ep, ts, zs in seen if ep[driver.EK.EP_COUPLED] != 0.0]
     assert coupled

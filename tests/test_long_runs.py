@@ -51,33 +51,38 @@ def test_defaults_are_the_paper_model():
     assert PAPER.hose.bending_damping_n_m2_s == 0.0
 
 
-@pytest.mark.slow
-def test_long_turbulence_severe_scenario_completes():
-    """`hosedrogue simulate long-turbulence-severe`: an hour in severe turbulence (5.9 m/s at
-    8000 m) with the converged model reaches the end (the paper's model stops within ~2 min)."""
+#: Length of the suite's long-run checks [s]: longer than the paper's model lasts in severe
+#: turbulence at 8000 m (it blew up at 128-232 s, docs/long-runs.md), far shorter than the hour
+#: the report's long-runs section runs (``hosedrogue reproduce``).
+SHORT_S = 120.0
+
+
+def test_long_turbulence_severe_scenario_runs():
+    """`long-turbulence-severe` is an hour of severe turbulence (5.9 m/s at 8000 m) on the converged
+    model from 10 s to the end; its first two minutes complete (the hour is the report's)."""
     sc = load_scenario("long-turbulence-severe")
     assert sc.params.hose == load_preset("converged").hose
     assert sc.duration_s == HOUR_S
     t = sc.params.turbulence
     assert t.enabled and t.start_s == 10.0 and t.start_s + t.duration_s >= sc.duration_s
     assert t.sigma_m_s[0] == pytest.approx(5.944)
-    res = run_scenario(sc)
+    res = run_scenario(sc.with_overrides(duration_s=SHORT_S))
     assert res.completed, res.message
-    assert res.t_s[-1] == pytest.approx(HOUR_S)
+    assert res.t_s[-1] == pytest.approx(SHORT_S)
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("intensity", ["light", "moderate"])
+@pytest.mark.parametrize("intensity", ["light", "moderate", "severe"])
 @pytest.mark.parametrize("controller", ["none", "pid"])
-def test_hour_long_runs_complete(intensity, controller):
-    """Hour-long runs of the converged model in light and moderate turbulence (on from 10 s to
-    the end), two seeds each, open loop and with the paper's PID, all complete."""
+def test_converged_model_runs_in_lasting_turbulence(intensity, controller):
+    """Two-minute runs of the converged model in light, moderate and severe turbulence (on from
+    10 s), two seeds each, open loop and with the paper's PID, all complete (the hour-long runs
+    are the report's long-runs section)."""
     p = load_preset("converged").replace(
-        turbulence={"enabled": True, "intensity": intensity, "start_s": 10.0, "duration_s": HOUR_S - 10.0})
+        turbulence={"enabled": True, "intensity": intensity, "start_s": 10.0})
     ctrl = pid_controller(PAPER_PID["lateral"], PAPER_PID["vertical"]) if controller == "pid" else None
-    df = simulate_batch(p, [2018, 2019], HOUR_S, controller=ctrl)
+    df = simulate_batch(p, [2018, 2019], SHORT_S, controller=ctrl)
     assert df["completed"].all(), df[["seed", "completed", "t_end_s"]]
-    assert np.allclose(df["t_end_s"], HOUR_S)
+    assert np.allclose(df["t_end_s"], SHORT_S)
 
 
 def perpendicular_omega(x, n):

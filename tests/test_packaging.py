@@ -60,7 +60,9 @@ def test_wheel_holds_the_shipped_scenarios_and_presets(wheel):
     assert scenarios | presets <= wheel["names"]
 
 
-def test_wheel_installs_the_command_and_extras(wheel):
+def test_wheel_declares_the_command_and_extras(wheel):
+    """The wheel's metadata: the console script and the optional extras (installing the wheel and
+    running it is ``make wheel-check``; see the module docstring)."""
     assert "hosedrogue = hosedrogue.cli:main" in wheel["entry_points"]
     for extra in ("test", "fmu", "docs"):
         assert f"Provides-Extra: {extra}" in wheel["metadata"]

@@ -49,6 +49,9 @@ FIGURES = {
     "fig-docking-approach": "fig_docking_approach.png",
     "fig-docking-closure-speed": "fig_docking_closure_speed.png",
     "fig-docking-force-limit": "fig_docking_force_limit.png",
+    "fig-manoeuvres-steady": "fig_manoeuvres_steady.png",
+    "fig-manoeuvres-entry": "fig_manoeuvres_turn_entry.png",
+    "fig-manoeuvres-capture": "fig_manoeuvres_capture.png",
     "fig-actuated-run": "fig_actuated_paper_case.png",
     "fig-actuated-claims": "fig_actuated_claims.png",
     "fig-actuated-capture": "fig_actuated_capture.png",
@@ -86,6 +89,8 @@ TABLES = {
     "table-docking-radii": "docking_bow_wave_radii.csv",
     "table-docking-closure-speed": "docking_closure_speed.csv",
     "table-docking-force-limit": "docking_force_limit.csv",
+    "table-manoeuvres-breakdown": "manoeuvres_turn_breakdown.csv",
+    "table-manoeuvres-capture": "manoeuvres_capture.csv",
     "table-servo-margins": "actuated_servo_margins.csv",
     "table-actuator-convergence": "actuated_convergence.csv",
     "table-actuator-claims": "actuated_claims.csv",
@@ -103,13 +108,15 @@ FIGURE_DATA = [
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
     "docking_bow_wave_field.csv", "docking_bow_wave_displacement.csv", "docking_runs.csv", "docking_approach.csv",
     "docking_closure_speed.csv", "docking_closure_speed_runs.csv", "docking_force_limit.csv",
-    "docking_force_limit_runs.csv", "actuated_paper_case.csv", "actuated_claims_runs.csv",
+    "docking_force_limit_runs.csv",
+    "manoeuvres_bank.csv", "manoeuvres_flight_path.csv", "manoeuvres_turn_entry.csv",
+    "actuated_paper_case.csv", "actuated_claims_runs.csv",
 ]
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
 SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
             "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation", "accuracy", "long-runs", "engagement",
-            "docking", "actuated-drogue"]
+            "docking", "manoeuvres", "actuated-drogue"]
 
 
 # --- the whole fast report, once -------------------------------------------------------------------
@@ -132,10 +139,15 @@ def _check_files(out: Path, page: str) -> None:
         gif = out / name
         assert gif.read_bytes()[:6] in (b"GIF87a", b"GIF89a"), name
         assert gif.stat().st_size < 3e6, name
+    # the 3D viewer pages of the engagement and the docking approach, framed in their sections
+    # (each self-contained: its libraries and data inside; docs/viewer.md gives their sizes)
+    for fig_id, name in (("view-engagement", "view_engagement.html"), ("view-docking-approach", "view_docking_approach.html")):
+        assert f'id="{fig_id}"' in page and f'<iframe src="{name}"' in page, name
+        assert 0.6e6 < (out / name).stat().st_size < 8e6, name
 
 
 def _check_self_contained(out: Path, page: str) -> None:
-    for src in re.findall(r'<img[^>]+src="([^"]+)"', page):
+    for src in re.findall(r'<(?:img|iframe)[^>]+src="([^"]+)"', page):
         assert "://" not in src and not src.startswith("/"), src
         assert (out / src).is_file(), src
     for href in re.findall(r'href="([^"]+)"', page):
@@ -294,6 +306,50 @@ def test_engagement_section_alone_marks_the_fast_runs(tmp_path):
     (section,) = [s.html for s in out.sections if s.anchor == "engagement"]
     assert 'id="engagement-fast"' in section and f"{eng['links']} links" in section
     assert "not converged" in section
+
+
+def test_manoeuvres_section_alone(tmp_path):
+    """The fast manoeuvres section: its files, the fast note, and numbers that hang together -
+    the turn lowers the drogue (apparent gravity), the PID holds it far closer than the open-loop
+    swing, the capture campaigns ran every run in both cases."""
+    from hosedrogue.report import manoeuvres
+    from hosedrogue.report.settings import FAST
+
+    out = _folder(tmp_path)
+    result = manoeuvres.build(out, FAST)
+    m = out.headline["manoeuvres"]
+    (section,) = [s.html for s in out.sections if s.anchor == "manoeuvres"]
+    assert 'id="manoeuvres-fast"' in section
+    for name in ("fig_manoeuvres_steady.png", "fig_manoeuvres_turn_entry.png", "fig_manoeuvres_capture.png",
+                 "manoeuvres_bank.csv", "manoeuvres_turn_breakdown.csv", "manoeuvres_capture.csv"):
+        assert (tmp_path / name).stat().st_size > 0, name
+    z = np.array(m["bank_drogue_position_m"])[:, 2]
+    assert np.all(np.diff(z) > 0)  # deeper with every step of bank
+    entry = m["turn_entry"]
+    assert entry["pid_peak_offset_m"] < 0.1 * max(entry["peak_offset_m"])
+    assert all(c["runs"] == FAST.manoeuvre_runs for c in m["capture"].values())
+    assert result.beyond_apparent_gravity_m[1] > 0  # toward the inside of the right turn
+
+
+def test_plot_manoeuvres():
+    from types import SimpleNamespace
+
+    from hosedrogue.analysis.steady_flight import SteadySweep
+    from hosedrogue.plotting.manoeuvres import plot_steady_flight, plot_turn_capture, plot_turn_entry
+
+    a = np.array([0.0, 15.0, 30.0])
+    pos = np.c_[-15.0 + 0.01 * a, 0.4 + 0.002 * a, 5.5 + 0.01 * a]
+    sw = SteadySweep("bank_deg", a, pos, 1500.0 + a, np.zeros((3, 3)))
+    _check_figure(plot_steady_flight(sw, SteadySweep("flight_path_deg", a - 15.0, pos, 1500.0 - a, np.zeros((3, 3)))))
+    t = np.linspace(0.0, 10.0, 50)
+    traj = np.c_[-15.0 + 0 * t, 0.4 + 0.1 * np.sin(t), 5.5 + 0.05 * t]
+    entry = SimpleNamespace(t_s=t, bank_deg=np.minimum(5.0 * t, 30.0), open_loop_m=traj, pid_m=traj * 0.999,
+                            pid_force_n=np.c_[np.sin(t), -10.0 * t], level_m=traj[0], turn_m=traj[-1],
+                            roll_start_s=2.0, roll_end_s=8.0)
+    _check_figure(plot_turn_entry(entry))
+    cap = SimpleNamespace(labels=("level flight", "25-degree turn"),
+                          capture=({"rate": 0.8, "ci95": [0.7, 0.9], "runs": 50}, {"rate": 0.6, "ci95": [0.5, 0.7], "runs": 50}))
+    _check_figure(plot_turn_capture(cap))
 
 
 @pytest.fixture(scope="module")
@@ -512,7 +568,7 @@ def test_animate_hose_writes_a_small_gif(tmp_path):
     assert plt.get_fignums() == []
 
 
-def test_existing_figure_helpers_still_work(tmp_path):
+def test_figure_helpers_draw_and_save(tmp_path):
     fig = F.plot_displacement(_fake_result(), labels=["a", "b"], others=[_fake_result(seed=5)])
     _check_figure(fig)
     assert F.save_figure(fig, tmp_path / "d.png").is_file()
@@ -584,8 +640,10 @@ def test_plot_actuated_drogue_figures():
 
     ideal = _fake_result(on=True)
     n = ideal.t_s.size
-    act = dataclasses.replace(ideal, surface_deflection_rad=np.zeros((n, 4)) + 0.01, surface_rate_rad_s=np.zeros((n, 4)),
-                              drogue_q_pa=np.full(n, 5900.0), surface_limits=(0.35, 1.7))
+    from hosedrogue.metrics import SurfaceSeries
+
+    act = dataclasses.replace(ideal, surfaces=SurfaceSeries(np.zeros((n, 4)) + 0.01, np.zeros((n, 4)), np.full(n, 5900.0),
+                                                            0.35, 1.7))
     assert isinstance(act, SimulationResult)
     _check_figure(plot_actuated_run(ideal, act, (1.0, 3.0), 20.0))
     rows = [dict(level=lev, controller=c, force=f, completed_fraction=1.0 if f != "b" else 0.5, peak_dy_m_max=p,

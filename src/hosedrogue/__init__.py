@@ -14,10 +14,12 @@ Quick start::
 
 from .version import __version__
 from .config import load_params, resolve_config
+from .manoeuvres import Manoeuvre, TankerMotion
 from .params import PAPER, Params, ParameterError
 from .sections import Actuator, BowWave, Controller, DrogueActuator, Engagement, Loop, Pilot, Probe, Reel, Sensor
 
-__all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "Actuator", "BowWave",
+__all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "TankerMotion", "Manoeuvre",
+           "Actuator", "BowWave",
            "Controller", "DrogueActuator", "Engagement", "Loop", "Pilot", "Probe", "Reel", "Sensor", "Scenario", "load_scenario",
            "run", "write", "solve_equilibrium", "simulate", "simulate_engagement", "__version__"]
 

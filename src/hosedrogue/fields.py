@@ -24,7 +24,7 @@ INF = math.inf
 
 
 def real(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = False, unit: str = "",
-         inf_ok: bool = False) -> dict:
+         inf_ok: bool = False, optional: bool = False) -> dict:
     """Metadata of a real-valued field in the range (lo, hi] (openness selectable).
 
     Parameters
@@ -37,14 +37,20 @@ def real(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = Fa
         The field's unit ("m", "m/s", "N", ...; "" for none).
     inf_ok : bool
         Whether ``inf`` is allowed (as "no limit"); then ``hi`` must be ``inf``.
+    optional : bool
+        Whether the field may be left out (``None``: its meaning is the section's to say, e.g.
+        "unchanged"); a scenario file then simply omits the key.
 
     Returns
     -------
     dict
         The field's metadata.
     """
-    return {"kind": "float", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": hi_open, "unit": unit,
+    meta = {"kind": "float", "lo": lo, "hi": hi, "lo_open": lo_open, "hi_open": hi_open, "unit": unit,
             "inf_ok": inf_ok}
+    if optional:
+        meta["optional"] = True
+    return meta
 
 
 def integer(lo: int, hi: int, unit: str = "") -> dict:
@@ -113,6 +119,22 @@ def vec3(lo: float, hi: float = INF, *, lo_open: bool = False, unit: str = "",
             "labels": tuple(labels)}
 
 
+def records(section: type) -> dict:
+    """Metadata of a field holding a list of sub-tables, each a ``section`` (a scenario file's
+    ``[[table.field]]`` array of tables); validated item by item, held as a tuple of sections.
+
+    Parameters
+    ----------
+    section : type
+        The :class:`Section` class of one item.
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "records", "section": section}
+
+
 def text() -> dict:
     """Metadata of a free-text field (a name, a Python entry point ``"package.module:factory"``).
 
@@ -145,6 +167,8 @@ def describe(meta: Mapping[str, Any]) -> str:
         return "one of " + ", ".join(repr(c) for c in meta["choices"])
     if kind == "str":
         return "a string"
+    if kind == "records":
+        return f"a list of tables [[{meta['section']._section}]] (their keys: the rows {meta['section']._section}.*)"
     lo, hi = meta["lo"], meta["hi"]
     left = "(" if meta.get("lo_open") else "["
     closed_inf = meta.get("inf_ok", False)
@@ -155,6 +179,8 @@ def describe(meta: Mapping[str, Any]) -> str:
     range_text = f"{what} in {left}{lo:g}, {hi_s}{right}{unit}"
     if closed_inf:
         range_text += " (inf: no limit)"
+    if meta.get("optional"):
+        range_text += ", or left out"
     if kind == "vec3":
         return f"one number or a list of 3 numbers [{', '.join(meta.get('labels', ('u', 'v', 'w')))}], each {range_text}"
     return range_text
@@ -197,7 +223,11 @@ def validate_field(section: str, f: dataclasses.Field, value: Any) -> Any:
     name = f"{section}.{f.name}"
     kind = meta["kind"]
     if kind == "float":
+        if value is None and meta.get("optional"):
+            return None
         return _check_real(name, value, meta)
+    if kind == "records":
+        return _check_records(name, value, meta["section"])
     if kind == "int":
         if isinstance(value, bool) or not isinstance(value, int) or not meta["lo"] <= value <= meta["hi"]:
             raise ParameterError(f"{name} = {value!r}: must be {describe(meta)}")
@@ -221,6 +251,23 @@ def validate_field(section: str, f: dataclasses.Field, value: Any) -> Any:
             raise ParameterError(f"{name} = {value!r}: must be {describe(meta)}")
         return tuple(_check_real(f"{name}[{i}]", v, meta) for i, v in enumerate(value))
     raise AssertionError(kind)  # pragma: no cover - metadata is defined in this module
+
+
+def _check_records(name: str, value: Any, section: type) -> tuple:
+    """``value`` (a list of sections or of tables of their fields) as a tuple of sections; an error
+    in item i names it ``name[i]`` (counted from 0)."""
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, (list, tuple)):
+        raise ParameterError(f"{name} = {value!r}: must be a list of tables ([[{name}]])")
+    items = []
+    for i, item in enumerate(value):
+        if isinstance(item, section):
+            items.append(item)
+            continue
+        try:
+            items.append(section.from_mapping(item))
+        except ParameterError as exc:
+            raise ParameterError(str(exc).replace(section._section, f"{name}[{i}]", 1)) from None
+    return tuple(items)
 
 
 class Section:
@@ -273,17 +320,21 @@ class Section:
         return cls(**{name: data.get(name, getattr(base, name)) for name in known})
 
     def to_dict(self) -> dict[str, Any]:
-        """``{field: value}``, tuples as lists (TOML/JSON-ready).
+        """``{field: value}``, tuples as lists, a list of sub-sections as a list of their tables, an
+        optional field left out (None) omitted (TOML/JSON-ready).
 
         Returns
         -------
         dict
         """
-        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
+        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)
+                if getattr(self, f.name) is not None}
 
 
 def _plain(v: Any) -> Any:
-    return list(v) if isinstance(v, tuple) else v
+    if isinstance(v, tuple):
+        return [x.to_dict() if isinstance(x, Section) else x for x in v]
+    return v
 
 
 def field_docs(cls: type) -> dict[str, str]:

@@ -18,6 +18,7 @@ from typing import Any, Mapping
 from .constants import H_MAX_ATMOSPHERE
 from .errors import ParameterError
 from .fields import Section, choice, flag, integer, real, vec3
+from .manoeuvres import TankerMotion
 from .standards import standard_intensity
 
 INF = math.inf
@@ -109,14 +110,16 @@ class Drogue(Section):
 
 @dataclass(frozen=True)
 class Flight(Section):
-    """Straight and level flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m)."""
+    """Flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m): straight and level, or
+    the start of its manoeuvres (:class:`~hosedrogue.manoeuvres.TankerMotion`)."""
 
     _section = "flight"
     #: Flight altitude [m]; sets the ICAO standard-atmosphere air density.
     altitude_m: float = field(
         default=8000.0, metadata=real(0.0, H_MAX_ATMOSPHERE, lo_open=False, unit="m")
     )
-    #: True airspeed of the tanker [m/s] (the free stream the hose sees).
+    #: True airspeed of the tanker [m/s] (the free stream the hose sees; at the start when the
+    #: tanker manoeuvres, [tanker_motion]).
     airspeed_m_s: float = field(default=150.0, metadata=real(0.0, 400.0, unit="m/s"))
     #: Multiplies the ICAO density [-]; 0 switches all air forces off (used by energy checks).
     density_scale: float = field(default=1.0, metadata=real(0.0, 10.0, lo_open=False))
@@ -249,6 +252,7 @@ SECTIONS = {
     "wake": Wake,
     "turbulence": Turbulence,
     "numerics": Numerics,
+    "tanker_motion": TankerMotion,
 }
 
 
@@ -270,21 +274,23 @@ class Params:
     turbulence: Turbulence = field(default_factory=Turbulence)
     #: Time integration settings.
     numerics: Numerics = field(default_factory=Numerics)
+    #: The tanker's manoeuvres (default: straight and level flight at constant speed).
+    tanker_motion: TankerMotion = field(default_factory=TankerMotion)
+
+    def __post_init__(self) -> None:
+        # the segments' timeline depends on the airspeed they start from (a speed change's length)
+        self.tanker_motion.ramps(self.flight.airspeed_m_s)
 
     def replace(self, **sections: Mapping[str, Any]) -> "Params":
         """Return a copy with fields overridden, e.g. ``p.replace(flight={"airspeed_m_s": 200})``."""
         return params_from_dict(sections, base=self)
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
-        """``{section: {field: value}}`` of every field, tuples as lists (TOML/JSON-ready)."""
-        return {
-            name: {f.name: _plain(getattr(getattr(self, name), f.name)) for f in dataclasses.fields(cls)}
-            for name, cls in SECTIONS.items()
-        }
-
-
-def _plain(v: Any) -> Any:
-    return list(v) if isinstance(v, tuple) else v
+        """``{section: {field: value}}`` of every field, tuples as lists (TOML/JSON-ready); the
+        ``tanker_motion`` only when the tanker manoeuvres (straight and level flight, the default,
+        is what a parameter set without it means, so level runs record what they always did)."""
+        return {name: getattr(self, name).to_dict() for name in SECTIONS
+                if not (name == "tanker_motion" and self.tanker_motion == TankerMotion())}
 
 
 #: The paper's case (Table 1, 16 m hose in 20 links, 150 m/s, 8000 m): the one definition.

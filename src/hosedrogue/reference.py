@@ -70,19 +70,26 @@ TABLE_DOCS = {
     "tanker": "The tanker aircraft (paper Table 1).",
     "hose": "The hose, modelled as `links` rigid links of equal length (paper Table 1).",
     "drogue": "The drogue (paper Table 1).",
-    "flight": "The straight and level flight condition (paper Sec. 2.3.3: 150 m/s at 8000 m).",
+    "flight": "The flight condition (paper Sec. 2.3.3: 150 m/s at 8000 m), straight and level unless "
+              "`[tanker_motion]` says otherwise (its airspeed is then the one at the start).",
     "wake": "The tanker's Hallock-Burnham wake vortices. `wake = false` at the top level is short for "
             "`[wake] enabled = false`.",
     "turbulence": "Dryden turbulence and its time window. `turbulence = true` at the top level is short for "
                   "`[turbulence] enabled = true`; `intensity` names a standard intensity instead of `sigma_m_s`.",
     "numerics": "Time integration.",
+    "tanker_motion": "The tanker's manoeuvres (docs: The model, section 9): the steady flight at the start (a "
+                     "coordinated turn, a climb or descent, at `flight.airspeed_m_s`) and the segments that change "
+                     "it, each a `[[tanker_motion.segments]]` table (keys `segments.*` below) flying from its "
+                     "`start_s` to the bank angle, flight-path angle and airspeed it names, at its rates; a target "
+                     "left out is unchanged, and a segment must end before the next starts. Without the table: "
+                     "straight and level flight at constant speed.",
     "controller": "The drogue controller: its `type`, then the options of that type. Options not given take "
                   "the paper's values.",
     "actuator": "Limits on the control force applied to the drogue.",
     "sensor": "Noise on the measured drogue offset the controller reads.",
     "drogue_actuator": "The drogue steers itself with control surfaces that make the controller's force: their "
                        "force from the local dynamic pressure, deflection and rate limits, servos, drag increment "
-                       "(docs/model.md §9). Present (even empty: the defaults) or absent; with it `[actuator]` must "
+                       "(docs/model.md §10). Present (even empty: the defaults) or absent; with it `[actuator]` must "
                        "keep its defaults.",
     "reel": "The hose drum unit. With `[reel]` or `[probe]` the scenario runs the hose of varying length "
             "(the engagement).",
@@ -162,8 +169,12 @@ def section_rows(cls: type) -> list[dict]:
         "" when a number has no unit and its comment does not mark it ``[-]``), ``default``
         (TOML text), ``allowed`` and ``meaning`` (its ``#:`` comment).
     """
-    return [{"key": r["name"], "unit": _unit(r), "default": toml_value(r["default"]), "allowed": r["allowed"],
+    rows = [{"key": r["name"], "unit": _unit(r), "default": toml_value(r["default"]), "allowed": r["allowed"],
              "meaning": r["meaning"]} for r in field_table(cls)]
+    for f in dataclasses.fields(cls):  # a list of sub-tables: its keys as rows "field.key"
+        if f.metadata.get("kind") == "records":
+            rows += [{**row, "key": f"{f.name}.{row['key']}"} for row in section_rows(f.metadata["section"])]
+    return rows
 
 
 def _scenario_rows() -> list[dict]:

@@ -1,11 +1,10 @@
 """Result objects of a run: named signals with units, ``to_dataframe()``, ``to_csv()``, ``plot()``.
 
-One interface for both hose models (:class:`RunResult`): the fixed-length hose
-(:class:`SimulationResult`) and the hose of varying length in an engagement
-(:class:`EngagementResult`) give the same quantities under the same names, so writers, campaigns
-and user code take either without a branch.
-
-Frames: S_p, the tanker trajectory frame (x forward, y right, z down), origin at the tow point.
+One interface for both hose models (:class:`RunResult`): the fixed-length hose (:class:`SimulationResult`)
+and the hose of varying length in an engagement (:class:`EngagementResult`) give the same quantities under
+the same names, so writers, campaigns and user code take either without a branch; a drogue with control
+surfaces adds theirs (:class:`hosedrogue.metrics.WithSurfaces`). Frames: S_p, the tanker trajectory frame
+(x forward, y right, z down), origin at the tow point.
 """
 
 from __future__ import annotations
@@ -18,6 +17,7 @@ import math
 
 import numpy as np
 
+from .metrics import WithSurfaces
 from .version import __version__
 
 #: The time-series columns of every run, in file order (SI units in the names; the engagement
@@ -51,14 +51,6 @@ class RunResult:
     meta: dict[str, Any] = field(default_factory=dict)  #: what was run (scenario, seed, parameters)
     #: window [start, end) [s] of :meth:`statistics`: the turbulence window, or the whole run without turbulence
     statistics_window_s: tuple = (0.0, math.inf)
-    #: (N, n_s) deflection of each of the drogue's control surfaces [rad] (None: the ideal force)
-    surface_deflection_rad: np.ndarray | None = None
-    #: (N, n_s) deflection rate of each control surface [rad/s] (None: the ideal force)
-    surface_rate_rad_s: np.ndarray | None = None
-    #: (N,) dynamic pressure of the air at the drogue the surfaces see [Pa] (None: the ideal force)
-    drogue_q_pa: np.ndarray | None = None
-    #: the surfaces' (deflection [rad], rate [rad/s]) limits (None: the ideal force)
-    surface_limits: tuple | None = None
 
     @property
     def drogue_offset_m(self) -> np.ndarray:
@@ -79,8 +71,7 @@ class RunResult:
 
     def columns(self) -> dict[str, np.ndarray]:
         """The time series' columns, name -> (N,) array, in file order (SI units in the names):
-        :data:`COLUMNS` for every run, then the hose model's own (:meth:`extra_columns`), then
-        a drogue actuator's (:meth:`actuator_columns`)."""
+        :data:`COLUMNS` for every run, then the hose model's own (:meth:`extra_columns`)."""
         pos, off, vel = self.drogue_position_m, self.drogue_offset_m, self.drogue_velocity_m_s
         drag, tow, u = self.drogue_drag_n, self.tow_force_n, self.control_force_n
         cols = {
@@ -94,23 +85,29 @@ class RunResult:
             "u_y_n": u[:, 0], "u_z_n": u[:, 1],
         }
         cols.update(self.extra_columns())
-        cols.update(self.actuator_columns())
         return cols
 
     def extra_columns(self) -> dict[str, np.ndarray]:
         """The hose model's own columns after :data:`COLUMNS` (none for the fixed-length hose)."""
         return {}
 
-    def actuator_columns(self) -> dict[str, np.ndarray]:
-        """The drogue actuator's columns (none with the ideal force): ``deflection_k_deg`` and
-        ``deflection_rate_k_deg_s`` of each surface k = 1..n_s, then ``drogue_q_pa``."""
-        if self.surface_deflection_rad is None:
-            return {}
-        d, r = np.degrees(self.surface_deflection_rad), np.degrees(self.surface_rate_rad_s)
-        cols = {f"deflection_{k + 1}_deg": d[:, k] for k in range(d.shape[1])}
-        cols.update({f"deflection_rate_{k + 1}_deg_s": r[:, k] for k in range(r.shape[1])})
-        cols["drogue_q_pa"] = self.drogue_q_pa
-        return cols
+    def outcome_columns(self) -> dict[str, Any]:
+        """The hose model's own columns of a campaign's ``runs.csv`` row (none here; the
+        engagement's capture test and peaks, :meth:`EngagementResult.outcome_columns`)."""
+        return {}
+
+    def row_message(self) -> str:
+        """The ``message`` column of a campaign's ``runs.csv`` row."""
+        return self.message
+
+    def headline(self) -> str:
+        """The run's headline statistics in a line, as ``hosedrogue simulate`` prints them: over
+        the statistics window, the peak and RMS radial drogue offset [m] and the peak control force [N]."""
+        st = self.statistics()
+        start, end = self.statistics_window_s
+        window = "the whole run" if math.isinf(end) else f"{start:g}-{end:g} s"
+        return (f"drogue offset over {window}: peak {st['peak_radial_m']:.4g} m, RMS {st['rms_radial_m']:.4g} m; "
+                f"peak control force {st['peak_u_n']:.4g} N")
 
     def statistics(self, capture_radii_m=None) -> dict[str, float]:
         """The run's window statistics (:func:`hosedrogue.metrics.window_statistics`: peak and RMS
@@ -130,36 +127,8 @@ class RunResult:
         from . import metrics
 
         radii = metrics.DEFAULT_CAPTURE_RADII_M if capture_radii_m is None else capture_radii_m
-        stats = metrics.window_statistics(self.t_s, self.drogue_offset_m, self.control_force_n,
-                                          self.statistics_window_s, radii)
-        return {**stats, **self.surface_statistics()}
-
-    def surface_statistics(self, window_s: tuple | None = None) -> dict[str, float]:
-        """A drogue actuator's window statistics (:func:`hosedrogue.metrics.surface_statistics`:
-        peak deflection [deg] and rate [deg/s], the fractions of time saturated in deflection
-        and in rate [-]); empty with the ideal force.
-
-        Parameters
-        ----------
-        window_s : (float, float), optional
-            Window [start, end) [s] (default :attr:`statistics_window_s`); an engagement ends it
-            at contact (after it the surfaces only return to neutral).
-
-        Returns
-        -------
-        dict
-        """
-        from . import metrics
-
-        if self.surface_deflection_rad is None:
-            return {}
-        window = self._surface_window(self.statistics_window_s if window_s is None else window_s)
-        return metrics.surface_statistics(self.t_s, self.surface_deflection_rad, self.surface_rate_rad_s,
-                                          window, *self.surface_limits)
-
-    def _surface_window(self, window_s: tuple) -> tuple:
-        """The window of :meth:`surface_statistics` (the given one; an engagement's ends at contact)."""
-        return tuple(window_s)
+        return metrics.window_statistics(self.t_s, self.drogue_offset_m, self.control_force_n,
+                                         self.statistics_window_s, radii)
 
     #: File name of the run's figure (:meth:`plot`) in its output folder.
     FIGURE = "displacement.png"
@@ -176,6 +145,12 @@ class RunResult:
     def plot(self, **kwargs):
         """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
         raise NotImplementedError
+
+    def hose_shapes(self) -> tuple[np.ndarray, np.ndarray]:
+        """(joint_count (N,) [-], joints_m (sum of joint_count, 3) [m] in S_p): the joints at every
+        output time, stacked alike for both hose models (:func:`hosedrogue.hose_file.stack_joints`)."""
+        from .hose_file import stack_joints
+        return stack_joints(self.joints_m)
 
     def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
         """Arrays a MATLAB file carries besides the time series: name -> (array (N, k), column names)."""
@@ -268,7 +243,7 @@ class RunResult:
 
 
 @dataclass(frozen=True, kw_only=True)
-class SimulationResult(RunResult):
+class SimulationResult(WithSurfaces, RunResult):
     """A run of the fixed-length hose (:func:`hosedrogue.simulate`)."""
 
     states: np.ndarray  #: (N, 4n) x = [q, qd] [rad, rad/s]
@@ -305,7 +280,7 @@ SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail 
 
 
 @dataclass(frozen=True, kw_only=True)
-class EngagementResult(RunResult):
+class EngagementResult(WithSurfaces, RunResult):
     """Time histories (S_p, SI units) and the outcome of one engagement run.
 
     Every array has one row per output time (N rows); vectors are in the tanker frame S_p.
@@ -350,12 +325,6 @@ class EngagementResult(RunResult):
 
     FIGURE = "engagement.png"
 
-    def _surface_window(self, window_s: tuple) -> tuple:
-        """``window_s`` ended at contact: once the probe touches the coupler the drogue controller
-        is off and the surfaces return to neutral at their rate limit, which is no station keeping."""
-        tc = self.outcome.get("contact_time_s")
-        return (window_s[0], window_s[1] if tc is None else min(window_s[1], float(tc)))
-
     def run_document(self) -> dict[str, Any]:
         """The content of the run's ``run.json``: :func:`run_header`, the ``"engagement"`` summary
         (:meth:`summary`), the remesh, chart and contact ``"events"``, then what was run.
@@ -368,6 +337,40 @@ class EngagementResult(RunResult):
         events = meta.pop("events", [])
         return {**run_header(self), "statistics": _statistics_document(self), "engagement": self.summary(),
                 "events": events, **meta}
+
+    def capture_category(self) -> str:
+        """The capture test's result in a word: "captured", "miss", "failed latch", "no contact"
+        (the probe never reached the coupler plane) or "stopped" (a failed state)."""
+        head = str(self.outcome.get("result", "")).split(":", 1)[0]
+        if head in ("captured", "miss", "failed latch"):
+            return head
+        return "no contact" if self.completed else "stopped"
+
+    def outcome_columns(self) -> dict[str, Any]:
+        """The engagement's columns of a campaign's ``runs.csv`` row: the capture test's
+        ``result`` (:meth:`capture_category`), the radial miss [m] and the closure speed [m/s] at
+        the coupler plane (NaN without contact), and the run's peak probe load [N], peak exit
+        tension [N] and peak slack [m] (``hosedrogue.studies.store.ENGAGEMENT_COLUMNS``)."""
+        out = self.outcome
+
+        def number(key):
+            return math.nan if out.get(key) is None else float(out[key])
+
+        return {"result": self.capture_category(), "miss_distance_m": number("miss_distance_m"),
+                "closure_speed_m_s": number("closure_speed_m_s"), "peak_probe_load_n": number("peak_probe_load_n"),
+                "peak_exit_tension_n": number("peak_exit_tension_n"), "peak_slack_m": number("peak_slack_m")}
+
+    def row_message(self) -> str:
+        """The ``message`` column of a campaign's row: the capture test's result, then the run's message."""
+        return f"{self.outcome.get('result')}; {self.message}"
+
+    def headline(self) -> str:
+        """:meth:`RunResult.headline`, then the outcome, the miss [m], the peak probe load [N] and the
+        peak exit tension [N]."""
+        s = self.summary()
+        miss = "none" if s["miss_distance_m"] is None else f"{s['miss_distance_m']:.3f} m"
+        return (super().headline() + f"\nengagement: {s['result']}; miss {miss}; peak probe load "
+                f"{s['peak_probe_load_n']:.4g} N; peak exit tension {s['peak_exit_tension_n']:.4g} N")
 
     def went_slack(self) -> bool:
         """Whether the hose went (nearly) slack: the exit tension fell below

@@ -41,6 +41,7 @@ from ..constants import G0
 from ..environment.atmosphere import density
 from ..environment.wake import wake_field
 from ..errors import EquilibriumError
+from ..model.frame import SteadyFrame, steady_frame
 from ..params import PAPER, Params
 
 #: Position tolerance of the shooting solution [m]: the tow point must be reproduced this well.
@@ -86,12 +87,22 @@ class ContinuumShape:
         }
 
 
-class _Loads:
-    """Air and load functions of the continuous hose for one parameter set."""
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b of two 3-vectors (numpy's cross costs ~10 us a call in the integrator's inner loop)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
-    def __init__(self, params: Params):
+
+class _Loads:
+    """Air and load functions of the continuous hose for one parameter set, in a steady frame."""
+
+    def __init__(self, params: Params, frame: SteadyFrame):
         hose, drogue, flight = params.hose, params.drogue, params.flight
         self.params = params
+        self.level = frame.is_level
+        self.acc = np.asarray(frame.acceleration_m_s2, dtype=float)
+        self.omega = np.asarray(frame.omega_rad_s, dtype=float)
+        self.air_omega = np.asarray(frame.air_omega, dtype=float)
+        self.wake_factor = frame.wake_factor
         self.rho = density(flight.altitude_m) * flight.density_scale
         self.V = flight.airspeed_m_s
         self.mu = hose.mass_per_length_kg_m
@@ -107,13 +118,26 @@ class _Loads:
             p = self.params
             vy, vz = wake_field(r[1], r[2], p.tanker, p.wake, self.V, density(p.flight.altitude_m)
                                 * p.flight.density_scale)
-            w[1] += float(vy)
-            w[2] += float(vz)
+            if self.level:
+                w[1] += float(vy)
+                w[2] += float(vz)
+            else:
+                w[1] += self.wake_factor * float(vy)
+                w[2] += self.wake_factor * float(vz)
+        if not self.level:
+            w -= _cross(self.air_omega, r)  # the air at rest far away, seen from the turning frame
         return w
+
+    def gravity(self, r: np.ndarray) -> np.ndarray:
+        """Apparent gravity [m/s^2] at r: g z, or in a steady turn or climb ``g b_g - a_0 - Omega x
+        (Omega x r)``."""
+        if self.level:
+            return np.array([0.0, 0.0, G0])
+        return self.acc - _cross(self.omega, _cross(self.omega, r))
 
     def per_length(self, r: np.ndarray, e: np.ndarray) -> np.ndarray:
         """Gravity and drag per length of hose [N/m] at r with aft tangent e."""
-        f = np.array([0.0, 0.0, self.mu * G0])
+        f = self.mu * self.gravity(r)
         if self.rho > 0.0:
             vrel = -self.air(r)
             nk = -e
@@ -135,7 +159,7 @@ class _Loads:
 
 
 def _integrate(loads: _Loads, r_L: np.ndarray, L: float, dense: bool = False):
-    G_L = np.array([0.0, 0.0, loads.m_d * G0]) + loads.drogue_drag(r_L)
+    G_L = loads.m_d * loads.gravity(r_L) + loads.drogue_drag(r_L)
     y0 = np.concatenate([r_L, G_L])
     return scipy.integrate.solve_ivp(loads.rhs, (L, 0.0), y0, method="DOP853", rtol=RTOL, atol=ATOL,
                                      dense_output=dense)
@@ -144,29 +168,38 @@ def _integrate(loads: _Loads, r_L: np.ndarray, L: float, dense: bool = False):
 def _initial_guess(loads: _Loads, L: float) -> np.ndarray:
     """Drogue position of a straight hose along the tow force without wake (a cheap start)."""
     drag = loads.drogue_drag(np.zeros(3)) if loads.rho > 0 else np.zeros(3)
-    G = drag + np.array([0.0, 0.0, (loads.m_d + 0.5 * loads.mu * L) * G0])
+    G = drag + (loads.m_d + 0.5 * loads.mu * L) * loads.gravity(np.zeros(3))
     if loads.rho > 0:
         G += 0.5 * L * loads.per_length(np.zeros(3), G / np.linalg.norm(G))
     return L * G / np.linalg.norm(G)
 
 
-def solve_continuum(params: Params = PAPER, samples: int = 201) -> ContinuumShape:
-    """Steady shape of the continuous hose (bending neglected) for steady air (wake as configured).
+def solve_continuum(params: Params = PAPER, samples: int = 201, frame: SteadyFrame | None = None) -> ContinuumShape:
+    """Steady shape of the continuous hose (bending neglected) for steady air (wake as configured)
+    in the tanker's initial steady flight (a coordinated turn or a climb: ``params.tanker_motion``,
+    docs/model.md §9).
 
     Parameters
     ----------
     params : Params
         Hose, drogue, flight and wake (``hose.links``, ``bending``, ``mass_lumping`` and the
-        link inertia are irrelevant here).
+        link inertia are irrelevant here; so is the drogue's rotational inertia, whose gyroscopic
+        moment in a turn the continuous hose without bending stiffness cannot carry).
     samples : int
         Number of points of the returned shape, evenly spaced in arc length.
+    frame : SteadyFrame, optional
+        The frame's apparent acceleration [m/s^2], rotation [rad/s] and wake factor, instead of
+        those of ``params.tanker_motion``'s initial flight (:func:`hosedrogue.model.frame.steady_frame`),
+        e.g. a gravity vector rotated by other means, or one term of a turn alone.
 
     Raises
     ------
     EquilibriumError
         If the shooting does not reproduce the tow point to :data:`POSITION_TOLERANCE_M`.
     """
-    loads = _Loads(params)
+    if frame is None:
+        frame = steady_frame(params.tanker_motion, params.flight.airspeed_m_s)
+    loads = _Loads(params, frame)
     L = params.hose.length_m
 
     def residual(r_L):

@@ -159,7 +159,10 @@ def _newton(model: HoseModel, env: np.ndarray, q0: np.ndarray, scale: float):
 
 
 def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) -> Equilibrium:
-    """Balance position for steady air (free stream and, if enabled, the tanker wake).
+    """Balance position for steady air (free stream and, if enabled, the tanker wake), in the
+    tanker's initial steady flight: level, or a steady coordinated turn or climb
+    (``params.tanker_motion``, docs/model.md §9; the frame's apparent forces are loads of the
+    statics, the towed-cable guess is level flight's and Newton takes it from there).
 
     Parameters
     ----------

@@ -66,7 +66,8 @@ def _drogue_yz(model: HoseModel, x: np.ndarray) -> np.ndarray:
 
 def linearize(params: Params = PAPER, equilibrium: Equilibrium | None = None,
               model: HoseModel | None = None) -> LinearModel:
-    """Linear model about the balance position of ``params`` (wake on or off as configured).
+    """Linear model about the balance position of ``params`` (wake on or off as configured), in
+    the tanker's initial steady flight (level, or a steady turn or climb: ``params.tanker_motion``).
 
     Parameters
     ----------

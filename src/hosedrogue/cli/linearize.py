@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 from ..errors import ParameterError
-from .options import add_flight_options, params_from_args, parse_order
+from .options import add_flight_options, params_from_args, parse_order, steady_flight_text
 
 NAME = "linearize"
 
@@ -70,6 +70,8 @@ def run(args) -> int:
                       "poles": [[float(p.real), float(p.imag)] for p in poles]}
     data["order"] = "full" if order is None else order
     data["flight"] = {"altitude_m": params.flight.altitude_m, "airspeed_m_s": params.flight.airspeed_m_s,
+                      **({} if params.tanker_motion.is_level else {"bank_deg": params.tanker_motion.bank_deg,
+                                                                     "flight_path_deg": params.tanker_motion.flight_path_deg}),
                       "wake": params.wake.enabled, "links": params.hose.links}
     if args.json or args.format == "json":
         print(json.dumps(data))
@@ -84,7 +86,8 @@ def run(args) -> int:
         print(f"wrote {path}")
     print(f"Linear model about the balance position: {params.flight.airspeed_m_s:g} m/s at "
           f"{params.flight.altitude_m:g} m, wake {'on' if params.wake.enabled else 'off'}, "
-          f"{params.hose.links} links; order {data['order']} per channel (balanced truncation)")
+          f"{params.hose.links} links{steady_flight_text(params)}; order {data['order']} per channel "
+          "(balanced truncation)")
     for name, label in (("lateral", "u_hor [N] -> P_ny [m]"), ("vertical", "u_ver [N] -> P_nz [m]")):
         print(f"  {name} ({label}):")
         print(f"    G(s) = {format_tf(np.array(data[name]['num']), np.array(data[name]['den']))}")

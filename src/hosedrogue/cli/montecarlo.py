@@ -47,6 +47,10 @@ def add_parser(sub) -> None:
                    help="also write each run's time series (SI units) to DIR/runs/run_XXXXX.csv")
     s.add_argument("--compare-controller", action="store_true",
                    help="run every seed with the scenario's controller and with none (column 'controller')")
+    s.add_argument("--view", action="store_true",
+                   help="also write DIR/view.html: per controller, the runs with the smallest, the median and the "
+                        "largest miss distance (engagement) or peak radial drogue offset, run again from their seeds "
+                        "and shown side by side in 3D (their folders in DIR/view/)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=run)
 
@@ -99,6 +103,12 @@ def run(args) -> int:
     print(f"{summary.new_runs} runs simulated, {len(summary.runs) - summary.new_runs} resumed")
     for p in (summary.out_dir / "runs.csv", summary.out_dir / "campaign.json", *summary.files):
         print(f"wrote {p}")
+    if args.view:
+        from ..viewer.campaign import write_campaign_view
+
+        page, picks = write_campaign_view(summary, summary.out_dir / "view.html", summary.out_dir / "view")
+        shown = ", ".join(f"run {p['run']} {p['controller']} ({p['why']})" for p in picks)
+        print(f"wrote {page} ({shown})")
     incomplete = int((~summary.runs["completed"].astype(bool)).sum())
     if incomplete:
         print(f"hosedrogue: {incomplete} runs stopped early (completed = false in runs.csv)", file=sys.stderr)

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from ..errors import ParameterError
 from ..config import resolve_configs
+from ..manoeuvres import MAX_BANK_DEG, MAX_FLIGHT_PATH_DEG
 from ..params import Params
 
 #: Exit status of bad input (one line on stderr, nothing written).
@@ -84,7 +85,7 @@ def bounded_int(name: str, lo: int, hi: int):
 
 
 def add_flight_options(sp: argparse.ArgumentParser, links: bool = True, condition: bool = True) -> None:
-    """Add (--altitude, --airspeed), (--links), --config, --no-wake.
+    """Add (--altitude, --airspeed, --bank-deg, --climb-deg), (--links), --config, --no-wake.
 
     Parameters
     ----------
@@ -100,6 +101,14 @@ def add_flight_options(sp: argparse.ArgumentParser, links: bool = True, conditio
                         help="flight altitude [m], 0-20000 (default: paper, 8000 m)")
         sp.add_argument("--airspeed", metavar="M_PER_S", type=finite_float("--airspeed", 1e-9, 400, "m/s"),
                         help="true airspeed [m/s], > 0 (default: paper, 150 m/s)")
+        sp.add_argument("--bank-deg", metavar="DEG",
+                        type=finite_float("--bank-deg", -MAX_BANK_DEG, MAX_BANK_DEG, "deg"),
+                        help="a steady coordinated turn at this bank angle [deg] (> 0 right wing down, turning "
+                             f"right at g tan(bank) / V), within +-{MAX_BANK_DEG:g} (default: wings level)")
+        sp.add_argument("--climb-deg", metavar="DEG",
+                        type=finite_float("--climb-deg", -MAX_FLIGHT_PATH_DEG, MAX_FLIGHT_PATH_DEG, "deg"),
+                        help="a steady climb at this flight-path angle [deg] (< 0: a descent), within "
+                             f"+-{MAX_FLIGHT_PATH_DEG:g} (default: level)")
     if links:
         sp.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
                         help="number of rigid links of the hose [-], >= 1 (default 20)")
@@ -111,7 +120,8 @@ def add_flight_options(sp: argparse.ArgumentParser, links: bool = True, conditio
 
 
 def flight_overrides(args) -> dict:
-    """Parameter overrides from --altitude, --airspeed, --links, --no-wake (validated later).
+    """Parameter overrides from --altitude, --airspeed, --bank-deg, --climb-deg, --links, --no-wake
+    (validated later).
 
     Parameters
     ----------
@@ -132,6 +142,10 @@ def flight_overrides(args) -> dict:
         over.setdefault("hose", {})["links"] = args.links
     if getattr(args, "no_wake", False):
         over.setdefault("wake", {})["enabled"] = False
+    if getattr(args, "bank_deg", None) is not None:
+        over.setdefault("tanker_motion", {})["bank_deg"] = args.bank_deg
+    if getattr(args, "climb_deg", None) is not None:
+        over.setdefault("tanker_motion", {})["flight_path_deg"] = args.climb_deg
     return over
 
 
@@ -151,6 +165,28 @@ def params_from_args(args) -> Params:
     base = resolve_configs([configs] if isinstance(configs, str) else configs)
     over = flight_overrides(args)
     return base.replace(**over) if over else base
+
+
+def steady_flight_text(params: Params) -> str:
+    """The tanker's initial steady flight for a headline: ``", in a 25 deg coordinated turn to the
+    right, climbing at 3 deg"`` (empty in level flight).
+
+    Parameters
+    ----------
+    params : Params
+        Its ``tanker_motion.bank_deg`` and ``flight_path_deg`` [deg].
+
+    Returns
+    -------
+    str
+    """
+    bank, path = params.tanker_motion.bank_deg, params.tanker_motion.flight_path_deg
+    parts = []
+    if bank:
+        parts.append(f"in a {abs(bank):g} deg coordinated turn to the {'right' if bank > 0 else 'left'}")
+    if path:
+        parts.append(f"{'climbing' if path > 0 else 'descending'} at {abs(path):g} deg")
+    return "".join(", " + p for p in parts)
 
 
 def prepare_out(out: Path) -> None:

@@ -22,7 +22,8 @@ def add_parser(sub) -> None:
     s = sub.add_parser(NAME, help="run a scenario file (time simulation)",
                        description="Run SCENARIO (a shipped name such as 'swing-release' or "
                                    "'paper-turbulence', or a TOML path) and write DIR/timeseries.csv "
-                                   "(SI units), DIR/run.json and DIR/displacement.png.")
+                                   "(SI units), DIR/run.json, DIR/hose.npz (the hose's joints at every output time) "
+                                   "and DIR/displacement.png (DIR/engagement.png for an engagement).")
     s.add_argument("scenario", metavar="SCENARIO", help="scenario name or TOML file")
     s.add_argument("--duration", metavar="S", type=finite_float("--duration", 1e-9, 86400, "s"),
                    help="simulated time [s] (overrides the file)")
@@ -32,6 +33,9 @@ def add_parser(sub) -> None:
     s.add_argument("--format", choices=("csv", "mat"), default="csv",
                    help="'mat': also write DIR/timeseries.mat (MATLAB, full precision, named signals with SI "
                         "units, the state [rad, rad/s]); default 'csv' only")
+    s.add_argument("--view", action="store_true",
+                   help="also write DIR/view.html: the run in 3D with its time series, one self-contained page "
+                        "(hosedrogue view DIR writes the same)")
     s.set_defaults(func=run)
 
 
@@ -58,48 +62,18 @@ def run(args) -> int:
     created = not out.exists()
     try:
         paths = write(result, out, formats=("csv", args.format))
+        if args.view:
+            from ..viewer import ViewRun, write_view
+
+            paths.append(write_view([ViewRun.from_result(result)], out / "view.html"))
     except BaseException:  # leave no half-written output folder behind
         if created and out.exists():
             shutil.rmtree(out, ignore_errors=True)
         raise
     for p in paths:
         print(f"wrote {p}")
-    print(headline(result))
+    print(result.headline())
     if not result.completed:
         print(f"hosedrogue: run incomplete: {result.message}", file=sys.stderr)
         return EXIT_INCOMPLETE
     return 0
-
-
-def headline(result) -> str:
-    """The run's headline statistics in a few lines: over the statistics window, the peak and
-    RMS radial drogue offset [m] and the peak control force [N]; for a drogue with control
-    surfaces, their largest deflection [deg] and rate [deg/s] and the time at their limits [%];
-    for an engagement, the outcome, the miss [m], the peak probe load [N] and the peak exit
-    tension [N].
-
-    Parameters
-    ----------
-    result : hosedrogue.results.RunResult
-        The run.
-
-    Returns
-    -------
-    str
-    """
-    st = result.statistics()
-    start, end = result.statistics_window_s
-    window = "the whole run" if end == float("inf") else f"{start:g}-{end:g} s"
-    text = (f"drogue offset over {window}: peak {st['peak_radial_m']:.4g} m, RMS {st['rms_radial_m']:.4g} m; "
-            f"peak control force {st['peak_u_n']:.4g} N")
-    if "peak_deflection_deg" in st:
-        text += (f"\ncontrol surfaces: largest deflection {st['peak_deflection_deg']:.3g} deg, rate "
-                 f"{st['peak_deflection_rate_deg_s']:.3g} deg/s; at the deflection limit "
-                 f"{100 * st['deflection_saturated_frac']:.3g} % and at the rate limit "
-                 f"{100 * st['rate_saturated_frac']:.3g} % of the window")
-    if hasattr(result, "summary"):
-        s = result.summary()
-        miss = "none" if s["miss_distance_m"] is None else f"{s['miss_distance_m']:.3f} m"
-        text += (f"\nengagement: {s['result']}; miss {miss}; peak probe load {s['peak_probe_load_n']:.4g} N; "
-                 f"peak exit tension {s['peak_exit_tension_n']:.4g} N")
-    return text

@@ -279,7 +279,7 @@ def surface_directions(section) -> np.ndarray:
 
 
 def result_fields(deflection_rad: np.ndarray, rate_rad_s: np.ndarray, q_pa: np.ndarray, section) -> dict:
-    """A drogue actuator's result fields (keyword arguments of :class:`hosedrogue.results.RunResult`).
+    """A drogue actuator's result field (keyword argument of the results, :class:`hosedrogue.metrics.WithSurfaces`).
 
     Parameters
     ----------
@@ -293,9 +293,10 @@ def result_fields(deflection_rad: np.ndarray, rate_rad_s: np.ndarray, q_pa: np.n
     Returns
     -------
     dict
-        ``surface_deflection_rad``, ``surface_rate_rad_s``, ``drogue_q_pa``, ``surface_limits``.
+        ``{"surfaces": SurfaceSeries}``.
     """
-    return {"surface_deflection_rad": np.ascontiguousarray(deflection_rad),
-            "surface_rate_rad_s": np.ascontiguousarray(rate_rad_s),
-            "drogue_q_pa": np.ascontiguousarray(q_pa),
-            "surface_limits": (math.radians(section.max_deflection_deg), math.radians(section.max_rate_deg_s))}
+    from ..metrics import SurfaceSeries
+
+    return {"surfaces": SurfaceSeries(np.ascontiguousarray(deflection_rad), np.ascontiguousarray(rate_rad_s),
+                                      np.ascontiguousarray(q_pa), math.radians(section.max_deflection_deg),
+                                      math.radians(section.max_rate_deg_s))}

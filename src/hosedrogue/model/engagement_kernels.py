@@ -57,6 +57,7 @@ from .kernels import (
 from .integrate import (actuator_rates, applied_force_at, control_law, controller_rates, rk4_combine, rk4_stage,
                         step_status)
 from . import drogue_actuator as DA
+from .frame import frame_loads
 
 # --- ep layout -------------------------------------------------------------------------------
 (EP_MU, EP_MD, EP_SPLIT, EP_JLINK, EP_L0,
@@ -419,6 +420,9 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     joint_forces(t, u0, l, M, ps, ws[16], gust, n, e, r, v, F, Mom, ws[13])
     if actuated:
         DA.add_drogue_load(F, ws[13], n, ddx, ddy, ddz)
+    # the tanker's motion (nothing in level flight); the exit's share of the hose mass, carried by
+    # the tanker, feels its acceleration too (its weight is added with the tow force)
+    frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, l, M, J, n, e, r, v, ws[16], F, Mom)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
         kp = ep[EP_KP]

@@ -26,7 +26,10 @@ bending mode (0 off, 1 paper, 2 moment), link drag quadrature (0 midpoint, 1 two
 structural bending damping c_b [N m^2 s], mass lumped at the tow point. The drogue's rotational
 inertia is the last link's transverse inertia (in ``J[n-1]``, docs/model.md §2).
 ``env`` (air): airspeed, frozen flag, gust window on/off, gust record t0/dt, then the 6 wake
-scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag.
+scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag,
+the per-evaluation gust, the bow wave and the tanker's motion (slots ``ENV_M_*`` of
+:mod:`hosedrogue.model.frame`; when the tanker manoeuvres, its motion table follows the
+``ENV_SIZE`` scalars and every evaluation's copy of env holds the frame terms at its time).
 """
 
 from __future__ import annotations
@@ -41,6 +44,7 @@ from ..environment.turbulence import gust_at
 from ..environment.wake import wake_velocity
 
 from ..jit import JIT, JIT_NO_ALLOC  # noqa: E402 - the one set of compilation options
+from .frame import ENV_M_END, ENV_M_ON, ENV_M_T, ENV_M_V0, frame_loads, frame_terms, frame_wind
 
 # ps layout
 (PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_DRAG_QUAD,
@@ -67,7 +71,11 @@ ENV_G_NOW, ENV_GU, ENV_GV, ENV_GW = 13, 14, 15, 16
 #: (0 none, the model's), source position in S_p [m], flux [m^3/s], line length [m]; the
 #: engagement writes them into its evaluation's copy of env, where the probe tip is
 ENV_BW, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, ENV_BW_Q, ENV_BW_LEN = 17, 18, 19, 20, 21, 22
-ENV_SIZE = 23
+#: the tanker's motion (:mod:`hosedrogue.model.frame`): slots 23 (on/off) to 37 (the frame terms
+#: of the evaluation), then, in the model's env only, the motion table from ENV_SIZE on; with the
+#: motion on, the evaluation's copy holds the airspeed at its time in ENV_V and the wake's
+#: circulation at its load factor and airspeed
+ENV_SIZE = ENV_M_END
 
 # status codes of the integrators
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
@@ -87,18 +95,28 @@ def air_velocity(px, py, pz, t, env, gust):
 
 @njit(**JIT_NO_ALLOC)
 def still_air_velocity(px, py, pz, t, env, gust):
-    """:func:`air_velocity` without the bow wave: free stream, wake and gust [m/s]."""
+    """:func:`air_velocity` without the bow wave: free stream, wake and gust [m/s] (and, when the
+    tanker manoeuvres, the air's rotation relative to its axes, :func:`frame.frame_wind`)."""
     V = env[ENV_V]
     wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
     if env[ENV_G_NOW] != 0.0:
-        return -V + env[ENV_GU], wy + env[ENV_GV], wz + env[ENV_GW]
-    t_eff = t
-    if env[ENV_FROZEN] != 0.0:
-        # a point a distance -px behind the tow point meets the frozen gust field -px/V later
-        t_eff = t + px / V
-    gu, gv, gw = gust_at(t_eff, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
-                         env[ENV_G_CUBIC] != 0.0)
-    return -V + gu, wy + gv, wz + gw
+        wx, wy, wz = -V + env[ENV_GU], wy + env[ENV_GV], wz + env[ENV_GW]
+    else:
+        t_eff = t
+        if env[ENV_FROZEN] != 0.0:
+            # a point a distance -px behind the tow point meets the frozen gust field -px/V later
+            # (manoeuvring: the field is laid along the path flown, read at path time + -px/V_0)
+            if env[ENV_M_ON] != 0.0:
+                t_eff = env[ENV_M_T] + px / env[ENV_M_V0]
+            else:
+                t_eff = t + px / V
+        gu, gv, gw = gust_at(t_eff, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
+                             env[ENV_G_CUBIC] != 0.0)
+        wx, wy, wz = -V + gu, wy + gv, wz + gw
+    if env[ENV_M_ON] != 0.0:
+        fx, fy, fz = frame_wind(px, py, pz, env)
+        return wx + fx, wy + fy, wz + fz
+    return wx, wy, wz
 
 
 @njit(**JIT_NO_ALLOC)
@@ -209,16 +227,19 @@ def drag_rule(ps, rho):
 def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
-    structural bending damping."""
+    structural bending damping. When the tanker manoeuvres (``env[ENV_M_ON]``) gravity is left
+    to :func:`frame.frame_loads`, with the other apparent forces."""
     g = ps[PS_G]
     rho = ps[PS_RHO]
+    level = env[ENV_M_ON] == 0.0
     for k in range(n + 1):
         for i in range(3):
             F[k, i] = 0.0
     for k in range(n):
         for i in range(3):
             Mom[k, i] = 0.0
-        F[k + 1, 2] += M[k] * g
+        if level:
+            F[k + 1, 2] += M[k] * g
     if rho > 0.0:
         q_ct, q_cn, npts, s0, s1, w = drag_rule(ps, rho)
         # the air's velocity where it is a function of y and z only (the gust the same at every
@@ -237,6 +258,9 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
                 if uniform:
                     wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
                     wx, wy, wz = ux, wy + gv, wz + gw
+                    if not level:
+                        fx, fy, fz = frame_wind(px, py, pz, env)
+                        wx, wy, wz = wx + fx, wy + fy, wz + fz
                     if env[ENV_BW] != 0.0:
                         bx, by, bz = bow_wave_velocity(px, py, pz, env[ENV_BW], env[ENV_BW_X], env[ENV_BW_Y],
                                                        env[ENV_BW_Z], env[ENV_BW_Q], env[ENV_BW_LEN])
@@ -538,8 +562,16 @@ def fill_env(t, env, gust, scratch):
     for i in range(ENV_BW, ENV_SIZE):
         scratch[i] = env[i]
     scratch[ENV_G_NOW] = 0.0
+    t_gust = t
+    if env[ENV_M_ON] != 0.0:
+        # the frame terms at t; the air's speed, the wake's circulation and the gust record's
+        # time (the path flown over V_0: the turbulence is a frozen field along the tanker's path)
+        V, wake_factor = frame_terms(t, env, ENV_SIZE, scratch)
+        scratch[ENV_V] = V
+        scratch[ENV_WAKE + 1] = env[ENV_WAKE + 1] * wake_factor
+        t_gust = scratch[ENV_M_T]
     if env[ENV_FROZEN] == 0.0:
-        gu, gv, gw = gust_at(t, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
+        gu, gv, gw = gust_at(t_gust, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
                              env[ENV_G_CUBIC] != 0.0)
         scratch[ENV_GU] = gu
         scratch[ENV_GV] = gv
@@ -554,6 +586,7 @@ def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     joint_forces(t, u, l, M, ps, env_at(t, env, gust, ws[16]), gust, n, e, r, v, F, Mom, ws[13])
+    frame_loads(ps[PS_G], ps[PS_M_TOW], l, M, J, n, e, r, v, ws[16], F, Mom)
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 

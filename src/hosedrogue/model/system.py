@@ -18,6 +18,7 @@ from ..environment.atmosphere import density
 from ..environment.turbulence import GustRecord, generate_gusts
 from ..environment.wake import wake_scalars
 from ..params import PAPER, ParameterError, Params
+from . import frame
 from . import kernels as K
 
 
@@ -118,6 +119,12 @@ class HoseModel:
         ``hose.length_m`` (the engagement's chain at a given mesh and free length); the model's
         ``params`` then carry ``hose.length_m = sum(lengths)`` and ``hose.links = n``. Masses and
         inertias follow from the lengths (:func:`lumped_masses`, :func:`link_inertias`).
+
+    Notes
+    -----
+    The tanker's motion (``params.tanker_motion``, docs/model.md §9) is part of the environment:
+    ``env`` carries its table (the kernels evaluate the frame terms at every time),
+    ``steady_env`` its initial steady flight (level, or a steady coordinated turn or climb).
     """
 
     def __init__(self, params: Params = PAPER, gusts: GustRecord | None = None, duration_s: float | None = None,
@@ -161,11 +168,17 @@ class HoseModel:
             else:
                 gusts = generate_gusts(turb, flight.airspeed_m_s, run_duration_s=duration_s)
         self.gusts = gusts
-        self.env = self._environment(gusts)
-        self.steady_env = self._environment(None)
+        #: the tanker's motion (docs/model.md §9) as the compiled core reads it after env's
+        #: scalars (None in straight and level flight); ``steady_env`` holds the initial steady
+        #: flight only, the frame of the balance position and the linearization
+        V0 = flight.airspeed_m_s
+        self.motion_table = frame.motion_table(params.tanker_motion, V0)
+        self.env = frame.with_motion(self._environment(gusts), self.motion_table, V0)
+        self.steady_env = frame.with_motion(self._environment(None),
+                                            frame.motion_table(params.tanker_motion, V0, steady=True), V0)
 
     def _environment(self, gusts: GustRecord | None) -> np.ndarray:
-        """The env array; ``gusts=None`` gives steady air (no turbulence)."""
+        """The env array without the tanker's motion; ``gusts=None`` gives steady air (no turbulence)."""
         p = self.params
         env = np.zeros(K.ENV_SIZE)
         env[K.ENV_V] = p.flight.airspeed_m_s

@@ -19,7 +19,7 @@ def plot_actuated_run(ideal, actuated, window_s=None, max_deflection_deg: float 
     Parameters
     ----------
     ideal, actuated : hosedrogue.results.RunResult
-        The two runs (the second with ``surface_deflection_rad``).
+        The two runs (the second with its ``surfaces``).
     window_s : (float, float), optional
         Turbulence window [s], shaded.
     max_deflection_deg : float, optional
@@ -38,7 +38,7 @@ def plot_actuated_run(ideal, actuated, window_s=None, max_deflection_deg: float 
             axes[1, j].plot(r.t_s, r.control_force_n[:, axis - 1], label=label, **kw)
         axes[0, j].set_ylabel(f"{name} [mm]")
         axes[1, j].set_ylabel(f"{('u_hor', 'u_ver')[j]} [N]")
-    d = np.degrees(actuated.surface_deflection_rad)
+    d = np.degrees(actuated.surfaces.deflection_rad)
     cx = axes[2, 0]
     for k in range(d.shape[1]):
         cx.plot(actuated.t_s, d[:, k], lw=0.8, label=f"surface {k + 1}")
@@ -47,7 +47,7 @@ def plot_actuated_run(ideal, actuated, window_s=None, max_deflection_deg: float 
             cx.axhline(s * max_deflection_deg, color="k", ls="--", lw=0.8)
     cx.set_ylabel("deflection [deg]")
     qx = axes[2, 1]
-    qx.plot(actuated.t_s, actuated.drogue_q_pa, color="C2", lw=0.9)
+    qx.plot(actuated.t_s, actuated.surfaces.q_pa, color="C2", lw=0.9)
     qx.set_ylabel("dynamic pressure at the drogue [Pa]")
     for ax in axes.ravel():
         _shade_window(ax, window_s)

@@ -17,7 +17,7 @@ from typing import Callable
 
 from ..version import __version__
 from . import (accuracy, closed_loop, controllers, convergence, differences, docking, drogue_actuator, engagement,
-               hose_views, linear, long_runs, paper_table, parameters, sweep, turbulence_speeds)
+               hose_views, linear, long_runs, manoeuvres, paper_table, parameters, sweep, turbulence_speeds)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -63,6 +63,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("long_runs", "long runs", long_runs.build),
     Section("engagement", "engagement", engagement.build),
     Section("docking", "docking statistics and bow wave", docking.build),
+    Section("manoeuvres", "manoeuvres", manoeuvres.build),
     Section("drogue_actuator", "actuated drogue", drogue_actuator.build),
 )
 

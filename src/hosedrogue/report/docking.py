@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..studies.bow_wave import FAR_M, LEVEL_M, NEAR_M, bow_wave_study
-from ..studies.docking import APPROACH_RUNS, APPROACH_SEED, approach_paths, run_grid
+from ..studies.docking import APPROACH_RUNS, APPROACH_SEED, approach_path, approach_runs, run_grid
 from ..studies.docking_grid import (CAMPAIGN_SEED, CONTROLLERS, LEVELS, PILOT, force_specs, grid_specs,
                                     speed_specs)
 from ..studies.docking_statistics import (PEAK_FORCE, capture_table, comparisons, force_findings, force_table,
@@ -34,7 +34,7 @@ from ..studies.docking_statistics import (PEAK_FORCE, capture_table, comparisons
 from . import docking_force as force
 from . import docking_speed as speed
 from .docking_cells import CAMPAIGNS, by_result_text
-from .markup import esc, figure_html, fmt, html_table
+from .markup import esc, figure_html, fmt, html_table, viewer_html
 from .settings import FULL
 
 if TYPE_CHECKING:
@@ -45,6 +45,9 @@ __all__ = ["DockingSectionResult", "build", "CONTROLLERS", "LEVELS"]
 
 #: Public CFD figures of the drogue's bow-wave displacement inside 1 m of the probe [m].
 PUBLIC_NEAR_M = (0.1, 0.4)
+
+#: The section's viewer page: the approach runs in 3D (every output time: 20 links, 4.5 s).
+VIEW_FILE = "view_docking_approach.html"
 
 
 @dataclass(frozen=True)
@@ -210,7 +213,7 @@ def _prose(df, cmp: dict, runs: int, times: dict) -> str:
     return text
 
 
-def _html(st: "_Study") -> str:
+def _html(st: "_Study", view_mb: float) -> str:
     fast = (f'<p class=diff id="docking-fast">FAST VERSION of this section: {st.runs} runs per campaign, not '
             f"the full report's {FULL.docking_runs}; the rates and intervals are rough.</p>" if st.fast else "")
     radius = st.radius_m
@@ -240,6 +243,10 @@ def _html(st: "_Study") -> str:
                       f"approach-moderate, seed {st.approach_seed}: the probe tip's and the drogue's paths in the "
                       "y-z plane (looking forward along x) from the start to contact, the capture circle around the "
                       f"drogue at contact and the contact point. {_approach_text(st.paths)}", ("docking_approach.csv",))
+        + viewer_html("view-docking-approach", VIEW_FILE, "The same approaches in 3D",
+                      f"approach-moderate, seed {st.approach_seed}, side by side: no controller, the PID "
+                      "controller and the pilot model flying the probe; the camera starts behind the drogue, as "
+                      "the receiver's pilot sees it. Every output time.", view_mb)
         + "</section>")
 
 
@@ -251,7 +258,8 @@ class _Study:
     cells: list  #: studies.docking.CampaignCell per campaign of the main grid
     table: object  #: pandas.DataFrame, one row per campaign (studies.docking_statistics.capture_table)
     comparisons: dict  #: the section's statements (rates, intervals, significance)
-    paths: dict  #: run label (controller or "pilot") -> approach path (studies.docking.approach_paths)
+    paths: dict  #: run label (controller or "pilot") -> approach path (studies.docking.approach_path)
+    approaches: dict  #: run label -> the approach run (EngagementResult), for the 3D viewer
     runs: int  #: runs per campaign
     times: dict  #: wall times [s] of the parts
     radius_m: float  #: capture radius [m]
@@ -294,19 +302,21 @@ def _study(out, settings) -> _Study:
     (_, cells), (speeds, speed_cells), (forces, force_cells), campaigns_s = _campaigns(out, settings)
     t2 = time.perf_counter()
     out.status("docking: approach runs")
-    paths = approach_paths(runs=tuple(APPROACH_RUNS), seed=APPROACH_SEED)
+    approaches = approach_runs(runs=tuple(APPROACH_RUNS), seed=APPROACH_SEED)
+    paths = {c: approach_path(r) for c, r in approaches.items()}
     t3 = time.perf_counter()
     table = capture_table(cells)
     probe = load_scenario("approach-moderate").engagement.probe
     times = {"bow_wave_s": t1 - t0, "campaigns_s": campaigns_s, "approach_s": t3 - t2}
     s_table, f_table = speed_table(speeds, speed_cells), force_table(forces, force_cells)
-    return _Study(bow, cells, table, comparisons(table), paths, settings.docking_runs, times,
+    return _Study(bow, cells, table, comparisons(table), paths, approaches, settings.docking_runs, times,
                   float(probe.capture_radius_m), APPROACH_SEED, settings.fast, probe, speeds, speed_cells, s_table,
                   speed_findings(s_table, probe.min_closure_speed_m_s), forces, force_cells, f_table,
                   force_findings(f_table))
 
 
-def _figures(out, st: _Study) -> None:
+def _figures(out, st: _Study) -> float:
+    """The section's CSVs and figures and the approaches' viewer page; returns the page's size [MB]."""
     from ..plotting.docking import plot_capture_rates, plot_miss_cdfs
 
     _bow_wave_outputs(out, st.bow)
@@ -320,9 +330,21 @@ def _figures(out, st: _Study) -> None:
     _approach_outputs(out, st.paths, st.radius_m)
     speed.write_speed_outputs(out, st.speed_table, st.speed_specs, st.speed_cells, st.probe.min_closure_speed_m_s)
     force.write_force_outputs(out, st.force_table, st.force_specs, st.force_cells)
+    return _viewer(out, st)
 
 
-def _record(st: _Study) -> dict:
+def _viewer(out, st: _Study) -> float:
+    """The approach runs side by side in the viewer; returns its size [MB]."""
+    from ..viewer import ViewRun, write_view
+
+    runs = [ViewRun.from_result(r, label=label) for label, r in st.approaches.items()]
+    path = write_view(runs, out.dir / VIEW_FILE, layout="side",
+                      title=f"approach-moderate, seed {st.approach_seed}: three approaches")
+    out.written(path)
+    return path.stat().st_size / 1e6
+
+
+def _record(st: _Study, view_mb: float) -> dict:
     bw = st.bow
     return {
         "fast": st.fast, "runs_per_cell": st.runs, "controllers": list(CONTROLLERS), "campaign_seed": CAMPAIGN_SEED,
@@ -335,6 +357,7 @@ def _record(st: _Study) -> dict:
         "closure_speed": speed.speed_record(st.speed_table, st.speed_findings),
         "force_limit": force.force_record(st.force_table, st.force_findings),
         "comparisons": st.comparisons,
+        "approach_viewer_size_mb": view_mb,
         "approach": {c: {k: p["outcome"][k] for k in ("miss_distance_m", "closure_speed_m_s", "contact_time_s")
                          if p["outcome"].get(k) is not None} | {"captured": p["outcome"]["result"] == "captured"}
                      for c, p in st.paths.items()},
@@ -371,10 +394,10 @@ def build(out: ReportFolder, settings: ReportSettings) -> DockingSectionResult:
     """
     t0 = time.perf_counter()
     st = _study(out, settings)
-    _figures(out, st)
+    view_mb = _figures(out, st)
     st.times["section_s"] = time.perf_counter() - t0
-    record = _record(st)
-    out.section("docking", "docking", _html(st))
+    record = _record(st, view_mb)
+    out.section("docking", "docking", _html(st, view_mb))
     out.summarize(_summary(st))
     out.record("docking", record)
     return DockingSectionResult(capture=record["capture"], runs_per_cell=st.runs, bow_wave=record["bow_wave"],

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-__all__ = ["fmt", "ratio", "esc", "html_table", "figure_html", "slash_join"]
+__all__ = ["fmt", "ratio", "esc", "html_table", "figure_html", "viewer_html", "slash_join"]
 
 
 def fmt(x, digits: int = 4) -> str:
@@ -121,6 +121,34 @@ def html_table(headers, rows, table_id: str | None = None, caption: str | None =
     head = "".join(cell(h, "th") for h in headers)
     body = "".join("<tr>" + "".join(cell(v, "td") for v in r) + "</tr>" for r in rows)
     return f'<table{tid}>{cap}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>'
+
+
+def viewer_html(fig_id: str, page: str, title: str, text: str, size_mb: float) -> str:
+    """A ``<figure>`` holding a viewer page (:mod:`hosedrogue.viewer`) in a frame, with a link to
+    open it on its own and its size.
+
+    Parameters
+    ----------
+    fig_id : str
+        The figure's ``id`` attribute.
+    page : str
+        The viewer's HTML file, relative to the report's page.
+    title : str
+        Bold first words of the caption (escaped).
+    text : str
+        Caption text (HTML, not escaped).
+    size_mb : float
+        The viewer file's size [MB].
+
+    Returns
+    -------
+    str
+        The ``<figure>`` element.
+    """
+    return (f'<figure id="{fig_id}" class=viewer><iframe src="{esc(page)}" title="{esc(title)}" loading="lazy" '
+            'style="width:100%;height:720px;border:1px solid #ccc"></iframe>'
+            f"<figcaption><b>{esc(title)}.</b> {text} <span class=data>Open it on its own: "
+            f'<a href="{esc(page)}">{esc(page)}</a> ({size_mb:.1f} MB, self-contained).</span></figcaption></figure>')
 
 
 def figure_html(fig_id: str, png: str, title: str, text: str, csvs: tuple[str, ...]) -> str:

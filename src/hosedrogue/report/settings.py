@@ -85,6 +85,14 @@ class ReportSettings:
         Simulated length of those runs [s]; None: the scenarios' own.
     engagement_animation_after_contact_s : float
         The engagement GIF runs from 0.5 s before contact to this long after it [s].
+    manoeuvre_banks_deg : tuple of float
+        Bank angles of the steady-turn sweep [deg].
+    manoeuvre_flight_paths_deg : tuple of float
+        Flight-path angles of the steady climb and descent sweep [deg].
+    manoeuvre_runs : int
+        Runs per capture campaign of the approach in a turn and in level flight.
+    manoeuvre_workers : int or None
+        Dask worker processes of those campaigns; None: in this process.
     actuator_seeds : int
         Turbulence realisations per case of the actuated drogue's claims (level x controller x drogue).
     actuator_levels : tuple of str
@@ -130,6 +138,10 @@ class ReportSettings:
     engagement_output_every: int | None
     engagement_duration_s: float | None
     engagement_animation_after_contact_s: float
+    manoeuvre_banks_deg: tuple
+    manoeuvre_flight_paths_deg: tuple
+    manoeuvre_runs: int
+    manoeuvre_workers: int | None
     actuator_seeds: int
     actuator_levels: tuple
     actuator_runs: int
@@ -171,6 +183,10 @@ FULL = ReportSettings(
     engagement_output_every=None,
     engagement_duration_s=None,
     engagement_animation_after_contact_s=6.0,  # the whip and the hose's settling after it
+    manoeuvre_banks_deg=tuple(float(b) for b in range(0, 46, 5)),
+    manoeuvre_flight_paths_deg=(-10.0, -7.5, -5.0, -2.5, 0.0, 2.5, 5.0, 7.5, 10.0),
+    manoeuvre_runs=200,
+    manoeuvre_workers=2,
     actuator_seeds=8,  # as spread_seeds: the claims' peaks over the realisations
     actuator_levels=ACTUATOR_CLAIM_LEVELS,
     actuator_runs=200,
@@ -212,6 +228,10 @@ FAST = ReportSettings(
     engagement_output_every=4,  # output every 10 ms, as shipped
     engagement_duration_s=8.0,  # contact at 2 s and the whip after it
     engagement_animation_after_contact_s=4.0,
+    manoeuvre_banks_deg=(0.0, 15.0, 30.0, 45.0),
+    manoeuvre_flight_paths_deg=(-10.0, 0.0, 10.0),
+    manoeuvre_runs=2,  # the campaigns' machinery, not their statistics
+    manoeuvre_workers=None,
     actuator_seeds=1,
     actuator_levels=("paper", "severe"),  # the paper's case and the one where the claim fails
     actuator_runs=4,

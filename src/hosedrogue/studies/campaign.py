@@ -192,9 +192,9 @@ def run_task(task: RunTask) -> dict:
         "completed": bool(result.completed),
         "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
         **summarize_run(result, task.window_s, task.capture_radii_m),
-        **outcome_columns(result),
+        **result.outcome_columns(),
         **result.surface_statistics(task.window_s),  # a drogue actuator's columns (to contact)
-        "message": run_message(result),
+        "message": result.row_message(),
     }
     _write_series(result, task.timeseries_path)
     row["_wall_s"] = time.perf_counter() - start
@@ -209,70 +209,6 @@ def _write_series(result, path: str | None) -> None:
         tmp = path.with_name(path.name + ".tmp")
         result.to_csv(tmp)
         os.replace(tmp, path)
-
-
-def capture_category(outcome: dict, completed: bool) -> str:
-    """The ``result`` column of an engagement run: "captured", "miss", "failed latch",
-    "no contact" (the probe never reached the coupler plane) or "stopped" (a failed state).
-
-    Parameters
-    ----------
-    outcome : dict
-        The run's outcome (its ``result``: "captured", "miss: ...", "failed latch: ...", ...).
-    completed : bool
-        Whether the run completed.
-
-    Returns
-    -------
-    str
-    """
-    text = str(outcome.get("result", ""))
-    head = text.split(":", 1)[0]
-    if head in ("captured", "miss", "failed latch"):
-        return head
-    return "no contact" if completed else "stopped"
-
-
-def outcome_columns(result) -> dict:
-    """An engagement run's columns (nothing for the fixed-length hose): the capture test's
-    ``result`` (:func:`capture_category`), the radial miss [m] and the closure speed [m/s] at the
-    coupler plane (NaN without contact), and the run's peak probe load [N], peak exit tension [N]
-    and peak slack [m] (:data:`hosedrogue.studies.store.ENGAGEMENT_COLUMNS`).
-
-    Parameters
-    ----------
-    result : hosedrogue.results.RunResult
-        The run.
-
-    Returns
-    -------
-    dict
-    """
-    out = getattr(result, "outcome", None)
-    if out is None:
-        return {}
-    return {
-        "result": capture_category(out, result.completed),
-        "miss_distance_m": math.nan if out.get("miss_distance_m") is None else float(out["miss_distance_m"]),
-        "closure_speed_m_s": math.nan if out.get("closure_speed_m_s") is None else float(out["closure_speed_m_s"]),
-        **{key: float(out[key]) for key in ("peak_probe_load_n", "peak_exit_tension_n", "peak_slack_m")},
-    }
-
-
-def run_message(result) -> str:
-    """The ``message`` column: the run's message, after the capture test's result for an engagement.
-
-    Parameters
-    ----------
-    result : hosedrogue.results.RunResult
-        The run.
-
-    Returns
-    -------
-    str
-    """
-    out = getattr(result, "outcome", None)
-    return result.message if out is None else f"{out.get('result')}; {result.message}"
 
 
 # --- the campaign --------------------------------------------------------------------------------

@@ -43,8 +43,9 @@ from ..errors import ParameterError
 from .docking_grid import (CAMPAIGN_SEED, CONTROLLERS, LEVELS, PILOT, CellSpec, cell_scenario, force_specs,
                            grid_specs, same_scenario, speed_specs)
 
-__all__ = ["APPROACH_RUNS", "APPROACH_SEED", "CampaignCell", "run_grid", "approach_paths", "CellSpec", "grid_specs",
-           "speed_specs", "force_specs", "CONTROLLERS", "LEVELS", "PILOT", "CAMPAIGN_SEED"]
+__all__ = ["APPROACH_RUNS", "APPROACH_SEED", "CampaignCell", "run_grid", "approach_runs", "approach_path",
+           "approach_paths", "CellSpec", "grid_specs", "speed_specs", "force_specs", "CONTROLLERS", "LEVELS", "PILOT",
+           "CAMPAIGN_SEED"]
 
 #: Runs of the approach seen from behind: label -> (controller, pilot flies the probe). "pilot": no
 #: drogue controller, the probe flown by the pilot model's defaults (docs/engagement.md, "Pilot model").
@@ -181,8 +182,19 @@ def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None,
     return cells
 
 
-def _path(r) -> dict:
-    """A run's probe-tip and drogue paths in the y-z plane up to contact (the whole run without)."""
+def approach_path(r) -> dict:
+    """A run's probe-tip and drogue paths in the y-z plane up to contact (the whole run without).
+
+    Parameters
+    ----------
+    r : hosedrogue.results.EngagementResult
+        An approach run.
+
+    Returns
+    -------
+    dict
+        As one entry of :func:`approach_paths`.
+    """
     tc = r.outcome.get("contact_time_s")
     end = float(tc) if tc is not None else float(r.t_s[-1])
     keep = r.t_s <= end
@@ -194,8 +206,44 @@ def _path(r) -> dict:
     return path
 
 
+def approach_runs(level: str = "moderate", runs=("none", "pid"), seed: int = APPROACH_SEED) -> dict:
+    """One approach of ``approach-LEVEL`` per entry of ``runs``, on one turbulence seed.
+
+    Parameters
+    ----------
+    level : str
+        Turbulence level of the ``approach-LEVEL`` scenario.
+    runs : sequence of str
+        Keys of :data:`APPROACH_RUNS` (a controller type, or "pilot"), one run each.
+    seed : int
+        Turbulence seed [-], >= 0.
+
+    Returns
+    -------
+    dict
+        ``label -> hosedrogue.results.EngagementResult``.
+    """
+    from ..scenarios import load_scenario
+    from ..scenarios.runner import run
+    from ..sections import Pilot
+
+    unknown = [c for c in runs if c not in APPROACH_RUNS]
+    if unknown:
+        raise ParameterError(f"runs = {tuple(runs)!r}: unknown {unknown[0]!r}; allowed: {', '.join(APPROACH_RUNS)}")
+    base = load_scenario(f"approach-{level}").with_overrides(seed=seed)
+    out = {}
+    for c in runs:
+        controller, piloted = APPROACH_RUNS[c]
+        sc = base.with_controller(controller)
+        if piloted:
+            sc = dataclasses.replace(sc, engagement=dataclasses.replace(sc.engagement, pilot=Pilot(enabled=True)))
+        out[c] = run(sc)
+    return out
+
+
 def approach_paths(level: str = "moderate", runs=("none", "pid"), seed: int = APPROACH_SEED) -> dict:
-    """Probe-tip and drogue paths in the y-z plane of one approach, up to contact.
+    """Probe-tip and drogue paths in the y-z plane of one approach, up to contact
+    (:func:`approach_path` of each of :func:`approach_runs`).
 
     Parameters
     ----------
@@ -212,19 +260,4 @@ def approach_paths(level: str = "moderate", runs=("none", "pid"), seed: int = AP
         ``label -> {"probe_yz_m", "drogue_yz_m" (N, 2) [m], "t_s" (N,) [s], "outcome": dict,
         and with contact "contact_probe_yz_m", "contact_drogue_yz_m" (2,) [m]}``.
     """
-    from ..scenarios import load_scenario
-    from ..scenarios.runner import run
-    from ..sections import Pilot
-
-    unknown = [c for c in runs if c not in APPROACH_RUNS]
-    if unknown:
-        raise ParameterError(f"runs = {tuple(runs)!r}: unknown {unknown[0]!r}; allowed: {', '.join(APPROACH_RUNS)}")
-    base = load_scenario(f"approach-{level}").with_overrides(seed=seed)
-    out = {}
-    for c in runs:
-        controller, piloted = APPROACH_RUNS[c]
-        sc = base.with_controller(controller)
-        if piloted:
-            sc = dataclasses.replace(sc, engagement=dataclasses.replace(sc.engagement, pilot=Pilot(enabled=True)))
-        out[c] = _path(run(sc))
-    return out
+    return {c: approach_path(r) for c, r in approach_runs(level, runs, seed).items()}

@@ -1,0 +1,33 @@
+"""Scenarios of the viewer's tests (tests/test_viewer.py, tests/test_viewer_browser.py): short runs
+of both hose models, seconds each once compiled."""
+
+#: 6 links, 1.5 s, turbulence from 0.2 s: a run takes tens of milliseconds once compiled.
+TINY = """\
+[scenario]
+name = "tiny-swing"
+duration_s = 1.5
+
+[turbulence]
+enabled = true
+start_s = 0.2
+duration_s = 1.3
+
+[hose]
+links = 6
+"""
+
+#: engage-response on 20 links of 0.8 m (its 0.625 ms step scaled with the link length) for 3.5 s:
+#: contact at 2 s, then the reel takes up the slack and two links merge (at 2.68 s and 3.24 s).
+ENGAGE = """\
+[scenario]
+extends = "engage-response"
+name = "engage-response-20"
+duration_s = 3.5
+
+[hose]
+links = 20
+
+[numerics]
+step_s = 0.005
+output_every = 2
+"""
