@@ -1,7 +1,7 @@
 """hosedrogue: the probe-and-drogue aerial refuelling hose as a Kane-equation chain of rigid
 links (after Wu et al., 2018), with its air environment, equilibrium, linearization, model
-reduction and PID/LQR control, and the refuelling engagement (reel, hose of varying length,
-probe, capture).
+reduction and PID/LQR control, the refuelling engagement (reel, hose of varying length,
+probe, capture), and your own sampled-data controllers in the loop (docs/controllers.md).
 
 Quick start::
 
@@ -16,18 +16,21 @@ from .version import __version__
 from .config import load_params, resolve_config
 from .manoeuvres import Manoeuvre, TankerMotion
 from .params import PAPER, Params, ParameterError
-from .sections import Actuator, BowWave, Controller, DrogueActuator, Engagement, Loop, Pilot, Probe, Reel, Sensor
+from .sections import Actuator, BowWave, Controller, DrogueActuator, Engagement, Loop, Pilot, Probe, Receiver, Reel, Sensor
 
 __all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "TankerMotion", "Manoeuvre",
-           "Actuator", "BowWave",
-           "Controller", "DrogueActuator", "Engagement", "Loop", "Pilot", "Probe", "Reel", "Sensor", "Scenario", "load_scenario",
-           "run", "write", "solve_equilibrium", "simulate", "simulate_engagement", "__version__"]
+           "Actuator", "BowWave", "Controller", "DrogueActuator",
+           "Engagement", "Loop", "Pilot", "Probe", "Receiver", "Reel", "Sensor",
+           "Scenario", "load_scenario", "run", "write", "solve_equilibrium", "simulate", "simulate_engagement",
+           "FixedLengthStepper", "EngagementStepper", "__version__"]
 
 # heavy modules (numba compilation) load on first use: name -> (module, attribute)
 _LAZY = {
     "solve_equilibrium": ("analysis.equilibrium", "solve_equilibrium"),
     "simulate": ("simulation", "simulate"),
     "simulate_engagement": ("engagement", "simulate_engagement"),
+    "FixedLengthStepper": ("simulation.stepper", "FixedLengthStepper"),
+    "EngagementStepper": ("engagement.stepper", "EngagementStepper"),
     "Scenario": ("scenarios", "Scenario"),
     "load_scenario": ("scenarios", "load_scenario"),
     "run": ("scenarios.runner", "run"),

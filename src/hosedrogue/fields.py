@@ -1,7 +1,8 @@
 """Validated, immutable sections: the field metadata and the validator every section shares.
 
 A *section* is a frozen dataclass whose fields carry metadata (kind, range, unit) made by the
-helpers below; :class:`Section` validates every field at construction, so a bad value raises a
+helpers below (reals, integers, choices, flags, 3-vectors, text, option tables and entry points
+naming Python code); :class:`Section` validates every field at construction, so a bad value raises a
 one-line :class:`~hosedrogue.errors.ParameterError` naming the field, the value and what is
 allowed. The model's sections (:mod:`hosedrogue.params`) and the run's sections
 (:mod:`hosedrogue.sections`: actuator, sensor, reel, probe, bow wave, pilot) are built on it,
@@ -15,6 +16,7 @@ import ast
 import dataclasses
 import inspect
 import math
+import re
 import textwrap
 from typing import Any, Mapping
 
@@ -145,6 +147,34 @@ def text() -> dict:
     return {"kind": "str"}
 
 
+def table() -> dict:
+    """Metadata of a field that holds a table of keyword options (``[reel.options]``), passed as
+    they are to a user's factory (:func:`entry`); a mapping with string keys.
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "table"}
+
+
+_DOTTED = r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*"
+#: An entry point: ``"package.module:factory"`` (dotted module path, a colon, a dotted attribute path).
+ENTRY_PATTERN = re.compile(f"^{_DOTTED}:{_DOTTED}$")
+
+
+def entry() -> dict:
+    """Metadata of a field naming Python code: ``"package.module:factory"`` in a file, or (from
+    Python) the factory itself; "" for none. Only its form is checked here: the code is imported
+    by that name when the run starts (:mod:`hosedrogue.controllers.sampled`).
+
+    Returns
+    -------
+    dict
+    """
+    return {"kind": "entry"}
+
+
 def describe(meta: Mapping[str, Any]) -> str:
     """What a field allows, as the error messages and the scenario reference say it.
 
@@ -169,6 +199,10 @@ def describe(meta: Mapping[str, Any]) -> str:
         return "a string"
     if kind == "records":
         return f"a list of tables [[{meta['section']._section}]] (their keys: the rows {meta['section']._section}.*)"
+    if kind == "table":
+        return "a table of options (keyword arguments of the factory)"
+    if kind == "entry":
+        return 'an entry point "package.module:factory" (or, from Python, the factory itself)'
     lo, hi = meta["lo"], meta["hi"]
     left = "(" if meta.get("lo_open") else "["
     closed_inf = meta.get("inf_ok", False)
@@ -244,6 +278,12 @@ def validate_field(section: str, f: dataclasses.Field, value: Any) -> Any:
         if not isinstance(value, str):
             raise ParameterError(f"{name} = {value!r}: must be a string")
         return value
+    if kind == "table":
+        if not isinstance(value, Mapping) or not all(isinstance(k, str) for k in value):
+            raise ParameterError(f"{name} = {value!r}: must be {describe(meta)}")
+        return dict(value)
+    if kind == "entry":
+        return check_entry(name, value)
     if kind == "vec3":
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             value = (value, value, value)
@@ -268,6 +308,34 @@ def _check_records(name: str, value: Any, section: type) -> tuple:
         except ParameterError as exc:
             raise ParameterError(str(exc).replace(section._section, f"{name}[{i}]", 1)) from None
     return tuple(items)
+
+
+def check_entry(name: str, value: Any) -> Any:
+    """The checked value of an entry-point field: ``""``, a ``"package.module:factory"`` string,
+    or a callable (the factory, given from Python).
+
+    Parameters
+    ----------
+    name : str
+        The field's name for the message (``"reel.entry"``).
+    value : Any
+        The value given.
+
+    Returns
+    -------
+    str or callable
+
+    Raises
+    ------
+    ParameterError
+        Neither "" nor of the form ``package.module:factory`` nor callable.
+    """
+    if callable(value) or value == "":
+        return value
+    if not isinstance(value, str) or not ENTRY_PATTERN.match(value):
+        raise ParameterError(f'{name} = {value!r}: must be an entry point "package.module:factory" '
+                             "(a module importable by that name, a colon, the factory's name)")
+    return value
 
 
 class Section:
@@ -332,9 +400,35 @@ class Section:
 
 
 def _plain(v: Any) -> Any:
-    if isinstance(v, tuple):
-        return [x.to_dict() if isinstance(x, Section) else x for x in v]
-    return v
+    if callable(v):
+        return entry_name(v)
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    if hasattr(v, "tolist") and not isinstance(v, (int, float, bool, str)):  # numpy arrays and scalars
+        return v.tolist()
+    if isinstance(v, Section):
+        return v.to_dict()
+    return [_plain(x) for x in v] if isinstance(v, (tuple, list)) else v
+
+
+def entry_name(value: Any) -> str:
+    """An entry point as text: the string itself, or ``"module:qualname"`` of a callable (how a
+    factory given from Python is recorded in ``run.json``).
+
+    Parameters
+    ----------
+    value : str or callable
+        The entry.
+
+    Returns
+    -------
+    str
+    """
+    if isinstance(value, str):
+        return value
+    module = getattr(value, "__module__", None) or type(value).__module__
+    qualname = getattr(value, "__qualname__", None) or type(value).__qualname__
+    return f"{module}:{qualname}"
 
 
 def field_docs(cls: type) -> dict[str, str]:

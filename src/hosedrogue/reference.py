@@ -28,8 +28,8 @@ from .constants import FT_TO_M
 from .fields import field_table
 from .params import SECTIONS, TURBULENCE_PRESET_KEY
 from .scenarios import MAX_DURATION_S, MAX_OFFSET_DEG, SCENARIO_KEYS, Scenario
-from .sections import (CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, LQR_DESIGNS,
-                       Controller)
+from .sections import (CONTROLLER_KEYS, CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS,
+                       LQR_DESIGNS, MAX_SAMPLE_TIME_S, Controller)
 from .standards import INTENSITY_ALTITUDE_FT, INTENSITY_FT_S, PROBABILITY_OF_EXCEEDANCE
 
 #: The unit shown for a dimensionless number (its ``#:`` comment says ``[-]``) or a non-numeric key.
@@ -51,6 +51,20 @@ CONTROLLER_OPTION_DOCS = {
                         "diagonal of Q: the 4 balanced states, lateral then vertical (balanced); the weights on "
                         "[P_ny, P_nz, z_ny, z_nz] (integral)"),
     ("lqr", "r_diag"): ("1/N^2", "diagonal of R: the weights on [u_y, u_z]"),
+}
+
+#: What each ``[controller]`` key besides ``type`` and the design options is: key -> (unit,
+#: allowed, default, meaning). A new key of :data:`hosedrogue.sections.CONTROLLER_KEYS` needs a line here.
+CONTROLLER_KEY_DOCS = {
+    "sample_time_s": ("s", f"a finite number in [0, {MAX_SAMPLE_TIME_S:g}] s ('python': > 0)", "0.0",
+                      "time between the controller's calls; the command is held in between. 'pid', 'lqr': 0 runs "
+                      "the continuous controller compiled in the loop, > 0 its zero-order-hold discretization at "
+                      "that sample time; 'python': required (docs: Your own controllers)"),
+    "entry": (NO_UNIT, 'an entry point "package.module:factory"', '""',
+              "type 'python': the controller's factory, imported by that name when the run starts (a file that "
+              "names Python code is as trusted as a script)"),
+    "options": (NO_UNIT, "a table ([controller.options])", "{}",
+                "type 'python': keyword options of the factory, factory(**options)"),
 }
 
 #: Defaults of the ``[controller]`` options (missing entries take the paper's values).
@@ -84,9 +98,11 @@ TABLE_DOCS = {
                      "left out is unchanged, and a segment must end before the next starts. Without the table: "
                      "straight and level flight at constant speed.",
     "controller": "The drogue controller: its `type`, then the options of that type. Options not given take "
-                  "the paper's values.",
+                  "the paper's values. Type `\"python\"` runs your own sampled-data controller (docs: Your own "
+                  "controllers).",
     "actuator": "Limits on the control force applied to the drogue.",
-    "sensor": "Noise on the measured drogue offset the controller reads.",
+    "sensor": "Noise on the measured drogue position the controllers read, and the delay of the sampled-data "
+              "controllers' measurement.",
     "drogue_actuator": "The drogue steers itself with control surfaces that make the controller's force: their "
                        "force from the local dynamic pressure, deflection and rate limits, servos, drag increment "
                        "(docs/model.md §10). Present (even empty: the defaults) or absent; with it `[actuator]` must "
@@ -97,6 +113,8 @@ TABLE_DOCS = {
     "bow_wave": "The receiver's forebody flow, moving with the probe tip (needs an enabled `[probe]`).",
     "pilot": "A pilot model flying the probe's lateral and vertical position toward the drogue (needs an "
              "enabled `[probe]`).",
+    "receiver": "Your own docking controller flying the probe: a probe-tip velocity command through the "
+                "receiver's response (needs an enabled `[probe]`; docs: Your own controllers).",
 }
 
 
@@ -223,6 +241,12 @@ def _controller_rows() -> list[dict]:
             rows.append({"key": key, "unit": unit, "type": ctype,
                          "default": toml_value(default) if default else "the paper's",
                          "allowed": f"type {ctype!r}: {allowed}", "meaning": meaning})
+    keys = dict.fromkeys(k for ks in CONTROLLER_KEYS.values() for k in ks)
+    for key in keys:
+        unit, allowed, default, meaning = CONTROLLER_KEY_DOCS.get(key, ("", "", "", ""))
+        types = [t for t, ks in CONTROLLER_KEYS.items() if key in ks]
+        rows.append({"key": key, "unit": unit, "type": " ".join(types), "default": default,
+                     "allowed": f"type {' or '.join(map(repr, types))}: {allowed}", "meaning": meaning})
     return rows
 
 

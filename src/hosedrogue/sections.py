@@ -1,12 +1,14 @@
 """The run's sections besides the model's parameters: the control loop's actuator and sensor, the
-drogue's control surfaces, the drogue controller, and the engagement's reel, probe, bow wave and
-pilot (scenario tables ``[actuator]``, ``[sensor]``, ``[drogue_actuator]``, ``[controller]``,
-``[reel]``, ``[probe]``, ``[bow_wave]``, ``[pilot]``).
-
-Validated at construction like :mod:`hosedrogue.params` (:class:`hosedrogue.fields.Section`): a
-wrong field raises a one-line :class:`~hosedrogue.errors.ParameterError` naming field, value and
-allowed range. SI units, the unit in every field name. The defaults and their reasons are in
-``docs/engagement.md`` (engagement) and ``docs/model.md`` (actuator, sensor, drogue actuator).
+drogue controller, and the engagement's reel, probe, bow wave, pilot and receiver (scenario tables
+``[actuator]``, ``[sensor]``, ``[controller]``, ``[reel]``, ``[probe]``, ``[bow_wave]``,
+``[pilot]``, ``[receiver]``; the drogue's control surfaces, ``[drogue_actuator]``, are
+:mod:`hosedrogue.drogue_surfaces`'). Validated at construction like :mod:`hosedrogue.params`
+(:class:`hosedrogue.fields.Section`): a wrong field raises a one-line
+:class:`~hosedrogue.errors.ParameterError` naming field, value and allowed range. SI units, the
+unit in every field name. The defaults and their reasons are in ``docs/engagement.md``
+(engagement) and ``docs/model.md`` (actuator, sensor, drogue actuator); the sampled-data
+controllers of the user (``[controller] type = "python"``, ``[reel] law = "python"``,
+``[receiver]``) in ``docs/controllers.md``.
 """
 
 from __future__ import annotations
@@ -16,7 +18,8 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from .errors import ParameterError
-from .fields import Section, choice, flag, integer, real, vec3
+from .drogue_surfaces import DrogueActuator
+from .fields import Section, check_entry, choice, entry, entry_name, flag, real, table, vec3
 
 
 @dataclass(frozen=True)
@@ -49,95 +52,26 @@ class Actuator(Section):
 
 @dataclass(frozen=True)
 class Sensor(Section):
-    """White position noise on the measured drogue offset."""
+    """White position noise on the measured drogue position, and the measurement's delay.
+
+    The built-in continuous controllers read the drogue's lateral and vertical offset plus the
+    noise; the sampled-data controllers (docs/controllers.md) read a whole measurement taken
+    ``delay_s`` before each call, its drogue position with the noise of that instant.
+    """
 
     _section = "sensor"
-    #: Standard deviation of the noise per sample [m].
+    #: Standard deviation of the noise per sample and axis [m].
     noise_std_m: float = field(default=0.0, metadata=real(0.0, lo_open=False, unit="m"))
     #: Time each noise sample is held [s].
     sample_time_s: float = field(default=0.01, metadata=real(0.0, unit="s"))
+    #: Transport delay of the sampled-data controllers' measurement [s]: each call reads the
+    #: quantities of this long ago (those at t = 0 before then); a whole multiple of their sample time
+    delay_s: float = field(default=0.0, metadata=real(0.0, 60.0, lo_open=False, unit="s"))
 
 
-@dataclass(frozen=True)
-class DrogueActuator(Section):
-    """The drogue's control surfaces: the force they make, their limits and their servos
-    (docs/model.md, "Actuated drogue": the model and where each default comes from).
-
-    ``surfaces`` surfaces sit at equal roll intervals around the drogue; surface k deflected by
-    delta_k pushes the drogue with ``q S C_F,delta delta_k`` along its own direction in the S_p
-    y-z plane, q the dynamic pressure of the local air at the drogue (free stream, wake,
-    turbulence, bow wave). A force command is mixed to the surfaces by the minimum-norm inversion
-    at the measured q, each deflection command is clipped to the deflection limit and followed
-    by the surface's servo, whose rate is clipped to the rate limit. Deflected surfaces add drag
-    ``q S k_D sum delta_k^2`` along the relative wind.
-    """
-
-    _section = "drogue_actuator"
-    #: Number of control surfaces n [-], at roll intervals of 360 / n deg.
-    surfaces: int = field(default=4, metadata=integer(3, 8))
-    #: Roll position of surface 1 from the S_p y axis (right) toward z (down) [deg]; 0: the "+"
-    #: layout (two surfaces per axis), 45: the "x" layout.
-    roll_angle_deg: float = field(default=0.0, metadata=real(-180.0, 180.0, lo_open=False, unit="deg"))
-    #: Deflection limit |delta_k| of every surface [deg] (the linear force slope holds to about 20 deg).
-    max_deflection_deg: float = field(default=20.0, metadata=real(0.0, 90.0, unit="deg"))
-    #: Rate limit |d delta_k / dt| of every surface's servo [deg/s].
-    max_rate_deg_s: float = field(default=200.0, metadata=real(0.0, 1e5, unit="deg/s"))
-    #: Order of the servo from the deflection command to the deflection [-]: 1 (a lag of
-    #: bandwidth_hz) or 2 (natural frequency bandwidth_hz, damping ``damping``).
-    servo_order: int = field(default=2, metadata=integer(1, 2))
-    #: Servo bandwidth [Hz]: the corner frequency 1 / (2 pi tau) of the first-order servo, the
-    #: natural frequency omega_n / (2 pi) of the second-order one.
-    bandwidth_hz: float = field(default=30.0, metadata=real(0.0, 1000.0, unit="Hz"))
-    #: Damping ratio zeta of the second-order servo [-].
-    damping: float = field(default=0.7, metadata=real(0.0, 10.0))
-    #: Side-force coefficient slope C_F,delta of one surface on the reference area [1/rad].
-    force_slope_per_rad: float = field(default=0.45, metadata=real(0.0, 20.0, unit="1/rad"))
-    #: Reference area S of the coefficients [m^2]: the paper's basket, pi (0.61 m)^2 / 4.
-    reference_area_m2: float = field(default=0.2922, metadata=real(0.0, 10.0, unit="m^2"))
-    #: Drag increment k_D of one surface on the reference area [1/rad^2]: Delta C_D = k_D delta_k^2.
-    drag_slope_per_rad2: float = field(default=0.25, metadata=real(0.0, 50.0, lo_open=False, unit="1/rad^2"))
-
-    @property
-    def roll_angles_rad(self) -> list[float]:
-        """Roll position phi_k of each surface [rad] (surface 1 first)."""
-        return [math.radians(self.roll_angle_deg) + 2.0 * math.pi * k / self.surfaces for k in range(self.surfaces)]
-
-    #: Largest ``rate x step`` of the servo RK4 may take [-]: the RK4 update of a lag x' = w (u - x)
-    #: is a weighted mean of x and the stage inputs u (all weights positive, so the surfaces' limits
-    #: hold exactly) for w h <= 1.2956 (the root of a^3 - 2 a^2 + 4 a - 4); with a margin.
-    RK4_RATE_STEP = 1.25
-
-    @property
-    def max_step_s(self) -> float:
-        """The largest RK4 step [s] that resolves the servo: ``RK4_RATE_STEP / w_max``, w_max its
-        fastest rate [1/s] (omega for the first order; max(2 zeta omega, omega) for the second,
-        2 zeta omega being its rate loop's and its soft stop's)."""
-        w = 2.0 * math.pi * self.bandwidth_hz
-        fastest = w if self.servo_order == 1 else max(2.0 * self.damping * w, w)
-        return self.RK4_RATE_STEP / fastest
-
-    def check_step(self, step_s: float) -> None:
-        """Refuse an RK4 step [s] too long for the servo (:attr:`max_step_s`).
-
-        Parameters
-        ----------
-        step_s : float
-            The RK4 step [s] (``numerics.step_s``).
-
-        Raises
-        ------
-        ParameterError
-            One line naming ``numerics.step_s``, the servo and the largest step allowed.
-        """
-        if step_s > self.max_step_s:
-            raise ParameterError(
-                f"numerics.step_s = {step_s!r}: the drogue actuator's {self.bandwidth_hz:g} Hz servo needs an RK4 step "
-                f"<= {self.max_step_s:.4g} s (its fastest rate x step <= {self.RK4_RATE_STEP:g}, where RK4 keeps the "
-                "surfaces within their limits); shorten the step or slow the servo")
-
-
-#: The drogue controller's types: none, the paper's PID (Eq. 33) or its LQR (Eq. 34).
-CONTROLLER_TYPES = ("none", "pid", "lqr")
+#: The drogue controller's types: none, the paper's PID (Eq. 33), its LQR (Eq. 34), or the user's
+#: sampled-data controller in Python (docs/controllers.md).
+CONTROLLER_TYPES = ("none", "pid", "lqr", "python")
 #: LQR readings: "balanced" (the paper's Q on the balanced states of each 2nd-order channel) or
 #: "integral" (Eq. 34 read as integral action); docs/paper-differences.md.
 LQR_DESIGNS = ("balanced", "integral")
@@ -147,7 +81,14 @@ CONTROLLER_OPTIONS = {
     "none": {},
     "pid": {"lateral": (4, 0.0, False), "vertical": (4, 0.0, False)},
     "lqr": {"design": None, "q_diag": (4, 0.0, False), "r_diag": (2, 0.0, True)},
+    "python": {},
 }
+#: Keys of ``[controller]`` besides ``type`` and the design options, per type: the built-in
+#: designs may run sampled (``sample_time_s`` > 0), a Python controller names its factory.
+CONTROLLER_KEYS = {"none": (), "pid": ("sample_time_s",), "lqr": ("sample_time_s",),
+                   "python": ("entry", "sample_time_s", "options")}
+#: Longest sample time of a sampled-data controller [s].
+MAX_SAMPLE_TIME_S = 10.0
 
 
 @dataclass(frozen=True)
@@ -157,19 +98,47 @@ class Controller:
     Options: PID ``lateral``/``vertical`` = [K_P [N/m], K_I [N/(m s)], K_D [N s/m], N [rad/s]];
     LQR ``design`` (:data:`LQR_DESIGNS`), ``q_diag`` (4: the balanced states, lateral then
     vertical [1/(m N)]; integral: [P_ny, P_nz, z_ny, z_nz]) and ``r_diag`` (2) [1/N^2]. Missing
-    entries take the paper's values.
+    entries take the paper's values. A PID or LQR with ``sample_time_s`` > 0 runs as its
+    zero-order-hold discretization, called every ``sample_time_s`` (0: continuous, compiled in
+    the loop). Type ``"python"``: the user's sampled-data controller ``entry`` (``"package.module:
+    factory"``, or the factory itself from Python), built as ``factory(**options)`` and called
+    every ``sample_time_s`` (docs/controllers.md).
     """
 
-    #: "none", "pid" or "lqr"
+    #: "none", "pid", "lqr" or "python"
     type: str = "none"
-    #: the design options of the type (validated; lists of floats, or the LQR's design name)
-    options: dict = field(default_factory=dict)
+    #: the design options of the type (validated; lists of floats, or the LQR's design name); for
+    #: "python" the keyword options of the factory
+    options: dict = field(default_factory=dict, hash=False)
+    #: time between the controller's calls [s]; 0: continuous (the built-in designs only)
+    sample_time_s: float = 0.0
+    #: "python": the factory, ``"package.module:factory"`` (from Python also the callable itself)
+    entry: Any = ""
 
     def __post_init__(self) -> None:
         if self.type not in CONTROLLER_TYPES:
             raise ParameterError(f"controller.type = {self.type!r}: must be one of "
                                  f"{', '.join(map(repr, CONTROLLER_TYPES))}")
+        object.__setattr__(self, "sample_time_s", _sample_time(self.type, self.sample_time_s))
+        if self.type == "python":
+            object.__setattr__(self, "entry", check_entry("controller.entry", self.entry))
+            if self.entry == "":
+                raise ParameterError('controller.entry: missing; type "python" needs the factory of the controller, '
+                                     '"package.module:factory"')
+            if not isinstance(self.options, Mapping) or not all(isinstance(k, str) for k in self.options):
+                raise ParameterError(f"controller.options = {self.options!r}: must be a table of options "
+                                     "(keyword arguments of the factory)")
+            object.__setattr__(self, "options", dict(self.options))
+            return
+        if self.entry != "":
+            raise ParameterError(f"controller.entry = {entry_name(self.entry)!r}: only type 'python' names a factory "
+                                 f"(type is {self.type!r})")
         object.__setattr__(self, "options", _controller_options(self.type, dict(self.options)))
+
+    @property
+    def sampled(self) -> bool:
+        """True when the controller runs as a sampled-data controller (``sample_time_s`` > 0)."""
+        return self.sample_time_s > 0.0
 
     @classmethod
     def from_mapping(cls, data: Any) -> "Controller":
@@ -178,7 +147,8 @@ class Controller:
         Parameters
         ----------
         data : Mapping
-            ``{"type": ..., option: value, ...}``.
+            ``{"type": ..., option: value, ...}``; type "python": ``entry``, ``sample_time_s``
+            and an ``options`` table.
 
         Returns
         -------
@@ -192,17 +162,47 @@ class Controller:
         if not isinstance(data, Mapping):
             raise ParameterError(f"controller = {data!r}: must be a table of fields ([controller])")
         data = dict(data)
-        return cls(data.pop("type", "none"), data)
+        ctype = data.pop("type", "none")
+        if ctype not in CONTROLLER_TYPES:
+            return cls(ctype)  # the one-line error of an unknown type
+        extra = {key: data.pop(key) for key in CONTROLLER_KEYS[ctype] if key in data}
+        if ctype == "python":
+            for key in data:
+                raise ParameterError(f"controller.{key}: unknown field for type 'python'; allowed: type, "
+                                     f"{', '.join(CONTROLLER_KEYS['python'])} (the factory's options go in "
+                                     "[controller.options])")
+            return cls(ctype, extra.pop("options", {}), **extra)
+        return cls(ctype, data, **extra)
 
     def to_dict(self) -> dict[str, Any]:
-        """``{"type": ..., **options}`` (TOML/JSON-ready).
+        """``{"type": ..., **options}`` (TOML/JSON-ready); with ``sample_time_s`` when sampled and,
+        for "python", ``entry`` (a factory given from Python as ``"module:qualname"``) and ``options``.
 
         Returns
         -------
         dict
         """
-        return {"type": self.type, **{k: (list(v) if isinstance(v, (list, tuple)) else v)
-                                      for k, v in self.options.items()}}
+        if self.type == "python":
+            return {"type": self.type, "entry": entry_name(self.entry), "sample_time_s": self.sample_time_s,
+                    "options": dict(self.options)}
+        out = {"type": self.type, **{k: (list(v) if isinstance(v, (list, tuple)) else v)
+                                     for k, v in self.options.items()}}
+        return {**out, "sample_time_s": self.sample_time_s} if self.sampled else out
+
+
+def _sample_time(ctype: str, value: Any) -> float:
+    """The checked ``controller.sample_time_s`` [s] of a controller of type ``ctype``."""
+    ok = not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
+    if ctype == "none" and value != 0.0:
+        raise ParameterError(f"controller.sample_time_s = {value!r}: type 'none' has no sample time")
+    if ctype == "python":
+        if not ok or not 0.0 < value <= MAX_SAMPLE_TIME_S:
+            raise ParameterError(f"controller.sample_time_s = {value!r}: must be a finite number in "
+                                 f"(0, {MAX_SAMPLE_TIME_S:g}] s (type 'python' is called every sample_time_s)")
+    elif not ok or not 0.0 <= value <= MAX_SAMPLE_TIME_S:
+        raise ParameterError(f"controller.sample_time_s = {value!r}: must be a finite number in "
+                             f"[0, {MAX_SAMPLE_TIME_S:g}] s (0: continuous)")
+    return float(value)
 
 
 def _controller_options(ctype: str, given: dict) -> dict:
@@ -233,7 +233,7 @@ def _controller_options(ctype: str, given: dict) -> dict:
     return out
 
 
-REEL_LAWS = ("locked", "constant-tension", "response")
+REEL_LAWS = ("locked", "constant-tension", "response", "python")
 
 
 @dataclass(frozen=True)
@@ -242,7 +242,8 @@ class Reel(Section):
 
     _section = "reel"
     #: "locked": fixed length (or the length schedule below); "constant-tension": tau_m = r_d T_set;
-    #: "response": constant tension plus a take-up speed loop driven by the slack.
+    #: "response": constant tension plus a take-up speed loop driven by the slack; "python": the
+    #: user's sampled-data law (entry) commands the take-up speed, which the drive follows
     law: str = field(default="constant-tension", metadata=choice(*REEL_LAWS))
     #: drum radius r_d [m] (hose speed r_d w)
     drum_radius_m: float = field(default=0.3, metadata=real(0.0, 5.0, unit="m"))
@@ -281,8 +282,35 @@ class Reel(Section):
     min_length_m: float = field(default=1.0, metadata=real(0.0, 1000.0, unit="m"))
     #: fully paid out [m]
     max_length_m: float = field(default=30.0, metadata=real(0.0, 1000.0, unit="m"))
+    #: python law: the take-up law's factory "package.module:factory" (docs/controllers.md); its
+    #: controller returns the take-up speed command [m/s], positive reeling in; needed to run the
+    #: scenario ("" when the stepping API commands the reel)
+    entry: Any = field(default="", metadata=entry())
+    #: python law: time between the law's calls [s]; the command is held in between
+    sample_time_s: float = field(default=0.01, metadata=real(0.0, 10.0, unit="s"))
+    #: python law: keyword options of the factory
+    options: dict = field(default_factory=dict, hash=False, metadata=table())
+    #: python law: time constant of the drum speed's first-order response to the command [s]: the
+    #: drive sets the torque this needs, within max_torque_n_m; the command is clipped to the speed limits
+    speed_time_constant_s: float = field(default=0.05, metadata=real(0.0, 10.0, unit="s"))
+
+    #: The keys of the "python" law, which mean nothing to the others (left out of their :meth:`to_dict`).
+    PYTHON_KEYS = ("entry", "sample_time_s", "options", "speed_time_constant_s")
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{field: value}`` (TOML/JSON-ready); the "python" law's keys only with that law.
+
+        Returns
+        -------
+        dict
+        """
+        out = super().to_dict()
+        return out if self.law == "python" else {k: v for k, v in out.items() if k not in self.PYTHON_KEYS}
 
     def _check_consistency(self) -> None:
+        if self.law != "python" and self.entry != "":
+            raise ParameterError(f"reel.entry = {entry_name(self.entry)!r}: only law 'python' names a factory "
+                                 f"(law is {self.law!r})")
         if not self.min_length_m < self.max_length_m:
             raise ParameterError(f"reel.min_length_m = {self.min_length_m!r}: must be below reel.max_length_m = "
                                  f"{self.max_length_m!r} m")
@@ -374,8 +402,38 @@ class Pilot(Section):
     max_acceleration_m_s2: float = field(default=2.0, metadata=real(0.0, 50.0, unit="m/s^2"))
 
 
+@dataclass(frozen=True)
+class Receiver(Section):
+    """The receiver flown by the user's sampled-data docking controller (``entry``): every
+    ``sample_time_s`` it returns the probe tip's velocity command (v_x, v_y, v_z) [m/s] in the
+    tanker frame, which the receiver follows per axis through a first-order lag with bounded
+    speed and acceleration (the pilot model's response, docs/engagement.md, "Pilot model"). The
+    probe starts at the ``[probe]`` start point moving forward at its closure speed; the
+    ``[probe]`` capture test and coupling apply, its prescribed path does not
+    (docs/controllers.md)."""
+
+    _section = "receiver"
+    #: the docking controller's factory "package.module:factory" (docs/controllers.md); needed
+    #: to run the scenario ("" when the stepping API flies the receiver)
+    entry: Any = field(default="", metadata=entry())
+    #: time between the controller's calls [s]; the command is held in between
+    sample_time_s: float = field(default=0.02, metadata=real(0.0, 10.0, unit="s"))
+    #: keyword options of the factory
+    options: dict = field(default_factory=dict, hash=False, metadata=table())
+    #: time constant tau_v [s] of the receiver's speed following the command (the pilot model's)
+    velocity_time_constant_s: float = field(default=0.1, metadata=real(0.0, 10.0, unit="s"))
+    #: bound on the commanded speed per axis [m/s] (forward: up to the latch's 3 m/s; lateral and
+    #: vertical: the pilot model's 1 m/s)
+    max_speed_m_s: tuple = field(default=(3.0, 1.0, 1.0),
+                                 metadata=vec3(0.0, 20.0, lo_open=True, unit="m/s", labels=("forward", "right", "down")))
+    #: bound on the acceleration per axis [m/s^2] (the pilot model's 2 m/s^2)
+    max_acceleration_m_s2: tuple = field(default=(2.0, 2.0, 2.0),
+                                         metadata=vec3(0.0, 50.0, lo_open=True, unit="m/s^2",
+                                                       labels=("forward", "right", "down")))
+
+
 #: The engagement's sections by table name.
-ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe, "bow_wave": BowWave, "pilot": Pilot}
+ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe, "bow_wave": BowWave, "pilot": Pilot, "receiver": Receiver}
 #: The control loop's sections by table name (besides ``[controller]``).
 LOOP_SECTIONS = {"actuator": Actuator, "sensor": Sensor, "drogue_actuator": DrogueActuator}
 
@@ -383,46 +441,38 @@ LOOP_SECTIONS = {"actuator": Actuator, "sensor": Sensor, "drogue_actuator": Drog
 @dataclass(frozen=True)
 class Loop:
     """The drogue's control loop: the controller, the actuator that applies its force, the sensor
-    that measures the drogue (``[controller]``, ``[actuator]``, ``[sensor]``) and, for a drogue
-    that steers itself with control surfaces, those surfaces (``[drogue_actuator]``; then they
-    make the force and ``[actuator]`` must keep its defaults)."""
+    that measures the drogue (``[controller]``, ``[actuator]``, ``[sensor]``), a drogue's surfaces."""
 
     controller: Controller = field(default_factory=Controller)  #: the controller's type and design options
     actuator: Actuator = field(default_factory=Actuator)  #: force and rate limits
     sensor: Sensor = field(default_factory=Sensor)  #: measurement noise
     drogue_actuator: DrogueActuator | None = None  #: the drogue's control surfaces (None: the ideal force)
 
-    def __post_init__(self) -> None:
-        if self.drogue_actuator is not None and self.actuator != Actuator():
-            raise ParameterError(f"actuator = {self.actuator.to_dict()!r}: with [drogue_actuator] the control "
-                                 "surfaces make the force and limit it; remove the [actuator] limits")
-
     def to_dict(self) -> dict[str, Any]:
-        """``{"controller": ..., "actuator": ..., "sensor": ...}`` tables (TOML/JSON-ready), and
-        ``"drogue_actuator"`` when there is one.
+        """``{"controller": ..., "actuator": ..., "sensor": ...}`` tables (TOML/JSON-ready), and the surfaces'.
 
         Returns
         -------
         dict
         """
-        out = {"controller": self.controller.to_dict(), "actuator": self.actuator.to_dict(),
-               "sensor": self.sensor.to_dict()}
-        if self.drogue_actuator is not None:
-            out["drogue_actuator"] = self.drogue_actuator.to_dict()
-        return out
+        surfaces = {} if self.drogue_actuator is None else {"drogue_actuator": self.drogue_actuator.to_dict()}
+        return {"controller": self.controller.to_dict(), "actuator": self.actuator.to_dict(),
+                "sensor": self.sensor.to_dict(), **surfaces}
 
 
 @dataclass(frozen=True)
 class Engagement:
     """The refuelling engagement: the hose drum unit and, optionally, the receiver's probe, its
-    forebody's bow wave and the pilot flying it (``[reel]``, ``[probe]``, ``[bow_wave]``,
-    ``[pilot]``). A scenario with an engagement runs the hose of varying length
+    forebody's bow wave and the pilot or the user's docking controller flying it (``[reel]``,
+    ``[probe]``, ``[bow_wave]``, ``[pilot]``, ``[receiver]``). A scenario with an engagement runs the hose of varying length
     (docs/engagement.md); without one, the fixed-length hose."""
 
     reel: Reel = field(default_factory=Reel)  #: the hose drum unit
     probe: Probe | None = None  #: the receiver's probe (None: no probe)
     bow_wave: BowWave | None = None  #: the receiver's forebody flow (None: none)
     pilot: Pilot | None = None  #: the pilot flying the probe (None: the prescribed path)
+    #: the user's docking controller flying the probe (None: the prescribed path or the pilot)
+    receiver: Receiver | None = None
 
     def __post_init__(self) -> None:
         probing = self.probe is not None and self.probe.enabled
@@ -431,6 +481,13 @@ class Engagement:
             if section is not None and section.enabled and not probing:
                 what = "the pilot flies the probe" if name == "pilot" else "the bow wave moves with the probe tip"
                 raise ParameterError(f"{name}.enabled = True: {what}; give an enabled [probe] section")
+        if self.receiver is not None:
+            if not probing:
+                raise ParameterError(f"receiver.entry = {entry_name(self.receiver.entry)!r}: the receiver flies the "
+                                     "probe; give an enabled [probe] section")
+            if self.pilot is not None and self.pilot.enabled:
+                raise ParameterError("receiver: the pilot model and the docking controller would both fly the probe; "
+                                     "remove [receiver] or set pilot.enabled = false")
 
     def to_dict(self) -> dict[str, Any]:
         """The sections present as ``{name: {field: value}}`` (TOML/JSON-ready).

@@ -1,9 +1,12 @@
 """The refuelling engagement (docs/engagement.md; the hose of varying length: docs/model.md §8): a
-hose drum unit, a hose of varying free length, a prescribed receiver probe, capture and the
-coupled phase."""
+hose drum unit, a hose of varying free length, a receiver probe (prescribed, flown by the pilot
+model or by your docking controller), capture and the coupled phase; the stepping API
+(:class:`EngagementStepper`, docs/controllers.md)."""
 
 from ..results import EngagementResult
-from ..sections import BowWave, Engagement, Pilot, Probe, Reel
-from .driver import simulate_engagement
+from ..sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
+from .simulate import simulate_engagement
+from .stepper import EngagementStepper
 
-__all__ = ["BowWave", "Engagement", "EngagementResult", "Pilot", "Probe", "Reel", "simulate_engagement"]
+__all__ = ["BowWave", "Engagement", "EngagementResult", "EngagementStepper", "Pilot", "Probe", "Receiver", "Reel",
+           "simulate_engagement"]

@@ -20,15 +20,15 @@ from ..environment.bow_wave import BowWaveField
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..params import Actuator, ParameterError, Params, Sensor
-from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, chain_model, initial_chain,
-                    merge, split, switch_charts)
+from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, chain_model, initial_chain
+from .events import contact_event, remesh_event, switch_event
 from .result import EngagementResult, assemble_result
-from .result import segment_energies as _energies
 from .result import segment_outputs as _outputs
 from .loop import drogue_history, engagement_loop, extra_states, set_pilot
-from ..sections import BowWave, Engagement, Loop, Pilot, Probe, Reel
+from ..sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 
-LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE}
+LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE,
+             "python": EK.LAW_COMMANDED}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
            K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
            EK.REEL_END: "the free hose length left the reel's range between its end stops (fully reeled in or "
@@ -89,6 +89,7 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
     ep[EK.EP_PAY_A] = reel.payout_acceleration_m_s2
     ep[EK.EP_L_MIN] = reel.min_length_m
     ep[EK.EP_L_MAX] = reel.max_length_m
+    ep[EK.EP_REEL_TV] = reel.speed_time_constant_s
     if probe is not None and probe.enabled:
         ep[EK.EP_PROBE] = 1.0
         ep[EK.EP_P0X] = drogue_eq[0] - probe.standoff_m
@@ -171,72 +172,136 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
                         equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
                         energy: bool = False, gravity_m_s2: float | None = None,
                         drogue_actuator=None) -> EngagementResult:
-    """Simulate an engagement from the balance position at rest (steady air plus the
-    ``params.turbulence`` gusts if enabled).
+    """An engagement with every controller compiled in the loop (the built-in reel laws, the
+    prescribed probe or the pilot, a continuous built-in drogue controller);
+    :func:`hosedrogue.engagement.simulate_engagement` takes the same arguments and adds the
+    sampled-data controllers (docs/controllers.md). The parameters are that function's.
 
     Parameters
     ----------
     params : Params
-        Hose, drogue, flight and numerics (RK4, ``numerics.step_s``, ``output_every``). The link
-        masses are lumped as ``hose.mass_lumping`` says (docs/model.md §2; ``split`` converges at
-        second order, the engagement scenarios set it).
+        Hose, drogue, flight and numerics.
     duration_s : float
-        Simulated time [s]; a miss ends the run earlier with the reason in ``outcome``.
-    reel : Reel, optional
-        The drum unit (default ``Reel()``: constant tension at the steady trail tension).
-    probe : Probe, optional
-        The receiver's probe (None: no probe).
-    bow_wave : BowWave, optional
-        The receiver's forebody moving with the probe tip (radius [m], probe offset [m], shape);
-        its perturbation velocity is added to the air at every hose drag point and at the drogue.
-    pilot : Pilot, optional
-        Flies the probe's lateral and vertical position toward the delayed drogue
-        (docs/engagement.md, "Pilot model"); needs a probe.
+        Simulated time [s].
+    reel, probe, bow_wave, pilot : sections, optional
+        The drum unit, the probe, the forebody's bow wave, the pilot.
     control : LinearController, optional
-        Drogue controller: measured drogue offset [m] from its balance position at the start ->
-        force [N] at the drogue, until capture (docs/engagement.md, "Drogue controller during
-        the approach").
+        The continuous drogue controller.
     actuator : Actuator
-        Force [N] and rate [N/s] limits of the control force (the fixed-length loop's semantics).
+        Force [N] and rate [N/s] limits.
     sensor : Sensor
-        Noise [m] on the measured drogue offset, sample time [s].
+        Noise [m] on the measured drogue offset.
     x0 : array (4n,), optional
-        Initial hose state [q, qd] instead of the balance position at rest (then, without a
-        probe, no balance position is solved: the probe starts from it).
+        Initial hose state [rad, rad/s].
     equilibrium : Equilibrium, optional
-        Reuse a solved balance position of the initial mesh.
+        A solved balance position of the initial mesh.
     seed : int, optional
-        Overrides ``params.turbulence.seed`` (and seeds the sensor noise).
+        Turbulence seed.
     length_rate_m_s : float
-        Initial L' [m/s] (positive paying out).
+        Initial L' [m/s].
     energy : bool
-        Also evaluate the energy terms at every output time (for the energy balance).
+        Also evaluate the energy terms [J].
     gravity_m_s2 : float, optional
-        Overrides g [m/s^2] (0 for the energy balance without gravity).
+        Overrides g [m/s^2].
     drogue_actuator : hosedrogue.sections.DrogueActuator, optional
-        The drogue steers itself with these control surfaces (the fixed-length loop's model,
-        docs/model.md, "Actuated drogue"); once coupled their command is zero (they return to
-        neutral). ``actuator`` must then have no limits.
+        The drogue's control surfaces.
 
     Returns
     -------
     EngagementResult
-        Time histories, events and outcome (``completed`` False and ``message`` saying why if a
-        state failed).
+    """
+    start = prepare(params, duration_s, reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot, control=control,
+                    actuator=actuator, sensor=sensor, x0=x0, equilibrium=equilibrium, seed=seed,
+                    length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2, drogue_actuator=drogue_actuator)
+    run = start.new_run()
+    status, message = _integrate(run, start.params, probe, start.model, duration_s)
+    return assemble_result(start.params, run.segments, run.events, run.outcome, start.model, start.drogue_eq, energy,
+                           status == K.OK, message, run.delta_total, start.t_set, start.reel, probe, loop=start.loop,
+                           drogue_actuator=start.drogue_actuator)
 
-    Raises
-    ------
-    ParameterError
-        ``duration_s`` not a finite number > 0 or shorter than one step, ``x0`` of the wrong
-        shape or not finite, a pilot or bow wave without a probe, a free length outside the
-        reel's end stops.
+
+@dataclass
+class Start:
+    """An engagement's initial state and arrays (:func:`prepare`): what a run starts from."""
+
+    params: Params  #: the run's parameters (with the seed)
+    chain: Chain  #: the initial discretization
+    model: Any  #: :class:`~hosedrogue.model.system.HoseModel` of the initial chain (gusts of the run)
+    drogue_eq: np.ndarray  #: drogue position at the start [m]
+    z: np.ndarray  #: initial state
+    ep: np.ndarray  #: engagement parameters
+    loop: Any  #: the drogue controller's LoopArrays
+    t_set: float  #: the reel's tension set point [N]
+    reel: Reel  #: the drum unit
+    probe: Probe | None  #: the probe
+    total_steps: int  #: RK4 steps of the run
+    drogue_actuator: Any = None  #: the drogue's control surfaces (None: the ideal force)
+
+    def new_run(self) -> "_Run":
+        """A :class:`_Run` at the start (copies of the state and parameters).
+
+        Returns
+        -------
+        _Run
+        """
+        outcome: dict[str, Any] = {"result": "no contact", "miss_distance_m": None, "closure_speed_m_s": None}
+        if self.probe is None or not self.probe.enabled:
+            outcome["result"] = "no probe"
+        ep = self.ep.copy()
+        return _Run(z=self.z.copy(), chain=self.chain, ep=ep, outcome=outcome, loop=self.loop,
+                    hist=drogue_history(ep, self.total_steps),
+                    segments=[(self.chain, ep.copy(), np.array([0.0]), self.z[None, :].copy())])
+
+
+def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, probe: Probe | None = None,
+            bow_wave: BowWave | None = None, pilot: Pilot | None = None, receiver: Receiver | None = None,
+            control=None, actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
+            x0: np.ndarray | None = None, equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
+            gravity_m_s2: float | None = None, drogue_actuator=None) -> Start:
+    """An engagement's start: the balance position, the model with the run's gusts, the
+    parameters and the initial state (see :func:`simulate_engagement` for the parameters).
+
+    Parameters
+    ----------
+    params : Params
+        Hose, drogue, flight and numerics.
+    duration_s : float
+        Simulated time [s].
+    reel, probe, bow_wave, pilot, receiver : sections, optional
+        As for :func:`simulate_engagement` (a receiver's entry is not needed here).
+    control : LinearController, optional
+        The drogue controller compiled in the loop (the "hold" controller of a commanded force).
+    actuator : Actuator
+        Force [N] and rate [N/s] limits.
+    sensor : Sensor
+        The continuous controller's noise [m].
+    x0 : array (4n,), optional
+        Initial hose state [rad, rad/s].
+    equilibrium : Equilibrium, optional
+        A solved balance position of the initial mesh.
+    seed : int, optional
+        Turbulence seed.
+    length_rate_m_s : float
+        Initial L' [m/s].
+    gravity_m_s2 : float, optional
+        Overrides g [m/s^2].
+
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue steers itself with these control surfaces (the fixed-length loop's model,
+        docs/model.md §10); once coupled their command is zero (they return to neutral).
+        ``actuator`` must then have no limits.
+
+    Returns
+    -------
+    Start
     """
     _check_duration(duration_s)
     params.numerics.steps(duration_s)
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
     reel = Reel() if reel is None else reel
-    Engagement(reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot)  # the sections' rules (a pilot needs a probe)
+    # the sections' rules (a pilot or a receiver needs a probe)
+    Engagement(reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot, receiver=receiver)
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2,
                                                 duration_s)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
@@ -246,25 +311,17 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
                              f"reel.min_length_m = {reel.min_length_m!r} and reel.max_length_m = {reel.max_length_m!r} m")
     set_pilot(ep, pilot, params.numerics.step_s)
     if drogue_actuator is not None:
-        Loop(actuator=actuator, drogue_actuator=drogue_actuator)  # the loop's rule: the surfaces set the limits
+        drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
         drogue_actuator.check_step(params.numerics.step_s)
-    z = np.concatenate([z, extra_states(ep, control, actuator, pilot, drogue_actuator)])
+    z = np.concatenate([z, extra_states(ep, control, actuator, pilot, receiver, reel, drogue_actuator)])
     loop = engagement_loop(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed,
                            drogue_actuator)
     t_set = reel.tension_set_n
     if t_set < 0:
         t_set = exit_tension_at_rest(params, chain, z, ep, model)
         ep[EK.EP_TSET] = t_set
-    outcome: dict[str, Any] = {"result": "no contact", "miss_distance_m": None, "closure_speed_m_s": None}
-    if probe is None or not probe.enabled:
-        outcome["result"] = "no probe"
-    run = _Run(z=z, chain=chain, ep=ep, outcome=outcome, loop=loop,
-               hist=drogue_history(ep, int(round(duration_s / params.numerics.step_s))),
-               segments=[(chain, ep.copy(), np.array([0.0]), z[None, :].copy())])
-    status, message = _integrate(run, params, probe, model, duration_s)
-    return assemble_result(params, run.segments, run.events, run.outcome, model, drogue_eq, energy,
-                           status == K.OK, message, run.delta_total, t_set, reel, probe, loop=loop,
-                           drogue_actuator=drogue_actuator)
+    return Start(params, chain, model, drogue_eq, z, ep, loop, t_set, reel, probe,
+                 int(round(duration_s / params.numerics.step_s)), drogue_actuator)
 
 
 def _check_duration(duration_s) -> None:
@@ -331,10 +388,10 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
             return code, (f"stopped at t = {run.t:.4f} s: {_STATUS[code]}: L = {L:.3f} m, range "
                           f"[{run.ep[EK.EP_L_MIN]:g}, {run.ep[EK.EP_L_MAX]:g}] m")
         if code == EK.CHART:
-            _switch_charts(run, model)
+            switch_event(run, model)
         elif code in (EK.SPLIT, EK.MERGE):
-            _remesh(run, code, params, model)
-        elif code == EK.PLANE and _contact(run, zprev, h, probe, model):
+            remesh_event(run, code, params, model)
+        elif code == EK.PLANE and contact_event(run, zprev, h, probe, model):
             break
     return K.OK, "completed"
 
@@ -359,111 +416,3 @@ def _segment(run: _Run, model, h: float, every: int, remaining: int, max_yaw: fl
     if saved:
         run.segments.append((chain, run.ep.copy(), ts[:saved].copy(), zs[:saved].copy()))
     return code, zprev
-
-
-def _at(run: _Run, model):
-    """Outputs and energies of the current state (see :func:`.result.segment_outputs`)."""
-    z1 = run.z[None, :]
-    return _outputs(np.array([run.t]), z1, run.chain, model, run.ep, run.loop), _energies(z1, run.chain, model, run.ep)[0]
-
-
-def _switch_charts(run: _Run, model) -> None:
-    """Move the links near the singular yaw to the other angle chart; record the (zero) jumps."""
-    before, e_before = _at(run, model)
-    run.z, run.chain, moved = switch_charts(run.z, run.chain, math.radians(SWITCH_YAW_DEG))
-    after, e_after = _at(run, model)
-    run.events.append({"kind": "chart", "t_s": run.t, "links": moved,
-                       "energy_jump_j": float(np.sum(e_after) - np.sum(e_before)),
-                       "position_jump_m": float(np.max(np.abs(after[0] - before[0]))),
-                       "velocity_jump_m_s": float(np.max(np.abs(after[1] - before[1])))})
-
-
-def _joint_jumps(code: int, before, after) -> tuple[float, float]:
-    """Largest jump of a joint's position [m] and velocity [m/s] across a split or merge."""
-    jb, ja = before[0][0], after[0][0]
-    vb, va = before[1][0], after[1][0]
-    if code == EK.SPLIT:  # the new joint 1 is inserted; old joints k -> k+1
-        pos_jump = np.max(np.abs(ja[np.r_[0, 2:ja.shape[0]]] - jb))
-        vel_jump = np.max(np.abs(va[np.r_[2:va.shape[0]]] - vb[1:]))
-    else:  # old joint 1 is removed; old joints k >= 2 -> k-1
-        pos_jump = np.max(np.abs(ja - jb[np.r_[0, 2:jb.shape[0]]]))
-        vel_jump = np.max(np.abs(va[1:] - vb[2:]))
-    return float(pos_jump), float(vel_jump)
-
-
-def _remesh(run: _Run, code: int, params: Params, model) -> None:
-    """Split or merge the exit link; record the event with its jumps."""
-    before, e_before = _at(run, model)
-    n_before = run.chain.n
-    Ld_before = run.z[4 * n_before + EK.Z_LD]
-    if code == EK.SPLIT:
-        run.z, run.chain = split(run.z, run.chain, params)
-        delta = 0.0
-    else:
-        run.z, run.chain, delta = merge(run.z, run.chain, params)
-        run.delta_total += delta
-    after, e_after = _at(run, model)
-    pos_jump, vel_jump = _joint_jumps(code, before, after)
-    run.events.append({
-        "kind": "split" if code == EK.SPLIT else "merge", "t_s": run.t, "links_before": n_before,
-        "links_after": run.chain.n, "position_jump_m": pos_jump, "velocity_jump_m_s": vel_jump,
-        "length_lost_m": float(delta),
-        "reel_speed_jump_m_s": 0.0 if code == EK.SPLIT else float(-(run.z[4 * run.chain.n + EK.Z_LD] - Ld_before)),
-        "energy_jump_j": float(np.sum(e_after) - np.sum(e_before)),
-    })
-
-
-def _plane_crossing(run: _Run, zprev: np.ndarray, h: float, model) -> tuple[float, float, float]:
-    """Radial miss [m] and closure speed [m/s] where the probe tip crossed the coupler plane
-    (linear between the last two steps), and the step fraction of the crossing."""
-    joints, jvel, scal = _outputs(np.array([run.t - h, run.t]), np.stack([zprev, run.z]), run.chain, model,
-                                  run.ep, run.loop)[:3]
-    d = np.empty(2)
-    radial = np.empty((2, 3))
-    vclose = np.empty(2)
-    for i in range(2):
-        e_last = joints[i][-1] - joints[i][-2]
-        e_last /= np.linalg.norm(e_last)
-        p = scal[i, [EK.O_PX, EK.O_PY, EK.O_PZ]]
-        vp = scal[i, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]]
-        rel = p - joints[i][-1]
-        d[i] = rel @ e_last
-        radial[i] = rel - d[i] * e_last
-        vclose[i] = -(vp - jvel[i][-1]) @ e_last
-    frac = d[0] / (d[0] - d[1])
-    miss = float(np.linalg.norm(radial[0] + frac * (radial[1] - radial[0])))
-    vc = float(vclose[0] + frac * (vclose[1] - vclose[0]))
-    return miss, vc, frac
-
-
-def _capture_verdict(probe: Probe, miss: float, vc: float) -> tuple[str, bool]:
-    """The capture test (docs/engagement.md, "Capture"): the result and whether it is a capture."""
-    if miss > probe.capture_radius_m:
-        return (f"miss: radial miss {miss:.3f} m beyond the capture radius "
-                f"{probe.capture_radius_m:g} m"), False
-    if vc < probe.min_closure_speed_m_s:
-        return (f"failed latch: closure speed {vc:.3f} m/s below the minimum "
-                f"{probe.min_closure_speed_m_s:g} m/s"), False
-    if vc > probe.max_closure_speed_m_s:
-        return (f"failed latch: closure speed {vc:.3f} m/s above the maximum "
-                f"{probe.max_closure_speed_m_s:g} m/s"), False
-    return "captured", True
-
-
-def _contact(run: _Run, zprev: np.ndarray, h: float, probe: Probe, model) -> bool:
-    """The probe tip reached the coupler plane: test the capture, couple on success. Returns
-    True if the run ends here (a miss or a failed latch)."""
-    miss, vc, frac = _plane_crossing(run, zprev, h, model)
-    t_cap = run.t - h + frac * h
-    outcome = run.outcome
-    outcome["miss_distance_m"] = miss
-    outcome["closure_speed_m_s"] = vc
-    outcome["contact_time_s"] = t_cap
-    outcome["result"], captured = _capture_verdict(probe, miss, vc)
-    if captured:
-        run.ep[EK.EP_COUPLED] = 1.0
-        run.ep[EK.EP_T_CAP] = t_cap
-        run.ep[EK.EP_S_CAP] = run.ep[EK.EP_VC] * t_cap
-    run.events.append({"kind": "contact", "t_s": t_cap, "miss_distance_m": miss, "closure_speed_m_s": vc,
-                       "result": outcome["result"]})
-    return not captured

@@ -1,10 +1,9 @@
-"""What the engagement adds to its state after the 7 tail entries: the pilot's states and the
-drogue controller's (docs/engagement.md, "Drogue controller during the approach" and "Pilot
-model").
+"""What the engagement adds to its state after the 7 tail entries: the pilot's or the receiver's
+states, the commanded reel's held command, and the drogue controller's (docs/engagement.md,
+"Drogue controller during the approach" and "Pilot model"; docs/controllers.md).
 
-The state is ``z = [q, qd, L, L', 5 work states, pilot (4, if flown), xc, (ua or the drogue's
-surfaces)]``: after the
-pilot's states the layout is the fixed-length closed loop's ``[x, xc, (ua)]``
+The state is ``z = [q, qd, L, L', 5 work states, pilot (4, if flown) or receiver (9, if flown),
+reel command (1, law "python"), xc, (ua or the drogue's surfaces)]``: after the block of ``EP_NPIL`` states the layout is the fixed-length closed loop's ``[x, xc, (ua)]``
 (:mod:`hosedrogue.model.integrate`) with ``x`` everything before the controller, so the one
 control law (:func:`~hosedrogue.model.integrate.control_law`) and the one actuator law serve both.
 The remesh (:mod:`.chain`) keeps everything after the hose entries unchanged, so it carries them.
@@ -20,7 +19,7 @@ from ..controllers.linear import LinearController
 from ..model import engagement_kernels as EK
 from ..model.integrate import LoopArrays, loop_arrays, loop_states, sensor_noise
 from ..params import Actuator, ParameterError, Sensor
-from ..sections import DrogueActuator, Pilot
+from ..sections import DrogueActuator, Pilot, Receiver, Reel
 
 
 def engagement_loop(control: LinearController | None, y_ref: np.ndarray, actuator: Actuator, sensor: Sensor,
@@ -67,8 +66,10 @@ def no_loop() -> LoopArrays:
 
 
 def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Actuator,
-                 pilot: Pilot | None, drogue_actuator: DrogueActuator | None = None) -> np.ndarray:
-    """The initial pilot, controller and actuator states; sets ``EP_CTRL`` and ``EP_NPIL``.
+                 pilot: Pilot | None, receiver: Receiver | None = None, reel: Reel | None = None,
+                 drogue_actuator: DrogueActuator | None = None) -> np.ndarray:
+    """The initial pilot or receiver, held reel command, controller and actuator states; sets
+    ``EP_CTRL``, ``EP_NPIL``, ``EP_PIL``, ``EP_RCV`` (and the receiver's response) and ``EP_REEL_SLOT``.
 
     Parameters
     ----------
@@ -80,6 +81,12 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
         A rate-limited one adds the applied force [N] (starting at zero).
     pilot : Pilot or None
         An enabled pilot adds the probe tip's y, z [m] (at the start point) and rates (zero).
+    receiver : Receiver, optional
+        The receiver flown by a velocity command (docs/controllers.md): adds the probe tip's
+        position [m] (at the start point), velocity and held command [m/s] (both the closure
+        speed ``EP_VC`` forward).
+    reel : Reel, optional
+        A reel of law "python" adds its held take-up speed command [m/s] (zero).
     drogue_actuator : DrogueActuator, optional
         The drogue's control surfaces add their states (at rest) after the controller's, and
         set ``EP_CTRL`` even without a controller (their force and drag act all the same).
@@ -91,9 +98,22 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
     """
     parts = []
     ep[EK.EP_NPIL] = 0.0
+    ep[EK.EP_PIL] = 0.0
+    ep[EK.EP_RCV] = 0.0
+    ep[EK.EP_REEL_SLOT] = 0.0
     if pilot is not None and pilot.enabled:
+        ep[EK.EP_PIL] = 1.0
         ep[EK.EP_NPIL] = EK.PIL_STATES
         parts.append([ep[EK.EP_P0Y], ep[EK.EP_P0Z], 0.0, 0.0])
+    elif receiver is not None:
+        set_receiver(ep, receiver)
+        ep[EK.EP_NPIL] = EK.RCV_STATES
+        vc = ep[EK.EP_VC]
+        parts.append([ep[EK.EP_P0X], ep[EK.EP_P0Y], ep[EK.EP_P0Z], vc, 0.0, 0.0, vc, 0.0, 0.0])
+    if reel is not None and reel.law == "python":
+        ep[EK.EP_NPIL] += 1.0
+        ep[EK.EP_REEL_SLOT] = ep[EK.EP_NPIL]
+        parts.append([0.0])
     ep[EK.EP_CTRL] = 0.0 if control is None and drogue_actuator is None else 1.0
     if control is not None or drogue_actuator is not None:
         ctrl = control if control is not None else LinearController.static_zero()
@@ -133,6 +153,23 @@ def set_pilot(ep: np.ndarray, pilot: Pilot | None, step_s: float) -> None:
     ep[EK.EP_PIL_AMAX] = pilot.max_acceleration_m_s2
 
 
+def set_receiver(ep: np.ndarray, receiver: Receiver) -> None:
+    """Write the receiver's entries of ``ep`` (``EP_RCV``, ``EP_RCV_TV``, ``EP_RCV_VMAX``,
+    ``EP_RCV_AMAX``).
+
+    Parameters
+    ----------
+    ep : array (EP_SIZE,)
+        Engagement parameters, changed in place.
+    receiver : Receiver
+        Velocity time constant [s], per-axis speed [m/s] and acceleration [m/s^2] bounds.
+    """
+    ep[EK.EP_RCV] = 1.0
+    ep[EK.EP_RCV_TV] = receiver.velocity_time_constant_s
+    ep[EK.EP_RCV_VMAX:EK.EP_RCV_VMAX + 3] = receiver.max_speed_m_s
+    ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = receiver.max_acceleration_m_s2
+
+
 def drogue_history(ep: np.ndarray, total_steps: int) -> np.ndarray:
     """The drogue history the pilot's delay reads: one row per global RK4 step (y, z [m], y', z'
     [m/s]), NaN until written; a (1, 4) placeholder without a pilot.
@@ -140,7 +177,7 @@ def drogue_history(ep: np.ndarray, total_steps: int) -> np.ndarray:
     Parameters
     ----------
     ep : array (EP_SIZE,)
-        Engagement parameters (``EP_NPIL``).
+        Engagement parameters (``EP_PIL``).
     total_steps : int
         Steps of the run.
 
@@ -148,5 +185,5 @@ def drogue_history(ep: np.ndarray, total_steps: int) -> np.ndarray:
     -------
     array (total_steps + 1, 4) or (1, 4)
     """
-    rows = total_steps + 1 if ep[EK.EP_NPIL] != 0.0 else 1
+    rows = total_steps + 1 if ep[EK.EP_PIL] != 0.0 else 1
     return np.full((rows, 4), math.nan)

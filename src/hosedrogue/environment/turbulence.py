@@ -14,6 +14,7 @@ MIL-F-8785C Fig. 7 high-altitude rms intensity for light, moderate and severe tu
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -258,22 +259,27 @@ def generate_gusts(
     values = np.empty((nsamp, 3))
     column = np.empty(nsamp)
     for j, axis in enumerate(AXES):
-        A, B, C = forming_filter(
-            turbulence.model, axis, turbulence.sigma_m_s[j], turbulence.scale_length_m[j], V
-        )
-        Phi, Qd = discretize_filter(A, B, dt)
-        lq = _noise_factor(Qd)
-        n = A.shape[0]
+        Phi, lq, c0 = _discrete_axis(turbulence.model, axis, float(turbulence.sigma_m_s[j]),
+                                     float(turbulence.scale_length_m[j]), V, float(dt))
+        n = Phi.shape[0]
         x0 = rng.standard_normal(n)  # stationary covariance of this realization is I
         noise = rng.standard_normal((nsamp - 1, n))
-        _run_filter(
-            np.ascontiguousarray(Phi), np.ascontiguousarray(lq), np.ascontiguousarray(C[0]), x0, noise, column
-        )
+        _run_filter(Phi, lq, c0, x0, noise, column)
         values[:, j] = column
     if turbulence.smoothing_s > 0.0:
         return smoothed_record(GustRecord(t_on, dt, values, t_on, t_off, turbulence.interpolation),
                                turbulence.smoothing_s)
     return GustRecord(t_on, dt, values, t_on, t_off, turbulence.interpolation)
+
+
+@functools.lru_cache(maxsize=64)
+def _discrete_axis(model: str, axis: str, sigma: float, scale: float, V: float, dt: float):
+    """One axis's discretized forming filter (Phi, noise factor, output row; C-contiguous, not to
+    be modified), kept per process: it does not depend on the seed, so a run of another seed (a
+    campaign, a stepper's reset) draws its gusts without taking the matrix exponentials again."""
+    A, B, C = forming_filter(model, axis, sigma, scale, V)
+    Phi, Qd = discretize_filter(A, B, dt)
+    return tuple(np.ascontiguousarray(x, dtype=np.float64) for x in (Phi, _noise_factor(Qd), C[0]))
 
 
 def smoothed_record(record: GustRecord, width_s: float) -> GustRecord:

@@ -58,6 +58,9 @@ from .integrate import (actuator_rates, applied_force_at, control_law, controlle
                         step_status)
 from . import drogue_actuator as DA
 from .frame import frame_loads
+from .kernels import NONFINITE, YAW_LIMIT
+from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
+                      R_REEL_V, R_T0, deliver)
 
 # --- ep layout -------------------------------------------------------------------------------
 (EP_MU, EP_MD, EP_SPLIT, EP_JLINK, EP_L0,
@@ -69,17 +72,28 @@ from .frame import frame_loads
  EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_Q, EP_BW_LEN,
  EP_CTRL, EP_NPIL, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV, EP_PIL_VMAX, EP_PIL_AMAX, EP_H,
  EP_L_MIN, EP_L_MAX) = range(50)
-EP_SIZE = 50
+# the sampled-data controllers' entries (docs/controllers.md): the pilot flag, the receiver and
+# the commanded reel
+(EP_PIL, EP_RCV, EP_RCV_TV, EP_RCV_VMAX, EP_RCV_AMAX, EP_REEL_SLOT, EP_REEL_TV) = (50, 51, 52, 53, 56, 59, 60)
+EP_SIZE = 61
 # EP_CTRL: 1 with a drogue controller in the loop (its states follow the pilot's, see below);
-# EP_NPIL: number of pilot states (0 or PIL_STATES); EP_PIL_*: the pilot's reaction time [s], lag
+# EP_NPIL: number of states of the block after the tail (the pilot's PIL_STATES or the receiver's
+# RCV_STATES, and the commanded reel's one; see below); EP_PIL_*: the pilot's reaction time [s], lag
 # [s], velocity time constant [s], speed [m/s] and acceleration [m/s^2] bounds; EP_H: the RK4
 # step [s] (the index of the drogue history the pilot's delay reads); EP_L_MIN, EP_L_MAX: the free
 # hose length's range [m] between the drum's end stops (fully reeled in, fully paid out)
+# EP_PIL: 1 when the pilot flies the probe (its states open the block after the tail); EP_RCV: 1
+# when the receiver flies it (its RCV_STATES states open the block: probe tip position and
+# velocity [m, m/s] and the held velocity command [m/s]), with the velocity time constant
+# EP_RCV_TV [s] and the per-axis bounds EP_RCV_VMAX (3) [m/s] and EP_RCV_AMAX (3) [m/s^2];
+# EP_REEL_SLOT: 1 + the place in the block of the held take-up speed command [m/s] of the
+# commanded reel (LAW_COMMANDED), 0 without; EP_REEL_TV: its speed time constant [s]. EP_NPIL
+# counts the whole block.
 
 # bow-wave shapes (EP_BW); EP_BW_D* is the source (the line's forward end) minus the probe tip [m]
 BW_OFF, BW_RANKINE, BW_LINE = SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE
 
-LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE = 0, 1, 2
+LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE, LAW_COMMANDED = 0, 1, 2, 3
 
 # state tail (after the 4n hose entries)
 Z_L, Z_LD, Z_WM, Z_WF, Z_WX, Z_WFLUX, Z_WP = range(7)
@@ -89,6 +103,9 @@ Z_TAIL = 7
 # hosedrogue.model.integrate's closed loop with x = everything before the controller
 PIL_Y, PIL_Z, PIL_VY, PIL_VZ = range(4)
 PIL_STATES = 4
+# or the receiver's: probe tip position, velocity, held velocity command (tanker frame)
+RCV_X, RCV_VX, RCV_CX = 0, 3, 6
+RCV_STATES = 9
 
 # out layout (scalars of one evaluation)
 (O_T0, O_LDD, O_TAU, O_SLACK, O_PX, O_PY, O_PZ, O_FPX, O_FPY, O_FPZ, O_VPX, O_VPY, O_VPZ,
@@ -221,9 +238,14 @@ def probe_state(t, ep):
 @njit(**JIT)
 def probe_tip(t, z, n, ep):
     """Probe-tip position and velocity [m, m/s] at time t and state z: :func:`probe_state`, whose
-    lateral and vertical motion the pilot's states replace when a pilot flies the probe."""
+    lateral and vertical motion the pilot's states replace when a pilot flies the probe; the
+    receiver's states when the receiver flies it."""
+    if ep[EP_RCV] != 0.0:
+        b = 4 * n + Z_TAIL
+        return (z[b + RCV_X], z[b + RCV_X + 1], z[b + RCV_X + 2], z[b + RCV_VX], z[b + RCV_VX + 1],
+                z[b + RCV_VX + 2])
     px, py, pz, vpx, vpy, vpz = probe_state(t, ep)
-    if ep[EP_NPIL] != 0.0:
+    if ep[EP_PIL] != 0.0:
         b = 4 * n + Z_TAIL
         py = z[b + PIL_Y]
         pz = z[b + PIL_Z]
@@ -283,6 +305,48 @@ def pilot_rates(t, z, n, ep, hist, dz):
             vcmd = min(max((aim - p) / ep[EP_PIL_LAG], -vmax), vmax)
         dz[b + PIL_Y + i] = v
         dz[b + PIL_VY + i] = min(max((vcmd - v) / ep[EP_PIL_TV], -amax), amax)
+
+
+@njit(**JIT)
+def receiver_rates(z, n, ep, dz):
+    """dz/dt of the receiver's states (docs/controllers.md): per axis the held velocity command,
+    clipped to the speed bound, is followed through the first-order lag tau_v with the
+    acceleration clipped to its bound (the pilot model's response, :func:`pilot_rates`); the
+    command itself is held (zero rate)."""
+    b = 4 * n + Z_TAIL
+    tv = ep[EP_RCV_TV]
+    for i in range(3):
+        vmax = ep[EP_RCV_VMAX + i]
+        amax = ep[EP_RCV_AMAX + i]
+        v = z[b + RCV_VX + i]
+        vcmd = min(max(z[b + RCV_CX + i], -vmax), vmax)
+        dz[b + RCV_X + i] = v
+        dz[b + RCV_VX + i] = min(max((vcmd - v) / tv, -amax), amax)
+        dz[b + RCV_CX + i] = 0.0
+
+
+@njit(**JIT)
+def commanded_reel(T00, me, Ld, z, n, ep):
+    """Motor torque [N m] and L'' [m/s^2] of the commanded reel (LAW_COMMANDED): the held take-up
+    speed command, clipped to the speed limits, is followed through a first-order lag of
+    ``EP_REEL_TV``: the drive sets the torque the reel equation needs for that acceleration
+    (given the hose's pull T00 at L'' = 0 and its effective mass me), clipped to the torque
+    limit; with the torque at its limit L'' follows from the reel equation."""
+    rd = ep[EP_RD]
+    vcmd = z[4 * n + Z_TAIL + int(ep[EP_REEL_SLOT]) - 1]  # take-up speed, positive reeling in
+    vcmd = min(max(vcmd, -ep[EP_V_OUT_MAX]), ep[EP_V_IN_MAX])
+    mr = ep[EP_JR] / (rd * rd)
+    fric = ep[EP_CR] * Ld / (rd * rd)
+    target = (-vcmd - Ld) / ep[EP_REEL_TV]
+    tau = rd * (T00 - fric - (mr + me) * target)
+    tmax = ep[EP_TAU_MAX]
+    if tau > tmax:
+        tau = tmax
+    elif tau < -tmax:
+        tau = -tmax
+    else:
+        return tau, target  # within the torque limit the drive gives the acceleration asked for
+    return tau, (T00 - tau / rd - fric) / (mr + me)
 
 
 @njit(**JIT)
@@ -462,9 +526,12 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
         pm = 0.0
         pf = 0.0
     else:
-        taum = motor_torque(Ld, slack, ep)
-        mr = ep[EP_JR] / (rd * rd)
-        Ldd = (T00 - taum / rd - ep[EP_CR] * Ld / (rd * rd)) / (mr + me)
+        if law == LAW_COMMANDED:
+            taum, Ldd = commanded_reel(T00, me, Ld, z, n, ep)
+        else:
+            taum = motor_torque(Ld, slack, ep)
+            mr = ep[EP_JR] / (rd * rd)
+            Ldd = (T00 - taum / rd - ep[EP_CR] * Ld / (rd * rd)) / (mr + me)
         pm = -taum * Ld / rd  # tau_m omega, omega = -L'/r_d
         pf = ep[EP_CR] * Ld * Ld / (rd * rd)
     T0 = T00 - me * Ldd
@@ -542,8 +609,12 @@ def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, d
     dz[b + Z_WFLUX] = out[O_PFLUX]
     dz[b + Z_WP] = out[O_PPROBE]
     npil = int(ep[EP_NPIL])
-    if npil != 0:
+    if ep[EP_PIL] != 0.0:
         pilot_rates(t, z, n, ep, hist, dz)
+    elif ep[EP_RCV] != 0.0:
+        receiver_rates(z, n, ep, dz)
+    if ep[EP_REEL_SLOT] != 0.0:
+        dz[b + Z_TAIL + int(ep[EP_REEL_SLOT]) - 1] = 0.0  # the held take-up speed command
     if ep[EP_CTRL] != 0.0:
         nx = b + Z_TAIL + npil
         if DA.is_actuated(loop.act):
@@ -599,30 +670,43 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     tip crosses the coupler plane before coupling (PLANE; zprev then holds the state before the
     step), or the state fails (NONFINITE / YAW_LIMIT, or REEL_END: the free length left the reel's
     range). Returns (status, steps done, saved count).
-    With a pilot (``ep[EP_NPIL]``) the drogue's y, z, y', z' after every global step k go to
+    With a pilot (``ep[EP_PIL]``) the drogue's y, z, y', z' after every global step k go to
     ``hist[k]`` (row 0 at the start), for the pilot's delayed view of the drogue.
     """
     nz = z.shape[0]
-    k1 = np.empty(nz)
-    k2 = np.empty(nz)
-    k3 = np.empty(nz)
-    k4 = np.empty(nz)
-    tmp = np.empty(nz)
+    work = np.empty((5, nz))
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
     dM = np.empty(2)
     out = np.zeros(O_SIZE)
-    saved = 0
+    return eng_steps(z, t0, 0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
+                     max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, True, 0, work, ws, ws2,
+                     dM, out)
+
+
+@njit(**JIT)
+def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
+              max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, saved0, work, ws, ws2,
+              dM, out):
+    """:func:`eng_segment` with its scratch given (``work`` (5, nz): the RK4 stages and the trial
+    state; the workspaces ``ws``, ``ws2``, ``dM``, ``out`` of :func:`eng_evaluate`), the saved
+    rows written from row ``saved0`` on and only if ``record``, the state ``s0`` steps after the
+    time origin ``t0`` of its segment (step k after it is at ``t0 + k h``, as one uninterrupted
+    segment counts: a segment continued in several calls takes the same times). Returns (status,
+    steps done, saved count)."""
+    nz = z.shape[0]
+    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
+    saved = saved0
     probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
-    piloted = ep[EP_NPIL] != 0.0
+    piloted = ep[EP_PIL] != 0.0
     if piloted and step0 == 0:
         hist[0, 0], hist[0, 1], hist[0, 2], hist[0, 3] = drogue_motion(z, n, l, M, J, ep, chart, ws)
     d_before = 0.0
     if probing:
-        eng_evaluate(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
-        d_before = plane_distance(z, n, l, ws, t0, ep)
+        chain_kinematics(z, n, l, M, J, ep, chart, ws)  # the frames and joint positions of z
+        d_before = plane_distance(z, n, l, ws, t0 + s0 * h, ep)
     for s in range(1, nsteps + 1):
-        t = t0 + (s - 1) * h
+        t = t0 + (s0 + s - 1) * h
         for i in range(nz):
             zprev[i] = z[i]
         eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
@@ -633,7 +717,7 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         rk4_stage(z, h, k3, tmp)
         eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
         rk4_combine(z, h, k1, k2, k3, k4)
-        t = t0 + s * h
+        t = t0 + (s0 + s) * h
         status = step_status(z, n, max_yaw)
         if status != OK:
             return status, s, saved
@@ -643,7 +727,7 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         if piloted:
             hist[step0 + s, 0], hist[step0 + s, 1], hist[step0 + s, 2], hist[step0 + s, 3] = drogue_motion(
                 z, n, l, M, J, ep, chart, ws)
-        if (step0 + s) % save_every == 0:
+        if record and (step0 + s) % save_every == 0:
             ts[saved] = t
             zs[saved, :] = z
             saved += 1
@@ -656,12 +740,59 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
         if allow_merge and l[0] < merge_at:
             return MERGE, s, saved
         if probing:
-            eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+            # the coupler plane needs the kinematics only: the frames and joint positions that the
+            # full evaluation would write, bit for bit (chain_kinematics is its first half)
+            chain_kinematics(z, n, l, M, J, ep, chart, ws)
             d = plane_distance(z, n, l, ws, t, ep)
             if d_before > 0.0 and d <= 0.0:
                 return PLANE, s, saved
             d_before = d
     return OK, nsteps, saved
+
+
+@njit(**JIT)
+def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
+    """The raw measurement (``hosedrogue.model.sampled.R_*``) of state z at time t [s]: drogue and
+    probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
+    evaluation with the commands as they are, coupled flag."""
+    eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+    r, v = ws[4], ws[5]
+    for i in range(3):
+        raw[R_DROGUE + i] = r[n, i]
+        raw[R_DROGUE_V + i] = v[n, i]
+        raw[R_PROBE + i] = out[O_PX + i]
+        raw[R_PROBE_V + i] = out[O_VPX + i]
+    raw[R_L] = z[4 * n + Z_L]
+    raw[R_REEL_V] = -z[4 * n + Z_LD]
+    raw[R_T0] = out[O_T0]
+    raw[R_COUPLED] = ep[EP_COUPLED]
+
+
+@njit(**JIT)
+def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
+                switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring,
+                delay, sample_h, noise3, noise3_dt, balance, mbuf):
+    """Integrate from the counters ``ctr`` (``hosedrogue.model.sampled.C_*``: global step,
+    saved rows, the segment's origin ``C_ORIGIN``; updated in place) toward global step
+    ``ctr[C_TARGET]`` (:func:`eng_steps`); when it is
+    reached, the raw measurement of the next sample (``ctr[C_SAMPLE] + 1``) into the ring and
+    its measurement (delayed by ``delay`` samples) into ``mbuf``, and the sample counter moves on.
+    Returns the status of the segment (an event - a remesh, the coupler plane - stops it early)."""
+    step0 = ctr[C_STEP]
+    target = ctr[C_TARGET]
+    origin = ctr[C_ORIGIN]
+    status, done, saved = eng_steps(z, origin * h, step0 - origin, step0, h, target - step0, save_every, n, l, M, J,
+                                    ps, env, gust, ep, chart, loop, hist, max_yaw, switch_yaw, split_at, merge_at,
+                                    allow_merge, zprev, ts, zs, record, ctr[C_SAVED], work, ws, ws2, dM, out)
+    ctr[C_STEP] = step0 + done
+    ctr[C_SAVED] = saved
+    ctr[C_STATUS] = status
+    if ctr[C_STEP] == target and status != NONFINITE and status != YAW_LIMIT and status != REEL_END:
+        k = ctr[C_SAMPLE] + 1
+        eng_raw(target * h, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, ring[k % ring.shape[0]])
+        deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
+        ctr[C_SAMPLE] = k
+    return status
 
 
 @njit(**JIT)

@@ -3,8 +3,8 @@
 A scenario file is TOML: a ``[scenario]`` table (``duration_s``, ``initial``, offsets, and
 ``extends`` to start from another scenario), the drogue's control loop (``[controller]``,
 ``[actuator]``, ``[sensor]``, and ``[drogue_actuator]`` for a drogue steered by control
-surfaces), the engagement (``[reel]``, ``[probe]``, ``[bow_wave]``, ``[pilot]``) and any
-parameter section of :mod:`hosedrogue.params` (``[flight]``, ``[turbulence]``, ...) overriding the
+surfaces), the engagement (``[reel]``, ``[probe]``, ``[bow_wave]``, ``[pilot]``, ``[receiver]``) and
+any parameter section of :mod:`hosedrogue.params` (``[flight]``, ``[turbulence]``, ...) overriding the
 paper's case. ``[model] preset = "converged"`` starts from a
 shipped model preset (:mod:`hosedrogue.config`); the file's parameter sections then override it.
 Every section, key, unit, default and range is listed in the documentation's scenario reference.
@@ -92,8 +92,10 @@ class Scenario:
         num = self.params.numerics
         if num.integrator == "rk4" or self.engagement is not None:
             num.steps(self.duration_s, "scenario.duration_s")  # at least one step
-        if self.loop.drogue_actuator is not None and (num.integrator == "rk4" or self.engagement is not None):
-            self.loop.drogue_actuator.check_step(num.step_s)
+        if self.loop.drogue_actuator is not None:
+            self.loop.drogue_actuator.check_loop(self.loop.actuator == Actuator(), self.loop.controller)
+            if num.integrator == "rk4" or self.engagement is not None:
+                self.loop.drogue_actuator.check_step(num.step_s)
         if self.engagement is not None and num.integrator != "rk4":
             raise ParameterError(f"numerics.integrator = {num.integrator!r}: the engagement (hose of varying "
                                  "length) is integrated with fixed-step RK4 only; use 'rk4'")
@@ -166,8 +168,9 @@ class Scenario:
         Scenario
         """
         if not isinstance(controller, Controller):
-            same = controller == self.loop.controller.type
-            controller = Controller(controller, dict(self.loop.controller.options) if same else {})
+            if controller == self.loop.controller.type:
+                return self  # the same type: this scenario's controller, options, sample time and entry
+            controller = Controller(controller)
         return dataclasses.replace(self, loop=dataclasses.replace(self.loop, controller=controller))
 
     def to_dict(self) -> dict[str, Any]:
@@ -406,7 +409,7 @@ def _engagement(data: Mapping[str, Any]) -> Engagement | None:
     present = {name: ENGAGEMENT_SECTIONS[name].from_mapping(_table(data, name))
                for name in ENGAGEMENT_SECTIONS if name in data}
     if "reel" not in present and "probe" not in present:
-        for name in ("bow_wave", "pilot"):
+        for name in ("bow_wave", "pilot", "receiver"):
             if name in present:
                 raise ParameterError(f"{name}: the fixed-length hose has no probe, so it cannot honour [{name}]; "
                                      "add [probe] (and [reel]) to run the engagement, or remove it")

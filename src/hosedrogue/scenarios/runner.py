@@ -81,10 +81,11 @@ def drogue_controller(scenario: Scenario, model: HoseModel | None = None, eq: Eq
     Returns
     -------
     LinearController or None
-        Measured drogue offset [m] -> control force [N].
+        Measured drogue offset [m] -> control force [N]; None for "none" and for the user's
+        controller ("python": :func:`sampled_controllers`).
     """
     ctrl = scenario.loop.controller
-    if ctrl.type == "none":
+    if ctrl.type in ("none", "python"):
         return None
     steady = {k: v for k, v in scenario.params.to_dict().items() if k != "turbulence"}
     key = json.dumps([steady, ctrl.to_dict()], sort_keys=True, default=repr)
@@ -99,13 +100,51 @@ def drogue_controller(scenario: Scenario, model: HoseModel | None = None, eq: Eq
 build_controller = drogue_controller
 
 
+def sampled_controllers(scenario: Scenario) -> dict:
+    """The scenario's sampled-data controllers of the user (``[controller] type = "python"``,
+    ``[reel] law = "python"``, ``[receiver]``), each's entry imported by its name (a one-line
+    error before any run starts if one cannot be).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The case.
+
+    Returns
+    -------
+    dict
+        Role -> :class:`~hosedrogue.controllers.sampled.SampledController` (empty without).
+
+    Raises
+    ------
+    ParameterError
+        An entry missing, or that cannot be imported.
+    """
+    from ..controllers.sampled import SampledController
+
+    out = {}
+    ctrl = scenario.loop.controller
+    if ctrl.type == "python":
+        out["drogue"] = SampledController("drogue", ctrl.entry, ctrl.sample_time_s, dict(ctrl.options))
+    e = scenario.engagement
+    if e is not None:
+        from ..engagement.simulate import sampled_controllers as engagement_controllers
+
+        out.update(engagement_controllers(e.reel, e.receiver, None))
+    for c in out.values():
+        c.factory()
+    return out
+
+
 def run(scenario: Scenario) -> RunResult:
     """Run a scenario: the fixed-length hose, or the engagement if it has one.
 
     Solves the balance position, designs the controller (:func:`drogue_controller`), starts
     from :func:`initial_state` and simulates ``scenario.duration_s`` with the scenario's
     actuator and sensor (and the drogue's control surfaces, if any); the engagement adds the reel,
-    probe, bow wave and pilot.
+    probe, bow wave and pilot or receiver. The user's sampled-data controllers
+    (:func:`sampled_controllers`) are imported and built before the run starts; a built-in
+    controller with ``sample_time_s`` > 0 runs sampled.
 
     Parameters
     ----------
@@ -134,13 +173,21 @@ def run(scenario: Scenario) -> RunResult:
     return dataclasses.replace(result, meta={**result.meta, **_meta(scenario)})
 
 
+def _drogue(scenario: Scenario, controllers: dict, model=None, eq=None):
+    """The drogue controller argument of the drivers: the user's, or the designed one."""
+    return controllers.get("drogue") or drogue_controller(scenario, model, eq)
+
+
 def _run_fixed_length(scenario: Scenario) -> RunResult:
     params = scenario.params
+    controllers = sampled_controllers(scenario)
     model = HoseModel(params, duration_s=scenario.duration_s)
     eq = solve_equilibrium(params, model=model)
+    ctrl = scenario.loop.controller
     return simulate(params, scenario.duration_s, x0=initial_state(scenario, eq),
-                    control=drogue_controller(scenario, model, eq), equilibrium=eq,
+                    control=_drogue(scenario, controllers, model, eq), equilibrium=eq,
                     actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, model=model,
+                    sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0,
                     drogue_actuator=scenario.loop.drogue_actuator)
 
 
@@ -148,12 +195,16 @@ def _run_engagement(scenario: Scenario) -> RunResult:
     from ..engagement import simulate_engagement
 
     e = scenario.engagement
+    controllers = sampled_controllers(scenario)
     x0 = None
     if scenario.initial == "displaced":
         x0 = initial_state(scenario, solve_equilibrium(scenario.params))
+    ctrl = scenario.loop.controller
     return simulate_engagement(scenario.params, scenario.duration_s, reel=e.reel, probe=e.probe,
-                               bow_wave=e.bow_wave, pilot=e.pilot, control=drogue_controller(scenario),
-                               actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, x0=x0,
+                               bow_wave=e.bow_wave, pilot=e.pilot, receiver=e.receiver,
+                               control=_drogue(scenario, controllers), actuator=scenario.loop.actuator,
+                               sensor=scenario.loop.sensor, x0=x0,
+                               sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0,
                                drogue_actuator=scenario.loop.drogue_actuator)
 
 
@@ -169,8 +220,38 @@ def _meta(scenario: Scenario) -> dict:
         e = scenario.engagement
         meta["pilot"] = None if e.pilot is None else e.pilot.to_dict()
         meta["bow_wave"] = None if e.bow_wave is None else e.bow_wave.to_dict()
+        if e.receiver is not None:
+            meta["receiver"] = e.receiver.to_dict()
+    sampled = _sampled_meta(scenario)
+    if sampled:
+        meta["sampled_controllers"] = sampled
     meta["params"] = scenario.params.to_dict()
     return meta
+
+
+def _sampled_meta(scenario: Scenario) -> dict:
+    """The sampled-data controllers a run had (run.json ``sampled_controllers``): role -> entry,
+    sample time [s], options; the built-in drogue controller's sample time if it had one."""
+    ctrl, out = scenario.loop.controller, {}
+    if ctrl.type == "python":
+        out["drogue"] = {k: v for k, v in ctrl.to_dict().items() if k != "type"}
+    elif ctrl.sampled:
+        out["drogue"] = {"entry": f"built-in {ctrl.type}", "sample_time_s": ctrl.sample_time_s}
+    e = scenario.engagement
+    if e is not None and e.reel.law == "python":
+        out["reel"] = {k: e.reel.to_dict()[k] for k in ("entry", "sample_time_s", "options")}
+    if e is not None and e.receiver is not None:
+        out["receiver"] = {k: e.receiver.to_dict()[k] for k in ("entry", "sample_time_s", "options")}
+    return out
+
+
+def _json_value(value):
+    """A value json does not know: a number as a float (numpy scalars), anything else (an option of
+    a user's controller given from Python) as its text."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return repr(value)
 
 
 def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
@@ -201,7 +282,7 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [result.to_csv(out_dir / "timeseries.csv")]
-    (out_dir / "run.json").write_text(json.dumps(result.run_document(), indent=2, default=float) + "\n")
+    (out_dir / "run.json").write_text(json.dumps(result.run_document(), indent=2, default=_json_value) + "\n")
     paths.append(out_dir / "run.json")
     paths.append(hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *result.hose_shapes()))
     if plot and result.t_s.size > 1:

@@ -18,14 +18,15 @@ import scipy.integrate
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..model import drogue_actuator as DA
+from ..controllers.sampled import SampledController
 from ..model import kernels as K
 from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
                                sensor_noise)
 from ..model.system import HoseModel
 from ..params import PAPER, Actuator, ParameterError, Params, Sensor
+from ..sections import Controller
 from ..metrics import turbulence_window
 from ..results import SimulationResult
-from ..sections import Loop
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
 
@@ -40,12 +41,13 @@ def simulate(
     params: Params = PAPER,
     duration_s: float = 10.0,
     x0: np.ndarray | None = None,
-    control: LinearController | ControlFunction | None = None,
+    control: LinearController | SampledController | ControlFunction | None = None,
     equilibrium: Equilibrium | None = None,
     actuator: Actuator = Actuator(),
     sensor: Sensor = Sensor(),
     seed: int | None = None,
     model: HoseModel | None = None,
+    sample_time_s: float = 0.0,
     drogue_actuator=None,
 ) -> SimulationResult:
     """Simulate the hose-drogue system.
@@ -58,10 +60,14 @@ def simulate(
         Simulated time [s].
     x0 : array (4n,), optional
         Initial state [q, qd] [rad, rad/s]; default the balance position at rest.
-    control : LinearController or callable, optional
+    control : LinearController, SampledController, Controller or callable, optional
         A :class:`LinearController` acting on the drogue's offset [m] from its balance position
-        (compiled, fast), or ``u(t, x) -> (u_hor, u_ver)`` [N] of time [s] and state (Python,
-        slower; fixed-step RK4 only, no actuator or sensor model).
+        (compiled, fast; sampled-data with ``sample_time_s`` > 0); a sampled-data drogue
+        controller of the user (a :class:`~hosedrogue.controllers.sampled.SampledController` of
+        role ``"drogue"``, or a ``Controller(type="python", ...)``; called every sample time with
+        the measurement, its force held in between: docs/controllers.md); or ``u(t, x) ->
+        (u_hor, u_ver)`` [N] of time [s] and state, called at every RK4 stage (Python, slower;
+        fixed-step RK4 only, no actuator or sensor model).
     equilibrium : Equilibrium, optional
         Reuse a solved balance position.
     actuator : Actuator
@@ -72,6 +78,10 @@ def simulate(
         Overrides ``params.turbulence.seed`` (and seeds the sensor noise).
     model : HoseModel, optional
         Reuse a model built from ``params`` (ignored parameters otherwise).
+    sample_time_s : float
+        With a :class:`LinearController`: 0 (continuous, the default), or its zero-order-hold
+        discretization called every ``sample_time_s`` [s] (a whole multiple of the RK4 step),
+        compiled end to end, the sensor's delay included.
     drogue_actuator : hosedrogue.sections.DrogueActuator, optional
         The drogue steers itself with these control surfaces: the controller's force command
         is mixed to them at the measured dynamic pressure, and their deflections make the force
@@ -99,11 +109,23 @@ def simulate(
     if x0.shape != (4 * n,) or not np.all(np.isfinite(x0)):
         raise ParameterError(f"x0: must be a finite array of shape ({4 * n},), got shape {x0.shape}")
     y_ref = equilibrium.drogue_position_m[1:].copy()
+    control = sampled_controller(control)
+    if drogue_actuator is not None and (isinstance(control, SampledController) or sample_time_s):
+        raise ParameterError("drogue_actuator: the sampled-data controllers do not command the drogue's control "
+                             "surfaces yet; use a continuous LinearController (docs/model.md §10)")
+    if isinstance(control, SampledController):
+        return _run_sampled(params, duration_s, x0, control, equilibrium, actuator, sensor, model)
+    if sample_time_s:
+        if not isinstance(control, LinearController):
+            raise ParameterError(f"sample_time_s = {sample_time_s!r}: a sampled-data built-in controller needs "
+                                 "control = a LinearController")
+        return _run_linear_sampled(params, duration_s, x0, control, equilibrium, actuator, sensor, model,
+                                   sample_time_s)
 
     outs = None  # derived outputs: the compiled RK4 loop saves them with the states
     surfaces = {}
     if drogue_actuator is not None:
-        Loop(actuator=actuator, drogue_actuator=drogue_actuator)  # the loop's rule: the surfaces set the limits
+        drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
         if params.numerics.integrator == "rk4":
             drogue_actuator.check_step(params.numerics.step_s)
     if callable(control) and not isinstance(control, LinearController):
@@ -147,6 +169,53 @@ def simulate(
         statistics_window_s=turbulence_window(params.turbulence),
         **surfaces,
     )
+
+
+def sampled_controller(control):
+    """``control`` with a ``Controller(type="python")`` section turned into its
+    :class:`~hosedrogue.controllers.sampled.SampledController` (anything else as it is).
+
+    Parameters
+    ----------
+    control : Any
+        What :func:`simulate` was given.
+
+    Returns
+    -------
+    Any
+    """
+    if isinstance(control, Controller):
+        if control.type != "python":
+            raise ParameterError(f"control = Controller(type={control.type!r}): give the designed LinearController "
+                                 "(hosedrogue.run designs the scenario's), or a Controller of type 'python'")
+        return SampledController("drogue", control.entry, control.sample_time_s, dict(control.options))
+    if isinstance(control, SampledController) and control.role != "drogue":
+        raise ParameterError(f"control: a {control.role} controller; the drogue's controller has role 'drogue'")
+    return control
+
+
+def _run_sampled(params, duration_s, x0, control: SampledController, equilibrium, actuator, sensor,
+                 model) -> SimulationResult:
+    """A user's sampled-data drogue controller: the stepper driven by it (:mod:`.drive`)."""
+    from .drive import control_step, drive
+    from .stepper import FixedLengthStepper
+
+    built = {"drogue": control.build()}  # a bad entry or factory is an error before the run
+    dt = control_step({"drogue": control}, params.numerics.step_s)
+    stepper = FixedLengthStepper(params, duration_s, control_step_s=dt, x0=x0, equilibrium=equilibrium,
+                                 actuator=actuator, sensor=sensor, model=model)
+    return drive(stepper, {"drogue": control}, built)
+
+
+def _run_linear_sampled(params, duration_s, x0, control: LinearController, equilibrium, actuator, sensor, model,
+                        sample_time_s) -> SimulationResult:
+    """A built-in linear controller in sampled-data mode, compiled end to end
+    (:meth:`hosedrogue.simulation.stepper.FixedLengthStepper.run_linear`)."""
+    from .stepper import FixedLengthStepper
+
+    stepper = FixedLengthStepper(params, duration_s, control_step_s=sample_time_s, x0=x0, equilibrium=equilibrium,
+                                 actuator=actuator, sensor=sensor, model=model)
+    return stepper.run_linear(control)
 
 
 def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator, drogue_actuator=None) -> np.ndarray:

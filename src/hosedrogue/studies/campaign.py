@@ -62,7 +62,7 @@ from ..errors import ParameterError
 from ..metrics import DEFAULT_CAPTURE_RADII_M, capture_column, turbulence_window, window_statistics
 from ..progress import progress_bar, progress_enabled
 from ..scenarios import Scenario, load_scenario
-from ..scenarios.runner import run
+from ..scenarios.runner import run, sampled_controllers
 from . import executor
 from .executor import IN_FLIGHT_PER_WORKER, SYNCHRONOUS
 from .seeds import run_seed
@@ -269,8 +269,8 @@ def run_campaign(
     ParameterError
         On bad input (an unknown scenario, ``runs``, ``seed``, ``capture_radii_m``, ``workers``/
         ``scheduler``/``client``, a scenario without a controller for ``compare_controller``, a
-        turbulence window outside the run), or an ``out_dir`` that is a file or holds a campaign
-        with other settings; nothing is written then.
+        turbulence window outside the run, a controller's entry that cannot be imported), or an
+        ``out_dir`` that is a file or holds a campaign with other settings; nothing is written then.
     """
     runs = _check_int("runs", runs, 1)
     seed = _check_int("seed", seed, 0, 2**63 - 1)
@@ -279,6 +279,7 @@ def run_campaign(
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario)
     scenario = scenario.with_overrides(duration_s=duration_s)
+    sampled_controllers(scenario)  # every entry imports here, or a one-line error before any run starts
     window = statistics_window(scenario)
     controllers = _controllers(scenario, compare_controller)
     use_dask = _use_dask(workers, scheduler, client)

@@ -1,0 +1,269 @@
+"""The stepping API of the engagement: an object that holds a run's state and advances the
+compiled loop one control step at a time with the commands held - the receiver's probe-tip
+velocity, the reel's take-up speed, the drogue's force - returning the measurement
+(docs/controllers.md, "Stepping a run").
+
+::
+
+    stepper = EngagementStepper(params, 4.5, control_step_s=0.02, probe=Probe(), receiver=Receiver())
+    m = stepper.reset(seed=3)
+    while not stepper.done:
+        m = stepper.step(receiver=(1.0, -0.5 * m.relative_position_m[1], 0.0))
+    result = stepper.result()          # the usual EngagementResult
+
+A control step integrates with :func:`hosedrogue.model.engagement_kernels.eng_advance`; the
+events that end a compiled segment (a remesh, a chart switch, the coupler plane) are handled in
+between as :func:`~hosedrogue.engagement.driver.simulate_engagement` does
+(:mod:`hosedrogue.engagement.events`), so a stepped run and a run of the same commands through
+``simulate_engagement`` are the same run.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..controllers.linear import LinearController
+from ..model import engagement_kernels as EK
+from ..model import kernels as K
+from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, hold_controller_arrays
+from ..params import Actuator, Params, Sensor
+from ..sections import BowWave, Pilot, Probe, Receiver, Reel
+from ..simulation.stepper import StepperBase, sensor_noise3
+from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, chain_model
+from .driver import _STATUS, prepare
+from .events import contact_event, remesh_event, switch_event
+from .result import EngagementResult, assemble_result
+
+class EngagementStepper(StepperBase):
+    """An engagement advanced one control step at a time, its commands held in between.
+
+    Parameters
+    ----------
+    params : Params
+        Hose, drogue, flight and numerics (RK4, ``numerics.step_s`` [s], ``output_every``).
+    duration_s : float
+        Length of the run [s] (its gust record is drawn for it); the run is done there, or at a
+        miss or failed latch, or at a failed state.
+    control_step_s : float
+        Time between commands [s], a whole multiple of ``numerics.step_s``.
+    reel : Reel, optional
+        The drum unit; law "python": its take-up speed is commanded (:meth:`step` ``reel=``).
+    probe : Probe, optional
+        The receiver's probe (start point, capture test, coupling).
+    bow_wave : BowWave, optional
+        The receiver's forebody flow.
+    pilot : Pilot, optional
+        The pilot model flying the probe (not with a receiver).
+    receiver : Receiver, optional
+        The probe flown by a velocity command (:meth:`step` ``receiver=``) through this
+        response (its ``entry`` is not needed here).
+    control : LinearController, optional
+        A built-in drogue controller compiled in the loop (continuous).
+    drogue_command : bool
+        The drogue's force is commanded (:meth:`step` ``drogue=``) instead.
+    actuator : Actuator
+        Force [N] and rate [N/s] limits of the drogue's force.
+    sensor : Sensor
+        Noise [m] on the measured drogue position, its delay [s] (a whole multiple of the control step).
+    x0 : array (4n,), optional
+        Initial hose state [rad, rad/s].
+    equilibrium : Equilibrium, optional
+        A solved balance position of the initial mesh to reuse.
+    seed : int, optional
+        Overrides ``params.turbulence.seed``.
+    length_rate_m_s : float
+        Initial L' [m/s].
+    record : bool
+        Keep the time series for :meth:`result` (False: only the measurement, for speed).
+    energy : bool
+        :meth:`result` also evaluates the energy terms [J].
+    gravity_m_s2 : float, optional
+        Overrides g [m/s^2].
+    """
+
+    def __init__(self, params: Params, duration_s: float, *, control_step_s: float, reel: Reel | None = None,
+                 probe: Probe | None = None, bow_wave: BowWave | None = None, pilot: Pilot | None = None,
+                 receiver: Receiver | None = None, control: LinearController | None = None,
+                 drogue_command: bool = False, actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
+                 x0=None, equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
+                 record: bool = True, energy: bool = False, gravity_m_s2: float | None = None):
+        if drogue_command:
+            control = LinearController(*hold_controller_arrays())
+        self.start = prepare(params, duration_s, reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot,
+                             receiver=receiver, control=control, actuator=actuator, sensor=sensor if
+                             not drogue_command else Sensor(), x0=x0, equilibrium=equilibrium, seed=seed,
+                             length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2)
+        st = self.start
+        self.params, self.probe, self.duration_s = st.params, probe, float(duration_s)
+        self.h = params.numerics.step_s
+        self.total_steps = st.total_steps
+        self.every = params.numerics.output_every
+        self.max_yaw = math.radians(params.numerics.max_yaw_deg)
+        self.record, self.energy, self.gravity_m_s2 = bool(record), bool(energy), gravity_m_s2
+        self._setup_sensor(sensor, control_step_s, self.h)
+        self.roles = tuple(r for r, on in (("drogue", drogue_command), ("reel", st.reel.law == "python"),
+                                           ("receiver", receiver is not None)) if on)
+        # the held commands (u_y, u_z, take-up speed, v_x, v_y, v_z), written into the state's
+        # slots before every control step
+        self._commands = np.zeros(6)
+        self._slots = {"drogue": (0, 1), "reel": (2,), "receiver": (3, 4, 5)}
+        self._slots = {role: self._slots[role] for role in self.roles}
+        if receiver is not None:
+            self._commands[3] = st.ep[EK.EP_VC]
+        self.balance = st.drogue_eq.copy()
+        self.seed = st.params.turbulence.seed
+        self._model_seed = self.seed
+        self.model = st.model
+        self.reset()
+
+    # --- the run's state ---------------------------------------------------------------------------
+    def _restart(self, seed: int | None) -> None:
+        st = self.start
+        if seed is not None:
+            self.seed = seed
+        if self.seed != self._model_seed:
+            self.params = st.params.replace(turbulence={"seed": self.seed})
+            model = chain_model(self.params, st.chain, self.duration_s)
+            if self.gravity_m_s2 is not None:
+                model.ps[K.PS_G] = float(self.gravity_m_s2)
+            self.model = model
+            self._model_seed = self.seed
+        self.noise3 = sensor_noise3(self.sensor, self.duration_s, self.seed)
+        self.run = st.new_run()
+        self.run.segments = []  # the stepper records into its own buffers (the first row: t = 0)
+        self._closed = []
+        self._commands[:] = 0.0
+        if "receiver" in self.roles:
+            self._commands[3] = st.ep[EK.EP_VC]
+        self.ctr[C_TOTAL] = self.total_steps
+        self.ctr[C_SPC] = self.spc
+        self._on_chain()
+        if self.record:
+            self._ts[0] = 0.0
+            self._zs[0] = self.run.z
+            self.ctr[C_SAVED] = 1
+        EK.eng_raw(0.0, self.run.z, *self._model_args, self._ws, self._ws2, self._dM, self._out, self.ring[0])
+        deliver(self.ring, 0, self.delay, self.control_step_s, self.noise3, self.sensor.sample_time_s,
+                self.balance, self.mbuf)
+
+    def _on_chain(self) -> None:
+        """Arrays of the current discretization (after a reset or an event): the scratch, a new
+        recording buffer, the command's places in the state and the kernel's argument tuple."""
+        run, model = self.run, self.model
+        chain, n, nz = run.chain, run.chain.n, run.z.size
+        self._ws, self._ws2 = K.make_workspace(n), K.make_workspace(n)
+        self._dM, self._out = np.empty(2), np.empty(EK.O_SIZE)
+        self._work = np.empty((5, nz))
+        self._zprev = np.empty(nz)
+        rows = (self.total_steps - int(self.ctr[C_STEP])) // self.every + 2 if self.record else 1
+        self._ts, self._zs = np.empty(rows), np.empty((rows, nz))
+        self._rec_chain, self._rec_ep = chain, run.ep.copy()
+        self.ctr[C_SAVED] = 0
+        self._places = self._command_places(run)
+        self._model_args = (n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env, model.gust_values,
+                            run.ep, chain.chart, run.loop)
+        self._call = (self.ctr, run.z, self.h, self.every, *self._model_args, run.hist, self.max_yaw,
+                      math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom, MERGE_RATIO * chain.l_nom, n >= 2,
+                      self._zprev, self._ts, self._zs, self.record, self._work, self._ws, self._ws2, self._dM,
+                      self._out, self.ring, self.delay, self.control_step_s, self.noise3, self.sensor.sample_time_s,
+                      self.balance, self.mbuf)
+
+    def _command_places(self, run) -> list:
+        """(index in the held commands, index in the state) of every commanded number."""
+        b = 4 * run.chain.n + EK.Z_TAIL
+        places = []
+        if "drogue" in self.roles:
+            nx = b + int(run.ep[EK.EP_NPIL])
+            places += [(0, nx), (1, nx + 1)]
+        if "reel" in self.roles:
+            places.append((2, b + int(run.ep[EK.EP_REEL_SLOT]) - 1))
+        if "receiver" in self.roles:
+            places += [(3 + i, b + EK.RCV_CX + i) for i in range(3)]
+        return places
+
+    def _close_record(self) -> None:
+        saved = int(self.ctr[C_SAVED])
+        if self.record and saved:
+            self._closed.append((self._rec_chain, self._rec_ep, self._ts[:saved].copy(), self._zs[:saved].copy(),
+                                 self._places))
+        self.ctr[C_SAVED] = 0
+
+    # --- one control step ----------------------------------------------------------------------------
+    def _advance(self) -> None:
+        run = self.run
+        z, cmd = run.z, self._commands
+        for i, j in self._places:
+            z[j] = cmd[i]
+        if self.record and int(self.ctr[C_STEP]) % self.every == 0 and (self.ctr[C_SAVED] or self._closed):
+            # the row saved at this instant shows the command that acts from it (as the fixed-length loop's)
+            saved = int(self.ctr[C_SAVED])
+            row, places = (self._zs[saved - 1], self._places) if saved else (self._closed[-1][3][-1],
+                                                                             self._closed[-1][4])
+            for i, j in places:
+                row[j] = cmd[i]
+        target = min(int(self.ctr[C_STEP]) + self.spc, self.total_steps)
+        self.ctr[C_TARGET] = target
+        while True:
+            code = EK.eng_advance(*self._call)
+            run.step = int(self.ctr[C_STEP])
+            run.t = run.step * self.h
+            if code == K.OK:
+                break
+            if self._event(code):
+                return
+            if run.step >= target:
+                break
+        if run.step >= self.total_steps:
+            self._finish(True, "completed")
+
+    def _event(self, code: int) -> bool:
+        """Handle what ended a compiled segment before the control step's end; True if the run ends."""
+        run = self.run
+        if code in (K.NONFINITE, K.YAW_LIMIT, EK.REEL_END):
+            message = f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
+            if code == EK.REEL_END:
+                L = run.z[4 * run.chain.n + EK.Z_L]
+                message += f": L = {L:.3f} m, range [{run.ep[EK.EP_L_MIN]:g}, {run.ep[EK.EP_L_MAX]:g}] m"
+            self._finish(False, message, state_valid=False)
+            return True
+        self._close_record()
+        self.ctr[C_ORIGIN] = self.ctr[C_STEP]  # the next compiled segment counts its times from here, as the driver's
+        if code == EK.CHART:
+            switch_event(run, self.model)
+        elif code in (EK.SPLIT, EK.MERGE):
+            remesh_event(run, code, self.params, self.model)
+        elif code == EK.PLANE and contact_event(run, self._zprev, self.h, self.probe, self.model):
+            self._finish(True, "completed", state_valid=False)  # a miss or a failed latch ends the run
+            return True
+        self._on_chain()
+        return False
+
+    def _save_final(self) -> None:
+        """Nothing to add: the kernel saves every state on the output grid as it reaches it."""
+
+    # --- the result ------------------------------------------------------------------------------
+    @property
+    def outcome(self) -> dict:
+        """The capture test's outcome so far (``result``, miss [m], closure speed [m/s], contact time [s])."""
+        return self.run.outcome
+
+    def result(self) -> EngagementResult:
+        """The run so far as the usual :class:`~hosedrogue.results.EngagementResult` (``completed``
+        False and ``message`` saying why if it stopped early or is still running).
+
+        Returns
+        -------
+        EngagementResult
+        """
+        if not self.record:
+            raise RuntimeError("this stepper keeps no time series (record=False)")
+        st, run = self.start, self.run
+        saved = int(self.ctr[C_SAVED])
+        segments = [rec[:4] for rec in self._closed]
+        if saved:
+            segments.append((self._rec_chain, self._rec_ep, self._ts[:saved].copy(), self._zs[:saved].copy()))
+        return assemble_result(self.params, segments, run.events, dict(run.outcome), self.model, st.drogue_eq,
+                               self.energy, self._completed, self._message, run.delta_total, st.t_set, st.reel,
+                               self.probe, loop=run.loop)

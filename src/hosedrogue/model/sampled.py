@@ -1,0 +1,240 @@
+"""Compiled core of the sampled-data loops (numba): the measurement a sampled-data controller
+reads, and the fixed-length hose integrated between samples with the commands held.
+
+A sampled-data controller (docs/controllers.md) is called every control step; between calls the
+compiled loop runs with its command held. The drogue's force command is held as the state of a
+"hold" controller of the closed loop (:func:`hold_controller_arrays`: ``xc' = 0``, ``u = xc``
+through the actuator's limits), so the loops of :mod:`.integrate` and
+:mod:`.engagement_kernels` run unchanged between samples and the command survives remeshes.
+
+The measurement
+---------------
+At each sample the kernels write the *raw* quantities of the state (``R_*`` layout: drogue
+position and velocity, probe tip position and velocity, free hose length and reel speed, exit
+tension, coupled flag) into a ring of ``D + 1`` rows, D the sensor delay in samples;
+:func:`deliver` turns the row of D samples ago (of sample 0 before then) into the measurement
+buffer (``M_*`` layout, read by :class:`hosedrogue.controllers.sampled.Measurement`): the drogue
+position gets the sensor noise of that instant (zero-order held, ``noise_dt``), the relative
+position and velocity are drogue minus probe tip. Vectors in the tanker frame S_p.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..jit import JIT, JIT_NO_ALLOC
+from .integrate import closed_loop_deriv, rk4_step, rk4_step_given_k1, save_state, step_status
+from .kernels import OK, make_workspace_jit
+
+# --- raw measurement of a state (one ring row) ------------------------------------------------------
+R_DROGUE, R_DROGUE_V, R_PROBE, R_PROBE_V = 0, 3, 6, 9  # 3 each [m, m/s]
+R_L, R_REEL_V, R_T0, R_COUPLED = 12, 13, 14, 15  # [m], [m/s] (positive reeling in), [N], 0/1
+RAW_SIZE = 16
+
+# --- the measurement buffer --------------------------------------------------------------------------
+M_T = 0  # time the quantities are of [s] (the call's time minus the delay)
+M_DROGUE, M_DROGUE_V = 1, 4  # drogue position (with the sensor noise) [m] and velocity [m/s]
+M_PROBE, M_PROBE_V = 7, 10  # probe tip position [m] and velocity [m/s] (NaN without a probe)
+M_REL, M_REL_V = 13, 16  # drogue minus probe tip [m, m/s]
+M_L, M_REEL_V, M_T0, M_COUPLED = 19, 20, 21, 22  # hose length [m], reel speed [m/s], exit tension [N], 0/1
+M_BALANCE = 23  # the drogue's balance position at the start [m] (the built-in controllers' reference)
+M_SIZE = 26
+
+
+@njit(**JIT_NO_ALLOC)
+def noise3_at(t, noise, noise_dt):
+    """Zero-order-held sensor noise (3 axes) [m] at time t [s] from samples (k, 3)."""
+    i = int(t / noise_dt)
+    if i >= noise.shape[0]:
+        i = noise.shape[0] - 1
+    if i < 0:
+        i = 0
+    return noise[i, 0], noise[i, 1], noise[i, 2]
+
+
+@njit(**JIT_NO_ALLOC)
+def deliver(ring, k, delay, sample_h, noise, noise_dt, balance, mbuf):
+    """The measurement of sample k into ``mbuf``: the ring row of sample ``k - delay`` (sample 0
+    before then), at its time ``j sample_h`` [s], the drogue position with the sensor noise of
+    that instant; relative position and velocity drogue minus probe tip."""
+    j = k - delay
+    if j < 0:
+        j = 0
+    row = ring[j % ring.shape[0]]
+    t = j * sample_h
+    nx, ny, nz = noise3_at(t, noise, noise_dt)
+    mbuf[M_T] = t
+    mbuf[M_DROGUE] = row[R_DROGUE] + nx
+    mbuf[M_DROGUE + 1] = row[R_DROGUE + 1] + ny
+    mbuf[M_DROGUE + 2] = row[R_DROGUE + 2] + nz
+    for i in range(3):
+        mbuf[M_DROGUE_V + i] = row[R_DROGUE_V + i]
+        mbuf[M_PROBE + i] = row[R_PROBE + i]
+        mbuf[M_PROBE_V + i] = row[R_PROBE_V + i]
+        mbuf[M_REL + i] = mbuf[M_DROGUE + i] - row[R_PROBE + i]
+        mbuf[M_REL_V + i] = row[R_DROGUE_V + i] - row[R_PROBE_V + i]
+        mbuf[M_BALANCE + i] = balance[i]
+    mbuf[M_L] = row[R_L]
+    mbuf[M_REEL_V] = row[R_REEL_V]
+    mbuf[M_T0] = row[R_T0]
+    mbuf[M_COUPLED] = row[R_COUPLED]
+
+
+# --- the fixed-length hose between samples -----------------------------------------------------------
+@njit(**JIT)
+def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                noise_dt, max_yaw, record, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension, saved,
+                ws, work, u):
+    """``nsteps`` RK4 steps of the closed loop from global step ``step0`` (time ``step0 h``), in
+    place; with ``record`` the state at every global step j in [step0, step0 + nsteps) that is a
+    multiple of ``every`` is saved at row ``saved`` on (:func:`~.integrate.save_state`, whose
+    evaluation serves as the step's first stage, as in :func:`~.integrate.rk4_run`). Returns
+    (status, saved count, steps done): a non-finite state or a yaw beyond ``max_yaw`` [rad] stops
+    after its step."""
+    n = l.shape[0]
+    for s in range(nsteps):
+        j = step0 + s
+        t = j * h
+        if record and j % every == 0:
+            save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                       work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
+            saved += 1
+            rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+                              ws, work, u)
+        else:
+            rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u)
+        status = step_status(z, n, max_yaw)
+        if status != OK:
+            return status, saved, s + 1
+    return OK, saved, nsteps
+
+
+@njit(**JIT)
+def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u, raw):
+    """The raw measurement (``R_*``) of the fixed-length state z at time t [s]: drogue position
+    and velocity, exit tension of the evaluation with the loop as it is, the hose length; no
+    probe (NaN), reel speed 0, not coupled."""
+    n = l.shape[0]
+    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work[4], u)
+    r, v = ws[4], ws[5]
+    length = 0.0
+    for k in range(n):
+        length += l[k]
+    for i in range(3):
+        raw[R_DROGUE + i] = r[n, i]
+        raw[R_DROGUE_V + i] = v[n, i]
+        raw[R_PROBE + i] = math.nan
+        raw[R_PROBE_V + i] = math.nan
+    raw[R_L] = length
+    raw[R_REEL_V] = 0.0
+    raw[R_T0] = ws[17][0]
+    raw[R_COUPLED] = 0.0
+
+
+#: The counters of a stepped run (an int64 array the advance kernels update in place): global RK4
+#: step, saved rows, sample index, total steps, RK4 steps per control step, the last status, and
+#: the engagement's step a control step integrates to and step of the last event (the origin of
+#: the times of its compiled segment, as the driver counts them).
+C_STEP, C_SAVED, C_SAMPLE, C_TOTAL, C_SPC, C_STATUS, C_TARGET, C_ORIGIN = range(8)
+C_SIZE = 8
+
+
+@njit(**JIT)
+def fl_advance(ctr, z, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, max_yaw,
+               record, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension, ws, work, u, ring, delay,
+               sample_h, noise3, noise3_dt, balance, mbuf):
+    """One control step of the fixed-length hose: :func:`fl_interval` of ``min(spc, total -
+    step)`` steps from the counters ``ctr`` (``C_*``: global step, saved rows, sample index,
+    total steps, steps per control step; updated in place, ``C_STATUS`` the kernels' status),
+    then, if the state is fine, the raw measurement of the next sample into the ring and its
+    measurement (delayed by ``delay`` samples) into ``mbuf`` (:func:`deliver`). Every argument
+    but the counters is the same from one call to the next, so the caller passes one tuple."""
+    step0 = ctr[C_STEP]
+    count = min(ctr[C_SPC], ctr[C_TOTAL] - step0)
+    status, saved, done = fl_interval(z, step0, count, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
+                                      act, noise, noise_dt, max_yaw, record, ts, zs, us, joints, drogue_vel,
+                                      drogue_drag, tow, tension, ctr[C_SAVED], ws, work, u)
+    ctr[C_STEP] = step0 + done
+    ctr[C_SAVED] = saved
+    ctr[C_SAMPLE] += 1
+    ctr[C_STATUS] = status
+    if status == OK:
+        k = ctr[C_SAMPLE]
+        fl_raw((step0 + count) * h, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+               ws, work, u, ring[k % ring.shape[0]])
+        deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
+    return status
+
+
+@njit(**JIT)
+def fl_linear_sampled_run(z, nsteps, spc, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
+                          noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension,
+                          ring, delay, noise3, noise3_dt, balance, Ad, Bd, Cd, Dd, nx):
+    """A built-in linear drogue controller in sampled-data mode, compiled end to end: every
+    ``spc`` RK4 steps it reads the measured drogue offset ``y = (drogue y, z + noise) - balance``
+    [m] of the measurement (:func:`deliver`, the sensor delay included) and sets the held force
+    ``u = Cd xd + Dd y`` [N] (the hold controller's state ``z[nx:nx+2]``), then ``xd <- Ad xd +
+    Bd y`` (the zero-order-hold discretization); the loop arrays are the hold controller's.
+    Saves every ``every``-th step from 0 to ``nsteps`` into the record. Returns (status, saved
+    count, steps done)."""
+    n = l.shape[0]
+    ws = make_workspace_jit(n)
+    work = np.empty((5, z.shape[0]))
+    u = np.empty(2)
+    mbuf = np.empty(M_SIZE)
+    nd = Ad.shape[0]
+    xd = np.zeros(nd)
+    xn = np.empty(nd)
+    sample_h = spc * h
+    fl_raw(0.0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u, ring[0])
+    saved = 0
+    step = 0
+    k = 0
+    while step < nsteps:
+        deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
+        y0 = mbuf[M_DROGUE + 1] - mbuf[M_BALANCE + 1]
+        y1 = mbuf[M_DROGUE + 2] - mbuf[M_BALANCE + 2]
+        for i in range(2):
+            acc = Dd[i, 0] * y0 + Dd[i, 1] * y1
+            for j in range(nd):
+                acc += Cd[i, j] * xd[j]
+            z[nx + i] = acc
+        for i in range(nd):
+            acc = Bd[i, 0] * y0 + Bd[i, 1] * y1
+            for j in range(nd):
+                acc += Ad[i, j] * xd[j]
+            xn[i] = acc
+        for i in range(nd):
+            xd[i] = xn[i]
+        count = min(spc, nsteps - step)
+        status, saved, done = fl_interval(z, step, count, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc,
+                                          y_ref, act, noise, noise_dt, max_yaw, True, ts, zs, us, joints,
+                                          drogue_vel, drogue_drag, tow, tension, saved, ws, work, u)
+        step += done
+        if status != OK:
+            return status, saved, step
+        k += 1
+        if step < nsteps:
+            fl_raw(step * h, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u,
+                   ring[k % ring.shape[0]])
+    if nsteps % every == 0:
+        save_state(saved, nsteps * h, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                   work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
+        saved += 1
+    return OK, saved, nsteps
+
+
+def hold_controller_arrays():
+    """The "hold" controller whose two states are the held force command [N]: ``A = B = 0``
+    (2 x 2), ``C = I``, ``D = 0``; the actuator's force limit clips it and a rate-limited actuator
+    follows it, as for any controller of the loop.
+
+    Returns
+    -------
+    A, B, C, D : numpy.ndarray
+        (2, 2) each [1/s, -, N per state, N/m].
+    """
+    return np.zeros((2, 2)), np.zeros((2, 2)), np.eye(2), np.zeros((2, 2))
