@@ -124,29 +124,14 @@ def simulate(
 
     outs = None  # derived outputs: the compiled RK4 loop saves them with the states
     surfaces = {}
-    if drogue_actuator is not None:
-        drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
-        if params.numerics.integrator == "rk4":
-            drogue_actuator.check_step(params.numerics.step_s)
     if callable(control) and not isinstance(control, LinearController):
         if drogue_actuator is not None:
             raise ParameterError("drogue_actuator: a Python control function commands the force itself; give a "
                                  "LinearController to command the drogue's control surfaces")
         ts, xs, us, status, t_stop = _run_python_control(model, params, x0, duration_s, control)
     else:
-        ctrl = control if control is not None else LinearController.static_zero()
-        noise = sensor_noise(sensor, duration_s, params.turbulence.seed)
-        loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s, drogue_actuator)
-        z0 = closed_loop_state(x0, ctrl, actuator, drogue_actuator)
-        if params.numerics.integrator == "rk4":
-            ts, zs, us, status, t_stop, outs = _run_rk4(model, z0, duration_s, loop)
-        else:
-            ts, zs, us, status, t_stop = _run_adaptive(model, z0, duration_s, loop)
-        xs = zs[:, : 4 * n]
-        if drogue_actuator is not None:
-            ns, na = drogue_actuator.surfaces, 4 * n + ctrl.n_states
-            surfaces = DA.result_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], drogue_actuator)
-        us = us[:, :2]
+        ts, xs, us, status, t_stop, outs, surfaces = _run_compiled(model, params, x0, duration_s, control, y_ref,
+                                                                   actuator, sensor, drogue_actuator)
 
     if outs is None:
         outs = _derived_outputs(model, ts, xs, us)
@@ -216,6 +201,31 @@ def _run_linear_sampled(params, duration_s, x0, control: LinearController, equil
     stepper = FixedLengthStepper(params, duration_s, control_step_s=sample_time_s, x0=x0, equilibrium=equilibrium,
                                  actuator=actuator, sensor=sensor, model=model)
     return stepper.run_linear(control)
+
+
+def _run_compiled(model, params, x0, duration_s, control, y_ref, actuator, sensor, drogue_actuator):
+    """The compiled closed loop (RK4 or DOP853) with a linear controller (or none) and, if given,
+    the drogue's control surfaces; returns (ts, xs, us, status, t_stop, outs or None, the
+    surfaces' result fields)."""
+    if drogue_actuator is not None:
+        drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
+        if params.numerics.integrator == "rk4":
+            drogue_actuator.check_step(params.numerics.step_s)
+    n = model.n
+    ctrl = control if control is not None else LinearController.static_zero()
+    noise = sensor_noise(sensor, duration_s, params.turbulence.seed)
+    loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s, drogue_actuator)
+    z0 = closed_loop_state(x0, ctrl, actuator, drogue_actuator)
+    outs = None
+    if params.numerics.integrator == "rk4":
+        ts, zs, us, status, t_stop, outs = _run_rk4(model, z0, duration_s, loop)
+    else:
+        ts, zs, us, status, t_stop = _run_adaptive(model, z0, duration_s, loop)
+    surfaces = {}
+    if drogue_actuator is not None:
+        ns, na = drogue_actuator.surfaces, 4 * n + ctrl.n_states
+        surfaces = DA.result_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], drogue_actuator)
+    return ts, zs[:, : 4 * n], us[:, :2], status, t_stop, outs, surfaces
 
 
 def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator, drogue_actuator=None) -> np.ndarray:
