@@ -23,6 +23,7 @@ import numpy as np
 from ..paper import SEC33_DISPLACEMENT_M
 from ..sections import DrogueActuator
 from ..studies import drogue_actuator as study
+from .docking_cells import CAMPAIGNS as DOCKING_CAMPAIGNS
 from .docking_cells import capture_cells, capture_record
 from .markup import figure_html, fmt, html_table
 
@@ -135,9 +136,10 @@ def _capture_html(table) -> str:
     rows = []
     for _, r in table.iterrows():
         ideal = not np.isfinite(r["max_deflection_deg"])
+        (kind, link), *cells = capture_cells(r, table.columns)  # the link into this section's campaigns
         rows.append((r["level"], r["controller"].upper(), "ideal" if ideal else f"{r['max_deflection_deg']:g}",
-                     "ideal" if ideal else f"{r['bandwidth_hz']:g}", *capture_cells(r, table.columns),
-                     "-" if ideal else fmt(r["saturated_runs_fraction"], 3),
+                     "ideal" if ideal else f"{r['bandwidth_hz']:g}", (kind, link.replace(DOCKING_CAMPAIGNS, CAMPAIGNS)),
+                     *cells, "-" if ideal else fmt(r["saturated_runs_fraction"], 3),
                      "-" if ideal else fmt(r["saturated_time_median"], 3), int(r["stopped"])))
     return html_table(["turbulence", "controller", "deflection limit [deg]", "servo [Hz]", "campaign", "runs",
                        "capture rate [-]", "Wilson 95 % interval [-]", "by result", "runs saturated [-]",
