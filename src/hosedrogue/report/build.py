@@ -16,8 +16,9 @@ from pathlib import Path
 from typing import Callable
 
 from ..version import __version__
-from . import (accuracy, closed_loop, controllers, convergence, differences, docking, engagement, hose_views, linear,
-               long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep, turbulence_speeds)
+from . import (accuracy, closed_loop, controllers, convergence, differences, docking, drogue_actuator, engagement,
+               hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
+               turbulence_speeds)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -65,6 +66,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("engagement", "engagement", engagement.build),
     Section("docking", "docking statistics and bow wave", docking.build),
     Section("manoeuvres", "manoeuvres", manoeuvres.build),
+    Section("drogue_actuator", "actuated drogue", drogue_actuator.build),
 )
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.

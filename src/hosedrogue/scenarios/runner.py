@@ -164,9 +164,10 @@ def run(scenario: Scenario) -> RunResult:
 
     Solves the balance position, designs the controller (:func:`drogue_controller`), starts
     from :func:`initial_state` and simulates ``scenario.duration_s`` with the scenario's
-    actuator and sensor; the engagement adds the reel, probe, bow wave and pilot or receiver.
-    The user's sampled-data controllers (:func:`sampled_controllers`) are imported and built
-    before the run starts; a built-in controller with ``sample_time_s`` > 0 runs sampled.
+    actuator and sensor (and the drogue's control surfaces, if any); the engagement adds the reel,
+    probe, bow wave and pilot or receiver. The user's sampled-data controllers
+    (:func:`sampled_controllers`) are imported and built before the run starts; a built-in
+    controller with ``sample_time_s`` > 0 runs sampled.
 
     Parameters
     ----------
@@ -209,7 +210,8 @@ def _run_fixed_length(scenario: Scenario) -> RunResult:
     return simulate(params, scenario.duration_s, x0=initial_state(scenario, eq),
                     control=_drogue(scenario, controllers, model, eq), equilibrium=eq,
                     actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, model=model,
-                    sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0)
+                    sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0,
+                    drogue_actuator=scenario.loop.drogue_actuator)
 
 
 def _run_engagement(scenario: Scenario) -> RunResult:
@@ -225,7 +227,8 @@ def _run_engagement(scenario: Scenario) -> RunResult:
                                bow_wave=e.bow_wave, pilot=e.pilot, receiver=e.receiver,
                                control=_drogue(scenario, controllers), actuator=scenario.loop.actuator,
                                sensor=scenario.loop.sensor, x0=x0,
-                               sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0)
+                               sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0,
+                               drogue_actuator=scenario.loop.drogue_actuator)
 
 
 def _meta(scenario: Scenario) -> dict:
@@ -235,6 +238,8 @@ def _meta(scenario: Scenario) -> dict:
             "controller": scenario.loop.controller.type, "controller_options": dict(scenario.loop.controller.options),
             "controller_design": controller_record(scenario),
             "actuator": scenario.loop.actuator.to_dict(), "sensor": scenario.loop.sensor.to_dict()}
+    if scenario.loop.drogue_actuator is not None:
+        meta["drogue_actuator"] = scenario.loop.drogue_actuator.to_dict()
     if scenario.engagement is not None:
         e = scenario.engagement
         meta["pilot"] = None if e.pilot is None else e.pilot.to_dict()
