@@ -1,6 +1,7 @@
 """``hosedrogue study``: the studies of the report run on their own; ``study docking`` runs the
 docking grid (:mod:`hosedrogue.studies.docking`), ``study whip-loads`` the whip's loads against
-the hose's axial stiffness and the closure speed (:mod:`hosedrogue.studies.whip_loads`)."""
+the hose's axial stiffness and the closure speed (:mod:`hosedrogue.studies.whip_loads`),
+``study actuator`` the actuated drogue's studies (:mod:`.study_actuator`)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import sys
 from pathlib import Path
 
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
+from .study_actuator import add_study_parser
 
 NAME = "study"
 
@@ -63,6 +65,7 @@ def add_parser(sub) -> None:
     d.add_argument("--quiet", action="store_true", help="no progress bars")
     d.set_defaults(func=run_docking)
     _add_whip_loads(studies)
+    add_study_parser(studies)
 
 
 def _add_whip_loads(studies) -> None:

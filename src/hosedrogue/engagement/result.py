@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..metrics import turbulence_window
+from ..model import drogue_actuator as DA
 from ..model import engagement_kernels as EK
 from ..params import Params
 from ..results import EngagementResult
@@ -138,6 +139,12 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
             "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
             "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [EK.O_UY, EK.O_UZ]], "drag": drag,
             "links_t": list(links_t)}
+    if loop is not None and ep[EK.EP_CTRL] != 0.0 and DA.is_actuated(loop.act):
+        ns = int(loop.act[DA.DA_NS])
+        na = b + EK.Z_TAIL + int(ep[EK.EP_NPIL]) + loop.Ac.shape[0]
+        cols["defl"] = zs[:, na:na + ns]
+        cols["rate"] = scal[:, EK.O_SERVO:EK.O_SERVO + ns]
+        cols["q"] = scal[:, EK.O_Q]
     if energy:
         en = segment_energies(zs, chain, model, ep)
         cols["E"] = np.column_stack([en, zs[:, b + EK.Z_WM:b + EK.Z_WAX + 1]])
@@ -181,7 +188,8 @@ def _step_peaks(record: np.ndarray) -> dict:
 
 def assemble_result(params: Params, segments: list, events: list, outcome: dict, model, drogue_eq: np.ndarray,
                     energy: bool, completed: bool, message: str, delta_total: float, t_set: float,
-                    reel, probe, loop=None, step_loads: np.ndarray | None = None) -> EngagementResult:
+                    reel, probe, loop=None, step_loads: np.ndarray | None = None,
+                    drogue_actuator=None) -> EngagementResult:
     """Evaluate the outputs of every segment and build the run's result.
 
     Parameters
@@ -217,6 +225,8 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     step_loads : array (steps + 1, 4), optional
         Elastic links: exit and drogue-end tension [N], probe load [N] and slack [m] after every
         integration step (``engagement_kernels.state_loads``); the run's peaks are taken from it.
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (their deflections, rates and q become result fields).
 
     Returns
     -------
@@ -233,6 +243,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     link_tensions = [t for seg in cols.pop("links_t") for t in seg] if params.hose.elastic else None
     cols.pop("links_t", None)
     cat = {k: np.concatenate(v) for k, v in cols.items()}
+    surfaces = {} if "defl" not in cat else DA.result_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
     outcome.update(_peaks(cat, drogue_eq, events, delta_total, t_set))
     record = None
@@ -253,4 +264,5 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         closure_speed_series_m_s=cat["vclose"],
         links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
         energy=en_dict, events=events, outcome=outcome, step_loads=record, link_tensions_n=link_tensions, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
-        completed=completed, message=message, meta=meta, statistics_window_s=turbulence_window(params.turbulence))
+        completed=completed, message=message, meta=meta, statistics_window_s=turbulence_window(params.turbulence),
+        **surfaces)
