@@ -251,3 +251,26 @@ def test_zero_takeup_user_reel_is_the_locked_reel_for_elastic_links():
     assert got.completed and got.outcome["result"] == "captured"
     assert np.all(got.hose_length_m == got.hose_length_m[0])
     assert np.max(np.abs(got.drogue_position_m - locked.drogue_position_m)) < 1e-9
+
+
+def test_drogue_surfaces_refuse_an_elastic_hose(tmp_path, capsys):
+    """The drogue's control surfaces (main's [drogue_actuator]) run the rigid links' state layout:
+    an elastic hose with them is refused in one line naming hose.axial_stiffness_n - in a scenario
+    file (exit 2, nothing written), in simulate and in simulate_engagement."""
+    from hosedrogue.cli import main
+    from hosedrogue.drogue_surfaces import DrogueActuator
+    from hosedrogue.errors import ParameterError
+
+    f = tmp_path / "elastic-surfaces.toml"
+    f.write_text('[scenario]\nextends = "engage-response"\n\n[controller]\ntype = "pid"\n\n[drogue_actuator]\n')
+    out = tmp_path / "out"
+    assert main(["simulate", str(f), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "hose.axial_stiffness_n = 1000000.0" in err[0] and "rigid links" in err[0], err
+    assert not out.exists()
+    p = PAPER.replace(hose={"axial_stiffness_n": 1e6, "axial_damping_n_s": 3000.0},
+                      numerics={"integrator": "sdirk2", "step_s": 0.001})
+    with pytest.raises(ParameterError, match="hose.axial_stiffness_n"):
+        simulate(p, 0.1, drogue_actuator=DrogueActuator())
+    with pytest.raises(ParameterError, match="hose.axial_stiffness_n"):
+        simulate_engagement(p, 0.1, reel=Reel(law="locked"), probe=None, drogue_actuator=DrogueActuator())
