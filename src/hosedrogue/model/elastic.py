@@ -326,10 +326,12 @@ def elastic_energy(x, l, M, J, ps):
 
 @njit(**JIT)
 def elastic_static_residual(y, l, M, J, ps, env, gust, t, Q):
-    """Generalized forces at rest of y = [q (2n), lam (n)] into Q (3n), zero exactly at the
-    elastic chain's balance position: the angles' as :func:`~hosedrogue.model.kernels.static_residual`,
-    the lengths' ``(load aft of the link) . e_k - T_k`` times ``l_k`` (so every entry is a virtual
-    work per unit of its coordinate's natural scale, N m)."""
+    """Generalized forces at rest of y = [q (2n), lam (n)] into Q (3n) [N m], zero exactly at the
+    elastic chain's balance position.
+
+    The angles' entries are :func:`~hosedrogue.model.kernels.static_residual`'s; link k's length
+    entry is the load aft of the link along ``e_k`` minus its tension ``T_k``, times ``l_k`` (so
+    every entry is a virtual work per unit of its coordinate's natural scale, N m)."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
     ews = make_elastic_workspace_jit(n)
