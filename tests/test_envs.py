@@ -3,6 +3,7 @@ episodes, the baseline against the same law flown as a user's docking controller
 scenario, every outcome with its reward, the options reaching the physics, the picture, the
 registration and a clear error without Gymnasium. Each test runs a few episodes (seconds)."""
 
+import json
 import math
 import subprocess
 import sys
@@ -233,3 +234,50 @@ def test_without_gymnasium_the_import_says_how_to_install_it():
 def test_reward_weights_are_a_validated_section():
     assert DockingReward().terminal("time-out") == 0.0
     assert DockingEnv(reward={"miss_penalty": 2.0}).reward_weights.miss_penalty == 2.0
+
+
+def test_gym_command_json_is_the_episodes_flown_in_python(capsys):
+    """``hosedrogue gym --json``: the episodes of :func:`fly` on the campaign's turbulence seeds
+    (run i of campaign seed s has ``run_seed(s, i)``), the same outcomes and miss distances bit for bit."""
+    from hosedrogue.cli import main
+    from hosedrogue.envs import fly
+    from hosedrogue.studies.seeds import run_seed
+    from hosedrogue.studies.statistics import wilson_interval
+
+    assert main(["gym", "--episodes", "3", "--seed", "7", "--turbulence", "light", "--time-limit", "4.5",
+                 "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    e = DockingEnv(turbulence="light", time_limit_s=4.5)
+    ends = fly(e, PDFeedForward(e), [run_seed(7, i) for i in range(3)])
+    assert [d["turbulence_seed"] for d in doc["episodes_detail"]] == [run_seed(7, i) for i in range(3)]
+    assert [d["outcome"] for d in doc["episodes_detail"]] == [x["outcome"] for x in ends]
+    assert [d["miss_distance_m"] for d in doc["episodes_detail"]] == [x["miss_distance_m"] for x in ends]
+    k = sum(x["outcome"] == "captured" for x in ends)
+    assert doc["capture_rate"] == k / 3 and doc["ci95"] == list(wilson_interval(k, 3))
+    assert doc["turbulence_sigma_m_s"] == pytest.approx(list(e.scenario.params.turbulence.sigma_m_s), rel=1e-15)
+
+
+@pytest.mark.parametrize("argv, names", [
+    (["--episodes", "0"], "--episodes"),
+    (["--model", "fine"], "model = 'fine'"),
+    (["paper-turbulence"], "enabled [probe]"),
+    (["--time-limit", "700"], "--time-limit"),
+])
+def test_gym_command_bad_input_is_one_line_exit_2(capsys, argv, names):
+    from hosedrogue.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        raise SystemExit(main(["gym", *argv]))
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert names in err and "\n" not in err and "Traceback" not in err
+
+
+def test_gym_command_help_states_the_units(capsys):
+    from hosedrogue.cli import main
+
+    with pytest.raises(SystemExit):
+        main(["gym", "--help"])
+    text = " ".join(capsys.readouterr().out.split()).split("options:", 1)[1]  # past the usage line
+    for option, unit in (("--episodes N", "[-]"), ("--seed SEED", "[-]"), ("--time-limit S", "[s]")):
+        assert option in text and unit in text.split(option, 1)[1].split("--", 1)[0]
