@@ -170,6 +170,7 @@ def test_options_reach_the_physics():
     ({"model": "fine"}, "model = 'fine'"),
     ({"scenario": "paper-turbulence"}, "enabled [probe]"),
     ({"scenario": "approach-moderate-pilot"}, "pilot.enabled = True"),
+    ({"scenario": "approach-moderate-pid-actuated"}, "[drogue_actuator]"),
     ({"time_limit_s": -1.0}, "time_limit_s = -1.0"),
     ({"breakaway_distance_m": 30.0}, "breakaway_distance_m = 30.0"),
     ({"reward": {"capture_bonus": -1.0}}, "reward.capture_bonus = -1.0"),
