@@ -282,3 +282,18 @@ def test_gym_command_help_states_the_units(capsys):
     text = " ".join(capsys.readouterr().out.split()).split("options:", 1)[1]  # past the usage line
     for option, unit in (("--episodes N", "[-]"), ("--seed SEED", "[-]"), ("--time-limit S", "[s]")):
         assert option in text and unit in text.split(option, 1)[1].split("--", 1)[0]
+
+
+def test_another_process_flies_the_same_bits():
+    """The same seed and actions in a fresh process: the same observations to the bit (the compiled
+    loop's floating-point options are fixed, docs/develop.md), compared through their hex digits."""
+    code = ("import numpy as np, hosedrogue.envs as he\n"
+            "e = he.DockingEnv(); o, _ = e.reset(seed=21); out = [o]\n"
+            "for _ in range(30): out.append(e.step(np.array([1/3, 0.2, -0.1]))[0])\n"
+            "print(' '.join(float(x).hex() for x in np.ravel(out)))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    e = DockingEnv()
+    o, _ = e.reset(seed=21)
+    here = [o] + [e.step(np.array([1 / 3, 0.2, -0.1]))[0] for _ in range(30)]
+    assert r.stdout.split() == [float(x).hex() for x in np.ravel(here)]
