@@ -297,3 +297,42 @@ def test_another_process_flies_the_same_bits():
     o, _ = e.reset(seed=21)
     here = [o] + [e.step(np.array([1 / 3, 0.2, -0.1]))[0] for _ in range(30)]
     assert r.stdout.split() == [float(x).hex() for x in np.ravel(here)]
+
+
+def test_report_section_alone(tmp_path):
+    """The report's "Docking environment" section (fast: 8 episodes per level and policy): its
+    table, episode and picture on disk, one row per level x policy whose interval holds its rate,
+    the drawn episode a capture of the baseline, and the campaigns' columns empty without the
+    docking section."""
+    import pandas as pd
+
+    from hosedrogue.report import docking_env
+    from hosedrogue.report.settings import FAST
+    from hosedrogue.report.writer import ReportFolder
+
+    out = ReportFolder(tmp_path)
+    docking_env.build(out, FAST)
+    (section,) = [s.html for s in out.sections if s.anchor == "docking-env"]
+    assert 'id="table-docking-env"' in section and 'id="fig-docking-env"' in section
+    assert (tmp_path / docking_env.FIGURE_PNG).stat().st_size > 10_000
+    table = pd.read_csv(tmp_path / docking_env.TABLE_CSV)
+    assert len(table) == 3 * len(docking_env.POLICIES) and set(table["episodes"]) == {FAST.docking_runs}
+    assert np.all((table["ci95_lo"] <= table["rate"]) & (table["rate"] <= table["ci95_hi"]))
+    episode = pd.read_csv(tmp_path / docking_env.EPISODE_CSV)
+    assert episode["t_s"].iloc[0] == 0.0 and np.all(np.diff(episode["t_s"]) > 0)
+    assert "captured, radial miss" in section and section.count("<td>-</td>") == 6
+    rec = out.headline["docking_env"]
+    assert rec["built"] is True and set(rec["cells"]) == {f"{lv}-{p}" for lv in ("light", "moderate", "severe")
+                                                          for p in docking_env.POLICIES}
+
+
+def test_report_section_without_gymnasium_says_so(tmp_path, monkeypatch):
+    from hosedrogue.report import docking_env
+    from hosedrogue.report.settings import FAST
+    from hosedrogue.report.writer import ReportFolder
+
+    monkeypatch.setitem(sys.modules, "gymnasium", None)
+    out = ReportFolder(tmp_path)
+    docking_env.build(out, FAST)
+    (section,) = [s.html for s in out.sections if s.anchor == "docking-env"]
+    assert "pip install 'hosedrogue[gym]'" in section and out.headline["docking_env"] == {"built": False}
