@@ -16,8 +16,8 @@ from pathlib import Path
 from typing import Callable
 
 from ..version import __version__
-from . import (accuracy, closed_loop, controllers, convergence, differences, docking, drogue_actuator, engagement,
-               hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
+from . import (accuracy, closed_loop, controllers, convergence, differences, docking, docking_env, drogue_actuator,
+               engagement, hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
                turbulence_speeds, whip_loads)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
@@ -66,6 +66,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("engagement", "engagement", engagement.build),
     Section("whip_loads", "whip loads", whip_loads.build),
     Section("docking", "docking statistics and bow wave", docking.build),
+    Section("docking_env", "docking environment (Gymnasium)", docking_env.build, needs=("docking",)),
     Section("manoeuvres", "manoeuvres", manoeuvres.build),
     Section("drogue_actuator", "actuated drogue", drogue_actuator.build),
 )
