@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..fields import check_entry, entry_name
 from ..model.sampled import (M_BALANCE, M_COUPLED, M_DROGUE, M_DROGUE_V, M_L, M_PROBE, M_PROBE_V, M_REEL_V, M_REL,
-                             M_REL_V, M_SIZE, M_T, M_T0)
+                             M_Q, M_REL_V, M_SIZE, M_T, M_T0)
 from .linear import LinearController
 
 #: The roles of a sampled-data controller.
@@ -75,6 +75,9 @@ class Measurement:
         Hose tension at the exit [N].
     coupled : bool
         Whether the probe has captured the drogue.
+    drogue_q_pa : float
+        Dynamic pressure at the drogue [Pa], the air its control surfaces see (free stream,
+        wake, turbulence, bow wave); NaN without ``[drogue_actuator]``.
     drogue_balance_m : array (3,)
         The drogue's balance position at the start [m] (the reference of the built-in controllers).
 
@@ -144,6 +147,12 @@ class Measurement:
     def coupled(self) -> bool:
         """Whether the probe has captured the drogue."""
         return bool(self._buf[M_COUPLED] != 0.0)
+
+    @property
+    def drogue_q_pa(self) -> float:
+        """Dynamic pressure of the air the drogue's control surfaces see [Pa] (NaN without
+        ``[drogue_actuator]``): what a controller divides by to turn a force into deflections."""
+        return float(self._buf[M_Q])
 
     def copy(self) -> "Measurement":
         """A copy that the run does not update.
@@ -311,7 +320,7 @@ def load_entry(entry, name: str = "entry") -> Callable:
     return obj
 
 
-def command_problem(role: str, value) -> tuple[str | None, tuple]:
+def command_problem(role: str, value, size: int | None = None) -> tuple[str | None, tuple]:
     """What is wrong with a controller's command, and its numbers.
 
     Parameters
@@ -320,6 +329,9 @@ def command_problem(role: str, value) -> tuple[str | None, tuple]:
         The role (:data:`ROLES`).
     value : Any
         What the controller returned.
+    size : int, optional
+        The drogue's command size when it is not the force's 2: one deflection [rad] per
+        control surface (``[drogue_actuator] command = "deflection"``).
 
     Returns
     -------
@@ -329,9 +341,10 @@ def command_problem(role: str, value) -> tuple[str | None, tuple]:
     values : tuple of float
         The command's numbers (empty if it has a problem).
     """
-    size = COMMAND_SIZE[role]
+    expected = COMMANDS[role] if size is None or size == COMMAND_SIZE[role] else deflection_command_text(size)
+    size = COMMAND_SIZE[role] if size is None else int(size)
     if isinstance(value, (str, bytes)) or value is None:
-        return f"returned {value!r}, expected {COMMANDS[role]}", ()
+        return f"returned {value!r}, expected {expected}", ()
     try:
         if size == 1:
             values = (float(value),) if isinstance(value, (int, float)) else tuple(
@@ -345,12 +358,27 @@ def command_problem(role: str, value) -> tuple[str | None, tuple]:
             what = f"an array of shape {np.shape(value)}"
         except Exception:  # a ragged or odd object: say its type
             what = f"a {type(value).__name__}"
-        return f"returned {what}, expected {COMMANDS[role]}", ()
+        return f"returned {what}, expected {expected}", ()
     for v in values:
         if not math.isfinite(v):
             bad = "NaN" if math.isnan(v) else repr(v)
             return f"returned {bad} in {value!r}, expected finite numbers", ()
     return None, values
+
+
+def deflection_command_text(surfaces: int) -> str:
+    """How the messages say a deflection command of ``surfaces`` control surfaces.
+
+    Parameters
+    ----------
+    surfaces : int
+        n_s [-].
+
+    Returns
+    -------
+    str
+    """
+    return f"{surfaces} deflections (delta_1 ... delta_{surfaces}) [rad]"
 
 
 def discretize(controller: LinearController, sample_time_s: float):

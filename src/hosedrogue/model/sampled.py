@@ -21,6 +21,7 @@ position and velocity are drogue minus probe tip. Vectors in the tanker frame S_
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -32,7 +33,8 @@ from .kernels import OK, make_workspace_jit
 # --- raw measurement of a state (one ring row) ------------------------------------------------------
 R_DROGUE, R_DROGUE_V, R_PROBE, R_PROBE_V = 0, 3, 6, 9  # 3 each [m, m/s]
 R_L, R_REEL_V, R_T0, R_COUPLED = 12, 13, 14, 15  # [m], [m/s] (positive reeling in), [N], 0/1
-RAW_SIZE = 16
+R_Q = 16  # dynamic pressure at an actuated drogue [Pa] (NaN without control surfaces)
+RAW_SIZE = 17
 
 # --- the measurement buffer --------------------------------------------------------------------------
 M_T = 0  # time the quantities are of [s] (the call's time minus the delay)
@@ -41,7 +43,8 @@ M_PROBE, M_PROBE_V = 7, 10  # probe tip position [m] and velocity [m/s] (NaN wit
 M_REL, M_REL_V = 13, 16  # drogue minus probe tip [m, m/s]
 M_L, M_REEL_V, M_T0, M_COUPLED = 19, 20, 21, 22  # hose length [m], reel speed [m/s], exit tension [N], 0/1
 M_BALANCE = 23  # the drogue's balance position at the start [m] (the built-in controllers' reference)
-M_SIZE = 26
+M_Q = 26  # dynamic pressure the drogue's control surfaces see [Pa] (NaN without them)
+M_SIZE = 27
 
 
 @njit(**JIT_NO_ALLOC)
@@ -81,6 +84,7 @@ def deliver(ring, k, delay, sample_h, noise, noise_dt, balance, mbuf):
     mbuf[M_REEL_V] = row[R_REEL_V]
     mbuf[M_T0] = row[R_T0]
     mbuf[M_COUPLED] = row[R_COUPLED]
+    mbuf[M_Q] = row[R_Q]
 
 
 # --- the fixed-length hose between samples -----------------------------------------------------------
@@ -115,8 +119,9 @@ def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, C
 @njit(**JIT)
 def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u, raw):
     """The raw measurement (``R_*``) of the fixed-length state z at time t [s]: drogue position
-    and velocity, exit tension of the evaluation with the loop as it is, the hose length; no
-    probe (NaN), reel speed 0, not coupled."""
+    and velocity, exit tension of the evaluation with the loop as it is, the hose length, the
+    dynamic pressure at an actuated drogue (u[2] of the evaluation when ``u`` has room, else
+    NaN); no probe (NaN), reel speed 0, not coupled."""
     n = l.shape[0]
     closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work[4], u)
     r, v = ws[4], ws[5]
@@ -132,6 +137,7 @@ def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, n
     raw[R_REEL_V] = 0.0
     raw[R_T0] = ws[17][0]
     raw[R_COUPLED] = 0.0
+    raw[R_Q] = u[2] if u.shape[0] > 2 else math.nan
 
 
 #: The counters of a stepped run (an int64 array the advance kernels update in place): global RK4
@@ -183,7 +189,7 @@ def fl_linear_sampled_run(z, nsteps, spc, h, every, l, M, S, J, ps, env, gust, A
     n = l.shape[0]
     ws = make_workspace_jit(n)
     work = np.empty((5, z.shape[0]))
-    u = np.empty(2)
+    u = np.empty(us.shape[1])  # room for an actuated drogue's q and servo rates (the saved outputs)
     mbuf = np.empty(M_SIZE)
     nd = Ad.shape[0]
     xd = np.zeros(nd)
@@ -225,6 +231,36 @@ def fl_linear_sampled_run(z, nsteps, spc, h, every, l, M, S, J, ps, env, gust, A
                    work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
         saved += 1
     return OK, saved, nsteps
+
+
+class HeldCommand(NamedTuple):
+    """The "hold" controller of a held command of ``n_states`` numbers (:func:`held_command`),
+    in the form :func:`~hosedrogue.model.integrate.loop_arrays` takes a controller."""
+
+    A: np.ndarray  #: (n, n) zeros [1/s]
+    B: np.ndarray  #: (n, 2) zeros
+    C: np.ndarray  #: (n, n) identity: the outputs are the states
+    D: np.ndarray  #: (n, 2) zeros
+    n_states: int  #: n [-]
+    anti_windup: None = None  #: none: the held command stays as it was given
+
+
+def held_command(drogue_actuator=None) -> HeldCommand:
+    """The hold controller of the drogue's command: the force (u_y, u_z) [N] (2 states; through
+    the ``[actuator]`` or mixed to the control surfaces), or with ``drogue_actuator.command =
+    "deflection"`` one deflection command per surface [rad] (n_s states).
+
+    Parameters
+    ----------
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (their ``command`` and ``surfaces``).
+
+    Returns
+    -------
+    HeldCommand
+    """
+    n = 2 if drogue_actuator is None else drogue_actuator.command_size
+    return HeldCommand(np.zeros((n, n)), np.zeros((n, 2)), np.eye(n), np.zeros((n, 2)), n)
 
 
 def hold_controller_arrays():
