@@ -2,16 +2,17 @@
 reads, and the fixed-length hose integrated between samples with the commands held.
 
 A sampled-data controller (docs/controllers.md) is called every control step; between calls the
-compiled loop runs with its command held. The drogue's force command is held as the state of a
-"hold" controller of the closed loop (:func:`hold_controller_arrays`: ``xc' = 0``, ``u = xc``
-through the actuator's limits), so the loops of :mod:`.integrate` and
+compiled loop runs with its command held. The drogue's command (its force, or the deflections of
+its control surfaces) is held as the state of a "hold" controller of the closed loop
+(:func:`held_command`: ``xc' = 0``, ``u = xc`` through the actuator's limits or to the
+surfaces), so the loops of :mod:`.integrate` and
 :mod:`.engagement_kernels` run unchanged between samples and the command survives remeshes.
 
 The measurement
 ---------------
 At each sample the kernels write the *raw* quantities of the state (``R_*`` layout: drogue
 position and velocity, probe tip position and velocity, free hose length and reel speed, exit
-tension, coupled flag) into a ring of ``D + 1`` rows, D the sensor delay in samples;
+tension, coupled flag, an actuated drogue's dynamic pressure) into a ring of ``D + 1`` rows, D the sensor delay in samples;
 :func:`deliver` turns the row of D samples ago (of sample 0 before then) into the measurement
 buffer (``M_*`` layout, read by :class:`hosedrogue.controllers.sampled.Measurement`): the drogue
 position gets the sensor noise of that instant (zero-order held, ``noise_dt``), the relative
@@ -261,16 +262,3 @@ def held_command(drogue_actuator=None) -> HeldCommand:
     """
     n = 2 if drogue_actuator is None else drogue_actuator.command_size
     return HeldCommand(np.zeros((n, n)), np.zeros((n, 2)), np.eye(n), np.zeros((n, 2)), n)
-
-
-def hold_controller_arrays():
-    """The "hold" controller whose two states are the held force command [N]: ``A = B = 0``
-    (2 x 2), ``C = I``, ``D = 0``; the actuator's force limit clips it and a rate-limited actuator
-    follows it, as for any controller of the loop.
-
-    Returns
-    -------
-    A, B, C, D : numpy.ndarray
-        (2, 2) each [1/s, -, N per state, N/m].
-    """
-    return np.zeros((2, 2)), np.zeros((2, 2)), np.eye(2), np.zeros((2, 2))

@@ -287,7 +287,6 @@ class StepperBase:
                 if a - a != 0.0:  # NaN or inf
                     return bad(value)
                 cmd[i] = a
-                return None
             return hold1
         if len(slots) == 2:
             i, j = slots
@@ -302,7 +301,6 @@ class StepperBase:
                     return bad(value)
                 cmd[i] = a
                 cmd[j] = b
-                return None
             return hold2
         if len(slots) > 3:  # one deflection per control surface
             def hold_n(value):
@@ -311,7 +309,6 @@ class StepperBase:
                     return problem
                 for i, v in zip(slots, values):
                     cmd[i] = v
-                return None
             return hold_n
         i, j, k = slots
 
@@ -326,7 +323,6 @@ class StepperBase:
             cmd[i] = a
             cmd[j] = b
             cmd[k] = c
-            return None
         return hold3
 
 
