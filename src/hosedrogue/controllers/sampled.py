@@ -34,7 +34,8 @@ from ..errors import ParameterError
 from ..fields import check_entry, entry_name
 from ..model.sampled import (M_BALANCE, M_COUPLED, M_DROGUE, M_DROGUE_V, M_L, M_PROBE, M_PROBE_V, M_REEL_V, M_REL,
                              M_Q, M_REL_V, M_SIZE, M_T, M_T0)
-from .linear import LinearController
+from .discrete import (DiscreteLinearController, discretize, discretize_anti_windup,  # noqa: F401 (re-exported)
+                       linear_controller_factory)
 
 #: The roles of a sampled-data controller.
 ROLES = ("drogue", "reel", "receiver")
@@ -379,108 +380,3 @@ def deflection_command_text(surfaces: int) -> str:
     str
     """
     return f"{surfaces} deflections (delta_1 ... delta_{surfaces}) [rad]"
-
-
-def discretize(controller: LinearController, sample_time_s: float):
-    """The zero-order-hold discretization of a linear controller: with its input sampled every
-    T and its state updated as ``xd[k+1] = Ad xd[k] + Bd y[k]``, ``u[k] = Cd xd[k] + Dd y[k]``,
-    where ``[[Ad, Bd], [0, I]] = expm([[A, B], [0, 0]] T)``, ``Cd = C``, ``Dd = D``.
-
-    Parameters
-    ----------
-    controller : LinearController
-        Continuous controller, measured offset [m] -> force [N].
-    sample_time_s : float
-        T [s], > 0.
-
-    Returns
-    -------
-    Ad, Bd, Cd, Dd : numpy.ndarray
-        (nc, nc), (nc, 2), (2, nc), (2, 2).
-    """
-    from scipy.linalg import expm
-
-    nc = controller.n_states
-    block = np.zeros((nc + 2, nc + 2))
-    block[:nc, :nc] = controller.A
-    block[:nc, nc:] = controller.B
-    e = expm(block * float(sample_time_s))
-    return (np.ascontiguousarray(e[:nc, :nc]), np.ascontiguousarray(e[:nc, nc:]),
-            np.ascontiguousarray(controller.C, dtype=np.float64), np.ascontiguousarray(controller.D, dtype=np.float64))
-
-
-class DiscreteLinearController:
-    """A built-in linear drogue controller as a sampled-data controller of this interface: its
-    zero-order-hold discretization (:func:`discretize`) acting on the measured drogue offset from
-    its balance position, ``y = drogue_position_m[1:] - drogue_balance_m[1:]`` [m]. The compiled
-    loop runs the same law when a built-in controller has ``sample_time_s`` > 0.
-
-    Parameters
-    ----------
-    controller : LinearController
-        The continuous design.
-    sample_time_s : float
-        T [s].
-    """
-
-    def __init__(self, controller: LinearController, sample_time_s: float):
-        self.Ad, self.Bd, self.Cd, self.Dd = discretize(controller, sample_time_s)
-        self.x = np.zeros(self.Ad.shape[0])
-
-    def reset(self, m: Measurement) -> None:
-        """Zero the controller's state.
-
-        Parameters
-        ----------
-        m : Measurement
-            The first measurement (unused).
-        """
-        self.x[:] = 0.0
-
-    def __call__(self, t: float, m: Measurement) -> np.ndarray:
-        """The force (u_y, u_z) [N] for the measurement m at time t [s]; advances the state.
-
-        Parameters
-        ----------
-        t : float
-            Time [s].
-        m : Measurement
-            The measurement.
-
-        Returns
-        -------
-        numpy.ndarray (2,)
-        """
-        y = m.drogue_position_m[1:] - m.drogue_balance_m[1:]
-        u = self.Cd @ self.x + self.Dd @ y
-        self.x = self.Ad @ self.x + self.Bd @ y
-        return u
-
-
-def linear_controller_factory(controller: LinearController, sample_time_s: float) -> Callable:
-    """A factory of :class:`DiscreteLinearController` (for :class:`SampledController`).
-
-    Parameters
-    ----------
-    controller : LinearController
-        The continuous design.
-    sample_time_s : float
-        T [s].
-
-    Returns
-    -------
-    callable
-        ``factory() -> DiscreteLinearController``.
-    """
-    return _LinearFactory(controller, float(sample_time_s))
-
-
-@dataclass(frozen=True)
-class _LinearFactory:
-    """A picklable factory of a :class:`DiscreteLinearController` (Dask workers receive it by value)."""
-
-    controller: LinearController
-    sample_time_s: float
-
-    def __call__(self) -> DiscreteLinearController:
-        return DiscreteLinearController(self.controller, self.sample_time_s)

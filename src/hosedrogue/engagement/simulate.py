@@ -93,7 +93,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         shape or not finite, a pilot or bow wave without a probe, a free length outside the
         reel's end stops, a controller's entry that cannot be imported.
     """
-    controllers = sampled_controllers(reel, receiver, control, sample_time_s)
+    controllers = sampled_controllers(reel, receiver, control, sample_time_s, drogue_actuator)
     if drogue_actuator is not None and not isinstance(sampled_controller(control), SampledController):
         drogue_actuator.check_force_command()  # a built-in controller (or none) commands a force
     if not controllers:
@@ -111,7 +111,8 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     return drive(stepper, controllers, built)
 
 
-def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, sample_time_s: float = 0.0) -> dict:
+def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, sample_time_s: float = 0.0,
+                        drogue_actuator=None) -> dict:
     """The sampled-data controllers of an engagement: the user's take-up law (``reel.law =
     "python"``), the user's docking controller (``receiver``) and the drogue controller when it is
     the user's (a ``SampledController`` or ``Controller(type="python")``) or a built-in one with a
@@ -127,6 +128,8 @@ def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, s
         The drogue controller.
     sample_time_s : float
         The built-in drogue controller's sample time [s] (0: continuous, not sampled).
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (the sampled built-in controller's anti-windup).
 
     Returns
     -------
@@ -145,7 +148,8 @@ def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, s
         if isinstance(drogue, SampledController):
             out["drogue"] = drogue
         elif sample_time_s:
-            out["drogue"] = SampledController("drogue", linear_controller_factory(drogue, sample_time_s), sample_time_s)
+            factory = linear_controller_factory(drogue, sample_time_s, drogue_actuator)
+            out["drogue"] = SampledController("drogue", factory, sample_time_s)
     if reel is not None and reel.law == "python":
         out["reel"] = _section_controller("reel", reel)
     if receiver is not None:

@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
+from . import drogue_actuator as DA
 from .integrate import closed_loop_deriv, rk4_step, rk4_step_given_k1, save_state, step_status
 from .kernels import OK, make_workspace_jit
 
@@ -179,12 +180,14 @@ def fl_advance(ctr, z, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_re
 @njit(**JIT)
 def fl_linear_sampled_run(z, nsteps, spc, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
                           noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension,
-                          ring, delay, noise3, noise3_dt, balance, Ad, Bd, Cd, Dd, nx):
+                          ring, delay, noise3, noise3_dt, balance, Ad, Bd, Cd, Dd, Bw, nx):
     """A built-in linear drogue controller in sampled-data mode, compiled end to end: every
     ``spc`` RK4 steps it reads the measured drogue offset ``y = (drogue y, z + noise) - balance``
     [m] of the measurement (:func:`deliver`, the sensor delay included) and sets the held force
     ``u = Cd xd + Dd y`` [N] (the hold controller's state ``z[nx:nx+2]``), then ``xd <- Ad xd +
-    Bd y`` (the zero-order-hold discretization); the loop arrays are the hold controller's.
+    Bd y + Bw e`` (the zero-order-hold discretization); the loop arrays are the hold controller's.
+    e is the anti-windup error of a drogue with control surfaces in force mode, the force its
+    clipped mixing makes at the measured q minus u (:func:`~.drogue_actuator.mixing_error`), else 0.
     Saves every ``every``-th step from 0 to ``nsteps`` into the record. Returns (status, saved
     count, steps done)."""
     n = l.shape[0]
@@ -209,8 +212,11 @@ def fl_linear_sampled_run(z, nsteps, spc, h, every, l, M, S, J, ps, env, gust, A
             for j in range(nd):
                 acc += Cd[i, j] * xd[j]
             z[nx + i] = acc
+        e0 = e1 = 0.0
+        if DA.is_actuated(act) and act[DA.DA_MODE] == DA.MODE_FORCE:
+            e0, e1 = DA.mixing_error(z[nx], z[nx + 1], mbuf[M_Q], act)
         for i in range(nd):
-            acc = Bd[i, 0] * y0 + Bd[i, 1] * y1
+            acc = Bd[i, 0] * y0 + Bd[i, 1] * y1 + Bw[i, 0] * e0 + Bw[i, 1] * e1
             for j in range(nd):
                 acc += Ad[i, j] * xd[j]
             xn[i] = acc

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
-from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize
+from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
 from ..metrics import turbulence_window
 from ..model import kernels as K
@@ -447,7 +447,7 @@ class FixedLengthStepper(StepperBase):
         """Run from the reset state to the end with a built-in linear controller in sampled-data
         mode, compiled end to end: its zero-order-hold discretization at the control step reads
         the measured drogue offset from the balance position and sets the held force
-        (:func:`hosedrogue.model.sampled.fl_linear_sampled_run`; the law of
+        (:func:`hosedrogue.model.sampled.fl_linear_sampled_run`; the law, anti-windup included, of
         :class:`~hosedrogue.controllers.sampled.DiscreteLinearController` through :meth:`step`).
 
         Parameters
@@ -464,9 +464,10 @@ class FixedLengthStepper(StepperBase):
         if self.drogue_actuator is not None:
             self.drogue_actuator.check_force_command()
         Ad, Bd, Cd, Dd = discretize(controller, self.control_step_s)
+        Bw = discretize_anti_windup(controller, self.control_step_s) if self.drogue_actuator else np.zeros_like(Bd)
         status, saved, done = fl_linear_sampled_run(
             self.z, self.total_steps, self.spc, self.h, self.every, *self._args, self.max_yaw, *self._rec,
-            self.ring, self.delay, self.noise3, self.sensor.sample_time_s, self.balance, Ad, Bd, Cd, Dd, self.nx)
+            self.ring, self.delay, self.noise3, self.sensor.sample_time_s, self.balance, Ad, Bd, Cd, Dd, Bw, self.nx)
         self.ctr[C_STEP] = done
         self.ctr[C_SAVED] = saved
         if status == K.OK:
