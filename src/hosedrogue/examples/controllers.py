@@ -369,7 +369,7 @@ def fixed_deflection(**options) -> FixedDeflection:
 class DeflectionPID(DiscretePID):
     """The discretized paper's PID (:class:`DiscretePID`) commanding the surfaces' deflections
     itself: its force F [N] mixed by the minimum-norm inversion at the measured dynamic pressure,
-    ``delta_k = t_k . F / ((n / 2) q S C_F)``, t_k = (-sin phi_k, cos phi_k) the direction surface k
+    ``delta_k = t_k^T F / ((n / 2) q S C_F)``, t_k = (-sin phi_k, cos phi_k) the direction surface k
     pushes (the built-in mixing of docs/model.md §10, here at the sample's q instead of every
     evaluation's). The options repeat the ``[drogue_actuator]`` fields the mixing needs.
 
