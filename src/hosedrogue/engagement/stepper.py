@@ -114,8 +114,8 @@ class EngagementStepper(StepperBase):
         self._setup_sensor(sensor, control_step_s, self.h)
         self.roles = tuple(r for r, on in (("drogue", drogue_command), ("reel", st.reel.law == "python"),
                                            ("receiver", receiver is not None)) if on)
-        # the held commands (u_y, u_z, take-up speed, v_x, v_y, v_z), written into the state's
-        # slots before every control step
+        # the held commands (u_y, u_z or one deflection per surface, take-up speed, v_x, v_y, v_z),
+        # written into the state's slots before every control step
         self._commands = np.zeros(nd + 4)
         self._slots = {"drogue": tuple(range(nd)), "reel": (nd,), "receiver": (nd + 1, nd + 2, nd + 3)}
         self._slots = {role: self._slots[role] for role in self.roles}
