@@ -47,7 +47,7 @@ def discretize(controller: LinearController, sample_time_s: float):
 
 def discretize_anti_windup(controller: LinearController, sample_time_s: float) -> np.ndarray:
     """The zero-order-hold discretization of a controller's anti-windup input: ``Bw`` of
-    ``xd[k+1] = Ad xd[k] + Bd y[k] + Bw e[k]`` for ``xc' = A xc + ... + K_aw e``, e held over
+    ``xd[k+1] = Ad xd[k] + Bd y[k] + Bw e[k]`` for ``xc' = A xc + B y + K_aw e``, e held over
     the sample: ``[[Ad, Bw], [0, I]] = expm([[A, K_aw], [0, 0]] T)``.
 
     Parameters
