@@ -63,7 +63,7 @@ from .integrate import (actuator_rates, applied_force_at, control_law, controlle
 from . import drogue_actuator as DA
 from .frame import frame_loads
 from .kernels import NONFINITE, YAW_LIMIT
-from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
+from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_Q, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
                       R_REEL_V, R_T0, deliver)
 
 # --- ep layout -------------------------------------------------------------------------------
@@ -1097,7 +1097,8 @@ def evaluate_state(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ew
 def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
     """The raw measurement (``hosedrogue.model.sampled.R_*``) of state z at time t [s]: drogue and
     probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
-    evaluation with the commands as they are, coupled flag."""
+    evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
+    (NaN without control surfaces)."""
     if ep[EP_ELASTIC] != 0.0:
         eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n), dM,
                              out, 0.0, z)
@@ -1113,6 +1114,7 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw[R_REEL_V] = -z[tail_start(n, ep) + Z_LD]
     raw[R_T0] = out[O_T0]
     raw[R_COUPLED] = ep[EP_COUPLED]
+    raw[R_Q] = out[O_Q] if ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act) else math.nan
 
 
 @njit(**JIT)
