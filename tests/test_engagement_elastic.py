@@ -274,3 +274,18 @@ def test_drogue_surfaces_refuse_an_elastic_hose(tmp_path, capsys):
         simulate(p, 0.1, drogue_actuator=DrogueActuator())
     with pytest.raises(ParameterError, match="hose.axial_stiffness_n"):
         simulate_engagement(p, 0.1, reel=Reel(law="locked"), probe=None, drogue_actuator=DrogueActuator())
+
+
+def test_sampled_fixed_length_paths_refuse_an_elastic_hose():
+    """The fixed-length stepper (the sampled-data controllers' driver) runs the rigid chain: an
+    elastic hose is refused in one line naming hose.axial_stiffness_n, there and in simulate with a
+    sampled built-in controller."""
+    from hosedrogue.errors import ParameterError
+    from hosedrogue.simulation.stepper import FixedLengthStepper
+
+    p = PAPER.replace(hose={"axial_stiffness_n": 1e6, "axial_damping_n_s": 3000.0},
+                      numerics={"integrator": "rk4", "step_s": 0.0001})  # RK4: the stepper's integrator
+    with pytest.raises(ParameterError, match=r"hose.axial_stiffness_n = 1000000.0: the fixed-length stepper"):
+        FixedLengthStepper(p, 0.1, control_step_s=0.01)
+    with pytest.raises(ParameterError, match="a sampled-data controller runs the rigid fixed-length chain"):
+        simulate(p, 0.1, sample_time_s=0.01)

@@ -250,6 +250,29 @@ class HoseModel:
         """Length of the hose state: 4n ``[q, qd]``, or 6n ``[q, qd, lam, lamd]`` for elastic links."""
         return (6 if self.elastic else 4) * self.n
 
+    def rigid_only(self, what: str) -> "HoseModel":
+        """This model, if its links are rigid; for a path that runs the rigid chain only.
+
+        Parameters
+        ----------
+        what : str
+            The path, for the message (e.g. "the fixed-length stepper").
+
+        Returns
+        -------
+        HoseModel
+            ``self``.
+
+        Raises
+        ------
+        ParameterError
+            One line naming ``hose.axial_stiffness_n`` when the links are elastic.
+        """
+        if self.elastic:
+            raise ParameterError(f"hose.axial_stiffness_n = {self.params.hose.axial_stiffness_n!r}: {what} runs rigid "
+                                 "links (axial_stiffness_n = inf); simulate an elastic hose with a continuous controller")
+        return self
+
     def _check_state(self, x: np.ndarray) -> np.ndarray:
         x = np.ascontiguousarray(x, dtype=np.float64)
         if x.shape != (self.state_size,):

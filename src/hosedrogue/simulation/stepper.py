@@ -377,11 +377,7 @@ class FixedLengthStepper(StepperBase):
         self.duration_s = float(duration_s)
         if model is None or not model.gusts_cover(duration_s):
             model = HoseModel(params, duration_s=duration_s)
-        self.model = model
-        if model.elastic:
-            raise ParameterError(f"hose.axial_stiffness_n = {params.hose.axial_stiffness_n!r}: the fixed-length "
-                                 "stepper runs rigid links (axial_stiffness_n = inf); simulate an elastic hose with "
-                                 "a continuous controller")
+        self.model = model.rigid_only("the fixed-length stepper")
         self.equilibrium = equilibrium if equilibrium is not None else solve_equilibrium(params, model=model)
         n = model.n
         x0 = self.equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
