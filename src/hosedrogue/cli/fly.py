@@ -41,11 +41,9 @@ def add_parser(sub) -> None:
     s.add_argument("--host", metavar="ADDR", default="127.0.0.1",
                    help="address to listen on (default 127.0.0.1: this machine only). Another address exposes the "
                         "simulator to whoever reaches it (it warns)")
-    s.add_argument("--port", metavar="N", type=bounded_int("--port", 0, 65535), default=0,
-                   help="port (default 0: a free one, printed with the URL). A busy port: the next free one is "
-                        "picked, with a message")
-    s.add_argument("--strict-port", action="store_true",
-                   help="refuse a busy --port (one line, exit status 2) instead of picking another")
+    s.add_argument("--port", metavar="N", type=bounded_int("--port", 0, 65535),
+                   help="port to listen on (default: a free one, printed with the URL; 0 the same). A port given "
+                        "that is in use is refused with one line naming a free one (exit status 2)")
     s.add_argument("--sample-time", metavar="S", type=finite_float("--sample-time", 1e-6, 10, "s"),
                    help="interval of your commands [s] (default: the scenario's [receiver] sample_time_s, else "
                         "0.02), a whole multiple of the scenario's numerics.step_s")
@@ -83,7 +81,7 @@ def run(args) -> int:
     flight_scenario(scenario, args.sample_time)  # a scenario without a probe: one line before anything
     out = Path(args.out)
     prepare_out(out)
-    bound = bind_server(args.host, args.port, strict=args.strict_port)
+    bound = bind_server(args.host, args.port or 0, strict=bool(args.port))  # a port given: that one or none
     if not is_loopback(args.host):
         print(f"hosedrogue: warning: --host {args.host} exposes the simulator to every machine that reaches this "
               f"one: anyone there can fly it and have flights written to {out}", file=sys.stderr, flush=True)

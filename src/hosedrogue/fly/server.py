@@ -108,9 +108,11 @@ def bind_server(host: str, port: int, strict: bool = False, handler=None) -> tup
         except OSError as exc:
             if exc.errno == errno.EADDRINUSE:
                 if strict:
+                    free = _free_port(host, family, port)
+                    use = f"port {free} is free (--port {free}), or" if free else "give another port or"
                     raise ParameterError(
-                        f"--port = {port}: in use on {host} (another program, or another hosedrogue fly); give "
-                        "another port, --port 0 for a free one, or leave out --strict-port to have one picked") from None
+                        f"--port = {port}: in use on {host} (another program, or another hosedrogue fly); {use} "
+                        "leave out --port for any free one") from None
                 continue
             if exc.errno == errno.EADDRNOTAVAIL:
                 raise ParameterError(f"--host = {host!r}: not an address of this machine") from None
@@ -121,9 +123,22 @@ def bind_server(host: str, port: int, strict: bool = False, handler=None) -> tup
         note = None
         if p != port:
             note = (f"port {port} is in use on {host}; serving on port {server.server_address[1]} instead "
-                    "(--strict-port refuses a busy port)")
+                    "(strict=True refuses a busy port)")
         return server, note
     raise ParameterError(f"--port = {port}: no free port found")  # pragma: no cover - port 0 always binds
+
+
+def _free_port(host: str, family: int, after: int) -> int | None:
+    """The first of the :data:`PORT_TRIES` ports after ``after`` that is free on ``host`` now (None
+    if none is): what the message of a busy port suggests."""
+    for p in range(after + 1, min(after + 1 + PORT_TRIES, 65536)):
+        with socket.socket(family, socket.SOCK_STREAM) as probe:
+            try:
+                probe.bind((host, p))
+            except OSError:
+                continue
+            return p
+    return None
 
 
 class _Handler(http.server.BaseHTTPRequestHandler):
@@ -372,10 +387,8 @@ class FlyServer:
             True if it stopped.
         """
         end = None if timeout_s is None else time.monotonic() + timeout_s
-        sim = self._threads[1]
-        while sim.is_alive():
-            sim.join(0.2)
-            if end is not None and time.monotonic() > end and sim.is_alive():
+        while not self.flight.finished.wait(0.2):
+            if end is not None and time.monotonic() > end:
                 return False
         if not self.stopped.is_set():
             self.stopped.set()

@@ -193,6 +193,10 @@ class LiveFlight:
         self._sources = {}
         self._input_seq = -1
         self.closed_reason = None
+        #: set once :meth:`run_flights` has returned (its last flight written): what the server
+        #: waits for (an Event, not ``Thread.join``, which Ctrl-C can leave saying "not alive"
+        #: while the thread still writes)
+        self.finished = threading.Event()
 
     def _pilot_factory(self):
         return self.pilot
@@ -351,6 +355,7 @@ class LiveFlight:
                 self.state = "closed"
                 self._publish_status()
                 self._cv.notify_all()
+            self.finished.set()
 
     def _next_number(self) -> int:
         n = max(self.folders, default=0) + 1
@@ -445,19 +450,25 @@ class LiveFlight:
                 "flown_s": float(result.t_s[-1]), "real_time": flight["real_time"]}
 
     # --- the flight's files ------------------------------------------------------------------------
-    def _replay_scenario(self) -> Scenario:
-        """The scenario that runs this flight again: the receiver replaying its commands."""
+    def _replay_scenario(self, result) -> Scenario:
+        """The scenario that runs this flight again: the receiver replaying its commands, for the
+        time flown when the person (or a closed page, Ctrl-C) ended it early - so the replay ends
+        where the flight did, completed - and for the whole duration otherwise (a run that failed
+        fails again at the same time)."""
         e = self.scenario.engagement
         receiver = dataclasses.replace(e.receiver, entry=REPLAY_ENTRY, options={"commands": self.record.changes})
+        duration = self.scenario.duration_s
+        if self._end_reason is not None and result.t_s.size and result.t_s[-1] > 0:
+            duration = float(result.t_s[-1])
         return dataclasses.replace(self.scenario, name=f"{self.scenario.name}-flight-{self.number:03d}",
-                                   engagement=dataclasses.replace(e, receiver=receiver))
+                                   duration_s=duration, engagement=dataclasses.replace(e, receiver=receiver))
 
     def _write(self, result) -> None:
         from .files import write_flight
 
         folder = self.out_dir / f"flight-{self.number:03d}"
         ended = self._end_reason or ("the run's end" if result.completed else result.message)
-        result = write_flight(result, folder, self._replay_scenario(), self.record, self.clock.pace,
+        result = write_flight(result, folder, self._replay_scenario(result), self.record, self.clock.pace,
                               number=self.number, ended=ended, sources=dict(self._sources))
         with self._cv:
             self.folders[self.number] = folder
