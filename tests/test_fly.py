@@ -300,3 +300,19 @@ def test_a_closed_page_stops_the_server(tmp_path):
     assert proc.returncode == 0, out
     doc = json.loads((tmp_path / "flights" / "flight-001" / "run.json").read_text())
     assert doc["flight"]["ended"] == "the page was closed" and doc["flight"]["samples"] > 10
+
+
+def test_slow_motion_and_flat_out_schedules():
+    """At half speed a sample 0.02 s of simulated time on is due 0.04 s of wall time on (0.03 s
+    in is early, not late); flat out nothing waits and nothing is late."""
+    now = [0.0]
+    slow = fly.RealTimeClock(0.02, now=lambda: now[0], speed=0.5)
+    slow.start(0.0)
+    now[0] = 0.03
+    assert slow.wait_s(0.02) == pytest.approx(0.01)
+    now[0] = 0.04
+    assert slow.reached(0.02) == pytest.approx(0.0, abs=1e-12) and slow.pace.ratio == pytest.approx(0.5)
+    fast = fly.RealTimeClock(0.02, now=lambda: now[0], speed=math.inf)
+    fast.start(0.0)
+    now[0] = 5.0
+    assert fast.wait_s(100.0) < 0 and fast.reached(100.0) == 0.0 and fast.pace.late_samples == 0

@@ -47,6 +47,9 @@ def add_parser(sub) -> None:
     s.add_argument("--sample-time", metavar="S", type=finite_float("--sample-time", 1e-6, 10, "s"),
                    help="interval of your commands [s] (default: the scenario's [receiver] sample_time_s, else "
                         "0.02), a whole multiple of the scenario's numerics.step_s")
+    s.add_argument("--speed", metavar="X", type=finite_float("--speed", 0.05, 4.0, "-"), default=1.0,
+                   help="simulated seconds per wall second (default 1: real time; 0.5 half speed, to learn); "
+                        "the flight is the same run at any speed, recorded in run.json")
     s.add_argument("--idle-timeout", metavar="S", type=finite_float("--idle-timeout", 0.1, 86400, "s"), default=5.0,
                    help="stop this long after the page was closed [s] (default 5; a reload comes back within it)")
     s.add_argument("--open", action="store_true", help="open the page in this machine's default browser")
@@ -86,7 +89,7 @@ def run(args) -> int:
         print(f"hosedrogue: warning: --host {args.host} exposes the simulator to every machine that reaches this "
               f"one: anyone there can fly it and have flights written to {out}", file=sys.stderr, flush=True)
     log(f"preparing {scenario.name} (balance position, compiled kernels) ...")
-    flight = LiveFlight(scenario, out, sample_time_s=args.sample_time, log=log)
+    flight = LiveFlight(scenario, out, sample_time_s=args.sample_time, speed=args.speed, log=log)
     server = FlyServer(flight, host=args.host, idle_timeout_s=args.idle_timeout, log=log, bound=bound).start()
     log(f"hosedrogue fly: {scenario.name} on {server.url} (open it in a browser; Enter starts a flight; "
         f"Ctrl-C stops; flights go to {out})")

@@ -5,8 +5,9 @@ counted, not caught up in a burst the pilot could not follow).
 
 from __future__ import annotations
 
-import time
 import dataclasses
+import math
+import time
 from dataclasses import dataclass
 
 __all__ = ["RealTimeClock", "Pace", "MAX_LATE_RECORDED"]
@@ -29,6 +30,7 @@ class Pace:
     lost_s: float = 0.0  #: wall-clock time the schedule slipped by in all [s]
     max_late_s: float = 0.0  #: the largest lateness of a sample [s]
     paused_s: float = 0.0  #: wall-clock time paused [s]
+    speed: float = 1.0  #: simulated seconds per wall second asked for [-] (1: real time)
     #: simulated times of the first late samples [s] (at most :data:`MAX_LATE_RECORDED`)
     late_at_s: list = dataclasses.field(default_factory=list)
 
@@ -50,7 +52,7 @@ class Pace:
         -------
         dict
         """
-        return {"simulated_s": self.simulated_s, "wall_s": self.wall_s, "busy_s": self.busy_s,
+        return {"speed": self.speed if math.isfinite(self.speed) else None, "simulated_s": self.simulated_s, "wall_s": self.wall_s, "busy_s": self.busy_s,
                 "real_time_ratio": self.ratio, "capacity": self.capacity, "late_samples": self.late_samples,
                 "lost_s": self.lost_s, "max_late_s": self.max_late_s, "paused_s": self.paused_s,
                 "behind": self.late_samples > 0, "late_at_s": list(self.late_at_s)}
@@ -64,15 +66,22 @@ class RealTimeClock:
     Parameters
     ----------
     period_s : float
-        The sample period [s] (the lateness that counts as behind).
+        The sample period [s] (a lateness of one period of wall time counts as behind).
     now : callable
         Wall clock [s] (default :func:`time.monotonic`).
+    speed : float
+        Simulated seconds per wall second the schedule asks for [-]: 1 real time, 0.5 slow
+        motion, ``inf`` as fast as the computation goes (no waiting, nothing counted late: a
+        benchmark's schedule).
     """
 
-    def __init__(self, period_s: float, now=time.monotonic):
+    def __init__(self, period_s: float, now=time.monotonic, speed: float = 1.0):
+        if not speed > 0:
+            raise ValueError(f"speed = {speed!r}: must be > 0 (1 real time, inf as fast as possible)")
         self.period = float(period_s)
         self.now = now
-        self.pace = Pace()
+        self.speed = float(speed)
+        self.pace = Pace(speed=self.speed)
         self._anchor_wall = self._anchor_t = None
         self._last_return = None
         self._started = self._paused_at = None
@@ -91,14 +100,19 @@ class RealTimeClock:
 
     def wait_s(self, t_s: float) -> float:
         """Wall time [s] until simulated time ``t_s`` is due (<= 0: due or late)."""
-        return self._anchor_wall + (t_s - self._anchor_t) - self.now()
+        return self._due(t_s) - self.now()
+
+    def _due(self, t_s: float) -> float:
+        if math.isinf(self.speed):
+            return -math.inf
+        return self._anchor_wall + (t_s - self._anchor_t) / self.speed
 
     def reached(self, t_s: float) -> float:
         """Book the sample at ``t_s`` [s] as reached now; return its lateness [s] (0 if on time).
         Later than one period, the schedule slips to now."""
         now = self.now()
-        late = now - (self._anchor_wall + (t_s - self._anchor_t))
-        if late > self.period:
+        late = max(now - self._due(t_s), 0.0) if math.isfinite(self.speed) else 0.0
+        if late > self.period / self.speed:
             self.pace.late_samples += 1
             self.pace.lost_s += late
             if len(self.pace.late_at_s) < MAX_LATE_RECORDED:

@@ -156,6 +156,9 @@ class LiveFlight:
         The person's command interval [s] (:func:`flight_scenario`).
     frame_rate_hz : float
         Frames streamed per second at most [1/s] (one per receiver sample at most).
+    speed : float
+        Simulated seconds per wall second [-]: 1 real time (default), below 1 slow motion (to
+        learn), ``inf`` as fast as it computes (benchmarks/fly.py).
     log : callable
         Gets one line per written flight.
     now : callable
@@ -163,10 +166,13 @@ class LiveFlight:
     """
 
     def __init__(self, scenario: Scenario, out_dir, *, sample_time_s: float | None = None,
-                 frame_rate_hz: float = 50.0, log=print, now=time.monotonic):
+                 frame_rate_hz: float = 50.0, speed: float = 1.0, log=print, now=time.monotonic):
         self.scenario = flight_scenario(scenario, sample_time_s)
         self.out_dir = Path(out_dir)
         self.log, self.now = log, now
+        if not speed > 0:
+            raise ParameterError(f"speed = {speed!r}: must be > 0 (1 real time, 0.5 half speed)")
+        self.speed = float(speed)
         self.pilot = LivePilot(self)
         e = self.scenario.engagement
         self.receiver = e.receiver
@@ -178,6 +184,11 @@ class LiveFlight:
         self.stepper, self.controllers, self.built = sampled_stepper(flown.params, flown.duration_s, controllers,
                                                                      control=control, **kw)
         self.period = self.receiver.sample_time_s
+        # a few samples now, so the first of a flight does not wait for the kernels' loading
+        # (0.1 s: five samples late); run_flights resets the stepper before each flight
+        self.stepper.reset()
+        self.stepper.step(receiver=(float(e.probe.closure_speed_m_s), 0.0, 0.0), samples=3)
+        self.stepper.outputs()
         self.frame_every = max(1, math.ceil(1.0 / (min(frame_rate_hz, MAX_FRAME_RATE_HZ) * self.period) - 1e-9))
         self.initial_command = (float(e.probe.closure_speed_m_s), 0.0, 0.0)  # the stepper's command at t = 0
         self._cv = threading.Condition()
@@ -335,7 +346,7 @@ class LiveFlight:
                     self._sources: dict[str, int] = {}
                     self._command, self._source = self.initial_command, "none"
                     self.record = CommandRecord(self.initial_command)
-                    self.clock = RealTimeClock(self.period, self.now)
+                    self.clock = RealTimeClock(self.period, self.now, self.speed)
                     self._publish_status()
                 self.stepper.reset()
                 self._publish_frame(self.initial_command, "none")
