@@ -316,3 +316,22 @@ def test_slow_motion_and_flat_out_schedules():
     fast.start(0.0)
     now[0] = 5.0
     assert fast.wait_s(100.0) < 0 and fast.reached(100.0) == 0.0 and fast.pace.late_samples == 0
+
+
+def test_the_huds_miss_is_where_a_straight_path_meets_the_coupler_plane():
+    """A drogue on a hose hanging 15 degrees (its last link aft and down): a tip 3 m aft of it
+    at its height and side meets the plane at the drogue (miss 0, where the distance from the
+    axis is 3 sin 15 = 0.78 m); 0.2 m to its right, 0.2 m; level with a tilted plane, the
+    crossing moves along x by (n . offset) / n_x, found by a second route: the crossing point on
+    the plane, its distance from the drogue."""
+    a = math.radians(15.0)
+    drogue = np.array([-10.0, 0.0, 3.0])
+    joints = np.array([drogue - 1.0 * np.array([-math.cos(a), 0.0, -math.sin(a)]), drogue])
+    assert fly.straight_on_miss(joints, drogue + [-3.0, 0.0, 0.0]) == pytest.approx(0.0, abs=1e-12)
+    assert fly.straight_on_miss(joints, drogue + [-3.0, 0.2, 0.0]) == pytest.approx(0.2, abs=1e-12)
+    tip = drogue + [-3.0, 0.1, -0.3]
+    n = (joints[1] - joints[0]) / np.linalg.norm(joints[1] - joints[0])
+    s = np.linspace(0.0, 6.0, 600001)  # the path, sampled: the crossing within 1e-5 m
+    path = tip + s[:, None] * [1.0, 0.0, 0.0]
+    cross = path[np.argmin(np.abs((path - drogue) @ n))]
+    assert fly.straight_on_miss(joints, tip) == pytest.approx(np.linalg.norm(cross - drogue), abs=2e-5)

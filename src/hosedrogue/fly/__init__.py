@@ -23,8 +23,8 @@ from .clock import Pace, RealTimeClock
 from .files import FLIGHT_FILE, read_commands, replay_scenario, write_flight
 from .record import REPLAY_ENTRY, CommandRecord, Replay, replay, scenario_toml
 from .server import FlyServer, bind_server
-from .session import DEFAULT_SAMPLE_TIME_S, LiveFlight, LivePilot, flight_scenario
+from .session import DEFAULT_SAMPLE_TIME_S, LiveFlight, LivePilot, flight_scenario, straight_on_miss
 
 __all__ = ["LiveFlight", "LivePilot", "flight_scenario", "FlyServer", "bind_server", "CommandRecord", "Replay",
            "replay", "REPLAY_ENTRY", "scenario_toml", "write_flight", "read_commands", "replay_scenario",
-           "FLIGHT_FILE", "Pace", "RealTimeClock", "DEFAULT_SAMPLE_TIME_S"]
+           "FLIGHT_FILE", "Pace", "RealTimeClock", "DEFAULT_SAMPLE_TIME_S", "straight_on_miss"]

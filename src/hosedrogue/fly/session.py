@@ -31,7 +31,7 @@ from ..simulation.drive import drive
 from .clock import RealTimeClock
 from .record import REPLAY_ENTRY, CommandRecord
 
-__all__ = ["flight_scenario", "LiveFlight", "LivePilot", "DEFAULT_SAMPLE_TIME_S", "STATES"]
+__all__ = ["flight_scenario", "LiveFlight", "LivePilot", "straight_on_miss", "DEFAULT_SAMPLE_TIME_S", "STATES"]
 
 #: The person's command interval when the scenario has no ``[receiver]`` [s] (50 Hz).
 DEFAULT_SAMPLE_TIME_S = 0.02
@@ -76,6 +76,36 @@ def flight_scenario(scenario: Scenario, sample_time_s: float | None = None) -> S
         receiver = dataclasses.replace(receiver, sample_time_s=float(sample_time_s))
     receiver = dataclasses.replace(receiver, entry="", options={})
     return dataclasses.replace(scenario, engagement=dataclasses.replace(e, pilot=None, receiver=receiver))
+
+
+def straight_on_miss(joints: np.ndarray, tip: np.ndarray) -> float:
+    """The miss distance the probe is heading for: where the tip, flying straight forward (+x),
+    meets the coupler plane (through the drogue, normal to the last link), its distance from the
+    drogue [m]. The HUD's figure: before contact the radial distance from the drogue's axis
+    (the run's ``miss_distance_m``) also counts the axis's tilt times the range (0.8 m at 3 m for
+    a hose hanging 15 degrees), which flying straight on does not miss by.
+
+    Parameters
+    ----------
+    joints : array (n+1, 3)
+        The hose's joints, the last the drogue [m] in S_p.
+    tip : array (3,)
+        The probe tip [m] in S_p.
+
+    Returns
+    -------
+    float
+        [m]; the radial distance from the axis when the plane is within 6 degrees of containing x
+        (a straight-on path would not cross it).
+    """
+    n = joints[-1] - joints[-2]
+    n = n / np.linalg.norm(n)
+    rel = tip - joints[-1]
+    if abs(n[0]) < 0.1:
+        return float(np.linalg.norm(rel - (rel @ n) * n))
+    crossing = rel.copy()
+    crossing[0] -= (rel @ n) / n[0]
+    return float(np.linalg.norm(crossing))
 
 
 def _b64(array: np.ndarray, dtype: str) -> str:
@@ -418,7 +448,8 @@ class LiveFlight:
         frame = {"t": o["t_s"], "joints": _b64(joints, "<f4"), "count": int(joints.shape[0]),
                  "probe": probe.tolist(), "coupled": o["coupled"], "range_m": float(joints[-1, 0] - probe[0]),
                  "offset_m": (joints[-1] - probe).tolist(), "closure_m_s": o["closure_speed_m_s"],
-                 "miss_m": o["miss_distance_m"], "plane_m": o["plane_distance_m"],
+                 "miss_m": straight_on_miss(joints, probe), "axis_miss_m": o["miss_distance_m"],
+                 "plane_m": o["plane_distance_m"],
                  "tension_n": o["exit_tension_n"], "probe_load_n": float(np.linalg.norm(o["probe_force_n"])),
                  "links": o["links"], "length_m": o["hose_length_m"], "command": list(command), "source": source,
                  "ratio": pace.ratio, "capacity": pace.capacity if math.isfinite(pace.capacity) else None,

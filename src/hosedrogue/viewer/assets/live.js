@@ -158,6 +158,7 @@
     if (!["cockpit", "side", "above", "orbit"].includes(name)) throw new Error("camera: " + name);
     cameraName = name;
     if (controls) controls.enabled = name !== "cockpit";
+    if (grid && name !== "side") { grid.rotation.set(0, 0, 0); grid.position.set(0, center.y - extent.y / 2 - 0.5, 0); }
     if (name === "cockpit") cockpit();
     else {
       let offset;
@@ -184,7 +185,17 @@
 
   function outcomeText(o) {
     if (!o || !o.result || o.result === "no contact") return "no contact yet";
-    let s = o.result;
+    let s = o.result; // a miss or a failed latch says its figure; a capture does not
+    if (o.contact_time_s !== null && o.contact_time_s !== undefined) s += ` at ${o.contact_time_s.toFixed(2)} s`;
+    if (o.result === "captured" && o.miss_distance_m !== null && o.miss_distance_m !== undefined) s += `, miss ${o.miss_distance_m.toFixed(3)} m`;
+    if (o.closure_speed_m_s !== null && o.closure_speed_m_s !== undefined) s += `, closure ${o.closure_speed_m_s.toFixed(2)} m/s`;
+    return s;
+  }
+
+  /** The outcome in a HUD line: its kind, time, miss and closure. */
+  function outcomeShort(o) {
+    if (!o || !o.result || o.result === "no contact") return "no contact yet";
+    let s = o.result.split(":")[0];
     if (o.contact_time_s !== null && o.contact_time_s !== undefined) s += ` at ${o.contact_time_s.toFixed(2)} s`;
     if (o.miss_distance_m !== null && o.miss_distance_m !== undefined) s += `, miss ${o.miss_distance_m.toFixed(3)} m`;
     if (o.closure_speed_m_s !== null && o.closure_speed_m_s !== undefined) s += `, closure ${o.closure_speed_m_s.toFixed(2)} m/s`;
@@ -198,14 +209,14 @@
       `t        ${f.t.toFixed(2)} / ${F.duration_s.toFixed(2)} s`,
       `range    ${num(f.range_m, 3)} m    probe tip to drogue along x`,
       `closure  ${num(f.closure_m_s, 2)} m/s  capture window ${w[0]}-${w[1]} m/s`,
-      `miss     ${num(f.miss_m, 3)} m    in the coupler plane; capture within ${F.capture_radius_m} m`,
+      `miss     ${num(f.miss_m, 3)} m    straight on, at the coupler plane; capture ${F.capture_radius_m} m`,
       `offset   y ${num(f.offset_m[1], 3, true)}  z ${num(f.offset_m[2], 3, true)} m  drogue - probe (y right, z down)`,
       `command  ${num(c[0], 2)} ${num(c[1], 2, true)} ${num(c[2], 2, true)} m/s  (${esc(f.source)})`,
       `hose     ${f.links} links, ${f.length_m.toFixed(2)} m; exit tension ${Math.round(f.tension_n)} N; probe load ${Math.round(f.probe_load_n)} N`,
-      `outcome  ${esc(outcomeText(f.outcome))}${f.coupled ? "  (coupled)" : ""}`,
+      `outcome  ${esc(outcomeShort(f.outcome))}${f.coupled ? "  (coupled)" : ""}`,
     ];
     let pace = `real time x${f.ratio.toFixed(2)}` + (f.capacity ? ` (could run x${f.capacity.toFixed(1)})` : "");
-    if (f.late_samples > 0) pace = `<span class="behind">BEHIND REAL TIME: ${f.late_samples} late samples, ${f.lost_s.toFixed(2)} s lost</span>  ` + pace;
+    if (f.late_samples > 0) pace = `<span class="behind">BEHIND: ${f.late_samples} late samples, ${f.lost_s.toFixed(2)} s lost</span>; ` + pace;
     rows.push(pace);
     return rows.join("\n");
   }
