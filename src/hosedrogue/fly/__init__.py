@@ -2,6 +2,7 @@
 scenario's engagement in 3D as it runs in real time, while the person at the keyboard or gamepad
 commands the probe tip's velocity (docs/fly.md).
 
+* :mod:`.frame` - the state streamed to the page, the HUD's straight-on miss;
 * :mod:`.session` - :class:`LiveFlight`: the scenario's engagement stepper driven with the person
   as its receiver controller (:class:`LivePilot`), on a wall-clock schedule (:mod:`.clock`);
 * :mod:`.server` - :class:`FlyServer`: the HTTP server (the page, a Server-Sent Events stream of
@@ -23,8 +24,9 @@ from .clock import Pace, RealTimeClock
 from .files import FLIGHT_FILE, read_commands, replay_scenario, write_flight
 from .record import REPLAY_ENTRY, CommandRecord, Replay, replay, scenario_toml
 from .server import FlyServer, bind_server
-from .session import DEFAULT_SAMPLE_TIME_S, LiveFlight, LivePilot, flight_scenario, straight_on_miss
+from .frame import frame_document, straight_on_miss
+from .session import DEFAULT_SAMPLE_TIME_S, LiveFlight, LivePilot, flight_scenario
 
 __all__ = ["LiveFlight", "LivePilot", "flight_scenario", "FlyServer", "bind_server", "CommandRecord", "Replay",
            "replay", "REPLAY_ENTRY", "scenario_toml", "write_flight", "read_commands", "replay_scenario",
-           "FLIGHT_FILE", "Pace", "RealTimeClock", "DEFAULT_SAMPLE_TIME_S", "straight_on_miss"]
+           "FLIGHT_FILE", "Pace", "RealTimeClock", "DEFAULT_SAMPLE_TIME_S", "straight_on_miss", "frame_document"]

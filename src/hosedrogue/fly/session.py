@@ -12,7 +12,6 @@ flights of one session and writes each like a ``simulate`` run.
 
 from __future__ import annotations
 
-import base64
 import dataclasses
 import json
 import math
@@ -29,9 +28,10 @@ from ..scenarios.runner import engagement_arguments
 from ..sections import Receiver
 from ..simulation.drive import drive
 from .clock import RealTimeClock
+from .frame import frame_document, plain
 from .record import REPLAY_ENTRY, CommandRecord
 
-__all__ = ["flight_scenario", "LiveFlight", "LivePilot", "straight_on_miss", "DEFAULT_SAMPLE_TIME_S", "STATES"]
+__all__ = ["flight_scenario", "LiveFlight", "LivePilot", "DEFAULT_SAMPLE_TIME_S", "STATES"]
 
 #: The person's command interval when the scenario has no ``[receiver]`` [s] (50 Hz).
 DEFAULT_SAMPLE_TIME_S = 0.02
@@ -76,53 +76,6 @@ def flight_scenario(scenario: Scenario, sample_time_s: float | None = None) -> S
         receiver = dataclasses.replace(receiver, sample_time_s=float(sample_time_s))
     receiver = dataclasses.replace(receiver, entry="", options={})
     return dataclasses.replace(scenario, engagement=dataclasses.replace(e, pilot=None, receiver=receiver))
-
-
-def straight_on_miss(joints: np.ndarray, tip: np.ndarray) -> float:
-    """The miss distance the probe is heading for: where the tip, flying straight forward (+x),
-    meets the coupler plane (through the drogue, normal to the last link), its distance from the
-    drogue [m]. The HUD's figure: before contact the radial distance from the drogue's axis
-    (the run's ``miss_distance_m``) also counts the axis's tilt times the range (0.8 m at 3 m for
-    a hose hanging 15 degrees), which flying straight on does not miss by.
-
-    Parameters
-    ----------
-    joints : array (n+1, 3)
-        The hose's joints, the last the drogue [m] in S_p.
-    tip : array (3,)
-        The probe tip [m] in S_p.
-
-    Returns
-    -------
-    float
-        [m]; the radial distance from the axis when the plane is within 6 degrees of containing x
-        (a straight-on path would not cross it).
-    """
-    n = joints[-1] - joints[-2]
-    n = n / np.linalg.norm(n)
-    rel = tip - joints[-1]
-    if abs(n[0]) < 0.1:
-        return float(np.linalg.norm(rel - (rel @ n) * n))
-    crossing = rel.copy()
-    crossing[0] -= (rel @ n) / n[0]
-    return float(np.linalg.norm(crossing))
-
-
-def _b64(array: np.ndarray, dtype: str) -> str:
-    return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode("ascii")
-
-
-def _plain(value):
-    """A JSON-ready copy of an outcome (numpy scalars as floats)."""
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, (np.floating, np.integer)):
-        return value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 class LivePilot:
@@ -444,20 +397,9 @@ class LiveFlight:
         joints, probe = o["joints_m"], o["probe_position_m"]
         if not (np.all(np.isfinite(joints)) and np.all(np.isfinite(probe))):
             return  # a failed state: the run's end says why
-        pace = self.clock.pace
-        frame = {"t": o["t_s"], "joints": _b64(joints, "<f4"), "count": int(joints.shape[0]),
-                 "probe": probe.tolist(), "coupled": o["coupled"], "range_m": float(joints[-1, 0] - probe[0]),
-                 "offset_m": (joints[-1] - probe).tolist(), "closure_m_s": o["closure_speed_m_s"],
-                 "miss_m": straight_on_miss(joints, probe), "axis_miss_m": o["miss_distance_m"],
-                 "plane_m": o["plane_distance_m"],
-                 "tension_n": o["exit_tension_n"], "probe_load_n": float(np.linalg.norm(o["probe_force_n"])),
-                 "links": o["links"], "length_m": o["hose_length_m"], "command": list(command), "source": source,
-                 "ratio": pace.ratio, "capacity": pace.capacity if math.isfinite(pace.capacity) else None,
-                 "late_samples": pace.late_samples, "lost_s": pace.lost_s,
-                 "outcome": _plain(dict(self.stepper.outcome))}
-        text = json.dumps(frame, separators=(",", ":"), allow_nan=False)
+        frame = frame_document({**o, "outcome": dict(self.stepper.outcome)}, command, source, self.clock.pace)
         with self._cv:
-            self._frame = text
+            self._frame = frame
             self._seq += 1
             self._cv.notify_all()
 
@@ -465,7 +407,7 @@ class LiveFlight:
         """The session's state as the page shows it (call with the lock held)."""
         status = {"state": self.state, "flight": self.number, "closed": self.closed_reason,
                   "flights": [self._flight_summary(n) for n in sorted(self.results)]}
-        self._status = json.dumps(_plain(status), separators=(",", ":"), allow_nan=False)
+        self._status = json.dumps(plain(status), separators=(",", ":"), allow_nan=False)
         self._seq += 1
 
     def written(self) -> list[dict]:
