@@ -142,3 +142,39 @@ def test_closing_the_page_stops_the_server(browser, server):
     doc = json.loads((server.flight.folders[1] / "run.json").read_text())
     assert doc["flight"]["ended"] == "the page was closed" and server.flight.closed_reason == "the page was closed"
     assert took >= 0.3  # not before the idle timeout: a reload comes back within it
+
+
+#: A gamepad for the page (the Gamepad API, faked before the page's script runs): its left
+#: stick's x axis set by the test through window.__pad_x.
+FAKE_PAD = """(() => {
+  window.__pad_x = 0;
+  const buttons = Array.from({ length: 17 }, () => ({ pressed: false, value: 0 }));
+  navigator.getGamepads = () => [{ connected: true, id: "test pad", axes: [window.__pad_x, 0, 0, 0], buttons }];
+})();"""
+
+
+def test_a_gamepad_stick_flies_the_probe(browser, server):
+    """The left stick pushed 80 % right (past the 0.12 dead zone: 0.77 of the 1 m/s bound) moves
+    the probe right and not vertically, and the flight records the gamepad as its input."""
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    context.add_init_script(FAKE_PAD)
+    page = context.new_page()
+    try:
+        page.goto(server.url)
+        _until(page, "window.hdLive && hdLive.firstFrameMs")
+        page.keyboard.press("Enter")
+        _until(page, "hdLive.status.state === 'flying'")
+        p0 = _probe(page)
+        page.evaluate("() => { window.__pad_x = 0.8; }")
+        page.wait_for_timeout(600)
+        page.evaluate("() => { window.__pad_x = 0; }")
+        page.wait_for_timeout(300)
+        p1 = _probe(page)
+        page.keyboard.press("Escape")
+        _until(page, "hdLive.status.state === 'ended' && hdLive.status.flights.length === 1")
+    finally:
+        context.close()
+    assert p1[1] - p0[1] > 0.1 and abs(p1[2] - p0[2]) < 1e-9, (p0, p1)
+    doc = json.loads((server.flight.folders[1] / "run.json").read_text())
+    vy = {round(c[2], 6) for c in fly.read_commands(doc)}
+    assert round((0.8 - 0.12) / (1 - 0.12), 6) in vy and doc["flight"]["inputs"].get("gamepad", 0) > 0
