@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 from pathlib import Path
 
-from .options import bounded_int, finite_float, prepare_out
+from ..errors import ParameterError
+from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 
 NAME = "fly"
 
@@ -71,7 +73,7 @@ def run(args) -> int:
     -------
     int
         Exit status (see :mod:`hosedrogue.cli`): 0 once the server has stopped and written its
-        flights.
+        flights; 3 if a flight could not be written (one line on stderr, what was written kept).
     """
     from ..fly import FlyServer, LiveFlight, bind_server, flight_scenario
     from ..fly.server import is_loopback
@@ -84,6 +86,9 @@ def run(args) -> int:
     flight_scenario(scenario, args.sample_time)  # a scenario without a probe: one line before anything
     out = Path(args.out)
     prepare_out(out)
+    parent = next((p for p in (out, *out.parents) if p.exists()), Path("."))
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ParameterError(f"--out = {str(out)!r}: {str(parent)!r} is not writable, so no flight could be saved")
     bound = bind_server(args.host, args.port or 0, strict=bool(args.port))  # a port given: that one or none
     if not is_loopback(args.host):
         print(f"hosedrogue: warning: --host {args.host} exposes the simulator to every machine that reaches this "
@@ -104,6 +109,9 @@ def run(args) -> int:
         server.stop("Ctrl-C")
         server.wait()
     flights = flight.written()
+    if flight.error is not None:
+        print(f"hosedrogue: {flight.error}", file=sys.stderr, flush=True)
+        return EXIT_INCOMPLETE
     if args.json:
         print(json.dumps({"url": server.url, "stopped": flight.closed_reason, "flights": flights}, indent=2))
     else:

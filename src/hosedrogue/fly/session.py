@@ -191,6 +191,7 @@ class LiveFlight:
         #: waits for (an Event, not ``Thread.join``, which Ctrl-C can leave saying "not alive"
         #: while the thread still writes)
         self.finished = threading.Event()
+        self.error = None  #: one line when the session stopped on an error (its flight's files unwritable)
 
     def _pilot_factory(self):
         return self.pilot
@@ -344,6 +345,11 @@ class LiveFlight:
                     self._cv.wait_for(lambda: self._again or self.closed_reason is not None)
                     if self.closed_reason is not None:
                         break
+        except Exception as exc:  # a flight's files that cannot be written, a failure of this code
+            self.error = f"flight {self.number} stopped: {type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
+            self.log(self.error)
+            with self._cv:
+                self.closed_reason = self.closed_reason or "an error"
         finally:
             with self._cv:
                 self.state = "closed"
