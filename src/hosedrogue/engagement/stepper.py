@@ -249,6 +249,22 @@ class EngagementStepper(StepperBase):
         """The capture test's outcome so far (``result``, miss [m], closure speed [m/s], contact time [s])."""
         return self.run.outcome
 
+    def hose_shape(self) -> tuple[np.ndarray, np.ndarray]:
+        """The hose and the probe as they are now (the state, not the measurement: no sensor noise
+        or delay), for drawing a run that keeps no time series.
+
+        Returns
+        -------
+        joints_m : numpy.ndarray (n+1, 3)
+            Joint positions [m] in S_p, from the hose's exit (row 0) to the drogue (row n).
+        probe_m : numpy.ndarray (3,)
+            Probe tip position [m] in S_p.
+        """
+        run = self.run
+        joints, _, scal = segment_outputs(np.array([run.t]), run.z[None, :], run.chain, self.model, run.ep,
+                                          run.loop)[:3]
+        return joints[0], scal[0, [EK.O_PX, EK.O_PY, EK.O_PZ]]
+
     def result(self) -> EngagementResult:
         """The run so far as the usual :class:`~hosedrogue.results.EngagementResult` (``completed``
         False and ``message`` saying why if it stopped early or is still running).

@@ -163,6 +163,10 @@ class LiveFlight:
             e, receiver=dataclasses.replace(e.receiver, entry=self._pilot_factory)))
         kw = engagement_arguments(flown)
         control, sample = kw.pop("control"), kw.pop("sample_time_s")
+        if kw.pop("drogue_actuator", None) is not None:
+            raise ParameterError(f"scenario {scenario.name!r}: [drogue_actuator] (the drogue's control surfaces) "
+                                 "is not flown live yet: the live receiver is a sampled-data controller, which "
+                                 "does not command them (docs/model.md §10)")
         controllers = sampled_controllers(kw["reel"], kw["receiver"], control, sample)
         self.stepper, self.controllers, self.built = sampled_stepper(flown.params, flown.duration_s, controllers,
                                                                      control=control, **kw)
