@@ -94,7 +94,8 @@ def test_the_page_loads_within_2_s_and_the_keys_fly_the_probe(browser, server):
     Enter starts the flight, the right arrow held moves the probe right (+y) and not vertically,
     the up arrow held moves it up (-z) and not sideways (the receiver's lag lets it drift on by
     at most v tau = 0.05 m after a key is let go), and the flight's record holds the keyboard's
-    half-speed commands (0.5 m/s of the receiver's 1 m/s bound)."""
+    half-speed commands (0.5 m/s of the receiver's 1 m/s bound). The replay page (the viewer's,
+    from the same server) draws the flight to its last time."""
     context, page, requests, errors = _open(browser, server.url)
     try:
         first = _until(page, "window.hdLive && hdLive.firstFrameMs")
@@ -114,6 +115,10 @@ def test_the_page_loads_within_2_s_and_the_keys_fly_the_probe(browser, server):
         p2 = _probe(page)
         page.keyboard.press("Escape")  # end the flight: its files are written
         _until(page, "hdLive.status.state === 'ended' && hdLive.status.flights.length === 1")
+        flown_s = page.evaluate("() => hdLive.status.flights[0].flown_s")
+        page.goto(server.url + "flights/1/view.html")  # the replay: the viewer's page of the flight
+        _until(page, "Number(document.documentElement.dataset.hdDrawn || 0) >= 1")
+        assert page.evaluate("() => hdViewer.span")[1] == pytest.approx(flown_s, abs=1e-9)
         assert not errors, errors
         assert all(r.startswith(server.url) for r in requests), requests
     finally:
