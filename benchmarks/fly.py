@@ -11,7 +11,9 @@ time, and what is left over is the page's (the browser draws on the same machine
   link count docs/convergence.md settles on) and with more links, the step scaled with the link
   length as the shipped scenarios do (40 links at 2.5 ms ... 160 at 0.625 ms, engage-response's);
 * the same run by ``simulate_engagement`` (no person, no frames): what the live layer costs;
-* a real-time flight at 20 links (10 s): its real-time ratio and late samples.
+* a real-time flight at 20 links (10 s): its real-time ratio and late samples;
+* the same with its page open in headless Chromium (software WebGL) on the same machine: the
+  page's frame rate and the flight's pace.
 
 Run:  .venv/bin/python benchmarks/fly.py   (one core: NUMBA_NUM_THREADS=1 is set here)
 Target: margin >= 2 at the converged link count (room for the page and a loaded machine).
@@ -96,6 +98,47 @@ def main():
     pace = flight(sc, 1.0, out)
     print(f"  real time, 20 links, 10 s: ratio {pace.ratio:.4f}, margin {pace.capacity:.1f}, "
           f"late samples {pace.late_samples} (lost {pace.lost_s:.3f} s, worst {pace.max_late_s * 1e3:.1f} ms late)")
+    with_browser()
+
+
+def with_browser(seconds: float = 6.0):
+    """A real-time flight at 20 links with its page open in headless Chromium on the same machine
+    (software WebGL): the page's frames drawn per second and the flight's pace."""
+    import shutil
+
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        print("  with the page open: skipped (Playwright not installed)")
+        return
+    chromium = shutil.which("chromium")
+    if chromium is None:
+        print("  with the page open: skipped (no Chromium)")
+        return
+    sc = case("approach-moderate").with_overrides(duration_s=seconds)
+    live = fly.LiveFlight(sc, tempfile.mkdtemp(prefix="hosedrogue-fly-bench-"), log=lambda line: None)
+    server = fly.FlyServer(live, log=lambda line: None).start()
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1280, "height": 800})
+        page.goto(server.url)
+        page.wait_for_timeout(1000)
+        page.keyboard.press("Enter")
+        page.wait_for_timeout(1000)
+        n0, t0 = page.evaluate("() => [hdLive.drawn, performance.now()]")
+        page.keyboard.down("ArrowRight")
+        page.wait_for_timeout(2000)
+        page.keyboard.up("ArrowRight")
+        n1, t1 = page.evaluate("() => [hdLive.drawn, performance.now()]")
+        while live.state != "ended":
+            page.wait_for_timeout(100)
+        browser.close()
+    pace = live.clock.pace
+    server.stop("the benchmark's end")
+    server.wait(30.0)
+    print(f"  real time with the page open (headless Chromium, 1280 x 800), 20 links, {seconds:g} s: page "
+          f"{(n1 - n0) / (t1 - t0) * 1e3:.0f} frames/s; ratio {pace.ratio:.4f}, margin {pace.capacity:.1f}, "
+          f"late samples {pace.late_samples} (lost {pace.lost_s:.3f} s)")
 
 
 if __name__ == "__main__":

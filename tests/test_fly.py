@@ -198,11 +198,14 @@ def _one_line_error(capsys, argv, *words):
 
 
 def test_bad_input_is_one_line_and_exit_2_with_nothing_written(capsys, tmp_path):
-    """An unknown scenario, a fixed-length one (no probe), a port given that is in use (it names a
-    free one to use, which is free): one line, exit status 2, no folder written."""
+    """An unknown scenario, a fixed-length one (no probe), a command interval that is not a whole
+    number of integration steps, a port given that is in use (it names a free one to use, which
+    is free): one line, exit status 2, no folder written."""
     out = tmp_path / "flights"
     _one_line_error(capsys, ["fly", "no-such-scenario", "--out", str(out)], "no-such-scenario")
     _one_line_error(capsys, ["fly", "swing-release", "--out", str(out)], "no probe")
+    _one_line_error(capsys, ["fly", "approach-moderate", "--sample-time", "0.013", "--out", str(out)],
+                    "receiver.sample_time_s = 0.013", "numerics.step_s")
     with socket.socket() as busy:
         busy.bind(("127.0.0.1", 0))
         busy.listen()
