@@ -256,12 +256,14 @@ def _finish(proc, timeout_s=20.0):
     return out, err
 
 
-def test_ctrl_c_stops_the_server_and_writes_the_flight(tmp_path, capsys):
-    """Ctrl-C while flying: the flight in progress is written (ended by Ctrl-C, the time flown),
-    the process ends with status 0 and no traceback. While it runs, a second ``fly`` on its port
-    is refused, naming another; the server answers only as itself (a page of another host name
-    pointed at 127.0.0.1 gets 403) and takes a command only from its own page's origin."""
-    proc, url, _ = _start_fly(tmp_path)
+@pytest.mark.parametrize("sig, why", [(signal.SIGINT, "Ctrl-C"), (signal.SIGTERM, "SIGTERM")])
+def test_ctrl_c_stops_the_server_and_writes_the_flight(tmp_path, capsys, sig, why):
+    """Ctrl-C (or SIGTERM) while flying: the flight in progress is written (ended by it, the time
+    flown), the process ends with status 0 and no traceback, and --json lists the flight. While
+    it runs, a second ``fly`` on its port is refused, naming another; the server answers only as
+    itself (a page of another host name pointed at 127.0.0.1 gets 403) and takes a command only
+    from its own page's origin."""
+    proc, url, _ = _start_fly(tmp_path, "--json")
     try:
         port = int(url.rstrip("/").rsplit(":", 1)[1])
         _one_line_error(capsys, ["fly", "approach-moderate", "--port", str(port), "--out", str(tmp_path / "b")],
@@ -275,14 +277,16 @@ def test_ctrl_c_stops_the_server_and_writes_the_flight(tmp_path, capsys):
         assert status == 200 and json.loads(body)["ok"]
         assert _request(url, "POST", "/input", {"v": [1.0, 0.5, 0.0], "source": "keyboard"})[0] == 200
         time.sleep(0.6)
-        proc.send_signal(signal.SIGINT)
+        proc.send_signal(sig)
         out, _ = _finish(proc)
     finally:
         proc.kill()
     assert proc.returncode == 0, out
     doc = json.loads((tmp_path / "flights" / "flight-001" / "run.json").read_text())
-    assert doc["flight"]["ended"] == "Ctrl-C" and doc["flight"]["samples"] > 10
-    assert "1 flight written" in out
+    assert doc["flight"]["ended"] == why and doc["flight"]["samples"] > 10
+    listed = json.loads(out[out.index("\n{") + 1:])
+    assert listed["stopped"] == why and [f["folder"] for f in listed["flights"]] == [
+        str(tmp_path / "flights" / "flight-001")]
 
 
 def test_a_closed_page_stops_the_server(tmp_path):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -11,6 +12,15 @@ from ..errors import ParameterError
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 
 NAME = "fly"
+
+
+#: Signals that end a session like Ctrl-C (a service manager's stop, a closed terminal).
+_TERMINATING = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+def _terminated(signum, frame):
+    """A terminating signal: stop as Ctrl-C does, saying which signal it was."""
+    raise KeyboardInterrupt(signal.Signals(signum).name)
 
 
 def add_parser(sub) -> None:
@@ -31,7 +41,7 @@ def add_parser(sub) -> None:
             "OUT/flight-NNN like a 'hosedrogue simulate' run (timeseries.csv, run.json with the commands, "
             "hose.npz, engagement.png), with view.html (its replay in the viewer) and flight.toml (the scenario "
             "that runs it again: 'hosedrogue simulate OUT/flight-001/flight.toml'). The server stops on Ctrl-C "
-            "or when the page has been closed for --idle-timeout seconds, writing the flight in progress first."))
+            "or when the page has been closed for --idle-timeout seconds, writing the flight in progress first (SIGTERM and SIGHUP too)."))
     s.add_argument("scenario", metavar="SCENARIO", help="an engagement scenario with a [probe] (name or TOML file), "
                                                         "e.g. approach-moderate")
     s.add_argument("--duration", metavar="S", type=finite_float("--duration", 1e-9, 86400, "s"),
@@ -102,12 +112,17 @@ def run(args) -> int:
         import webbrowser
 
         webbrowser.open(server.url)
+    previous = {sig: signal.signal(sig, _terminated) for sig in _TERMINATING}
     try:
         server.wait()
-    except KeyboardInterrupt:
-        log("Ctrl-C: ending the flight in progress and writing its files")
-        server.stop("Ctrl-C")
+    except KeyboardInterrupt as exc:
+        why = str(exc) or "Ctrl-C"
+        log(f"{why}: ending the flight in progress and writing its files")
+        server.stop(why)
         server.wait()
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
     flights = flight.written()
     if flight.error is not None:
         print(f"hosedrogue: {flight.error}", file=sys.stderr, flush=True)
