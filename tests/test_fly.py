@@ -342,3 +342,25 @@ def test_the_huds_miss_is_where_a_straight_path_meets_the_coupler_plane():
     path = tip + s[:, None] * [1.0, 0.0, 0.0]
     cross = path[np.argmin(np.abs((path - drogue) @ n))]
     assert fly.straight_on_miss(joints, tip) == pytest.approx(np.linalg.norm(cross - drogue), abs=2e-5)
+
+
+def test_the_next_flight_starts_from_the_same_state(tmp_path):
+    """Two flights of one session, each flown with the scenario's own closing command: the second
+    (after "again") is the first again, to the bit - the stepper's reset restores the balance
+    position and the same gusts - and each has its folder, numbered on."""
+    sc = hd.load_scenario("approach-moderate").with_overrides(duration_s=0.4)
+    flight = fly.LiveFlight(sc, tmp_path / "flights", log=lambda line: None)
+    sim = threading.Thread(target=flight.run_flights, daemon=True)
+    sim.start()
+    for n in (1, 2):
+        assert _until(lambda: flight.start())
+        assert _until(lambda: flight.state == "ended" and n in flight.results, 30.0)
+        if n == 1:
+            assert flight.again()
+    flight.close("the test's end")
+    sim.join(10.0)
+    a, b = flight.results[1], flight.results[2]
+    assert [p.name for p in sorted((tmp_path / "flights").iterdir())] == ["flight-001", "flight-002"]
+    assert np.array_equal(a.probe_position_m, b.probe_position_m) and np.array_equal(a.drogue_position_m,
+                                                                                     b.drogue_position_m)
+    assert np.array_equal(a.hose_shapes()[1], b.hose_shapes()[1])
