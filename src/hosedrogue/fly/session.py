@@ -21,12 +21,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..controllers.sampled import SampledController
 from ..engagement.simulate import sampled_controllers, sampled_stepper
 from ..errors import ParameterError
 from ..scenarios import Scenario
 from ..scenarios.runner import engagement_arguments
 from ..sections import Receiver
 from ..simulation.drive import drive
+from ..simulation.simulate import sampled_controller
 from .clock import RealTimeClock
 from .frame import frame_document, plain
 from .record import REPLAY_ENTRY, CommandRecord
@@ -163,11 +165,10 @@ class LiveFlight:
             e, receiver=dataclasses.replace(e.receiver, entry=self._pilot_factory)))
         kw = engagement_arguments(flown)
         control, sample = kw.pop("control"), kw.pop("sample_time_s")
-        if kw.pop("drogue_actuator", None) is not None:
-            raise ParameterError(f"scenario {scenario.name!r}: [drogue_actuator] (the drogue's control surfaces) "
-                                 "is not flown live yet: the live receiver is a sampled-data controller, which "
-                                 "does not command them (docs/model.md §10)")
-        controllers = sampled_controllers(kw["reel"], kw["receiver"], control, sample)
+        surfaces = kw["drogue_actuator"]
+        controllers = sampled_controllers(kw["reel"], kw["receiver"], control, sample, surfaces)
+        if surfaces is not None and not isinstance(sampled_controller(control), SampledController):
+            surfaces.check_force_command()  # as simulate_engagement: a built-in controller commands a force
         self.stepper, self.controllers, self.built = sampled_stepper(flown.params, flown.duration_s, controllers,
                                                                      control=control, **kw)
         self.period = self.receiver.sample_time_s
