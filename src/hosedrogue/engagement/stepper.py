@@ -28,6 +28,7 @@ from ..controllers.linear import LinearController
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, hold_controller_arrays
+from ..errors import ParameterError
 from ..params import Actuator, Params, Sensor
 from ..sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.stepper import StepperBase, sensor_noise3
@@ -81,6 +82,13 @@ class EngagementStepper(StepperBase):
         :meth:`result` also evaluates the energy terms [J].
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
+    receiver_pass_through : bool
+        With a receiver: the probe tip moves at the held velocity command itself, without the
+        receiver's response (no lag, no speed or acceleration bound) - for a probe path fed from
+        outside, e.g. positions differenced into velocities (the engagement FMU's position input).
+    probe_start_m : array_like (3,), optional
+        With a receiver: where the probe tip starts [m] in the tanker frame, instead of the
+        ``[probe]`` start point (its standoff and offsets from the drogue's balance position).
     """
 
     def __init__(self, params: Params, duration_s: float, *, control_step_s: float, reel: Reel | None = None,
@@ -88,7 +96,10 @@ class EngagementStepper(StepperBase):
                  receiver: Receiver | None = None, control: LinearController | None = None,
                  drogue_command: bool = False, actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
                  x0=None, equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
-                 record: bool = True, energy: bool = False, gravity_m_s2: float | None = None):
+                 record: bool = True, energy: bool = False, gravity_m_s2: float | None = None,
+                 receiver_pass_through: bool = False, probe_start_m=None):
+        if receiver is None and (receiver_pass_through or probe_start_m is not None):
+            raise ParameterError("receiver_pass_through, probe_start_m: only with a receiver (the probe it flies)")
         if drogue_command:
             control = LinearController(*hold_controller_arrays())
         self.start = prepare(params, duration_s, reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot,
@@ -96,6 +107,9 @@ class EngagementStepper(StepperBase):
                              not drogue_command else Sensor(), x0=x0, equilibrium=equilibrium, seed=seed,
                              length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2)
         st = self.start
+        self.pass_through = bool(receiver_pass_through)
+        if receiver is not None:
+            self._set_receiver_start(probe_start_m)
         self.params, self.probe, self.duration_s = st.params, probe, float(duration_s)
         self.h = params.numerics.step_s
         self.total_steps = st.total_steps
@@ -108,6 +122,7 @@ class EngagementStepper(StepperBase):
         # the held commands (u_y, u_z, take-up speed, v_x, v_y, v_z), written into the state's
         # slots before every control step
         self._commands = np.zeros(6)
+        self._dM, self._out = np.empty(2), np.empty(EK.O_SIZE)  # the last evaluation's outputs (probe_force_n)
         self._slots = {"drogue": (0, 1), "reel": (2,), "receiver": (3, 4, 5)}
         self._slots = {role: self._slots[role] for role in self.roles}
         if receiver is not None:
@@ -154,7 +169,6 @@ class EngagementStepper(StepperBase):
         run, model = self.run, self.model
         chain, n, nz = run.chain, run.chain.n, run.z.size
         self._ws, self._ws2 = K.make_workspace(n), K.make_workspace(n)
-        self._dM, self._out = np.empty(2), np.empty(EK.O_SIZE)
         self._work = np.empty((5, nz))
         self._zprev = np.empty(nz)
         rows = (self.total_steps - int(self.ctr[C_STEP])) // self.every + 2 if self.record else 1
@@ -170,8 +184,24 @@ class EngagementStepper(StepperBase):
                       self._out, self.ring, self.delay, self.control_step_s, self.noise3, self.sensor.sample_time_s,
                       self.balance, self.mbuf)
 
+    def _set_receiver_start(self, probe_start_m) -> None:
+        """The receiver's start point and, passing through, its response switched off: the
+        acceleration bound 0 holds the tip's velocity state at the value :meth:`_advance`
+        writes into it (the command), so the tip moves at the command."""
+        st = self.start
+        b = 4 * st.chain.n + EK.Z_TAIL
+        if probe_start_m is not None:
+            p = np.asarray(probe_start_m, dtype=np.float64)
+            if p.shape != (3,) or not np.all(np.isfinite(p)):
+                raise ParameterError(f"probe_start_m = {probe_start_m!r}: must be 3 finite numbers [m]")
+            st.z[b + EK.RCV_X:b + EK.RCV_X + 3] = p
+            st.ep[[EK.EP_P0X, EK.EP_P0Y, EK.EP_P0Z]] = p
+        if self.pass_through:
+            st.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = 0.0
+
     def _command_places(self, run) -> list:
-        """(index in the held commands, index in the state) of every commanded number."""
+        """(index in the held commands, index in the state) of every commanded number (passing
+        through, the receiver's command is also its velocity)."""
         b = 4 * run.chain.n + EK.Z_TAIL
         places = []
         if "drogue" in self.roles:
@@ -181,6 +211,8 @@ class EngagementStepper(StepperBase):
             places.append((2, b + int(run.ep[EK.EP_REEL_SLOT]) - 1))
         if "receiver" in self.roles:
             places += [(3 + i, b + EK.RCV_CX + i) for i in range(3)]
+            if self.pass_through:
+                places += [(3 + i, b + EK.RCV_VX + i) for i in range(3)]
         return places
 
     def _close_record(self) -> None:
@@ -244,6 +276,12 @@ class EngagementStepper(StepperBase):
         """Nothing to add: the kernel saves every state on the output grid as it reaches it."""
 
     # --- the result ------------------------------------------------------------------------------
+    @property
+    def probe_force_n(self) -> np.ndarray:
+        """The probe's force on the drogue [N] (tanker frame; zero until coupled) at the time of
+        the last measurement, without the sensor (the receiver feels its opposite)."""
+        return self._out[EK.O_FPX:EK.O_FPZ + 1].copy()
+
     @property
     def outcome(self) -> dict:
         """The capture test's outcome so far (``result``, miss [m], closure speed [m/s], contact time [s])."""
