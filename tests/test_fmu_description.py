@@ -22,6 +22,7 @@ pytest.importorskip("pythonfmu")
 from fmpy.validation import validate_fmu  # noqa: E402
 
 from hosedrogue.interop.fmu_core import HOSE_FMU, INTERFACES  # noqa: E402
+from hosedrogue.interop.fmu_engagement import ENGAGEMENT_FMU  # noqa: E402
 
 LINKS = 4
 STEP_S = 0.005  # numerics.step_s of the exported parameters, the communication step here
@@ -35,7 +36,19 @@ def fmus(tmp_path_factory):
     prepare_python_host(LINKS)  # fmpy runs the FMUs in this interpreter (docs/interop.md)
     folder = tmp_path_factory.mktemp("fmus")
     params = PAPER.replace(hose={"links": LINKS})
-    return {kind: export_fmu(folder / f"{kind}.fmu", params, kind=kind) for kind in INTERFACES}
+    models = {HOSE_FMU.kind: params, ENGAGEMENT_FMU.kind: engagement_scenario()}
+    return {kind: export_fmu(folder / f"{kind}.fmu", models[kind], kind=kind) for kind in INTERFACES}
+
+
+def engagement_scenario():
+    """``engage-response`` on a coarse mesh, short: what the engagement FMU freezes at export."""
+    import dataclasses
+
+    from hosedrogue import load_scenario
+
+    scenario = load_scenario("engage-response")
+    return dataclasses.replace(scenario, duration_s=1.0, params=scenario.params.replace(
+        hose={"links": LINKS}, numerics={"step_s": STEP_S, "output_every": 1}))
 
 
 @pytest.fixture(scope="module")
