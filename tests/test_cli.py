@@ -168,7 +168,8 @@ OPTION_UNITS = {
     "steady": {"--altitude": "[m]", "--airspeed": "[m/s]", "--links": "[-]"},
     "linearize": {"--altitude": "[m]", "--airspeed": "[m/s]", "--links": "[-]", "--order": "[-]"},
     "design": {"--altitude": "[m]", "--airspeed": "[m/s]", "--links": "[-]", "--order": "[-]", "--q": "[1/(m N)]",
-               "--r": "[1/N^2]"},
+               "--r": "[1/N^2]", "--rise-time": "[s]", "--settling-time": "[s]", "--overshoot": "[%]",
+               "--min-damping": "[-]"},
     "simulate": {"--duration": "[s]", "--seed": "[-]"},
     "sweep": {"--altitudes": "[m]", "--airspeeds": "[m/s]", "--links": "[-]"},
     "bow-wave": {"--distances": "[m]", "--radius": "[m]", "--offset": "[m]"},
@@ -318,14 +319,19 @@ def test_design_lqr_paper_json(capsys):
 
 
 def test_design_pid_paper_json(capsys):
-    """The paper's PID on its Table 2 models: every Table 3 figure within 6 % (the requested
-    tolerance; worst is the vertical settling time, +5.3 %, see test_controllers)."""
+    """The paper's PID (--gains paper: Eq. 33's gains, exactly) on its Table 2 models: every Table 3
+    figure within 6 % (the requested tolerance; worst is the vertical settling time, +5.3 %, see
+    test_controllers)."""
+    from hosedrogue.controllers.pid import PAPER_PID
     from hosedrogue.paper import TABLE3
 
-    code, out, err = run(capsys, "design", "pid", "--plant", "paper", "--json")
+    code, out, err = run(capsys, "design", "pid", "--plant", "paper", "--gains", "paper", "--json")
     assert code == 0, err
     d = json.loads(out)
-    assert d["controller"]["lateral"]["kp_n_per_m"] == pytest.approx(10787.14)
+    assert d["controller"]["source"] == "paper Eq. 33"
+    for ch in ("lateral", "vertical"):
+        g, c = PAPER_PID[ch], d["controller"][ch]
+        assert (c["kp_n_per_m"], c["ki_n_per_m_s"], c["kd_n_s_per_m"], c["n_filter_rad_s"]) == (g.kp, g.ki, g.kd, g.n_filter)
     for ch in ("lateral", "vertical"):
         for key, ref in TABLE3[("PID", ch)].items():
             assert abs(d[ch][key] / ref - 1.0) < 0.06, (ch, key, d[ch][key], ref)
@@ -348,12 +354,26 @@ BAD_DESIGN_ARGS = [
     (["design", "lqr", "--q", "nan", "1", "1", "1"], "--q"),
     (["design", "lqr", "--r", "0", "0.5"], "--r"),
     (["design", "lqr", "--plant", "paper", "--altitude", "3000"], "--altitude"),
+    (["design", "pid", "--plant", "paper", "--bank-deg", "20"], "--bank-deg"),
     (["design", "lqr", "--plant", "moon"], "--plant"),
     (["design", "lqr", "--order", "6"], "--order"),
     (["design", "pid", "--plant", "paper", "--order", "3"], "--order"),
     (["design", "pid", "--q", "1"], "--q"),
     (["design", "pid", "--design", "integral"], "--design"),
     (["design", "mpc"], "mpc"),
+    (["design", "pid", "--rise-time", "0.1", "0.1", "--settling-time", "0.05", "1"], "--settling-time"),
+    (["design", "pid", "--rise-time", "-0.1", "0.1"], "--rise-time"),
+    (["design", "pid", "--overshoot", "0", "4"], "--overshoot"),
+    (["design", "pid", "--overshoot", "120", "4"], "--overshoot"),
+    (["design", "pid", "--settling-time", "1"], "--settling-time"),
+    (["design", "pid", "--min-damping", "1.5"], "--min-damping"),
+    (["design", "pid", "--gains", "paper", "--rise-time", "0.1", "0.1"], "--rise-time"),
+    (["design", "pid", "--gains", "nice"], "--gains"),
+    (["design", "lqr", "--overshoot", "3", "4"], "--overshoot"),
+    (["design", "lqr", "--gains", "paper"], "--gains"),
+    (["design", "pid", "--format", "mat"], "--out"),
+    (["design", "pid", "--out", "x.mat"], "--out"),
+    (["design", "lqr", "--format", "mat", "--out", "x.txt"], "--out"),
 ]
 
 

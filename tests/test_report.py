@@ -39,6 +39,7 @@ FIGURES = {
     "fig12": "fig12_controller_on_off.png",
     "fig13": "fig13_control_forces.png",
     "fig-hose3d": "fig_hose3d.png",
+    "fig-pid-tuning": "pid_tuning_steps.png",
     "fig-accuracy": "fig_accuracy.png",
     "fig-long-runs": "fig_long_runs.png",
     "fig-engagement-history": "fig_engagement_history.png",
@@ -52,6 +53,9 @@ FIGURES = {
     "fig-manoeuvres-steady": "fig_manoeuvres_steady.png",
     "fig-manoeuvres-entry": "fig_manoeuvres_turn_entry.png",
     "fig-manoeuvres-capture": "fig_manoeuvres_capture.png",
+    "fig-actuated-run": "fig_actuated_paper_case.png",
+    "fig-actuated-claims": "fig_actuated_claims.png",
+    "fig-actuated-capture": "fig_actuated_capture.png",
 }
 
 #: Every table of the report: HTML id -> CSV file.
@@ -69,6 +73,7 @@ TABLES = {
     "table-3": "table3.csv",
     "table-3-lqr-integral": "table3_lqr_integral.csv",
     "table-closed-loop": "closed_loop_peaks.csv",
+    "table-pid-tuning": "pid_tuning.csv",
     "table-realization-spread": "realization_spread.csv",
     "table-comparison": "comparison.csv",
     "table-accuracy-position": "accuracy_links.csv",
@@ -88,6 +93,10 @@ TABLES = {
     "table-docking-force-limit": "docking_force_limit.csv",
     "table-manoeuvres-breakdown": "manoeuvres_turn_breakdown.csv",
     "table-manoeuvres-capture": "manoeuvres_capture.csv",
+    "table-servo-margins": "actuated_servo_margins.csv",
+    "table-actuator-convergence": "actuated_convergence.csv",
+    "table-actuator-claims": "actuated_claims.csv",
+    "table-actuator-capture": "actuated_capture.csv",
 }
 
 #: The data behind each figure.
@@ -95,7 +104,7 @@ FIGURE_DATA = [
     "convergence_steps.csv", "convergence_links.csv", "fig03_sweep.csv", "fig04_turbulence_speeds.csv",
     "fig05_linear_steps.csv", "fig06_pole_zero.csv", "fig07_bode.csv", "fig08_step_compare.csv",
     "fig10_closed_loop_steps.csv", "fig11_pid_orders.csv", "fig12_controller_on_off.csv",
-    "fig13_control_forces.csv", "fig_hose3d.csv", "anim_turbulence.csv",
+    "fig13_control_forces.csv", "fig_hose3d.csv", "anim_turbulence.csv", "pid_tuning.csv",
     "accuracy_links.csv", "accuracy_continuum.csv", "long_runs_blowup.csv", "long_runs_modes.csv",
     "long_runs_stable_run.csv",
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
@@ -103,12 +112,14 @@ FIGURE_DATA = [
     "docking_closure_speed.csv", "docking_closure_speed_runs.csv", "docking_force_limit.csv",
     "docking_force_limit_runs.csv",
     "manoeuvres_bank.csv", "manoeuvres_flight_path.csv", "manoeuvres_turn_entry.csv",
+    "actuated_paper_case.csv", "actuated_claims_runs.csv",
 ]
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
 SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
-            "fig5-8", "table3", "fig10-11", "fig12-13", "hose3d", "animation", "accuracy", "long-runs", "engagement",
-            "docking", "manoeuvres"]
+SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
+            "fig5-8", "table3", "fig10-11", "fig12-13", "pid-tuning", "hose3d", "animation", "accuracy", "long-runs",
+            "engagement", "docking", "manoeuvres", "actuated-drogue"]
 
 
 # --- the whole fast report, once -------------------------------------------------------------------
@@ -404,6 +415,11 @@ def test_settings_hold_every_fast_full_difference():
     assert set(FAST.docking_force_controllers) <= set(FULL.docking_force_controllers)
     assert FULL.engagement_links is None and FULL.engagement_duration_s is None
     assert FAST.engagement_links and FAST.engagement_step_s and FAST.engagement_output_every
+    assert set(FAST.actuator_levels) <= set(FULL.actuator_levels)
+    assert set(FAST.actuator_deflections_deg) <= set(FULL.actuator_deflections_deg)
+    assert set(FAST.actuator_bandwidths_hz) <= set(FULL.actuator_bandwidths_hz)
+    assert set(FAST.actuator_capture_levels) <= set(FULL.actuator_capture_levels)
+    assert FAST.actuator_runs < FULL.actuator_runs and FAST.actuator_seeds <= FULL.actuator_seeds
 
 
 def test_sections_receive_exactly_the_results_they_declare():
@@ -616,3 +632,28 @@ def test_plot_docking_figures():
     assert len(panels) == 3 and all(UNIT.search(ax.get_xlabel()) and UNIT.search(ax.get_ylabel()) for ax in panels)
     _check_figure(plot_approach_from_behind({"none": path, "pid": {k: v for k, v in path.items() if "contact" not in k}},
                                             0.305))
+
+
+def test_plot_actuated_drogue_figures():
+    import pandas as pd
+
+    from hosedrogue.plotting.drogue_actuator import plot_actuated_run, plot_capture_vs_surfaces, plot_claims
+    from hosedrogue.results import SimulationResult
+    import dataclasses
+
+    ideal = _fake_result(on=True)
+    n = ideal.t_s.size
+    from hosedrogue.metrics import SurfaceSeries
+
+    act = dataclasses.replace(ideal, surfaces=SurfaceSeries(np.zeros((n, 4)) + 0.01, np.zeros((n, 4)), np.full(n, 5900.0),
+                                                            0.35, 1.7))
+    assert isinstance(act, SimulationResult)
+    _check_figure(plot_actuated_run(ideal, act, (1.0, 3.0), 20.0))
+    rows = [dict(level=lev, controller=c, force=f, completed_fraction=1.0 if f != "b" else 0.5, peak_dy_m_max=p,
+                 peak_dz_m_max=p / 2) for lev, p in (("paper", 0.004), ("severe", 0.03)) for c in ("pid", "lqr")
+            for f in ("ideal", "a", "b")]
+    _check_figure(plot_claims(pd.DataFrame(rows)))
+    inf = float("inf")
+    cells = [dict(level="moderate", max_deflection_deg=d, bandwidth_hz=b, rate=r, ci95_low=r / 2, ci95_high=(1 + r) / 2)
+             for d, b, r in ((inf, inf, 1.0), (2.0, 30.0, 0.7), (20.0, 30.0, 1.0), (20.0, 10.0, 0.4))]
+    _check_figure(plot_capture_vs_surfaces(pd.DataFrame(cells), 27.1))

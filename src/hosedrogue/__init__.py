@@ -16,10 +16,11 @@ from .version import __version__
 from .config import load_params, resolve_config
 from .manoeuvres import Manoeuvre, TankerMotion
 from .params import PAPER, Params, ParameterError
-from .sections import Actuator, BowWave, Controller, Engagement, Loop, Pilot, Probe, Receiver, Reel, Sensor
+from .sections import Actuator, BowWave, Controller, DrogueActuator, Engagement, Loop, Pilot, Probe, Receiver, Reel, Sensor
 
 __all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "TankerMotion", "Manoeuvre",
-           "Actuator", "BowWave", "Controller", "Engagement", "Loop", "Pilot", "Probe", "Receiver", "Reel", "Sensor",
+           "Actuator", "BowWave", "Controller", "DrogueActuator",
+           "Engagement", "Loop", "Pilot", "Probe", "Receiver", "Reel", "Sensor",
            "Scenario", "load_scenario", "run", "write", "solve_equilibrium", "simulate", "simulate_engagement",
            "FixedLengthStepper", "EngagementStepper", "__version__"]
 

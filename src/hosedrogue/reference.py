@@ -103,6 +103,10 @@ TABLE_DOCS = {
     "actuator": "Limits on the control force applied to the drogue.",
     "sensor": "Noise on the measured drogue position the controllers read, and the delay of the sampled-data "
               "controllers' measurement.",
+    "drogue_actuator": "The drogue steers itself with control surfaces that make the controller's force: their "
+                       "force from the local dynamic pressure, deflection and rate limits, servos, drag increment "
+                       "(docs/model.md §10). Present (even empty: the defaults) or absent; with it `[actuator]` must "
+                       "keep its defaults.",
     "reel": "The hose drum unit. With `[reel]` or `[probe]` the scenario runs the hose of varying length "
             "(the engagement).",
     "probe": "The receiver's probe: its prescribed path, the capture test and the coupling once captured.",

@@ -1,11 +1,10 @@
 """Result objects of a run: named signals with units, ``to_dataframe()``, ``to_csv()``, ``plot()``.
 
-One interface for both hose models (:class:`RunResult`): the fixed-length hose
-(:class:`SimulationResult`) and the hose of varying length in an engagement
-(:class:`EngagementResult`) give the same quantities under the same names, so writers, campaigns
-and user code take either without a branch.
-
-Frames: S_p, the tanker trajectory frame (x forward, y right, z down), origin at the tow point.
+One interface for both hose models (:class:`RunResult`): the fixed-length hose (:class:`SimulationResult`)
+and the hose of varying length in an engagement (:class:`EngagementResult`) give the same quantities under
+the same names, so writers, campaigns and user code take either without a branch; a drogue with control
+surfaces adds theirs (:class:`hosedrogue.metrics.WithSurfaces`). Frames: S_p, the tanker trajectory frame
+(x forward, y right, z down), origin at the tow point.
 """
 
 from __future__ import annotations
@@ -18,6 +17,7 @@ import math
 
 import numpy as np
 
+from .metrics import WithSurfaces
 from .version import __version__
 
 #: The time-series columns of every run, in file order (SI units in the names; the engagement
@@ -243,7 +243,7 @@ class RunResult:
 
 
 @dataclass(frozen=True, kw_only=True)
-class SimulationResult(RunResult):
+class SimulationResult(WithSurfaces, RunResult):
     """A run of the fixed-length hose (:func:`hosedrogue.simulate`)."""
 
     states: np.ndarray  #: (N, 4n) x = [q, qd] [rad, rad/s]
@@ -280,7 +280,7 @@ SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail 
 
 
 @dataclass(frozen=True, kw_only=True)
-class EngagementResult(RunResult):
+class EngagementResult(WithSurfaces, RunResult):
     """Time histories (S_p, SI units) and the outcome of one engagement run.
 
     Every array has one row per output time (N rows); vectors are in the tanker frame S_p.

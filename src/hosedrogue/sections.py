@@ -1,12 +1,12 @@
 """The run's sections besides the model's parameters: the control loop's actuator and sensor, the
 drogue controller, and the engagement's reel, probe, bow wave, pilot and receiver (scenario tables
 ``[actuator]``, ``[sensor]``, ``[controller]``, ``[reel]``, ``[probe]``, ``[bow_wave]``,
-``[pilot]``, ``[receiver]``).
-
-Validated at construction like :mod:`hosedrogue.params` (:class:`hosedrogue.fields.Section`): a
-wrong field raises a one-line :class:`~hosedrogue.errors.ParameterError` naming field, value and
-allowed range. SI units, the unit in every field name. The defaults and their reasons are in
-``docs/engagement.md`` (engagement) and ``docs/model.md`` (actuator, sensor); the sampled-data
+``[pilot]``, ``[receiver]``; the drogue's control surfaces, ``[drogue_actuator]``, are
+:mod:`hosedrogue.drogue_surfaces`'). Validated at construction like :mod:`hosedrogue.params`
+(:class:`hosedrogue.fields.Section`): a wrong field raises a one-line
+:class:`~hosedrogue.errors.ParameterError` naming field, value and allowed range. SI units, the
+unit in every field name. The defaults and their reasons are in ``docs/engagement.md``
+(engagement) and ``docs/model.md`` (actuator, sensor, drogue actuator); the sampled-data
 controllers of the user (``[controller] type = "python"``, ``[reel] law = "python"``,
 ``[receiver]``) in ``docs/controllers.md``.
 """
@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from .errors import ParameterError
+from .drogue_surfaces import DrogueActuator
 from .fields import Section, check_entry, choice, entry, entry_name, flag, real, table, vec3
 
 
@@ -434,27 +435,29 @@ class Receiver(Section):
 #: The engagement's sections by table name.
 ENGAGEMENT_SECTIONS = {"reel": Reel, "probe": Probe, "bow_wave": BowWave, "pilot": Pilot, "receiver": Receiver}
 #: The control loop's sections by table name (besides ``[controller]``).
-LOOP_SECTIONS = {"actuator": Actuator, "sensor": Sensor}
+LOOP_SECTIONS = {"actuator": Actuator, "sensor": Sensor, "drogue_actuator": DrogueActuator}
 
 
 @dataclass(frozen=True)
 class Loop:
     """The drogue's control loop: the controller, the actuator that applies its force, the sensor
-    that measures the drogue (``[controller]``, ``[actuator]``, ``[sensor]``)."""
+    that measures the drogue (``[controller]``, ``[actuator]``, ``[sensor]``), a drogue's surfaces."""
 
     controller: Controller = field(default_factory=Controller)  #: the controller's type and design options
     actuator: Actuator = field(default_factory=Actuator)  #: force and rate limits
     sensor: Sensor = field(default_factory=Sensor)  #: measurement noise
+    drogue_actuator: DrogueActuator | None = None  #: the drogue's control surfaces (None: the ideal force)
 
     def to_dict(self) -> dict[str, Any]:
-        """``{"controller": ..., "actuator": ..., "sensor": ...}`` tables (TOML/JSON-ready).
+        """``{"controller": ..., "actuator": ..., "sensor": ...}`` tables (TOML/JSON-ready), and the surfaces'.
 
         Returns
         -------
         dict
         """
+        surfaces = {} if self.drogue_actuator is None else {"drogue_actuator": self.drogue_actuator.to_dict()}
         return {"controller": self.controller.to_dict(), "actuator": self.actuator.to_dict(),
-                "sensor": self.sensor.to_dict()}
+                "sensor": self.sensor.to_dict(), **surfaces}
 
 
 @dataclass(frozen=True)

@@ -67,6 +67,7 @@ UNITS: dict[str, Unit] = {u.name: u for u in (
     Unit("rad", rad=1),
     Unit("rad/s", rad=1, s=-1),
     Unit("deg", rad=1, factor=math.pi / 180.0),
+    Unit("deg/s", rad=1, s=-1, factor=math.pi / 180.0),
 )}
 
 #: Name suffix -> unit symbol (matched longest suffix first, so ``_m_s`` wins over ``_s``).
@@ -88,6 +89,7 @@ SUFFIX_UNITS: dict[str, str] = {
     "_rad": "rad",
     "_rad_s": "rad/s",
     "_deg": "deg",
+    "_deg_s": "deg/s",
 }
 
 _BY_LENGTH = sorted(SUFFIX_UNITS.items(), key=lambda item: -len(item[0]))

@@ -1,11 +1,12 @@
-"""``hosedrogue design {pid,lqr}``: the paper's controller on a reduced model, and its step metrics."""
+"""``hosedrogue design {pid,lqr}``: a PID tuned to step targets (or the paper's gains), or the paper's
+LQR, on a reduced model; the step metrics, the full-order check and the MATLAB file."""
 
 from __future__ import annotations
 
 import json
 
 from ..errors import ParameterError
-from .options import add_flight_options, bounded_int, finite_float, params_from_args
+from .options import EXIT_INCOMPLETE, add_flight_options, bounded_int, finite_float, params_from_args
 
 NAME = "design"
 
@@ -21,14 +22,19 @@ def add_parser(sub) -> None:
     sub : argparse._SubParsersAction
         The subparsers object of the ``hosedrogue`` parser.
     """
-    s = sub.add_parser(NAME, help="design the paper's PID or LQR on a reduced model, with step metrics",
-                       description="Design the paper's PID (Eq. 33 gains) or LQR (Eqs. 35-37) on a reduced model "
-                                   "of each channel (lateral u_hor [N] -> P_ny [m], vertical u_ver [N] -> P_nz [m]) "
-                                   "and print the controller and the unit reference step's rise time (10-90 %), "
-                                   "settling time (2 %) and overshoot per channel, beside the paper's Table 3. "
-                                   "LQR 'balanced' (default): the paper's Q weighs the balanced states of each "
-                                   "channel, u = -K x, prefilter for unit DC gain, Kalman observer; 'integral': Q "
-                                   "weighs the offsets and their integrals (Eq. 34).")
+    s = sub.add_parser(NAME, help="tune a PID to step targets (or use the paper's) or design the paper's LQR, "
+                                  "on a reduced model, with step metrics",
+                       description="Design a controller on a reduced model of each channel (lateral u_hor [N] -> "
+                                   "P_ny [m], vertical u_ver [N] -> P_nz [m]) and print it with the unit reference "
+                                   "step's rise time (10-90 %), settling time (2 %) and overshoot per channel, on the "
+                                   "design model and on the full-order model. PID (default 'tuned'): gains tuned so "
+                                   "that each channel's step meets the targets, Table 3's PID rows unless given "
+                                   "(docs/tuning.md: a global search, then the family of gains meeting the targets "
+                                   "followed and its best damped member taken); '--gains paper': the paper's Eq. 33 "
+                                   "gains. LQR 'balanced' (default): the paper's Q weighs the balanced states of "
+                                   "each channel, u = -K x, prefilter for unit DC gain, Kalman observer; 'integral': "
+                                   "Q weighs the offsets and their integrals (Eq. 34). Exit 3 when the targets "
+                                   "cannot be met (the closest design is printed, no file written).")
     s.add_argument("controller", choices=("pid", "lqr"), help="pid or lqr")
     s.add_argument("--plant", choices=("paper", "model"), default="model",
                    help="design model: 'paper' = the paper's Table 2 models (flight options not allowed), "
@@ -46,7 +52,31 @@ def add_parser(sub) -> None:
     s.add_argument("--r", metavar="R", nargs=2, type=finite_float("--r", 1e-12, MAX_WEIGHT, "1/N^2"),
                    help="LQR force weights [1/N^2], the diagonal of R for u_hor, u_ver "
                         "(default the paper's 0.4 0.5)")
+    s.add_argument("--gains", choices=("tuned", "paper"), default="tuned",
+                   help="PID gains: 'tuned' to the step targets (default) or 'paper' (Eq. 33, designed on the paper's "
+                        "Table 2 models)")
+    from ..paper import CHANNELS, TABLE3
+
+    def table3(key: str) -> str:
+        return " ".join(f"{TABLE3[('PID', ch)][key]:g}" for ch in CHANNELS)
+
+    s.add_argument("--rise-time", metavar="S", nargs=2, type=finite_float("--rise-time", 1e-4, 1e4, "s"),
+                   help=f"PID targets: 10-90 %% rise time [s], lateral then vertical (default Table 3's "
+                        f"{table3('rise_time_s')})")
+    s.add_argument("--settling-time", metavar="S", nargs=2, type=finite_float("--settling-time", 1e-4, 1e5, "s"),
+                   help=f"PID targets: 2 %% settling time [s], lateral then vertical, each above its rise time "
+                        f"(default Table 3's {table3('settling_time_s')})")
+    s.add_argument("--overshoot", metavar="PCT", nargs=2, type=finite_float("--overshoot", 0.01, 99.0, "%"),
+                   help=f"PID targets: overshoot [%%] of the step, lateral then vertical, 0.01-99 (default Table 3's "
+                        f"{table3('overshoot_pct')})")
+    s.add_argument("--min-damping", metavar="ZETA", type=finite_float("--min-damping", 0.0, 1.0, "[-]"), default=0.0,
+                   help="PID tuning: smallest damping ratio [-] every closed-loop pole must have, 0-1 (default 0)")
     s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    s.add_argument("--format", choices=("table", "json", "mat"), default="table",
+                   help="'table' (default), 'json' (same as --json) or 'mat': also write --out FILE.mat for MATLAB "
+                        "(PID: K_P, K_I, K_D, N per channel; LQR: K, prefilter, observer gain; both: the controller's "
+                        "A, B, C, D with input, output and state names and units)")
+    s.add_argument("--out", metavar="FILE.mat", help="file written by --format mat (required with it)")
     s.set_defaults(func=run)
 
 
@@ -60,6 +90,8 @@ def _check_args(args) -> int:
     """Validate option combinations; return the design order."""
     if args.plant == "paper":
         for opt, given in (("--altitude", args.altitude), ("--airspeed", args.airspeed), ("--links", args.links),
+                           ("--bank-deg", getattr(args, "bank_deg", None)),
+                           ("--climb-deg", getattr(args, "climb_deg", None)),
                            ("--config", args.config or None), ("--no-wake", args.no_wake or None)):
             if given is not None:
                 raise ParameterError(f"{opt} = {given!r}: applies to --plant model only (the paper's "
@@ -67,14 +99,22 @@ def _check_args(args) -> int:
     order = 2 if args.order is None else args.order
     if args.plant == "paper" and order not in (2, 6):
         raise ParameterError(f"--order = {order}: the paper's Table 2 has orders 2 and 6 only")
+    _check_output(args)
     if args.controller == "pid":
         for opt, given in (("--q", args.q), ("--r", args.r)):
             if given is not None:
-                raise ParameterError(f"{opt} = {' '.join(f'{v:g}' for v in given)}: applies to lqr only "
-                                     f"(pid uses the paper's Eq. 33 gains)")
+                raise ParameterError(f"{opt} = {' '.join(f'{v:g}' for v in given)}: applies to lqr only")
         if args.design != "balanced":
             raise ParameterError(f"--design = {args.design!r}: applies to lqr only")
+        _check_targets(args)
         return order
+    for opt, given in (("--rise-time", args.rise_time), ("--settling-time", args.settling_time),
+                       ("--overshoot", args.overshoot)):
+        if given is not None:
+            raise ParameterError(f"{opt} = {' '.join(f'{v:g}' for v in given)}: applies to pid only")
+    for opt, given, default in (("--gains", args.gains, "tuned"), ("--min-damping", args.min_damping, 0.0)):
+        if given != default:
+            raise ParameterError(f"{opt} = {given!r}: applies to pid only")
     if args.q is not None:
         need = 2 * order if args.design == "balanced" else 4
         if len(args.q) != need:
@@ -87,17 +127,59 @@ def _check_args(args) -> int:
     return order
 
 
+def _check_output(args) -> None:
+    """--format mat needs --out FILE.mat, and --out needs --format mat."""
+    if args.format == "mat":
+        from .linearize import prepare_mat_out
+
+        if args.out is None:
+            raise ParameterError("--format mat: give --out FILE.mat (the file to write)")
+        prepare_mat_out(args.out)
+    elif args.out is not None:
+        raise ParameterError(f"--out = {args.out!r}: applies to --format mat only")
+
+
+def _check_targets(args) -> None:
+    """The PID targets: only with tuned gains, each settling time above its rise time."""
+    given = [(opt, v) for opt, v in (("--rise-time", args.rise_time), ("--settling-time", args.settling_time),
+                                     ("--overshoot", args.overshoot), ("--min-damping", args.min_damping or None))
+             if v is not None]
+    if args.gains == "paper" and given:
+        opt, v = given[0]
+        text = " ".join(f"{x:g}" for x in v) if isinstance(v, list) else f"{v:g}"
+        raise ParameterError(f"{opt} = {text}: applies to --gains tuned only (--gains paper uses Eq. 33's gains)")
+    for ch, target in _targets(args).items():
+        if not target["settling_time_s"] > target["rise_time_s"]:
+            raise ParameterError(f"--settling-time = {target['settling_time_s']:g} ({ch}): must exceed the "
+                                 f"{ch} rise time {target['rise_time_s']:g} s")
+
+
+def _targets(args) -> dict:
+    """Per channel the step targets: the options where given, Table 3's PID rows otherwise."""
+    from ..paper import CHANNELS, TABLE3
+
+    out = {}
+    for k, ch in enumerate(CHANNELS):
+        t = dict(TABLE3[("PID", ch)])
+        for key, given in (("rise_time_s", args.rise_time), ("settling_time_s", args.settling_time),
+                           ("overshoot_pct", args.overshoot)):
+            if given is not None:
+                t[key] = given[k]
+        out[ch] = t
+    return out
+
+
 def _metrics(m) -> dict:
     """Step metrics as JSON numbers; NaN (not reached or not settled within the record) -> null."""
     import math
 
     vals = {"rise_time_s": m.rise_time_s, "settling_time_s": m.settling_time_s,
             "overshoot_pct": m.overshoot_pct, "final_value": m.final_value}
-    return {k: (None if math.isnan(v) else v) for k, v in vals.items()}
+    return {k: (None if math.isnan(v) else float(v)) for k, v in vals.items()}
 
 
 def _plant(args, order: int):
-    """The design models of both channels and their description (JSON-ready)."""
+    """The design models, the full-order models of both channels and their description (JSON-ready)."""
     from ..analysis.reduction import table2_form
     from ..controllers.table3 import channel_models
     from ..paper import CHANNELS
@@ -110,25 +192,52 @@ def _plant(args, order: int):
         params = params_from_args(args)
         lm = linearize(params)
         info["flight"] = {"altitude_m": params.flight.altitude_m, "airspeed_m_s": params.flight.airspeed_m_s,
-                          "wake": params.wake.enabled, "links": params.hose.links}
+                          "wake": params.wake.enabled, "links": params.hose.links,
+                          "hose_length_m": params.hose.length_m}
     lat, ver = channel_models(args.plant, order, lm)
+    full = channel_models(args.plant, 6 if args.plant == "paper" else "full", lm)
+    info["full_order"] = "paper Table 2, 6th order" if args.plant == "paper" else f"{lm.A.shape[0]} states"
     for ch, g in zip(CHANNELS, (lat, ver)):
         num, den = table2_form(g)
         info[ch] = {"num": num.tolist(), "den": den.tolist(), "poles_rad_s": _poles(g.poles())}
-    return lat, ver, info
+    return (lat, ver), full, info
 
 
-def _pid(lat, ver):
-    """The paper's PID: its description and the step responses."""
+def _gains_json(g) -> dict:
+    return {"kp_n_per_m": g.kp, "ki_n_per_m_s": g.ki, "kd_n_s_per_m": g.kd, "n_filter_rad_s": g.n_filter}
+
+
+def _pid(args, lat, ver):
+    """The PID (tuned or the paper's): description, gains and whether the targets are met."""
     from ..controllers.pid import PAPER_PID
-    from ..controllers.table3 import pid_steps
     from ..paper import CHANNELS
 
-    ctrl = {"type": "pid", "source": "paper Eq. 33"}
-    for ch in CHANNELS:
-        g = PAPER_PID[ch]
-        ctrl[ch] = {"kp_n_per_m": g.kp, "ki_n_per_m_s": g.ki, "kd_n_s_per_m": g.kd, "n_filter_rad_s": g.n_filter}
-    return ctrl, pid_steps(lat, ver)
+    if args.gains == "paper":
+        ctrl = {"type": "pid", "source": "paper Eq. 33"}
+        for ch in CHANNELS:
+            ctrl[ch] = _gains_json(PAPER_PID[ch])
+        return ctrl, dict(PAPER_PID), True
+    from ..controllers import pid_tuning as pt
+
+    ctrl = {"type": "pid", "source": "tuned", "method": "docs/tuning.md", "min_damping_required": args.min_damping,
+            "rule": "best damped member of the gains meeting the targets, then least K_P + K_D N", "errors": {}}
+    gains = {}
+    for ch, g in zip(CHANNELS, (lat, ver)):
+        try:
+            tuning = pt.tune_pid_to_step(g, pt.StepTargets(**_targets(args)[ch]), min_damping=args.min_damping)
+        except pt.TargetsNotMet as exc:
+            tuning = exc.closest
+            ctrl["errors"][ch] = f"{ch}: {exc}"
+        gains[ch] = tuning.gains
+        fam = tuning.family
+        ctrl[ch] = {**_gains_json(tuning.gains), "targets": tuning.targets.as_dict(), "met": tuning.met,
+                    "closed_loop_poles_rad_s": _poles(tuning.poles_rad_s), "min_damping": tuning.min_damping,
+                    "high_frequency_gain_n_per_m": tuning.high_frequency_gain_n_per_m,
+                    "family": {"points": int(fam.shape[0]), "n_filter_range_rad_s": [float(fam[:, 3].min()),
+                                                                                    float(fam[:, 3].max())],
+                               "min_damping_range": [float(fam[:, 4].min()), float(fam[:, 4].max())]}}
+    ctrl["met"] = not ctrl["errors"]
+    return ctrl, gains, ctrl["met"]
 
 
 def _lqr_balanced(lat, ver, Q, R):
@@ -179,64 +288,140 @@ def _lqr_integral(lat, ver, Q, R):
 
 
 def _controller(args, lat, ver):
-    """(description, step responses per channel, the Table 3 row key) of the requested design."""
+    """(description, design, step responses per channel, Table 3 row key, targets met) of the design."""
     import numpy as np
 
     from ..controllers.lqr import PAPER_LQR_Q, PAPER_LQR_R
-    from ..controllers.table3 import lqr_steps
+    from ..controllers.table3 import lqr_steps, pid_steps
 
     if args.controller == "pid":
-        ctrl, steps = _pid(lat, ver)
-        return ctrl, steps, "PID"
+        ctrl, gains, met = _pid(args, lat, ver)
+        return ctrl, gains, pid_steps(lat, ver, gains), "PID", met
     R = PAPER_LQR_R if args.r is None else np.diag(args.r)
     Q = PAPER_LQR_Q if args.q is None else np.diag(args.q)
     ctrl, d = (_lqr_balanced if args.design == "balanced" else _lqr_integral)(lat, ver, Q, R)
-    return ctrl, lqr_steps(d), "LQR"
+    return ctrl, d, lqr_steps(d), "LQR", True
+
+
+def _full_order(design, design_models, full) -> dict:
+    """The design's unit steps closed around the full-order channels: {channel: metrics or unstable}."""
+    from ..controllers.table3 import steps_on
+    from ..paper import CHANNELS
+
+    try:
+        out = steps_on(design, *full, design_models=design_models)
+    except ValueError as exc:
+        if not isinstance(design, dict):  # the LQR's two channels form one loop
+            return {ch: {"stable": False, "message": str(exc).splitlines()[0][:200]} for ch in CHANNELS}
+        result = {}
+        for k, ch in enumerate(CHANNELS):  # which PID loop is unstable: each channel alone
+            one = {c: design[ch] for c in CHANNELS}
+            try:
+                m = steps_on(one, full[k], full[k], design_models=(design_models[k],) * 2)["lateral"].metrics
+                result[ch] = {"stable": True, **_metrics(m)}
+            except ValueError as exc_ch:
+                result[ch] = {"stable": False, "message": str(exc_ch).splitlines()[0][:200]}
+        return result
+    return {ch: {"stable": True, **_metrics(out[ch].metrics)} for ch in CHANNELS}
 
 
 def _pole_list(poles) -> str:
     return ", ".join(f"{re:.4g}{im:+.4g}j" for re, im in poles)
 
 
+def _fmt(v, spec: str) -> str:
+    return "n/a" if v is None else format(v, spec)
+
+
+def _print_channel(args, ch: str, p: dict, c: dict | None) -> None:
+    import numpy as np
+
+    from ..analysis.reduction import format_tf
+
+    print(f"  {ch}: G(s) = {format_tf(np.array(p['num']), np.array(p['den']))}")
+    if c and args.controller == "pid":
+        print(f"    K_P {c['kp_n_per_m']:g} N/m, K_I {c['ki_n_per_m_s']:g} N/(m s), "
+              f"K_D {c['kd_n_s_per_m']:g} N s/m, N {c['n_filter_rad_s']:g} rad/s")
+        if "closed_loop_poles_rad_s" in c:
+            fam = c["family"]
+            print(f"    closed-loop poles [rad/s]: {_pole_list(c['closed_loop_poles_rad_s'])}; smallest damping "
+                  f"ratio {c['min_damping']:.3f}")
+            if not c["met"]:
+                print("    targets NOT met: the closest design found is shown")
+            else:
+                print(f"    designs found meeting the targets: {fam['points']}, N {fam['n_filter_range_rad_s'][0]:.4g}-"
+                      f"{fam['n_filter_range_rad_s'][1]:.4g} rad/s, smallest damping {fam['min_damping_range'][0]:.3f}-"
+                      f"{fam['min_damping_range'][1]:.3f}")
+            if c["min_damping"] < LIGHT_DAMPING:
+                print(f"    note: the least damped closed-loop pole (damping {c['min_damping']:.3f}) rings in the "
+                      f"response to disturbances; --min-damping forbids it (docs/tuning.md)")
+    elif c:
+        print(f"    K = {np.round(c['gain_K'], 4).tolist()} on the balanced states, prefilter "
+              f"{c['prefilter_n_per_m']:.1f} N/m")
+        print(f"    regulator poles [rad/s]: {_pole_list(c['regulator_poles_rad_s'])}")
+        print(f"    observer poles [rad/s]:  {_pole_list(c['observer_poles_rad_s'])}")
+
+
 def _print_table(args, data: dict, order: int, paper_key: str) -> None:
     """The human-readable form of ``data``."""
     import numpy as np
 
-    from ..analysis.reduction import format_tf
     from ..paper import CHANNELS
 
     plant, ctrl = data["plant"], data["controller"]
     where = ("the paper's Table 2 models" if args.plant == "paper" else
              f"this model at {plant['flight']['airspeed_m_s']:g} m/s, {plant['flight']['altitude_m']:g} m, "
-             f"wake {'on' if plant['flight']['wake'] else 'off'}")
-    what = "PID (paper Eq. 33 gains)" if args.controller == "pid" else f"LQR ({args.design})"
-    print(f"{what} designed on {where}, order {order} per channel")
+             f"{plant['flight']['hose_length_m']:g} m hose, wake {'on' if plant['flight']['wake'] else 'off'}")
+    tuned = args.controller == "pid" and args.gains == "tuned"
+    what = ("PID tuned to step targets" if tuned else "PID (paper Eq. 33 gains)" if args.controller == "pid"
+            else f"LQR ({args.design})")
+    print(f"{what} on {where}, order {order} per channel")
     for ch in CHANNELS:
-        p = plant[ch]
-        print(f"  {ch}: G(s) = {format_tf(np.array(p['num']), np.array(p['den']))}")
-        c = ctrl.get(ch)
-        if c and args.controller == "pid":
-            print(f"    K_P {c['kp_n_per_m']:g} N/m, K_I {c['ki_n_per_m_s']:g} N/(m s), "
-                  f"K_D {c['kd_n_s_per_m']:g} N s/m, N {c['n_filter_rad_s']:g} rad/s")
-        elif c:
-            print(f"    K = {np.round(c['gain_K'], 4).tolist()} on the balanced states, prefilter "
-                  f"{c['prefilter_n_per_m']:.1f} N/m")
-            print(f"    regulator poles [rad/s]: {_pole_list(c['regulator_poles_rad_s'])}")
-            print(f"    observer poles [rad/s]:  {_pole_list(c['observer_poles_rad_s'])}")
+        _print_channel(args, ch, plant[ch], ctrl.get(ch))
     if args.controller == "lqr" and args.design == "integral":
         print(f"  K_x = {np.round(ctrl['gain_state'], 4).tolist()}, "
               f"K_z = {np.round(ctrl['gain_integral_n_per_m_s'], 4).tolist()} N/(m s)")
         print(f"  regulator poles [rad/s]: {_pole_list(ctrl['regulator_poles_rad_s'])}")
-    print(f"  unit step             rise [s]  settling [s]  overshoot [%]   (paper Table 3 {paper_key})")
+    ref_name = "target" if tuned else f"paper Table 3 {paper_key}"
+    print(f"  unit step             rise [s]  settling [s]  overshoot [%]   ({ref_name})   "
+          f"full order ({plant['full_order']})")
     for ch in CHANNELS:
-        m, ref = data[ch], data[ch]["paper_table3"]
-        rise, settle = (float("nan") if v is None else v for v in (m["rise_time_s"], m["settling_time_s"]))
-        print(f"    {ch:9s}           {rise:8.4f}  {settle:12.4f}  {m['overshoot_pct']:13.2f}"
-              f"   ({ref['rise_time_s']:g} / {ref['settling_time_s']:g} / {ref['overshoot_pct']:g})")
+        m, ref, fo = data[ch], data[ch]["target"] if tuned else data[ch]["paper_table3"], data[ch]["full_order"]
+        full = (f"{_fmt(fo['rise_time_s'], '.4f')} / {_fmt(fo['settling_time_s'], '.4f')} / "
+                f"{_fmt(fo['overshoot_pct'], '.2f')}" if fo["stable"] else "unstable")
+        print(f"    {ch:9s}           {_fmt(m['rise_time_s'], '8.4f')}  {_fmt(m['settling_time_s'], '12.4f')}  "
+              f"{_fmt(m['overshoot_pct'], '13.2f')}   ({ref['rise_time_s']:g} / {ref['settling_time_s']:g} / "
+              f"{ref['overshoot_pct']:g})   {full}")
+    if args.controller == "pid":
+        rows = ", ".join(f"{ch} = [{ctrl[ch]['kp_n_per_m']:.6g}, {ctrl[ch]['ki_n_per_m_s']:.6g}, "
+                         f"{ctrl[ch]['kd_n_s_per_m']:.6g}, {ctrl[ch]['n_filter_rad_s']:.6g}]" for ch in CHANNELS)
+        print(f"  in a scenario: [controller] type = \"pid\", {rows}")
+
+
+#: Smallest damping ratio [-] below which a tuned design gets a note: a pole pair damped less than
+#: 0.2 rings with 53 % overshoot of its own and decays by half only after 0.55 periods.
+LIGHT_DAMPING = 0.2
+
+
+def _write_mat(args, data: dict, design, steps_json: dict) -> None:
+    from pathlib import Path
+
+    from ..interop.matlab import lqr_mat_dict, pid_mat_dict, write_controller_mat
+
+    if args.controller == "pid":
+        from ..controllers.pid import pid_controller
+
+        content = pid_mat_dict(design, pid_controller(design["lateral"], design["vertical"]),
+                               source=data["controller"]["source"], plant=data["plant"], steps=steps_json)
+    else:
+        content = lqr_mat_dict(design, reading=args.design, plant=data["plant"], steps=steps_json)
+    path = Path(args.out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_controller_mat(content, path)
 
 
 def run(args) -> int:
-    """Design, compute the step metrics, print (or print JSON).
+    """Design, compute the step metrics, print (or print JSON), write the MATLAB file.
 
     Parameters
     ----------
@@ -246,22 +431,40 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status (see :mod:`hosedrogue.cli`).
+        Exit status (see :mod:`hosedrogue.cli`): 0, 2 for bad options, 3 when the PID targets
+        cannot be met (the closest design printed, no file written).
     """
+    import sys
+
     import numpy as np
 
     from ..paper import CHANNELS, TABLE3
 
     order = _check_args(args)
-    lat, ver, plant_info = _plant(args, order)
-    ctrl, steps, paper_key = _controller(args, lat, ver)
+    (lat, ver), full, plant_info = _plant(args, order)
+    try:
+        ctrl, design, steps, paper_key, met = _controller(args, lat, ver)
+    except ValueError as exc:  # the closest design of a failed tuning can leave the loop unstable
+        print(f"hosedrogue: design {args.controller}: no stable design found: {exc}", file=sys.stderr)
+        return EXIT_INCOMPLETE
     data = {"controller": ctrl, "plant": plant_info}
+    full_order = _full_order(design, (lat, ver), full)
     for ch in CHANNELS:
         resp = steps[ch]
         data[ch] = {**_metrics(resp.metrics), "peak_force_n_per_m": float(np.max(np.abs(resp.u))),
-                    "paper_table3": dict(TABLE3[(paper_key, ch)])}
-    if args.json:
+                    "paper_table3": dict(TABLE3[(paper_key, ch)]), "full_order": full_order[ch]}
+        if "targets" in ctrl.get(ch, {}):
+            data[ch]["target"] = ctrl[ch]["targets"]
+    if args.json or args.format == "json":
         print(json.dumps(data))
     else:
         _print_table(args, data, order, paper_key)
+    if not met:
+        print(f"hosedrogue: design pid: targets not met, nothing written: {'; '.join(ctrl['errors'].values())}",
+              file=sys.stderr)
+        return EXIT_INCOMPLETE
+    if args.format == "mat":
+        _write_mat(args, data, design, {ch: {**data[ch], "targets": data[ch].get("target")} for ch in CHANNELS})
+        if not (args.json or args.format == "json"):
+            print(f"wrote {args.out}")
     return 0

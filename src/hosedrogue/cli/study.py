@@ -1,5 +1,6 @@
 """``hosedrogue study``: the studies of the report run on their own; ``study docking`` runs the
-docking grid (:mod:`hosedrogue.studies.docking`)."""
+docking grid (:mod:`hosedrogue.studies.docking`), ``study actuator`` the actuated drogue's studies
+(:mod:`.study_actuator`)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import sys
 from pathlib import Path
 
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
+from .study_actuator import add_study_parser
 
 NAME = "study"
 
@@ -61,6 +63,7 @@ def add_parser(sub) -> None:
     d.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     d.add_argument("--quiet", action="store_true", help="no progress bars")
     d.set_defaults(func=run_docking)
+    add_study_parser(studies)
 
 
 def _specs(args) -> tuple[list, list, list]:

@@ -3,6 +3,8 @@
 The paper's LQR is `lqr_balanced_design` (the paper's Q weighs the balanced states of each
 2nd-order channel; reproduces Table 3's lateral LQR row); `lqr_integral_design` is the
 integral-action reading of Eq. 34, kept as a sensitivity. `table3` gives the step responses.
+`tune_pid_to_step` tunes a PID to rise-time, settling-time and overshoot targets on any channel
+model (`hosedrogue design pid`); `tune_pid` places a crossover and phase margin.
 
 Every design returns a `LinearController` that maps the measured drogue offset
 y = [P_ny, P_nz] [m] to the force u = [u_hor, u_ver] [N], with the feedback sign inside.
@@ -10,6 +12,7 @@ y = [P_ny, P_nz] [m] to the force u = [u_hor, u_ver] [N], with the feedback sign
 
 from .linear import LinearController
 from .pid import PAPER_PID, PIDGains, pid_controller, tune_pid
+from .pid_tuning import PIDTuning, StepTargets, TargetsNotMet, pid_for_poles, tune_pid_to_step
 from .lqr import (
     PAPER_LQR_Q,
     PAPER_LQR_R,
@@ -34,6 +37,11 @@ __all__ = [
     "PIDGains",
     "pid_controller",
     "tune_pid",
+    "PIDTuning",
+    "StepTargets",
+    "TargetsNotMet",
+    "pid_for_poles",
+    "tune_pid_to_step",
     "PAPER_LQR_Q",
     "PAPER_LQR_R",
     "LQRDesign",

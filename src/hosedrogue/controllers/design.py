@@ -4,6 +4,8 @@ model.
 
 * :func:`reduced_channels` - lateral and vertical SISO models of a given order;
 * :func:`paper_pid` - the paper's PID gains (Eq. 33) as a controller;
+* :func:`tuned_pid` - PID gains tuned per channel to step targets (Table 3's by default,
+  :mod:`.pid_tuning`);
 * :func:`paper_lqr_design_for` - the paper's LQR (Eqs. 35-37, the paper's Q and R by default)
   read as a regulator of the balanced states, with Kalman observers
   (:mod:`.lqr_balanced`), designed on the reduced channels of *this* flight condition's
@@ -11,7 +13,8 @@ model.
 * :func:`lqr_design_for` - the integral-action reading (Eq. 34, :mod:`.lqr`), kept as a
   sensitivity;
 * :func:`lqr_controller_for` - either design by name, as the controller for the nonlinear loop;
-* :func:`dc_sensitivity` - the steady-state sensitivity of a controller closed around a plant.
+* :func:`dc_sensitivity` - the steady-state sensitivity of a controller closed around a plant;
+* :func:`controller_record` - what a run records of its controller (run.json).
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ from ..analysis.reduction import balanced_truncation, split_channels
 from .linear import LinearController
 from .lqr import PAPER_LQR_Q, PAPER_LQR_R, LQRDesign, lqr_integral_design, two_channel_plant
 from .lqr_balanced import BalancedLQRDesign, lqr_balanced_design
-from .pid import PAPER_PID, pid_controller
+from .pid import PAPER_PID, PIDGains, pid_controller
 from ..sections import LQR_DESIGNS  # noqa: F401 - the LQR readings, defined with the [controller] section
 
 #: Order of the design model (paper Sec. 3.2: "the 2nd order reduced model is chosen").
@@ -83,6 +86,69 @@ def paper_pid() -> LinearController:
         Measured offset [m] -> force [N] with the gains of ``PAPER_PID`` (Eq. 33).
     """
     return pid_controller(PAPER_PID["lateral"], PAPER_PID["vertical"])
+
+
+def paper_step_targets() -> dict:
+    """The paper's Table 3 PID rows as step targets, the default of :func:`tuned_pid`.
+
+    Returns
+    -------
+    dict
+        ``{"lateral": StepTargets, "vertical": StepTargets}``: rise time [s], settling time [s],
+        overshoot [%].
+    """
+    from ..paper import CHANNELS, TABLE3
+    from .pid_tuning import StepTargets
+
+    return {ch: StepTargets(**TABLE3[("PID", ch)]) for ch in CHANNELS}
+
+
+def tuned_pid(lateral, vertical, targets: dict | None = None, min_damping: float = 0.0) -> dict:
+    """PID gains tuned per channel so that each unit step meets its targets on the channel model
+    (:func:`hosedrogue.controllers.pid_tuning.tune_pid_to_step`).
+
+    Parameters
+    ----------
+    lateral, vertical : control.TransferFunction or control.StateSpace
+        Channel models u_hor [N] -> P_ny [m] and u_ver [N] -> P_nz [m] (e.g. the 2nd-order
+        :func:`reduced_channels`).
+    targets : dict, optional
+        ``{"lateral": StepTargets, "vertical": StepTargets}``; default :func:`paper_step_targets`.
+    min_damping : float, optional
+        Smallest damping ratio [-] of every closed-loop pole, in [0, 1] (default 0).
+
+    Returns
+    -------
+    dict
+        ``{"lateral": PIDTuning, "vertical": PIDTuning}``.
+
+    Raises
+    ------
+    TargetsNotMet
+        If a channel's targets cannot be met (its ``closest`` design attached).
+    """
+    from .pid_tuning import tune_pid_to_step
+
+    targets = paper_step_targets() if targets is None else targets
+    return {ch: tune_pid_to_step(g, targets[ch], min_damping=min_damping)
+            for ch, g in (("lateral", lateral), ("vertical", vertical))}
+
+
+def pid_gains(options: dict) -> dict:
+    """The PID gains of a scenario's ``[controller]`` options: ``lateral``/``vertical`` =
+    [K_P [N/m], K_I [N/(m s)], K_D [N s/m], N [rad/s]] where given, the paper's (Eq. 33) otherwise.
+
+    Parameters
+    ----------
+    options : dict
+        The controller's options.
+
+    Returns
+    -------
+    dict
+        ``{"lateral": PIDGains, "vertical": PIDGains}``.
+    """
+    return {ch: PIDGains(*options[ch]) if ch in options else PAPER_PID[ch] for ch in ("lateral", "vertical")}
 
 
 def paper_lqr_design_for(lm: LinearModel, Q=PAPER_LQR_Q, R=PAPER_LQR_R,
@@ -200,10 +266,8 @@ def design_controller(kind: str, options: dict, params, model=None, equilibrium=
     """
     if kind == "none":
         return None
-    from .pid import PIDGains
-
     if kind == "pid":
-        gains = {ch: PIDGains(*options[ch]) if ch in options else PAPER_PID[ch] for ch in ("lateral", "vertical")}
+        gains = pid_gains(options)
         return pid_controller(gains["lateral"], gains["vertical"])
     from ..analysis.equilibrium import solve_equilibrium
     from ..analysis.linearize import linearize
@@ -237,3 +301,60 @@ def dc_sensitivity(plant, controller: LinearController) -> tuple[tuple[float, fl
     g0 = np.real(np.asarray(control.dcgain(plant)))
     s0 = np.linalg.inv(np.eye(2) - g0 @ c0)
     return tuple(float(abs(s0[i, i])) for i in range(2)), tuple(float(abs(c0[i, i])) for i in range(2))
+
+
+def _matrix(a) -> list:
+    return np.asarray(a, dtype=float).tolist()
+
+
+def controller_record(kind: str, options: dict, controller: LinearController | None) -> dict:
+    """What a closed-loop run records of its drogue controller (``run.json``'s
+    ``controller_design``): the type, where its numbers come from, and the numbers.
+
+    PID: the gains per channel (``kp_n_per_m``, ``ki_n_per_m_s``, ``kd_n_s_per_m``,
+    ``n_filter_rad_s``) and ``source`` ("paper Eq. 33" or "scenario"). LQR: the reading
+    (``design``), the weights, the regulator gain and the observer gain read from the controller
+    that ran (u = C xc, xc' = A xc + B y): balanced reading ``gain_K`` = -C (force per balanced
+    state) and ``observer_gain_L`` = B; integral reading ``gain_state`` = -C on the plant states,
+    ``gain_integral_n_per_m_s`` = -C on the two integrators, ``observer_gain_L`` = B's plant rows.
+    Every controller: its realization ``A, B, C, D`` (inputs P_ny, P_nz [m], outputs u_hor,
+    u_ver [N], the feedback sign inside).
+
+    Parameters
+    ----------
+    kind : {"none", "pid", "lqr"}
+        The controller type.
+    options : dict
+        The scenario's ``[controller]`` options.
+    controller : LinearController or None
+        The controller that ran (:func:`design_controller`).
+
+    Returns
+    -------
+    dict
+        JSON-ready numbers; ``{"type": "none"}`` without a controller.
+    """
+    if kind == "none" or controller is None:
+        return {"type": "none"}
+    record: dict = {"type": kind}
+    if kind == "pid":
+        record["source"] = "scenario" if {"lateral", "vertical"} & set(options) else "paper Eq. 33"
+        for ch, g in pid_gains(options).items():
+            record[ch] = {"kp_n_per_m": g.kp, "ki_n_per_m_s": g.ki, "kd_n_s_per_m": g.kd,
+                          "n_filter_rad_s": g.n_filter, "source": "scenario" if ch in options else "paper Eq. 33"}
+    elif kind == "lqr":
+        design = options.get("design", "balanced")
+        record["design"] = design
+        record["q_diag"] = list(options.get("q_diag", np.diag(PAPER_LQR_Q)))
+        record["r_diag_per_n2"] = list(options.get("r_diag", np.diag(PAPER_LQR_R)))
+        if design == "balanced":
+            record["gain_K"] = _matrix(-controller.C)
+            record["observer_gain_L"] = _matrix(controller.B)
+        else:
+            n = controller.n_states - 2
+            record["gain_state"] = _matrix(-controller.C[:, :n])
+            record["gain_integral_n_per_m_s"] = _matrix(-controller.C[:, n:])
+            record["observer_gain_L"] = _matrix(controller.B[:n])
+    record["realization"] = {"A": _matrix(controller.A), "B": _matrix(controller.B), "C": _matrix(controller.C),
+                             "D": _matrix(controller.D), "inputs": ["P_ny_m", "P_nz_m"], "outputs": ["u_y_n", "u_z_n"]}
+    return record

@@ -8,7 +8,11 @@ on the drogue, u = [u_hor, u_ver] [N]:
     u   = C xc + D y
 
 The negative-feedback sign is inside the controller (a proportional controller has D = -K_P),
-so a closed loop is formed by applying u directly: no further sign change. The reference is the
+so a closed loop is formed by applying u directly: no further sign change.
+
+A design may carry an anti-windup gain ``K_aw`` (nc x 2): when the force the actuator can make,
+u_a, differs from the command u (a drogue's control surfaces at their deflection limit), the loop
+adds ``K_aw (u_a - u)`` to xc' (:mod:`hosedrogue.model.drogue_actuator`). The reference is the
 equilibrium (y = 0); reference tracking for step-response figures is handled by the designs
 (`pid`, `lqr`) themselves.
 """
@@ -54,6 +58,9 @@ class LinearController:
         Output matrix, force per controller state.
     D : array_like, shape (2, 2)
         Feedthrough [N/m]; includes the feedback sign (negative for a stabilizing gain).
+    anti_windup : array_like, shape (nc, 2), optional
+        Anti-windup gain K_aw [state units / N]: xc' gains ``K_aw (u_a - u)`` when the actuator
+        makes u_a instead of the commanded u. Default zeros (none).
 
     Notes
     -----
@@ -65,6 +72,7 @@ class LinearController:
     B: np.ndarray
     C: np.ndarray
     D: np.ndarray
+    anti_windup: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         a = np.asarray(self.A, dtype=float)
@@ -75,6 +83,8 @@ class LinearController:
         object.__setattr__(self, "B", _as_matrix("B", self.B, (nc, N_MEASUREMENTS)))
         object.__setattr__(self, "C", _as_matrix("C", self.C, (N_FORCES, nc)))
         object.__setattr__(self, "D", _as_matrix("D", self.D, (N_FORCES, N_MEASUREMENTS)))
+        aw = np.zeros((nc, N_FORCES)) if self.anti_windup is None else self.anti_windup
+        object.__setattr__(self, "anti_windup", _as_matrix("anti_windup", aw, (nc, N_FORCES)))
 
     @property
     def n_states(self) -> int:

@@ -47,6 +47,10 @@ Controller (`LQRDesign.controller`)
         A_c = [[A - B K_x - L C, -B K_z], [0, 0]],  B_c = [[L], [I]],
         C_c = [-K_x, -K_z],  D_c = 0.
 
+    Anti-windup gain ``[B; -K_z^+ / T_t]``: when the actuator makes u_a instead of u, the observer
+    is driven by u_a and the integrator is conditioned back toward u_a with the tracking time
+    T_t = 1 / |Re p|, p the slowest regulator pole (the loop's own time scale).
+
 Reference tracking (`lqr_tracking_closed_loop`)
     For step-response figures the reference r [m] enters only the integrator, z' = y - r.
     Since r does not enter the observer, the estimation error is not excited by r and the
@@ -282,7 +286,11 @@ def lqr_integral_design(
     ])
     B_c = np.vstack([L, np.eye(p)])
     C_c = np.hstack([-K_x, -K_z])
-    controller = LinearController(A=A_c, B=B_c, C=C_c, D=np.zeros((N_FORCES, p)))
+    # anti-windup: the observer sees the force made, u_a; the integrator is conditioned back toward
+    # it within the closed loop's slowest time constant (docstring, "Controller")
+    t_track = 1.0 / float(np.min(np.abs(np.real(np.asarray(reg_poles)))))
+    aw = np.vstack([ss.B, -np.linalg.pinv(K_z) / t_track])
+    controller = LinearController(A=A_c, B=B_c, C=C_c, D=np.zeros((N_FORCES, p)), anti_windup=aw)
     return LQRDesign(
         plant=ss,
         gain_state=K_x,

@@ -66,7 +66,9 @@ Controller for the nonlinear loop (`BalancedLQRDesign.controller`)
 
         A_c = A_b - B_b K - L C_b,  B_c = L,  C_c = -K,  D_c = 0
 
-    (block diagonal over the channels).
+    (block diagonal over the channels). Its anti-windup gain is B_b: when the actuator makes u_a
+    instead of the command u (a drogue's surfaces saturated), the observer is driven by u_a,
+    ``x_hat' = A_b x_hat + B_b u_a + L (y - C_b x_hat)``, so it keeps estimating the plant.
 """
 
 from __future__ import annotations
@@ -384,7 +386,9 @@ def lqr_balanced_design(
     L = _block_diag(ch_lat.observer_gain, ch_ver.observer_gain)
     plant = control.ss(A, B, C, np.zeros((N_MEASUREMENTS, N_FORCES)),
                        inputs=["u_hor", "u_ver"], outputs=["P_ny", "P_nz"])
-    controller = LinearController(A=A - B @ K - L @ C, B=L, C=-K, D=np.zeros((N_FORCES, N_MEASUREMENTS)))
+    # anti-windup: the observer sees the force the actuator makes (x_hat' gains B (u_a - u))
+    controller = LinearController(A=A - B @ K - L @ C, B=L, C=-K, D=np.zeros((N_FORCES, N_MEASUREMENTS)),
+                                  anti_windup=B)
     return BalancedLQRDesign(
         lateral=ch_lat,
         vertical=ch_ver,

@@ -30,7 +30,7 @@ from scipy.optimize import brentq, minimize_scalar
 from ..analysis.reduction import require_siso
 from .linear import LinearController
 
-__all__ = ["PIDGains", "PAPER_PID", "pid_controller", "tune_pid"]
+__all__ = ["PIDGains", "PAPER_PID", "pid_controller", "tune_pid", "tracking_time_s"]
 
 
 def _check_gain(name: str, value: float, positive: bool) -> float:
@@ -92,19 +92,44 @@ PAPER_PID: dict[str, PIDGains] = {
 }
 
 
-def _channel_blocks(g: PIDGains) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """Positive-form realization (A, B, C, D) of C(s) for one channel."""
-    a, b, c = [], [], []
+def _channel_blocks(g: PIDGains) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, np.ndarray]:
+    """Positive-form realization (A, B, C, D) of C(s) for one channel, and its anti-windup gain
+    (:func:`tracking_time_s`) on the integrator."""
+    a, b, c, aw = [], [], [], []
     if g.ki > 0.0:
         a.append(0.0)
         b.append(1.0)
         c.append(g.ki)
+        aw.append(-1.0 / (g.ki * tracking_time_s(g)))
     if g.kd > 0.0:
         a.append(-g.n_filter)
         b.append(1.0)
         c.append(-g.kd * g.n_filter**2)
+        aw.append(0.0)
     d = g.kp + g.kd * g.n_filter
-    return np.diag(a), np.array(b), np.array(c), d
+    return np.diag(a), np.array(b), np.array(c), d, np.array(aw)
+
+
+def tracking_time_s(g: PIDGains) -> float:
+    """Tracking time T_t [s] of the PID's back-calculation anti-windup: ``sqrt(T_i T_d) =
+    sqrt(K_D / K_I)``, or ``T_i = K_P / K_I`` without derivative action (Astrom and Hagglund's rule;
+    0.42 s lateral and 0.38 s vertical for the paper's gains).
+
+    While the actuator makes u_a instead of the command u, the integrator state gains
+    ``-(u_a - u) / (K_I T_t)``, so the command returns toward u_a with time constant T_t.
+
+    Parameters
+    ----------
+    g : PIDGains
+        The channel's gains (``ki > 0``).
+
+    Returns
+    -------
+    float
+    """
+    if g.kd > 0.0:
+        return math.sqrt(g.kd / g.ki)
+    return g.kp / g.ki if g.kp > 0.0 else 1.0 / g.ki
 
 
 def pid_controller(lateral: PIDGains, vertical: PIDGains) -> LinearController:
@@ -122,7 +147,8 @@ def pid_controller(lateral: PIDGains, vertical: PIDGains) -> LinearController:
     LinearController
         States [lateral integrator, lateral filter, vertical integrator, vertical filter]
         (a state is left out when its gain is zero); integrator states in m s, filter states
-        in m s.
+        in m s. Its ``anti_windup`` is the back-calculation on each integrator
+        (:func:`tracking_time_s`).
     """
     blocks = [_channel_blocks(lateral), _channel_blocks(vertical)]
     sizes = [blk[0].shape[0] for blk in blocks]
@@ -131,15 +157,17 @@ def pid_controller(lateral: PIDGains, vertical: PIDGains) -> LinearController:
     B = np.zeros((nc, 2))
     C = np.zeros((2, nc))
     D = np.zeros((2, 2))
+    AW = np.zeros((nc, 2))
     start = 0
-    for k, (a, b, c, d) in enumerate(blocks):
+    for k, (a, b, c, d, aw) in enumerate(blocks):
         sl = slice(start, start + sizes[k])
         A[sl, sl] = a
         B[sl, k] = b
         C[k, sl] = -c
         D[k, k] = -d
+        AW[sl, k] = aw
         start += sizes[k]
-    return LinearController(A=A, B=B, C=C, D=D)
+    return LinearController(A=A, B=B, C=C, D=D, anti_windup=AW)
 
 
 def _pid_shape(x: np.ndarray | float, ti_over_td: float, n_td: float) -> np.ndarray:

@@ -32,7 +32,7 @@ from .pid import PAPER_PID
 from .stepinfo import StepMetrics, StepResponse, closed_loop_step, step_metrics
 
 __all__ = ["CONTROLLERS", "PLANTS", "time_grid_for", "channel_models", "pid_steps", "lqr_steps",
-           "step_responses", "table3", "table3_rows"]
+           "step_responses", "steps_on", "table3", "table3_rows"]
 
 CONTROLLERS = ("PID", "LQR", "LQR-integral")
 PLANTS = ("paper", "model")
@@ -216,22 +216,52 @@ def step_responses(controller: str, plant: str, lm: LinearModel | None = None, *
     d_lat, d_ver = channel_models(plant, DESIGN_ORDER, lm)
     other = evaluate_on != DESIGN_ORDER
     if controller == "PID":
-        if t is None and other:
-            # the grid of the design-model loops (a higher-order model's fast, barely excited
-            # poles would make it needlessly fine), three times as long for slower tails
-            poles = np.concatenate([control.feedback(PAPER_PID[ch].transfer_function() * g, 1).poles()
-                                    for ch, g in zip(CHANNELS, (d_lat, d_ver))])
-            t = time_grid_for(poles, 3.0)
-        return pid_steps(lat, ver, t=t)
-    if controller == "LQR":
+        design = dict(PAPER_PID)
+    elif controller == "LQR":
         design = lqr_balanced_design(d_lat, d_ver)
     elif controller == "LQR-integral":
         design = lqr_integral_design(two_channel_plant(d_lat, d_ver))
     else:
         raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
-    if t is None and other:
+    if other:
+        return steps_on(design, lat, ver, design_models=(d_lat, d_ver), t=t)
+    return pid_steps(lat, ver, t=t) if controller == "PID" else lqr_steps(design, None, t)
+
+
+def steps_on(design, lateral, vertical, *, design_models, t=None) -> dict[str, StepResponse]:
+    """Unit reference steps of a design closed around other channel models (e.g. full order).
+
+    Parameters
+    ----------
+    design : dict or BalancedLQRDesign or LQRDesign
+        PID gains ``{"lateral": PIDGains, "vertical": PIDGains}``, or an LQR design.
+    lateral, vertical : control.StateSpace or control.TransferFunction
+        The channel models to close the loops around, force [N] -> offset [m].
+    design_models : (lateral, vertical)
+        The design's own channel models: the time grid is theirs (a larger model's fast, barely
+        excited poles would make it needlessly fine), three times as long for slower tails.
+    t : array_like, optional
+        Time grid [s] instead.
+
+    Returns
+    -------
+    dict
+        ``{"lateral": StepResponse, "vertical": StepResponse}``.
+
+    Raises
+    ------
+    ValueError
+        If a closed loop is unstable.
+    """
+    if isinstance(design, dict):
+        if t is None:
+            poles = np.concatenate([control.feedback(design[ch].transfer_function() * g, 1).poles()
+                                    for ch, g in zip(CHANNELS, design_models)])
+            t = time_grid_for(poles, 3.0)
+        return pid_steps(lateral, vertical, design, t=t)
+    if t is None:
         t = time_grid_for(_design_loop_poles(design), 3.0)
-    return lqr_steps(design, two_channel_plant(lat, ver) if other else None, t)
+    return lqr_steps(design, two_channel_plant(lateral, vertical), t)
 
 
 def _design_loop_poles(design) -> np.ndarray:

@@ -170,7 +170,8 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
                         bow_wave: BowWave | None = None, pilot: Pilot | None = None, control=None,
                         actuator: Actuator = Actuator(), sensor: Sensor = Sensor(), x0: np.ndarray | None = None,
                         equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
-                        energy: bool = False, gravity_m_s2: float | None = None) -> EngagementResult:
+                        energy: bool = False, gravity_m_s2: float | None = None,
+                        drogue_actuator=None) -> EngagementResult:
     """An engagement with every controller compiled in the loop (the built-in reel laws, the
     prescribed probe or the pilot, a continuous built-in drogue controller);
     :func:`hosedrogue.engagement.simulate_engagement` takes the same arguments and adds the
@@ -202,6 +203,8 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         Also evaluate the energy terms [J].
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces.
 
     Returns
     -------
@@ -209,11 +212,12 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     """
     start = prepare(params, duration_s, reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot, control=control,
                     actuator=actuator, sensor=sensor, x0=x0, equilibrium=equilibrium, seed=seed,
-                    length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2)
+                    length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2, drogue_actuator=drogue_actuator)
     run = start.new_run()
     status, message = _integrate(run, start.params, probe, start.model, duration_s)
     return assemble_result(start.params, run.segments, run.events, run.outcome, start.model, start.drogue_eq, energy,
-                           status == K.OK, message, run.delta_total, start.t_set, start.reel, probe, loop=start.loop)
+                           status == K.OK, message, run.delta_total, start.t_set, start.reel, probe, loop=start.loop,
+                           drogue_actuator=start.drogue_actuator)
 
 
 @dataclass
@@ -231,6 +235,7 @@ class Start:
     reel: Reel  #: the drum unit
     probe: Probe | None  #: the probe
     total_steps: int  #: RK4 steps of the run
+    drogue_actuator: Any = None  #: the drogue's control surfaces (None: the ideal force)
 
     def new_run(self) -> "_Run":
         """A :class:`_Run` at the start (copies of the state and parameters).
@@ -252,7 +257,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
             bow_wave: BowWave | None = None, pilot: Pilot | None = None, receiver: Receiver | None = None,
             control=None, actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
             x0: np.ndarray | None = None, equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
-            gravity_m_s2: float | None = None) -> Start:
+            gravity_m_s2: float | None = None, drogue_actuator=None) -> Start:
     """An engagement's start: the balance position, the model with the run's gusts, the
     parameters and the initial state (see :func:`simulate_engagement` for the parameters).
 
@@ -281,6 +286,11 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
 
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue steers itself with these control surfaces (the fixed-length loop's model,
+        docs/model.md §10); once coupled their command is zero (they return to neutral).
+        ``actuator`` must then have no limits.
+
     Returns
     -------
     Start
@@ -300,14 +310,18 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
         raise ParameterError(f"hose.length_m = {L0!r}: the free length must lie between the reel's end stops "
                              f"reel.min_length_m = {reel.min_length_m!r} and reel.max_length_m = {reel.max_length_m!r} m")
     set_pilot(ep, pilot, params.numerics.step_s)
-    z = np.concatenate([z, extra_states(ep, control, actuator, pilot, receiver, reel)])
-    loop = engagement_loop(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed)
+    if drogue_actuator is not None:
+        drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
+        drogue_actuator.check_step(params.numerics.step_s)
+    z = np.concatenate([z, extra_states(ep, control, actuator, pilot, receiver, reel, drogue_actuator)])
+    loop = engagement_loop(control, drogue_eq[1:], actuator, sensor, duration_s, params.turbulence.seed,
+                           drogue_actuator)
     t_set = reel.tension_set_n
     if t_set < 0:
         t_set = exit_tension_at_rest(params, chain, z, ep, model)
         ep[EK.EP_TSET] = t_set
     return Start(params, chain, model, drogue_eq, z, ep, loop, t_set, reel, probe,
-                 int(round(duration_s / params.numerics.step_s)))
+                 int(round(duration_s / params.numerics.step_s)), drogue_actuator)
 
 
 def _check_duration(duration_s) -> None:

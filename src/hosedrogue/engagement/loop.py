@@ -3,7 +3,7 @@ states, the commanded reel's held command, and the drogue controller's (docs/eng
 "Drogue controller during the approach" and "Pilot model"; docs/controllers.md).
 
 The state is ``z = [q, qd, L, L', 5 work states, pilot (4, if flown) or receiver (9, if flown),
-reel command (1, law "python"), xc, (ua)]``: after the block of ``EP_NPIL`` states the layout is the fixed-length closed loop's ``[x, xc, (ua)]``
+reel command (1, law "python"), xc, (ua or the drogue's surfaces)]``: after the block of ``EP_NPIL`` states the layout is the fixed-length closed loop's ``[x, xc, (ua)]``
 (:mod:`hosedrogue.model.integrate`) with ``x`` everything before the controller, so the one
 control law (:func:`~hosedrogue.model.integrate.control_law`) and the one actuator law serve both.
 The remesh (:mod:`.chain`) keeps everything after the hose entries unchanged, so it carries them.
@@ -19,11 +19,11 @@ from ..controllers.linear import LinearController
 from ..model import engagement_kernels as EK
 from ..model.integrate import LoopArrays, loop_arrays, loop_states, sensor_noise
 from ..params import Actuator, ParameterError, Sensor
-from ..sections import Pilot, Receiver, Reel
+from ..sections import DrogueActuator, Pilot, Receiver, Reel
 
 
 def engagement_loop(control: LinearController | None, y_ref: np.ndarray, actuator: Actuator, sensor: Sensor,
-                    duration_s: float, seed: int) -> LoopArrays:
+                    duration_s: float, seed: int, drogue_actuator: DrogueActuator | None = None) -> LoopArrays:
     """The controller, actuator and sensor arrays of the kernels (:func:`~hosedrogue.model.integrate.loop_arrays`;
     a zero controller without noise when there is none: ``EP_CTRL`` keeps the kernels from using it).
 
@@ -41,14 +41,18 @@ def engagement_loop(control: LinearController | None, y_ref: np.ndarray, actuato
         Simulated time [s] the noise samples cover.
     seed : int
         Turbulence seed (the noise is an independent stream of it, as in the fixed-length loop).
+    drogue_actuator : DrogueActuator, optional
+        The drogue's control surfaces (the fixed-length semantics; without a controller they
+        stay at neutral).
 
     Returns
     -------
     LoopArrays
     """
     if control is None:
-        return loop_arrays(LinearController.static_zero(), y_ref, actuator, np.zeros((1, 2)), 1.0)
-    return loop_arrays(control, y_ref, actuator, sensor_noise(sensor, duration_s, seed), sensor.sample_time_s)
+        return loop_arrays(LinearController.static_zero(), y_ref, actuator, np.zeros((1, 2)), 1.0, drogue_actuator)
+    return loop_arrays(control, y_ref, actuator, sensor_noise(sensor, duration_s, seed), sensor.sample_time_s,
+                       drogue_actuator)
 
 
 def no_loop() -> LoopArrays:
@@ -62,7 +66,8 @@ def no_loop() -> LoopArrays:
 
 
 def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Actuator,
-                 pilot: Pilot | None, receiver: Receiver | None = None, reel: Reel | None = None) -> np.ndarray:
+                 pilot: Pilot | None, receiver: Receiver | None = None, reel: Reel | None = None,
+                 drogue_actuator: DrogueActuator | None = None) -> np.ndarray:
     """The initial pilot or receiver, held reel command, controller and actuator states; sets
     ``EP_CTRL``, ``EP_NPIL``, ``EP_PIL``, ``EP_RCV`` (and the receiver's response) and ``EP_REEL_SLOT``.
 
@@ -82,6 +87,9 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
         speed ``EP_VC`` forward).
     reel : Reel, optional
         A reel of law "python" adds its held take-up speed command [m/s] (zero).
+    drogue_actuator : DrogueActuator, optional
+        The drogue's control surfaces add their states (at rest) after the controller's, and
+        set ``EP_CTRL`` even without a controller (their force and drag act all the same).
 
     Returns
     -------
@@ -106,9 +114,10 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
         ep[EK.EP_NPIL] += 1.0
         ep[EK.EP_REEL_SLOT] = ep[EK.EP_NPIL]
         parts.append([0.0])
-    ep[EK.EP_CTRL] = 0.0 if control is None else 1.0
-    if control is not None:
-        parts.append(loop_states(control, actuator))
+    ep[EK.EP_CTRL] = 0.0 if control is None and drogue_actuator is None else 1.0
+    if control is not None or drogue_actuator is not None:
+        ctrl = control if control is not None else LinearController.static_zero()
+        parts.append(loop_states(ctrl, actuator, drogue_actuator))
     return np.concatenate([np.asarray(p, dtype=np.float64) for p in parts]) if parts else np.zeros(0)
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..metrics import turbulence_window
+from ..model import drogue_actuator as DA
 from ..model import engagement_kernels as EK
 from ..params import Params
 from ..results import EngagementResult
@@ -133,6 +134,12 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
             "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, EK.O_TAU],
             "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
             "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [EK.O_UY, EK.O_UZ]], "drag": drag}
+    if loop is not None and ep[EK.EP_CTRL] != 0.0 and DA.is_actuated(loop.act):
+        ns = int(loop.act[DA.DA_NS])
+        na = 4 * n + EK.Z_TAIL + int(ep[EK.EP_NPIL]) + loop.Ac.shape[0]
+        cols["defl"] = zs[:, na:na + ns]
+        cols["rate"] = scal[:, EK.O_SERVO:EK.O_SERVO + ns]
+        cols["q"] = scal[:, EK.O_Q]
     if energy:
         en = segment_energies(zs, chain, model, ep)
         cols["E"] = np.column_stack([en, zs[:, 4 * n + EK.Z_WM:4 * n + EK.Z_WP + 1]])
@@ -162,7 +169,7 @@ def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float)
 
 def assemble_result(params: Params, segments: list, events: list, outcome: dict, model, drogue_eq: np.ndarray,
                     energy: bool, completed: bool, message: str, delta_total: float, t_set: float,
-                    reel, probe, loop=None) -> EngagementResult:
+                    reel, probe, loop=None, drogue_actuator=None) -> EngagementResult:
     """Evaluate the outputs of every segment and build the run's result.
 
     Parameters
@@ -195,6 +202,8 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         The receiver's probe.
     loop : LoopArrays, optional
         The drogue controller's arrays (see :func:`segment_outputs`).
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (their deflections, rates and q become result fields).
 
     Returns
     -------
@@ -209,6 +218,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         joints_all.extend(list(joints))
         jvel_all.extend(list(jvel))
     cat = {k: np.concatenate(v) for k, v in cols.items()}
+    surfaces = {} if "defl" not in cat else DA.result_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
     outcome.update(_peaks(cat, drogue_eq, events, delta_total, t_set))
     if reel.law == "locked":
@@ -225,4 +235,5 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         closure_speed_series_m_s=cat["vclose"],
         links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
         energy=en_dict, events=events, outcome=outcome, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
-        completed=completed, message=message, meta=meta, statistics_window_s=turbulence_window(params.turbulence))
+        completed=completed, message=message, meta=meta, statistics_window_s=turbulence_window(params.turbulence),
+        **surfaces)

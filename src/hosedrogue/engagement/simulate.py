@@ -22,7 +22,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
                         actuator: Actuator = Actuator(), sensor: Sensor = Sensor(), x0: np.ndarray | None = None,
                         equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
                         energy: bool = False, gravity_m_s2: float | None = None, receiver: Receiver | None = None,
-                        sample_time_s: float = 0.0) -> EngagementResult:
+                        sample_time_s: float = 0.0, drogue_actuator=None) -> EngagementResult:
     """Simulate an engagement from the balance position at rest (steady air plus the
     ``params.turbulence`` gusts if enabled).
 
@@ -74,6 +74,10 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     sample_time_s : float
         With a :class:`LinearController` ``control``: 0 (continuous, the default) or the sample
         time [s] of its zero-order-hold discretization.
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue steers itself with these control surfaces (docs/model.md §10): the continuous
+        controller's force command is mixed to them; once coupled they return to neutral.
+        ``actuator`` must then have no limits; not with the sampled-data controllers.
 
     Returns
     -------
@@ -93,7 +97,10 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         return driver.simulate_engagement(params, duration_s, reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot,
                                           control=control, actuator=actuator, sensor=sensor, x0=x0,
                                           equilibrium=equilibrium, seed=seed, length_rate_m_s=length_rate_m_s,
-                                          energy=energy, gravity_m_s2=gravity_m_s2)
+                                          energy=energy, gravity_m_s2=gravity_m_s2, drogue_actuator=drogue_actuator)
+    if drogue_actuator is not None:
+        raise ParameterError("drogue_actuator: the sampled-data controllers do not command the drogue's control "
+                             "surfaces yet; use continuous built-in controllers (docs/model.md §10)")
     built = {role: c.build() for role, c in controllers.items()}  # a bad entry: an error before the run
     stepper = EngagementStepper(
         params, duration_s, control_step_s=control_step(controllers, params.numerics.step_s), reel=reel,

@@ -34,6 +34,7 @@ from numba import njit
 
 from ..environment.bow_wave import SHAPE_LINE, SHAPE_OFF, SHAPE_RANKINE
 from .kernels import (
+    PS_RHO,
     ENV_BW,
     ENV_BW_LEN,
     ENV_BW_Q,
@@ -53,7 +54,9 @@ from .kernels import (
     make_workspace_jit,
     rotational_terms,
 )
-from .integrate import actuator_rates, applied_force_at, controller_rates, rk4_combine, rk4_stage, step_status
+from .integrate import (actuator_rates, applied_force_at, control_law, controller_rates, rk4_combine, rk4_stage,
+                        step_status)
+from . import drogue_actuator as DA
 from .frame import frame_loads
 from .kernels import NONFINITE, YAW_LIMIT
 from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
@@ -107,10 +110,14 @@ RCV_STATES = 9
 # out layout (scalars of one evaluation)
 (O_T0, O_LDD, O_TAU, O_SLACK, O_PX, O_PY, O_PZ, O_FPX, O_FPY, O_FPZ, O_VPX, O_VPY, O_VPZ,
  O_PMOTOR, O_PFRIC, O_PEXIT, O_PFLUX, O_PPROBE,
- O_UY, O_UZ, O_MY, O_MZ, O_CY, O_CZ) = range(24)
-O_SIZE = 24
+ O_UY, O_UZ, O_MY, O_MZ, O_CY, O_CZ, O_Q, O_EY, O_EZ) = range(27)
+#: an actuated drogue's servo derivatives (:func:`hosedrogue.model.drogue_actuator.servo_rates`):
+#: the surfaces' deflection rates [rad/s] first, then (second order) the servo rates' derivatives
+O_SERVO = 27
+O_SIZE = O_SERVO + 2 * DA.MAX_SURFACES
 # O_UY, O_UZ: control force applied at the drogue [N]; O_MY, O_MZ: the measured drogue offsets
-# [m]; O_CY, O_CZ: the commanded force [N] (differs from the applied one for a rate-limited actuator)
+# [m]; O_CY, O_CZ: the commanded force [N] (differs from the applied one for a rate-limited actuator);
+# O_Q: an actuated drogue's dynamic pressure [Pa]; O_EY, O_EZ: its anti-windup error [N]
 
 # segment stop codes (besides kernels.OK / NONFINITE / YAW_LIMIT)
 SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13
@@ -452,11 +459,19 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     rotate_rows(n, chart, c, False)  # joint_kinematics writes l d2e/dt2 in the standard chart
     patch_kinematics(Ld, n, e, a, b, qd, v, c)
+    # the probe, and its forebody's bow wave in the air the drag (and a steering drogue) sees
+    px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
+    air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[16])
     u0 = ws2[13][:2]  # the control force at the drogue (ws2[13] is free: the unit-L'' solve has no drag)
     u0[0] = 0.0
     u0[1] = 0.0
     m0 = m1 = c0 = c1 = 0.0
-    if ep[EP_CTRL] != 0.0 and ep[EP_COUPLED] == 0.0:
+    actuated = ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act)
+    ddx = ddy = ddz = 0.0
+    if actuated:
+        ddx, ddy, ddz = drogue_surfaces(t, z, n, r, v, ps, ws[16], gust, ep, loop, u0, out)
+        m0, m1, c0, c1 = out[O_MY], out[O_MZ], out[O_CY], out[O_CZ]
+    elif ep[EP_CTRL] != 0.0 and ep[EP_COUPLED] == 0.0:
         nx = 4 * n + Z_TAIL + int(ep[EP_NPIL])
         m0, m1, c0, c1 = applied_force_at(t, z, nx, r[n, 1], r[n, 2], loop.Cc, loop.Dc, loop.y_ref, loop.act,
                                           loop.noise, loop.noise_dt, u0)
@@ -466,10 +481,9 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     out[O_MZ] = m1
     out[O_CY] = c0
     out[O_CZ] = c1
-    # the probe, and its forebody's bow wave in the air the drag sees
-    px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
-    air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[16])
     joint_forces(t, u0, l, M, ps, ws[16], gust, n, e, r, v, F, Mom, ws[13])
+    if actuated:
+        DA.add_drogue_load(F, ws[13], n, ddx, ddy, ddz)
     # the tanker's motion (nothing in level flight); the exit's share of the hose mass, carried by
     # the tanker, feels its acceleration too (its weight is added with the tow force)
     frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, l, M, J, n, e, r, v, ws[16], F, Mom)
@@ -551,6 +565,34 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
 
 
 @njit(**JIT)
+def drogue_surfaces(t, z, n, r, v, ps, env, gust, ep, loop, u, out):
+    """An actuated drogue in the engagement (:func:`hosedrogue.model.drogue_actuator.drogue_actuator_law`,
+    the fixed-length loop's law): the command until the probe couples (then zero: the surfaces
+    go back to neutral and their force, from their deflections, keeps acting), the surfaces'
+    force into u, q, the anti-windup error, the measured offsets, the command and the servo
+    derivatives into ``out``. Returns the drag increment [N] on the drogue."""
+    nx = 4 * n + Z_TAIL + int(ep[EP_NPIL])
+    na = nx + loop.Ac.shape[0]
+    on = ep[EP_COUPLED] == 0.0
+    m0 = m1 = c0 = c1 = 0.0
+    if on:
+        m0, m1 = control_law(t, z, nx, r[n, 1], r[n, 2], loop.Cc, loop.Dc, loop.y_ref, loop.act, loop.noise,
+                             loop.noise_dt, u)
+        c0, c1 = u[0], u[1]
+    q, e0, e1, ddx, ddy, ddz = DA.drogue_actuator_law(on, m0, m1, c0, c1, z, nx, na, r[n, 0], r[n, 1], r[n, 2],
+                                                      v[n, 0], v[n, 1], v[n, 2], ps[PS_RHO], t, env, gust, loop.Cc,
+                                                      loop.Dc, loop.act, u, out, O_SERVO)
+    out[O_MY] = m0
+    out[O_MZ] = m1
+    out[O_CY] = c0
+    out[O_CZ] = c1
+    out[O_Q] = q
+    out[O_EY] = e0
+    out[O_EZ] = e1
+    return ddx, ddy, ddz
+
+
+@njit(**JIT)
 def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz):
     """dz/dt of the engagement state z (``hist``: the drogue history the pilot's delay reads)."""
     eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
@@ -575,7 +617,17 @@ def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, d
         dz[b + Z_TAIL + int(ep[EP_REEL_SLOT]) - 1] = 0.0  # the held take-up speed command
     if ep[EP_CTRL] != 0.0:
         nx = b + Z_TAIL + npil
-        if ep[EP_COUPLED] == 0.0:
+        if DA.is_actuated(loop.act):
+            nc = loop.Ac.shape[0]
+            if ep[EP_COUPLED] == 0.0:
+                controller_rates(out[O_MY], out[O_MZ], z, nx, loop.Ac, loop.Bc, dz)
+                DA.windup_rates(out[O_EY], out[O_EZ], nx, nc, loop.act, dz)
+            else:  # coupled: the controller's states are frozen, the surfaces return to neutral
+                for i in range(nx, nx + nc):
+                    dz[i] = 0.0
+            for i in range(DA.servo_state_count(loop.act)):
+                dz[nx + nc + i] = out[O_SERVO + i]
+        elif ep[EP_COUPLED] == 0.0:
             actuator_rates(out[O_CY], out[O_CZ], z, nx + loop.Ac.shape[0], loop.act, dz)
             controller_rates(out[O_MY], out[O_MZ], z, nx, loop.Ac, loop.Bc, dz)
         else:  # coupled: the controller (and actuator) states are frozen
@@ -626,7 +678,7 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
     dM = np.empty(2)
-    out = np.empty(O_SIZE)
+    out = np.zeros(O_SIZE)
     return eng_steps(z, t0, 0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
                      max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, True, 0, work, ws, ws2,
                      dM, out)
@@ -753,7 +805,7 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
     dM = np.empty(2)
-    out = np.empty(O_SIZE)
+    out = np.zeros(O_SIZE)
     for i in range(ts.shape[0]):
         eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         joints[i] = ws[4]

@@ -7,6 +7,10 @@ controller state ``xc``, and - only when the actuator is rate-limited - the appl
 noise) and commands ``u = Cc xc + Dc y`` [N], clipped to ``+-act[0:2]`` per axis. ``act`` is
 ``[max_hor_n, max_ver_n, max_rate_n_s, time_constant_s]``; with a finite rate the applied force
 follows the command as ``ua' = clip((u - ua) / time_constant, -rate, rate)``.
+
+A drogue that steers itself with control surfaces (``act`` longer than the ideal actuator's
+four entries, :mod:`.drogue_actuator`) has the surfaces' states in place of ``ua``; its force
+comes from their deflections and the local dynamic pressure (:func:`actuated_loop_deriv`).
 """
 
 from __future__ import annotations
@@ -22,13 +26,16 @@ from ..jit import JIT, JIT_NO_ALLOC
 from .kernels import (
     NONFINITE,
     OK,
+    PS_RHO,
     YAW_LIMIT,
     drogue_from_frames,
+    env_at,
     forward_dynamics_ws,
     link_frames,
     loads_given_frames,
     make_workspace_jit,
 )
+from . import drogue_actuator as DA
 
 
 #: compilation options of the loop's functions that allocate nothing (:mod:`hosedrogue.jit`)
@@ -48,7 +55,9 @@ class LoopArrays(NamedTuple):
     Cc: np.ndarray  #: controller output matrix (2, nc); outputs: commanded force [N]
     Dc: np.ndarray  #: controller feedthrough (2, 2) [N/m]
     y_ref: np.ndarray  #: drogue balance position [y, z] (2,) [m]
-    act: np.ndarray  #: actuator [max_hor_n, max_ver_n, max_rate_n_s, time_constant_s] [N, N, N/s, s]
+    #: actuator [max_hor_n, max_ver_n, max_rate_n_s, time_constant_s] [N, N, N/s, s], then the drogue's
+    #: control surfaces if it has them (:func:`hosedrogue.model.drogue_actuator.actuator_array`)
+    act: np.ndarray
     noise: np.ndarray  #: sensor noise samples (k, 2) [m], zero-order held
     noise_dt: float  #: sensor noise sample time [s]
 
@@ -130,6 +139,9 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
     nx = 4 * n
     # link frames first: the controller measures the drogue from them, the loads reuse them
     link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
+    if DA.is_actuated(act):
+        actuated_loop_deriv(t, z, nx, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, dz, u)
+        return
     if is_open_loop(z, nx, Cc, Dc):
         # no controller: the force is zero whatever the measurement (skip measuring it)
         u[0] = 0.0
@@ -146,6 +158,36 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
         dz[2 * n + i] = qdd[i]
     actuator_rates(c0, c1, z, nx + Ac.shape[0], act, dz)
     controller_rates(m0, m1, z, nx, Ac, Bc, dz)
+
+
+@njit(**LOOP_JIT)
+def actuated_loop_deriv(t, z, nx, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, dz, u):
+    """:func:`closed_loop_deriv` of a drogue steered by control surfaces (the link frames of z in
+    ws): the controller's command, the surfaces' force, drag and servo rates
+    (:func:`hosedrogue.model.drogue_actuator.drogue_actuator_law`), the hose, the controller with
+    its anti-windup. With room in u (``u.shape[0] > 2``) also the dynamic pressure at the drogue
+    [Pa] in u[2] and the surfaces' deflection rates [rad/s] in u[3:3+n_s] (the saved outputs)."""
+    n = l.shape[0]
+    nc = Ac.shape[0]
+    na = nx + nc
+    px, py, pz, vx, vy, vz = DA.drogue_motion_from_frames(l, ws[0], ws[1], ws[2], z[2 * n: nx])
+    m0, m1 = control_law(t, z, nx, py, pz, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    q, e0, e1, ddx, ddy, ddz = DA.drogue_actuator_law(True, m0, m1, u[0], u[1], z, nx, na, px, py, pz, vx, vy, vz,
+                                                      ps[PS_RHO], t, env_at(t, env, gust, ws[16]), gust, Cc, Dc, act,
+                                                      u, dz, na)
+    loads_given_frames(t, z[: 2 * n], z[2 * n: nx], u, l, M, J, ps, env, gust, ws)
+    DA.add_drogue_load(ws[7], ws[13], n, ddx, ddy, ddz)
+    forward_dynamics_ws(l, M, J, ps, ws)
+    qdd = ws[15]
+    for i in range(2 * n):
+        dz[i] = z[2 * n + i]
+        dz[2 * n + i] = qdd[i]
+    controller_rates(m0, m1, z, nx, Ac, Bc, dz)
+    DA.windup_rates(e0, e1, nx, nc, act, dz)
+    if u.shape[0] > 2:
+        u[2] = q
+        for k in range(int(act[DA.DA_NS])):
+            u[3 + k] = dz[na + k]
 
 
 @njit(**LOOP_JIT)
@@ -172,7 +214,7 @@ def controller_rates(m0, m1, z, nx, Ac, Bc, dz):
         dz[nx + i] = acc
 
 
-def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float) -> LoopArrays:
+def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float, drogue_actuator=None) -> LoopArrays:
     """The closed loop's controller, actuator and sensor arrays for the kernels (C-contiguous
     float64 of the shapes :class:`LoopArrays` lists), for the fixed-length and the engagement loops.
 
@@ -189,6 +231,9 @@ def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float) -> LoopArrays:
         Sensor noise samples [m] (``(1, 2)`` zeros for none; :func:`sensor_noise`).
     noise_dt_s : float
         Time each noise sample is held [s].
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (the controller's force command is mixed to them; its
+        ``anti_windup`` gain acts when they saturate); None: the force acts as commanded.
 
     Returns
     -------
@@ -198,13 +243,17 @@ def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float) -> LoopArrays:
         return np.ascontiguousarray(np.asarray(a, dtype=np.float64).reshape(shape))
 
     nc = ctrl.n_states
+    act = actuator.as_array()
+    if drogue_actuator is not None:
+        act = DA.actuator_array(act, drogue_actuator, getattr(ctrl, "anti_windup", None), nc)
     return LoopArrays(c(ctrl.A, (nc, nc)), c(ctrl.B, (nc, 2)), c(ctrl.C, (2, nc)), c(ctrl.D, (2, 2)), c(y_ref, (2,)),
-                      actuator.as_array(), c(noise, (-1, 2)), float(noise_dt_s))
+                      act, c(noise, (-1, 2)), float(noise_dt_s))
 
 
-def loop_states(ctrl, actuator) -> np.ndarray:
+def loop_states(ctrl, actuator, drogue_actuator=None) -> np.ndarray:
     """The loop's initial states after the plant's: the controller's (zero) and, for a
-    rate-limited actuator, the applied force [N] (zero).
+    rate-limited actuator, the applied force [N] (zero), or the drogue's surfaces at rest
+    (deflections [rad] and, for the second-order servo, servo rates [rad/s]: zero).
 
     Parameters
     ----------
@@ -212,11 +261,15 @@ def loop_states(ctrl, actuator) -> np.ndarray:
         Controller (its ``n_states``).
     actuator : hosedrogue.params.Actuator
         Its ``rate_limited``.
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (their ``surfaces`` and ``servo_order``).
 
     Returns
     -------
-    array (n_states [+ 2],)
+    array (n_states [+ 2 or + surfaces x servo_order],)
     """
+    if drogue_actuator is not None:
+        return np.zeros(ctrl.n_states + drogue_actuator.surfaces * drogue_actuator.servo_order)
     return np.zeros(ctrl.n_states + (2 if actuator.rate_limited else 0))
 
 
@@ -340,7 +393,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     n = l.shape[0]
     z = z0.copy()
     work = np.empty((5, z0.shape[0]))
-    u = np.empty(2)
+    u = np.empty(us.shape[1])
     ws = make_workspace_jit(n)
     save_state(0, t0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
@@ -384,3 +437,5 @@ def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, n
     # u is the force applied at (t, z): closed_loop_deriv measured the drogue and set it
     us[i, 0] = u[0]
     us[i, 1] = u[1]
+    for j in range(2, us.shape[1]):
+        us[i, j] = u[j]

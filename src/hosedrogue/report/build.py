@@ -16,8 +16,9 @@ from pathlib import Path
 from typing import Callable
 
 from ..version import __version__
-from . import (accuracy, closed_loop, controllers, convergence, differences, docking, engagement, hose_views, linear,
-               long_runs, manoeuvres, paper_table, parameters, sweep, turbulence_speeds)
+from . import (accuracy, closed_loop, controllers, convergence, differences, docking, drogue_actuator, engagement,
+               hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
+               turbulence_speeds)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -58,12 +59,14 @@ SECTIONS: tuple[Section, ...] = (
     Section("linear", "linear model (Table 2, Figs. 5-8)", linear.build, needs=("sweep",)),
     Section("controllers", "controllers on linear models (Table 3, Figs. 10-11)", controllers.build, needs=("linear",)),
     Section("closed_loop", "controllers in turbulence (Figs. 12-13)", closed_loop.build, needs=("controllers",)),
+    Section("pid_tuning", "PID tuned for the plant", pid_tuning.build),
     Section("hose_3d", "hose in 3D", hose_views.build_3d, needs=("closed_loop",)),
     Section("animation", "animation", hose_views.build_animation, needs=("closed_loop",)),
     Section("long_runs", "long runs", long_runs.build),
     Section("engagement", "engagement", engagement.build),
     Section("docking", "docking statistics and bow wave", docking.build),
     Section("manoeuvres", "manoeuvres", manoeuvres.build),
+    Section("drogue_actuator", "actuated drogue", drogue_actuator.build),
 )
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.

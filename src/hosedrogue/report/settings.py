@@ -8,7 +8,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..studies.docking_grid import CLOSURE_SPEEDS_M_S, FORCE_CONTROLLERS, FORCE_LEVELS, FORCE_LIMITS_N
+from ..studies.docking_grid import (ACTUATOR_LEVELS, CLOSURE_SPEEDS_M_S, DEFLECTION_LIMITS_DEG, FORCE_CONTROLLERS,
+                                    FORCE_LEVELS, FORCE_LIMITS_N, SERVO_BANDWIDTHS_HZ)
+from ..studies.drogue_actuator import LEVELS as ACTUATOR_CLAIM_LEVELS
 
 __all__ = ["ReportSettings", "FULL", "FAST"]
 
@@ -91,6 +93,18 @@ class ReportSettings:
         Runs per capture campaign of the approach in a turn and in level flight.
     manoeuvre_workers : int or None
         Dask worker processes of those campaigns; None: in this process.
+    actuator_seeds : int
+        Turbulence realisations per case of the actuated drogue's claims (level x controller x drogue).
+    actuator_levels : tuple of str
+        Turbulence cases of those claims (``hosedrogue.studies.drogue_actuator.LEVELS``).
+    actuator_runs : int
+        Runs per campaign of the capture rate against the surfaces' deflection limit and bandwidth.
+    actuator_deflections_deg : tuple of float
+        Deflection limits of that study [deg].
+    actuator_bandwidths_hz : tuple of float
+        Servo bandwidths of that study [Hz].
+    actuator_capture_levels : tuple of str
+        Turbulence levels of that study.
     """
 
     name: str
@@ -128,6 +142,12 @@ class ReportSettings:
     manoeuvre_flight_paths_deg: tuple
     manoeuvre_runs: int
     manoeuvre_workers: int | None
+    actuator_seeds: int
+    actuator_levels: tuple
+    actuator_runs: int
+    actuator_deflections_deg: tuple
+    actuator_bandwidths_hz: tuple
+    actuator_capture_levels: tuple
 
 
 #: The reference version of the report.
@@ -167,6 +187,12 @@ FULL = ReportSettings(
     manoeuvre_flight_paths_deg=(-10.0, -7.5, -5.0, -2.5, 0.0, 2.5, 5.0, 7.5, 10.0),
     manoeuvre_runs=200,
     manoeuvre_workers=2,
+    actuator_seeds=8,  # as spread_seeds: the claims' peaks over the realisations
+    actuator_levels=ACTUATOR_CLAIM_LEVELS,
+    actuator_runs=200,
+    actuator_deflections_deg=DEFLECTION_LIMITS_DEG,
+    actuator_bandwidths_hz=SERVO_BANDWIDTHS_HZ,
+    actuator_capture_levels=ACTUATOR_LEVELS,
 )
 
 #: The fast version (``--fast``): coarser grids, shorter runs; the page says so prominently.
@@ -206,4 +232,10 @@ FAST = ReportSettings(
     manoeuvre_flight_paths_deg=(-10.0, 0.0, 10.0),
     manoeuvre_runs=2,  # the campaigns' machinery, not their statistics
     manoeuvre_workers=None,
+    actuator_seeds=1,
+    actuator_levels=("paper", "severe"),  # the paper's case and the one where the claim fails
+    actuator_runs=4,
+    actuator_deflections_deg=(2.0, 20.0),  # below the PID's peak force in moderate turbulence, and the default
+    actuator_bandwidths_hz=(10.0, 30.0),  # below the PID's stability limit, and the default
+    actuator_capture_levels=("moderate",),
 )

@@ -2,9 +2,10 @@
 
 A scenario file is TOML: a ``[scenario]`` table (``duration_s``, ``initial``, offsets, and
 ``extends`` to start from another scenario), the drogue's control loop (``[controller]``,
-``[actuator]``, ``[sensor]``), the engagement (``[reel]``, ``[probe]``, ``[bow_wave]``,
-``[pilot]``, ``[receiver]``) and any parameter section of :mod:`hosedrogue.params` (``[flight]``,
-``[turbulence]``, ...) overriding the paper's case. ``[model] preset = "converged"`` starts from a
+``[actuator]``, ``[sensor]``, and ``[drogue_actuator]`` for a drogue steered by control
+surfaces), the engagement (``[reel]``, ``[probe]``, ``[bow_wave]``, ``[pilot]``, ``[receiver]``) and
+any parameter section of :mod:`hosedrogue.params` (``[flight]``, ``[turbulence]``, ...) overriding the
+paper's case. ``[model] preset = "converged"`` starts from a
 shipped model preset (:mod:`hosedrogue.config`); the file's parameter sections then override it.
 Every section, key, unit, default and range is listed in the documentation's scenario reference.
 
@@ -31,8 +32,8 @@ from typing import Any, Mapping
 
 from ..config import load_preset, preset_names, read_toml
 from ..params import SECTIONS, PAPER, ParameterError, Params, params_from_dict
-from ..sections import (CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, Actuator, Controller, Engagement,
-                        Loop, Sensor)
+from ..sections import (CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, Actuator, Controller,
+                        DrogueActuator, Engagement, Loop, Sensor)
 
 #: Keys of the ``[scenario]`` table.
 SCENARIO_KEYS = ("name", "description", "duration_s", "extends", "initial", "initial_pitch_offset_deg",
@@ -91,6 +92,10 @@ class Scenario:
         num = self.params.numerics
         if num.integrator == "rk4" or self.engagement is not None:
             num.steps(self.duration_s, "scenario.duration_s")  # at least one step
+        if self.loop.drogue_actuator is not None:
+            self.loop.drogue_actuator.check_loop(self.loop.actuator == Actuator(), self.loop.controller)
+            if num.integrator == "rk4" or self.engagement is not None:
+                self.loop.drogue_actuator.check_step(num.step_s)
         if self.engagement is not None and num.integrator != "rk4":
             raise ParameterError(f"numerics.integrator = {num.integrator!r}: the engagement (hose of varying "
                                  "length) is integrated with fixed-step RK4 only; use 'rk4'")
@@ -115,6 +120,11 @@ class Scenario:
     def sensor(self) -> Sensor:
         """Noise on the measured drogue offset."""
         return self.loop.sensor
+
+    @property
+    def drogue_actuator(self) -> DrogueActuator | None:
+        """The drogue's control surfaces (None: the controller's force acts as such)."""
+        return self.loop.drogue_actuator
 
     @property
     def model(self) -> str:
@@ -361,7 +371,9 @@ def scenario_from_dict(data: Mapping[str, Any], *, name: str = "scenario", sourc
         raise ParameterError("scenario.duration_s: missing; give the simulated time in seconds")
     loop = Loop(controller=Controller.from_mapping(_table(data, "controller")),
                 actuator=Actuator.from_mapping(_table(data, "actuator")),
-                sensor=Sensor.from_mapping(_table(data, "sensor")))
+                sensor=Sensor.from_mapping(_table(data, "sensor")),
+                drogue_actuator=(DrogueActuator.from_mapping(_table(data, "drogue_actuator"))
+                                 if "drogue_actuator" in data else None))
     params = params_from_dict({k: v for k, v in data.items() if k in SECTIONS}, base=_model_base(data, base))
     return Scenario(
         name=str(head.get("name", name)),

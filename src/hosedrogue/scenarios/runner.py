@@ -96,6 +96,29 @@ def drogue_controller(scenario: Scenario, model: HoseModel | None = None, eq: Eq
     return _DESIGNS[key]
 
 
+def controller_record(scenario: Scenario) -> dict:
+    """What ``run.json`` records of the scenario's drogue controller (``controller_design``): its
+    type, where its numbers come from, and the gains (PID) or the regulator and observer gains
+    (LQR) with the realization that ran (:func:`hosedrogue.controllers.design.controller_record`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Its ``loop.controller``; the design is :func:`drogue_controller`'s (cached).
+
+    Returns
+    -------
+    dict
+        JSON-ready.
+    """
+    from ..controllers.design import controller_record as record
+
+    ctrl = scenario.loop.controller
+    if ctrl.type not in ("pid", "lqr"):
+        return {"type": ctrl.type}
+    return record(ctrl.type, dict(ctrl.options), drogue_controller(scenario))
+
+
 #: Former name of :func:`drogue_controller`.
 build_controller = drogue_controller
 
@@ -141,9 +164,10 @@ def run(scenario: Scenario) -> RunResult:
 
     Solves the balance position, designs the controller (:func:`drogue_controller`), starts
     from :func:`initial_state` and simulates ``scenario.duration_s`` with the scenario's
-    actuator and sensor; the engagement adds the reel, probe, bow wave and pilot or receiver.
-    The user's sampled-data controllers (:func:`sampled_controllers`) are imported and built
-    before the run starts; a built-in controller with ``sample_time_s`` > 0 runs sampled.
+    actuator and sensor (and the drogue's control surfaces, if any); the engagement adds the reel,
+    probe, bow wave and pilot or receiver. The user's sampled-data controllers
+    (:func:`sampled_controllers`) are imported and built before the run starts; a built-in
+    controller with ``sample_time_s`` > 0 runs sampled.
 
     Parameters
     ----------
@@ -186,7 +210,8 @@ def _run_fixed_length(scenario: Scenario) -> RunResult:
     return simulate(params, scenario.duration_s, x0=initial_state(scenario, eq),
                     control=_drogue(scenario, controllers, model, eq), equilibrium=eq,
                     actuator=scenario.loop.actuator, sensor=scenario.loop.sensor, model=model,
-                    sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0)
+                    sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0,
+                    drogue_actuator=scenario.loop.drogue_actuator)
 
 
 def _run_engagement(scenario: Scenario) -> RunResult:
@@ -202,7 +227,8 @@ def _run_engagement(scenario: Scenario) -> RunResult:
                                bow_wave=e.bow_wave, pilot=e.pilot, receiver=e.receiver,
                                control=_drogue(scenario, controllers), actuator=scenario.loop.actuator,
                                sensor=scenario.loop.sensor, x0=x0,
-                               sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0)
+                               sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0,
+                               drogue_actuator=scenario.loop.drogue_actuator)
 
 
 def _meta(scenario: Scenario) -> dict:
@@ -210,7 +236,10 @@ def _meta(scenario: Scenario) -> dict:
     meta = {"scenario": scenario.name, "source": scenario.source, "model": scenario.model,
             "duration_s": scenario.duration_s, "initial": scenario.initial,
             "controller": scenario.loop.controller.type, "controller_options": dict(scenario.loop.controller.options),
+            "controller_design": controller_record(scenario),
             "actuator": scenario.loop.actuator.to_dict(), "sensor": scenario.loop.sensor.to_dict()}
+    if scenario.loop.drogue_actuator is not None:
+        meta["drogue_actuator"] = scenario.loop.drogue_actuator.to_dict()
     if scenario.engagement is not None:
         e = scenario.engagement
         meta["pilot"] = None if e.pilot is None else e.pilot.to_dict()

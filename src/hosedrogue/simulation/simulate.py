@@ -17,6 +17,7 @@ import scipy.integrate
 
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
+from ..model import drogue_actuator as DA
 from ..controllers.sampled import SampledController
 from ..model import kernels as K
 from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
@@ -47,6 +48,7 @@ def simulate(
     seed: int | None = None,
     model: HoseModel | None = None,
     sample_time_s: float = 0.0,
+    drogue_actuator=None,
 ) -> SimulationResult:
     """Simulate the hose-drogue system.
 
@@ -80,6 +82,11 @@ def simulate(
         With a :class:`LinearController`: 0 (continuous, the default), or its zero-order-hold
         discretization called every ``sample_time_s`` [s] (a whole multiple of the RK4 step),
         compiled end to end, the sensor's delay included.
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue steers itself with these control surfaces: the controller's force command
+        is mixed to them at the measured dynamic pressure, and their deflections make the force
+        (docs/model.md, "Actuated drogue"); ``actuator`` must then have no limits. Not with a
+        Python ``control`` function.
 
     Returns
     -------
@@ -103,6 +110,9 @@ def simulate(
         raise ParameterError(f"x0: must be a finite array of shape ({4 * n},), got shape {x0.shape}")
     y_ref = equilibrium.drogue_position_m[1:].copy()
     control = sampled_controller(control)
+    if drogue_actuator is not None and (isinstance(control, SampledController) or sample_time_s):
+        raise ParameterError("drogue_actuator: the sampled-data controllers do not command the drogue's control "
+                             "surfaces yet; use a continuous LinearController (docs/model.md §10)")
     if isinstance(control, SampledController):
         return _run_sampled(params, duration_s, x0, control, equilibrium, actuator, sensor, model)
     if sample_time_s:
@@ -113,18 +123,15 @@ def simulate(
                                    sample_time_s)
 
     outs = None  # derived outputs: the compiled RK4 loop saves them with the states
+    surfaces = {}
     if callable(control) and not isinstance(control, LinearController):
+        if drogue_actuator is not None:
+            raise ParameterError("drogue_actuator: a Python control function commands the force itself; give a "
+                                 "LinearController to command the drogue's control surfaces")
         ts, xs, us, status, t_stop = _run_python_control(model, params, x0, duration_s, control)
     else:
-        ctrl = control if control is not None else LinearController.static_zero()
-        noise = sensor_noise(sensor, duration_s, params.turbulence.seed)
-        loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s)
-        z0 = closed_loop_state(x0, ctrl, actuator)
-        if params.numerics.integrator == "rk4":
-            ts, zs, us, status, t_stop, outs = _run_rk4(model, z0, duration_s, loop)
-        else:
-            ts, zs, us, status, t_stop = _run_adaptive(model, z0, duration_s, loop)
-        xs = zs[:, : 4 * n]
+        ts, xs, us, status, t_stop, outs, surfaces = _run_compiled(model, params, x0, duration_s, control, y_ref,
+                                                                   actuator, sensor, drogue_actuator)
 
     if outs is None:
         outs = _derived_outputs(model, ts, xs, us)
@@ -145,6 +152,7 @@ def simulate(
         equilibrium_m=equilibrium.drogue_position_m.copy(),
         meta={"seed": params.turbulence.seed, "params": params.to_dict()},
         statistics_window_s=turbulence_window(params.turbulence),
+        **surfaces,
     )
 
 
@@ -195,8 +203,33 @@ def _run_linear_sampled(params, duration_s, x0, control: LinearController, equil
     return stepper.run_linear(control)
 
 
-def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator) -> np.ndarray:
-    """The closed-loop initial state ``[x0, xc = 0, (ua = 0)]``.
+def _run_compiled(model, params, x0, duration_s, control, y_ref, actuator, sensor, drogue_actuator):
+    """The compiled closed loop (RK4 or DOP853) with a linear controller (or none) and, if given,
+    the drogue's control surfaces; returns (ts, xs, us, status, t_stop, outs or None, the
+    surfaces' result fields)."""
+    if drogue_actuator is not None:
+        drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
+        if params.numerics.integrator == "rk4":
+            drogue_actuator.check_step(params.numerics.step_s)
+    n = model.n
+    ctrl = control if control is not None else LinearController.static_zero()
+    noise = sensor_noise(sensor, duration_s, params.turbulence.seed)
+    loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s, drogue_actuator)
+    z0 = closed_loop_state(x0, ctrl, actuator, drogue_actuator)
+    outs = None
+    if params.numerics.integrator == "rk4":
+        ts, zs, us, status, t_stop, outs = _run_rk4(model, z0, duration_s, loop)
+    else:
+        ts, zs, us, status, t_stop = _run_adaptive(model, z0, duration_s, loop)
+    surfaces = {}
+    if drogue_actuator is not None:
+        ns, na = drogue_actuator.surfaces, 4 * n + ctrl.n_states
+        surfaces = DA.result_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], drogue_actuator)
+    return ts, zs[:, : 4 * n], us[:, :2], status, t_stop, outs, surfaces
+
+
+def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator, drogue_actuator=None) -> np.ndarray:
+    """The closed-loop initial state ``[x0, xc = 0, (ua = 0 or the surfaces at rest)]``.
 
     Parameters
     ----------
@@ -206,12 +239,14 @@ def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator
         Controller (its states start at zero).
     actuator : Actuator
         A rate-limited actuator adds the applied force [N] (starting at zero) to the state.
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        Control surfaces add their deflections [rad] (and servo rates [rad/s]), starting at zero.
 
     Returns
     -------
     array
     """
-    return np.concatenate([x0, loop_states(ctrl, actuator)])
+    return np.concatenate([x0, loop_states(ctrl, actuator, drogue_actuator)])
 
 
 def fixed_steps(params: Params, duration_s: float) -> tuple[float, int]:
@@ -242,12 +277,28 @@ def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
     nsave = nsteps // every + 1
     ts = np.empty(nsave)
     zs = np.empty((nsave, z0.size))
-    us = np.empty((nsave, 2))
+    us = np.empty((nsave, output_width(loop.act)))
     outs = output_arrays(nsave, model.n)
     max_yaw = math.radians(model.params.numerics.max_yaw_deg)
     status, saved, t_stop = rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw,
                                     ts, zs, us, *outs)
     return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)
+
+
+def output_width(act: np.ndarray) -> int:
+    """Columns of the compiled loop's saved force rows: the force (2) and, for a drogue with
+    control surfaces, the dynamic pressure [Pa] and each surface's rate [rad/s].
+
+    Parameters
+    ----------
+    act : array
+        The loop's actuator array (:class:`hosedrogue.model.integrate.LoopArrays`).
+
+    Returns
+    -------
+    int
+    """
+    return 2 if not DA.is_actuated(act) else 3 + int(act[DA.DA_NS])
 
 
 def output_arrays(count: int, n: int) -> tuple[np.ndarray, ...]:
@@ -293,9 +344,12 @@ def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
                                     rtol=num.rtol, atol=num.atol, events=yaw_event)
     zs = sol.y.T.copy()
     ts = sol.t.copy()
-    us = np.empty((ts.size, 2))
+    us = np.empty((ts.size, output_width(loop.act)))
     ws = K.make_workspace(model.n)
     for i in range(ts.size):
+        if DA.is_actuated(loop.act):  # the surfaces' force needs the drogue's air: a whole evaluation
+            closed_loop_deriv(ts[i], zs[i], *args, np.empty_like(zs[i]), us[i])
+            continue
         applied_force(ts[i], zs[i], 4 * n, model.l, loop.Cc, loop.Dc, loop.y_ref, loop.act, loop.noise,
                       loop.noise_dt, ws, u)
         us[i] = u

@@ -12,5 +12,7 @@
   level x drogue controller x bow wave, the pilot, the closure speed, the force limit), one
   campaign per cell (:func:`.docking.run_grid`), with :mod:`.docking_grid` (the cells and their
   scenarios) and :mod:`.docking_statistics` (tables, comparisons, saturation, findings);
-* :mod:`.bow_wave` - the receiver's bow-wave field and the drogue's steady displacement.
+* :mod:`.bow_wave` - the receiver's bow-wave field and the drogue's steady displacement;
+* :mod:`.pid_tuning` - a PID tuned to Table 3's step figures against the paper's Eq. 33 gains, on
+  the paper's models and this model (linear steps and the turbulence case).
 """

@@ -193,6 +193,7 @@ def run_task(task: RunTask) -> dict:
         "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
         **summarize_run(result, task.window_s, task.capture_radii_m),
         **result.outcome_columns(),
+        **result.surface_statistics(task.window_s),  # a drogue actuator's columns (to contact)
         "message": result.row_message(),
     }
     _write_series(result, task.timeseries_path)
@@ -288,16 +289,18 @@ def run_campaign(
     old = _previous_settings(out, settings)
 
     engagement = scenario.engagement is not None
-    pending = todo(read_runs(out / "runs.csv", radii, engagement) if old is not None else [], runs, controllers)
+    actuated = scenario.loop.drogue_actuator is not None
+    pending = todo(read_runs(out / "runs.csv", radii, engagement, actuated) if old is not None else [], runs,
+                   controllers)
     with executor.dask_client(client, workers, scheduler, use_dask and bool(pending)) as dask_client:
         # nothing is written before this point: bad input and an unreachable scheduler leave no trace
         out.mkdir(parents=True, exist_ok=True)
         if old is None:
             write_atomic(out / "campaign.json", json.dumps(settings, indent=2) + "\n")
-        log = AppendLog(out / "runs.csv", run_columns(radii, engagement), lock=True)
+        log = AppendLog(out / "runs.csv", run_columns(radii, engagement, actuated), lock=True)
         try:
             # again under the lock: the rows are now final
-            remaining = todo(read_runs(out / "runs.csv", radii, engagement), runs, controllers)
+            remaining = todo(read_runs(out / "runs.csv", radii, engagement, actuated), runs, controllers)
             series_dir = (out / "runs").resolve() if keep_timeseries else None
             tasks = _tasks(scenario, remaining, seed, window, radii, series_dir, compare_controller)
             if remaining:

@@ -2,8 +2,9 @@
 
 A cell is a :class:`CellSpec`: the shipped ``approach-LEVEL`` scenario with a drogue controller,
 the bow wave on or off and, optionally, the pilot model flying the probe, another probe closure
-speed (the scenario's duration and turbulence window following it: :func:`approach_duration_s`)
-or a force limit on the drogue controller (``[actuator] max_force_n``). :func:`cell_scenario`
+speed (the scenario's duration and turbulence window following it: :func:`approach_duration_s`),
+a force limit on the drogue controller (``[actuator] max_force_n``) or a drogue that steers
+itself with control surfaces (``[drogue_actuator]``, their deflection limit and servo bandwidth). :func:`cell_scenario`
 builds the cell's :class:`~hosedrogue.scenarios.Scenario` in Python from the shipped one, and
 :func:`same_scenario` tells two cells that run the same scenario apart from those that do not
 (:func:`hosedrogue.studies.docking.run_grid` runs such a scenario once).
@@ -14,7 +15,9 @@ Three lists of cells are defined here (docs/engagement.md, "Docking statistics")
 * :func:`speed_specs`: the closure-speed study (approach-moderate, bow wave on, no controller and
   PID, per probe speed);
 * :func:`force_specs`: the force-limit study (bow wave on, PID and LQR per force limit, with the
-  unlimited and the no-controller cells of the main grid beside them).
+  unlimited and the no-controller cells of the main grid beside them);
+* :func:`actuator_specs`: the actuated-drogue study (bow wave on, the PID commanding the surfaces,
+  per deflection limit and per servo bandwidth, with the ideal-force cell beside them).
 """
 
 from __future__ import annotations
@@ -24,8 +27,9 @@ import math
 from dataclasses import dataclass
 
 __all__ = ["CONTROLLERS", "LEVELS", "PILOT", "CAMPAIGN_SEED", "CLOSURE_SPEEDS_M_S", "SPEED_LEVEL",
-           "SPEED_CONTROLLERS", "FORCE_LIMITS_N", "FORCE_LEVELS", "FORCE_CONTROLLERS", "CellSpec", "cell_name",
-           "grid_specs", "speed_specs", "force_specs", "approach_duration_s", "cell_scenario", "same_scenario"]
+           "SPEED_CONTROLLERS", "FORCE_LIMITS_N", "FORCE_LEVELS", "FORCE_CONTROLLERS", "DEFLECTION_LIMITS_DEG",
+           "SERVO_BANDWIDTHS_HZ", "ACTUATOR_LEVELS", "ACTUATOR_CONTROLLERS", "CellSpec", "cell_name", "grid_specs",
+           "speed_specs", "force_specs", "actuator_specs", "approach_duration_s", "cell_scenario", "same_scenario"]
 
 #: Drogue controllers of the grid, in the order of the legends (the paper's gains; each acts on
 #: the drogue during the approach and is off once coupled).
@@ -63,15 +67,31 @@ FORCE_LEVELS = ("moderate", "severe")
 #: Drogue controllers of the force-limit study.
 FORCE_CONTROLLERS = ("pid", "lqr")
 
+#: Deflection limits of the actuated-drogue study [deg]: at the paper's flight condition 1 deg of
+#: every surface is 27 N per axis (two surfaces of C_F,delta = 0.45 /rad on 0.2922 m^2 at q = 5.9
+#: kPa), so 1, 2, 4, 8 deg are the force-limit study's 25-200 N; 20 deg is the default.
+DEFLECTION_LIMITS_DEG = (1.0, 2.0, 4.0, 8.0, 20.0)
+
+#: Servo bandwidths of the actuated-drogue study [Hz]: below, at and above the paper's PID's
+#: stability limit of about 11 Hz (hosedrogue.studies.drogue_actuator.servo_margins); 30 Hz is the default.
+SERVO_BANDWIDTHS_HZ = (5.0, 10.0, 15.0, 20.0, 30.0, 60.0)
+
+#: Turbulence levels of the actuated-drogue study (light is captured with a few deg: the PID's peak there is 77 N).
+ACTUATOR_LEVELS = ("moderate", "severe")
+
+#: Drogue controllers of the actuated-drogue study.
+ACTUATOR_CONTROLLERS = ("pid",)
+
 #: :func:`approach_duration_s` rounds up to whole tenths of a second (this many per second [1/s]),
 #: after rounding away the float noise below 1e-6 of a tenth (so 3 m / 1 m/s + 1.5 s stays 4.5 s).
 _TENTHS_PER_S = 10.0
 
 
 def cell_name(level: str, controller: str, bow_wave: bool, pilot: bool = False,
-              closure_speed_m_s: float | None = None, max_force_n: float | None = None) -> str:
+              closure_speed_m_s: float | None = None, max_force_n: float | None = None,
+              surfaces: tuple | None = None) -> str:
     """Folder name of one campaign, e.g. ``moderate-pid-bow-on``, ``moderate-pilot-bow-on``,
-    ``moderate-none-bow-on-v0.5`` or ``moderate-pid-bow-on-f100``.
+    ``moderate-none-bow-on-v0.5``, ``moderate-pid-bow-on-f100`` or ``moderate-pid-bow-on-d4-b30``.
 
     Parameters
     ----------
@@ -87,6 +107,9 @@ def cell_name(level: str, controller: str, bow_wave: bool, pilot: bool = False,
         The probe's closure speed [m/s] when it is not the scenario's own (suffix ``-v<speed>``).
     max_force_n : float or None
         The actuator's force limit per axis [N] (suffix ``-f<limit>``); None: unlimited.
+    surfaces : (float, float) or None
+        The drogue's control surfaces' deflection limit [deg] and servo bandwidth [Hz] (suffix
+        ``-d<limit>-b<bandwidth>``); None: the ideal force.
 
     Returns
     -------
@@ -95,7 +118,8 @@ def cell_name(level: str, controller: str, bow_wave: bool, pilot: bool = False,
     who = (PILOT if controller == "none" else f"{controller}-{PILOT}") if pilot else controller
     name = f"{level}-{who}-bow-{'on' if bow_wave else 'off'}"
     name = name if closure_speed_m_s is None else f"{name}-v{closure_speed_m_s:g}"
-    return name if max_force_n is None else f"{name}-f{max_force_n:g}"
+    name = name if max_force_n is None else f"{name}-f{max_force_n:g}"
+    return name if surfaces is None else f"{name}-d{surfaces[0]:g}-b{surfaces[1]:g}"
 
 
 @dataclass(frozen=True)
@@ -108,6 +132,10 @@ class CellSpec:
     pilot: bool = False  #: the pilot model flies the probe
     closure_speed_m_s: float | None = None  #: probe closure speed [m/s]; None: the scenario's own
     max_force_n: float | None = None  #: ``[actuator] max_force_n``, per axis [N]; None: unlimited
+    #: the drogue's control surfaces (``[drogue_actuator]``): their deflection limit [deg]; None: the
+    #: ideal force (unless bandwidth_hz is given: then the default limit)
+    max_deflection_deg: float | None = None
+    bandwidth_hz: float | None = None  #: their servo bandwidth [Hz]; None: the default (with max_deflection_deg)
 
     def __post_init__(self) -> None:
         from ..errors import ParameterError
@@ -118,17 +146,29 @@ class CellSpec:
         if self.controller not in CONTROLLER_TYPES:
             raise ParameterError(f"controller = {self.controller!r}: must be one of "
                                  f"{', '.join(map(repr, CONTROLLER_TYPES))}")
-        for key in ("closure_speed_m_s", "max_force_n"):
+        for key in ("closure_speed_m_s", "max_force_n", "max_deflection_deg", "bandwidth_hz"):
             v = getattr(self, key)
             if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
                                   or v <= 0):
                 raise ParameterError(f"{key} = {v!r}: must be a finite number > 0 or None")
 
     @property
+    def surfaces(self):
+        """The cell's ``[drogue_actuator]`` (:class:`hosedrogue.sections.DrogueActuator`), or None
+        for the ideal force."""
+        from ..sections import DrogueActuator
+
+        if self.max_deflection_deg is None and self.bandwidth_hz is None:
+            return None
+        given = {"max_deflection_deg": self.max_deflection_deg, "bandwidth_hz": self.bandwidth_hz}
+        return DrogueActuator(**{k: float(v) for k, v in given.items() if v is not None})
+
+    @property
     def name(self) -> str:
         """The cell's folder name (:func:`cell_name`)."""
+        s = self.surfaces
         return cell_name(self.level, self.controller, self.bow_wave, self.pilot, self.closure_speed_m_s,
-                         self.max_force_n)
+                         self.max_force_n, None if s is None else (s.max_deflection_deg, s.bandwidth_hz))
 
 
 def grid_specs(levels=LEVELS, controllers=CONTROLLERS, pilot_levels=LEVELS) -> list[CellSpec]:
@@ -202,6 +242,42 @@ def force_specs(limits=FORCE_LIMITS_N, levels=FORCE_LEVELS, controllers=FORCE_CO
     return specs
 
 
+def actuator_specs(deflections_deg=DEFLECTION_LIMITS_DEG, bandwidths_hz=SERVO_BANDWIDTHS_HZ, levels=ACTUATOR_LEVELS,
+                   controllers=ACTUATOR_CONTROLLERS) -> list[CellSpec]:
+    """The actuated-drogue study's cells per level and controller, bow wave on: the ideal force
+    (the main grid's cell), each deflection limit at the default bandwidth, each bandwidth at the
+    default deflection limit (the default cell once).
+
+    Parameters
+    ----------
+    deflections_deg : sequence of float
+        Deflection limits [deg].
+    bandwidths_hz : sequence of float
+        Servo bandwidths [Hz].
+    levels : sequence of str
+        Turbulence levels.
+    controllers : sequence of str
+        Drogue controller types ("pid", "lqr").
+
+    Returns
+    -------
+    list of CellSpec
+    """
+    from ..sections import DrogueActuator
+
+    default = DrogueActuator()
+    specs = []
+    for level in levels:
+        for c in controllers:
+            cells = [CellSpec(level, c, True)]
+            cells += [CellSpec(level, c, True, max_deflection_deg=float(d), bandwidth_hz=default.bandwidth_hz)
+                      for d in deflections_deg]
+            cells += [CellSpec(level, c, True, max_deflection_deg=default.max_deflection_deg, bandwidth_hz=float(f))
+                      for f in bandwidths_hz]
+            specs += list(dict.fromkeys(cells))  # the default cell once
+    return specs
+
+
 def approach_duration_s(probe, closure_speed_m_s: float) -> float:
     """Scenario duration for a closure speed: the time at which the prescribed probe path stops if
     contact is at the balance position, rounded up to 0.1 s.
@@ -236,8 +312,8 @@ def approach_duration_s(probe, closure_speed_m_s: float) -> float:
 
 def cell_scenario(spec: CellSpec):
     """The scenario of one cell: the shipped ``approach-LEVEL`` with the cell's drogue controller,
-    bow wave, pilot (its defaults), closure speed (with the duration of :func:`approach_duration_s`)
-    and force limit, named ``approach-<cell>``.
+    bow wave, pilot (its defaults), closure speed (with the duration of :func:`approach_duration_s`),
+    force limit and control surfaces (with the RK4 step their servo needs), named ``approach-<cell>``.
 
     The turbulence window is set explicitly in every cell: from the shipped scenario's start to the
     end of the cell's run, so the gusts last the whole approach at every closure speed.
@@ -268,9 +344,14 @@ def cell_scenario(spec: CellSpec):
     loop = base.with_controller(spec.controller).loop
     if spec.max_force_n is not None:
         loop = dataclasses.replace(loop, actuator=dataclasses.replace(loop.actuator, max_force_n=float(spec.max_force_n)))
-    window = {"start_s": base.params.turbulence.start_s, "duration_s": duration}
+    params = base.params.replace(turbulence={"start_s": base.params.turbulence.start_s, "duration_s": duration})
+    if spec.surfaces is not None:
+        from .drogue_actuator import resolved_params
+
+        loop = dataclasses.replace(loop, drogue_actuator=spec.surfaces)
+        params = resolved_params(params, spec.surfaces)  # the RK4 step the servo needs
     return dataclasses.replace(base, name=f"approach-{spec.name}", description=description, duration_s=duration,
-                               params=base.params.replace(turbulence=window), loop=loop, engagement=eng, source="")
+                               params=params, loop=loop, engagement=eng, source="")
 
 
 def same_scenario(a, b) -> bool:

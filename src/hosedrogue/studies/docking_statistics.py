@@ -1,7 +1,7 @@
 """Tables and findings over the docking campaigns (:func:`hosedrogue.studies.docking.run_grid`):
 the capture table of the main grid and its comparisons, the closure-speed study's table and
-findings, the force-limit study's table, saturation and findings (docs/engagement.md, "Docking
-statistics").
+findings, the force-limit study's table, saturation and findings, and the actuated-drogue study's
+table (docs/engagement.md, "Docking statistics").
 
 Every table has one row per cell with the campaign's capture block (``runs``, ``rate``,
 ``ci95_low``, ``ci95_high``, ``n_<result>`` counts) and is checked to count every run once. A
@@ -28,7 +28,7 @@ from .statistics import intervals_overlap
 
 __all__ = ["SATURATION_TOLERANCE", "PEAK_FORCE_Y", "PEAK_FORCE_Z", "PEAK_FORCE", "capture_columns", "capture_table",
            "compare", "comparisons", "speed_table", "speed_findings", "axis_peaks", "saturated", "force_table",
-           "force_findings"]
+           "force_findings", "actuator_table"]
 
 #: runs.csv columns of the per-axis peak forces (lateral, vertical) and of the magnitude's peak [N].
 PEAK_FORCE_Y, PEAK_FORCE_Z, PEAK_FORCE = (name for name, _unit in FORCE_STATISTICS)
@@ -367,3 +367,48 @@ def force_findings(df) -> dict:
         for c, sub in lev[lev["controller"] != "none"].groupby("controller", sort=False):
             out[f"{level}-{c}"] = {"level": level, "controller": c, **_limit_findings(sub, none)}
     return out
+
+
+def actuator_table(specs, cells):
+    """One row per cell of the actuated-drogue study: level, controller, deflection limit [deg]
+    and servo bandwidth [Hz] (inf, inf: the ideal force), the campaign, its capture block, the
+    fraction of runs in which some surface reached its deflection limit, the median fraction of
+    the run it spent there, and the peak forces.
+
+    Parameters
+    ----------
+    specs : sequence of hosedrogue.studies.docking_grid.CellSpec
+        The cells of :func:`hosedrogue.studies.docking_grid.actuator_specs`.
+    cells : sequence of hosedrogue.studies.docking.CampaignCell
+        Their campaigns, in the same order.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns level, controller, max_deflection_deg, bandwidth_hz, campaign, runs, rate, ci95_low,
+        ci95_high [-], n_<result>, saturated_runs_fraction [-] (NaN ideal), saturated_time_median [-],
+        rate_saturated_runs_fraction [-], peak_axis_force_{median,p95}_n [N], stopped (runs that
+        stopped early: a diverging loop).
+    """
+    import pandas as pd
+
+    rows = []
+    for spec, c in zip(specs, cells):
+        runs = c.runs
+        s = spec.surfaces
+        axis = axis_peaks(runs)
+        row = dict(level=spec.level, controller=spec.controller,
+                   max_deflection_deg=math.inf if s is None else s.max_deflection_deg,
+                   bandwidth_hz=math.inf if s is None else s.bandwidth_hz, campaign=c.name,
+                   **capture_columns(c.capture), peak_axis_force_median_n=float(np.median(axis)),
+                   peak_axis_force_p95_n=float(np.percentile(axis, 95)),
+                   stopped=int((~runs["completed"].astype(bool)).sum()))
+        if s is None or "deflection_saturated_frac" not in runs:
+            row.update(saturated_runs_fraction=math.nan, saturated_time_median=math.nan,
+                       rate_saturated_runs_fraction=math.nan)
+        else:
+            sat = runs["deflection_saturated_frac"].to_numpy(dtype=float)
+            row.update(saturated_runs_fraction=float(np.mean(sat > 0)), saturated_time_median=float(np.median(sat)),
+                       rate_saturated_runs_fraction=float(np.mean(runs["rate_saturated_frac"].to_numpy(dtype=float) > 0)))
+        rows.append(row)
+    return _checked(pd.DataFrame(rows), "docking actuated drogue")

@@ -22,7 +22,7 @@ from ..errors import ParameterError
 from ..metrics import statistic_units
 from ..plotting.campaign import plot_cdf, plot_histograms, plot_miss_cdf
 from ..plotting.figures import save_figure
-from .store import csv_line, is_engagement, read_runs, read_settings, run_columns, write_atomic
+from .store import csv_line, is_actuated, is_engagement, read_runs, read_settings, run_columns, write_atomic
 
 #: Order of the engagement results in ``by_result`` (:meth:`hosedrogue.results.EngagementResult.capture_category`)
 RESULTS = ("captured", "miss", "failed latch", "no contact", "stopped")
@@ -208,11 +208,12 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     controllers = settings["controllers"]
     units = statistic_units(radii)
     engagement = is_engagement(settings)
-    rows = read_runs(out / "runs.csv", radii, engagement)
+    actuated = is_actuated(settings)
+    rows = read_runs(out / "runs.csv", radii, engagement, actuated)
     order = {c: k for k, c in enumerate(controllers)}
     rows.sort(key=lambda r: (order.get(r["controller"], len(order)), r["run"]))
     rows = _first_row_per_run(rows)
-    table = pd.DataFrame(rows, columns=run_columns(radii, engagement))
+    table = pd.DataFrame(rows, columns=run_columns(radii, engagement, actuated))
 
     statistics, completed = {}, {}
     csv_rows = []

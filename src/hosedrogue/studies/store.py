@@ -20,7 +20,7 @@ from typing import Any, Iterable, Sequence
 
 from ..version import __version__
 from ..errors import ParameterError
-from ..metrics import DEFAULT_CAPTURE_RADII_M, statistic_units
+from ..metrics import DEFAULT_CAPTURE_RADII_M, SURFACE_STATISTICS, statistic_units
 from .seeds import SEED_RULE
 
 #: Format tag of campaign.json (2: the typed scenario, with its hose "model").
@@ -36,6 +36,10 @@ _KEY_COLUMNS = ("run", "controller", "seed", "completed", "t_end_s")
 #: plane, and the run's peak probe load [N], peak exit tension [N] and peak slack [m]
 ENGAGEMENT_COLUMNS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",
                       "peak_slack_m")
+#: Columns of a campaign whose drogue steers itself with control surfaces
+#: (:func:`hosedrogue.metrics.surface_statistics`: peak deflection [deg] and rate [deg/s], the
+#: fractions of the window saturated in deflection and in rate [-])
+ACTUATOR_COLUMNS = tuple(name for name, _ in SURFACE_STATISTICS)
 def is_engagement(settings: dict) -> bool:
     """Whether campaign settings (:func:`make_settings`) are those of an engagement scenario.
 
@@ -51,7 +55,7 @@ def is_engagement(settings: dict) -> bool:
     return settings.get("model") == "engagement"
 
 
-def run_columns(capture_radii_m: Sequence[float], engagement: bool = False) -> list[str]:
+def run_columns(capture_radii_m: Sequence[float], engagement: bool = False, actuated: bool = False) -> list[str]:
     """The columns of ``runs.csv``.
 
     Parameters
@@ -60,15 +64,34 @@ def run_columns(capture_radii_m: Sequence[float], engagement: bool = False) -> l
         Capture radii [m].
     engagement : bool
         An engagement campaign: also :data:`ENGAGEMENT_COLUMNS` (before the message).
+    actuated : bool
+        A drogue with control surfaces: also :data:`ACTUATOR_COLUMNS` (before the message).
 
     Returns
     -------
     list of str
         Run index, controller, seed, completed, stop time [s], the statistics of
-        :func:`hosedrogue.metrics.statistic_units`, the engagement columns, message.
+        :func:`hosedrogue.metrics.statistic_units`, the engagement columns, the actuator
+        columns, message.
     """
-    extra = ENGAGEMENT_COLUMNS if engagement else ()
+    extra = (ENGAGEMENT_COLUMNS if engagement else ()) + (ACTUATOR_COLUMNS if actuated else ())
     return [*_KEY_COLUMNS, *statistic_units(capture_radii_m), *extra, "message"]
+
+
+def is_actuated(settings: dict) -> bool:
+    """Whether campaign settings (:func:`make_settings`) are those of a scenario whose drogue
+    steers itself with control surfaces (a ``[drogue_actuator]`` table).
+
+    Parameters
+    ----------
+    settings : dict
+        Content of campaign.json.
+
+    Returns
+    -------
+    bool
+    """
+    return "drogue_actuator" in settings.get("scenario", {})
 
 
 # --- campaign.json -------------------------------------------------------------------------------
@@ -246,7 +269,7 @@ def _parse_value(column: str, text: str) -> Any:
 
 
 def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTURE_RADII_M,
-              engagement: bool = False) -> list[dict]:
+              engagement: bool = False, actuated: bool = False) -> list[dict]:
     """Rows of a ``runs.csv`` as typed dicts, in file order; a partial last line is ignored.
 
     Parameters
@@ -257,6 +280,8 @@ def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTU
         The campaign's capture radii [m] (they name columns).
     engagement : bool
         An engagement campaign (:func:`run_columns`).
+    actuated : bool
+        A campaign of a drogue with control surfaces (:func:`run_columns`).
 
     Returns
     -------
@@ -264,7 +289,7 @@ def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTU
         Column -> value (int, bool, str or float).
     """
     path = Path(path)
-    columns = run_columns(capture_radii_m, engagement)
+    columns = run_columns(capture_radii_m, engagement, actuated)
     data = path.read_text() if path.exists() else ""
     if data and not data.endswith("\n"):
         data = data[: data.rfind("\n") + 1]
