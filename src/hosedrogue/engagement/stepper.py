@@ -83,12 +83,14 @@ class EngagementStepper(StepperBase):
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
     receiver_pass_through : bool
-        With a receiver: the probe tip moves at the held velocity command itself, without the
+        With a receiver: the probe tip moves as :meth:`move_receiver` says, without the
         receiver's response (no lag, no speed or acceleration bound) - for a probe path fed from
-        outside, e.g. positions differenced into velocities (the engagement FMU's position input).
+        outside (the engagement FMU's position input).
     probe_start_m : array_like (3,), optional
         With a receiver: where the probe tip starts [m] in the tanker frame, instead of the
         ``[probe]`` start point (its standoff and offsets from the drogue's balance position).
+    probe_start_velocity_m_s : array_like (3,), optional
+        With a receiver: the tip's velocity at the start [m/s], instead of the closure speed forward.
     """
 
     def __init__(self, params: Params, duration_s: float, *, control_step_s: float, reel: Reel | None = None,
@@ -97,9 +99,11 @@ class EngagementStepper(StepperBase):
                  drogue_command: bool = False, actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
                  x0=None, equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
                  record: bool = True, energy: bool = False, gravity_m_s2: float | None = None,
-                 receiver_pass_through: bool = False, probe_start_m=None):
-        if receiver is None and (receiver_pass_through or probe_start_m is not None):
-            raise ParameterError("receiver_pass_through, probe_start_m: only with a receiver (the probe it flies)")
+                 receiver_pass_through: bool = False, probe_start_m=None, probe_start_velocity_m_s=None):
+        if receiver is None and (receiver_pass_through or probe_start_m is not None
+                                 or probe_start_velocity_m_s is not None):
+            raise ParameterError("receiver_pass_through, probe_start_m, probe_start_velocity_m_s: only with a receiver "
+                                 "(the probe it flies)")
         if drogue_command:
             control = LinearController(*hold_controller_arrays())
         self.start = prepare(params, duration_s, reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot,
@@ -109,7 +113,7 @@ class EngagementStepper(StepperBase):
         st = self.start
         self.pass_through = bool(receiver_pass_through)
         if receiver is not None:
-            self._set_receiver_start(probe_start_m)
+            self._set_receiver_start(probe_start_m, probe_start_velocity_m_s)
         self.params, self.probe, self.duration_s = st.params, probe, float(duration_s)
         self.h = params.numerics.step_s
         self.total_steps = st.total_steps
@@ -184,10 +188,10 @@ class EngagementStepper(StepperBase):
                       self._out, self.ring, self.delay, self.control_step_s, self.noise3, self.sensor.sample_time_s,
                       self.balance, self.mbuf)
 
-    def _set_receiver_start(self, probe_start_m) -> None:
-        """The receiver's start point and, passing through, its response switched off: the
-        acceleration bound 0 holds the tip's velocity state at the value :meth:`_advance`
-        writes into it (the command), so the tip moves at the command."""
+    def _set_receiver_start(self, probe_start_m, probe_start_velocity_m_s) -> None:
+        """The receiver's start point and, passing through, its response switched off: no speed
+        bound, and the acceleration bound 0 holds the tip's velocity (:meth:`move_receiver` sets
+        both for each step)."""
         st = self.start
         b = 4 * st.chain.n + EK.Z_TAIL
         if probe_start_m is not None:
@@ -196,12 +200,47 @@ class EngagementStepper(StepperBase):
                 raise ParameterError(f"probe_start_m = {probe_start_m!r}: must be 3 finite numbers [m]")
             st.z[b + EK.RCV_X:b + EK.RCV_X + 3] = p
             st.ep[[EK.EP_P0X, EK.EP_P0Y, EK.EP_P0Z]] = p
+        if probe_start_velocity_m_s is not None:
+            v = np.asarray(probe_start_velocity_m_s, dtype=np.float64)
+            if v.shape != (3,) or not np.all(np.isfinite(v)):
+                raise ParameterError(f"probe_start_velocity_m_s = {probe_start_velocity_m_s!r}: must be 3 finite "
+                                     "numbers [m/s]")
+            st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v
         if self.pass_through:
+            st.ep[EK.EP_RCV_VMAX:EK.EP_RCV_VMAX + 3] = math.inf
             st.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = 0.0
 
+    def move_receiver(self, velocity_m_s, acceleration_m_s2) -> None:
+        """Passing through (``receiver_pass_through``): from now on, until the next call, the
+        probe tip moves from where it is with this velocity and constant acceleration.
+
+        The receiver's response then yields exactly that motion: the velocity state is set, the
+        acceleration bound per axis is ``|a|`` and the held command lies far enough beyond the
+        velocity's range over the step that the lag's demand exceeds the bound throughout, so the
+        bound is the acceleration (RK4 integrates a constant acceleration exactly).
+
+        Parameters
+        ----------
+        velocity_m_s : array_like (3,)
+            The tip's velocity now [m/s], tanker frame.
+        acceleration_m_s2 : array_like (3,)
+            Its acceleration until the next call [m/s^2] (0: a straight line at constant speed).
+        """
+        if not self.pass_through:
+            raise ParameterError("move_receiver: only with receiver_pass_through (else the receiver's response "
+                                 "follows the command of step(receiver=...))")
+        run = self.run
+        b = 4 * run.chain.n + EK.Z_TAIL
+        v0, a = np.asarray(velocity_m_s, dtype=np.float64), np.asarray(acceleration_m_s2, dtype=np.float64)
+        span = self.duration_s + 1.0  # longer than any step [s]
+        tv = run.ep[EK.EP_RCV_TV]
+        run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v0
+        run.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = np.abs(a)
+        # (vcmd - v) / tv >= |a| in the direction of a while v stays within v0 + a [0, span]
+        self._commands[3:6] = v0 + a * span + np.sign(a) * (np.abs(a) * tv + 1.0)
+
     def _command_places(self, run) -> list:
-        """(index in the held commands, index in the state) of every commanded number (passing
-        through, the receiver's command is also its velocity)."""
+        """(index in the held commands, index in the state) of every commanded number."""
         b = 4 * run.chain.n + EK.Z_TAIL
         places = []
         if "drogue" in self.roles:
@@ -211,8 +250,6 @@ class EngagementStepper(StepperBase):
             places.append((2, b + int(run.ep[EK.EP_REEL_SLOT]) - 1))
         if "receiver" in self.roles:
             places += [(3 + i, b + EK.RCV_CX + i) for i in range(3)]
-            if self.pass_through:
-                places += [(3 + i, b + EK.RCV_VX + i) for i in range(3)]
         return places
 
     def _close_record(self) -> None:

@@ -210,10 +210,11 @@ def prepare_python_host(links: int = 2) -> None:
     h = PAPER.numerics.step_s
     scenario = fmu_scenario(Scenario("prepare", params, 4 * h, engagement=Engagement(reel=Reel(law="python"),
                                                                                        probe=Probe())))
-    for position in (True, False):
+    for position, feed in ((True, False), (True, True), (False, False)):
         starts = fmu_starts(scenario, h)
         engagement = EngagementCore(scenario, altitude_m=starts["altitude_m"], airspeed_m_s=starts["airspeed_m_s"],
-                                    wake_enabled=starts["wake_enabled"], sample_time_s=h, position_input=position)
+                                    wake_enabled=starts["wake_enabled"], sample_time_s=h, position_input=position,
+                                    velocity_feed=feed)
         engagement.step(0.0, 2 * h, starts)
         engagement.outputs()
     drogue_controller(dataclasses.replace(scenario, loop=Loop(controller=Controller("lqr"))))

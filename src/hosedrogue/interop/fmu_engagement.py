@@ -13,8 +13,9 @@ variable                                 causality   meaning
 ``wake_enabled``                         parameter   tanker wake on/off
 ``sample_time_s``                        parameter   the control sample the FMU steps in [s]
 ``probe_position_input``                 parameter   probe fed by positions (else velocities)
+``probe_velocity_feed``                  parameter   with positions: the velocities given too
 ``probe_cmd_x_m`` .. ``_z_m``            input       probe-tip position at the step's end [m]
-``probe_cmd_vx_m_s`` .. ``_vz_m_s``      input       probe-tip velocity command [m/s]
+``probe_cmd_vx_m_s`` .. ``_vz_m_s``      input       probe-tip velocity (command) [m/s]
 ``reel_speed_cmd_m_s``                   input       take-up speed command [m/s] (law "python")
 ``u_y_n``, ``u_z_n``                     input       control force at the drogue [N]
 ``drogue_x_m`` .. ``drogue_vz_m_s``      output      drogue position [m], velocity [m/s]
@@ -54,6 +55,8 @@ _PROBE_VELOCITY = tuple(f"probe_cmd_v{a}_m_s" for a, _ in _AXES)
 #: the variables the probe tip's start point depends on: the balance position (velocity input)
 #: or the position inputs at the end of initialization (position input)
 _PROBE_START = _FLIGHT + ("probe_position_input",) + _PROBE_POSITION
+#: the variables the tip's start velocity depends on: the velocity inputs with the velocity feed
+_PROBE_START_V = ("probe_position_input", "probe_velocity_feed") + _PROBE_VELOCITY
 
 #: The engagement FMU: the hose on its reel, the drogue and the receiver's probe of a frozen scenario.
 ENGAGEMENT_FMU = FmuInterface(
@@ -69,10 +72,13 @@ ENGAGEMENT_FMU = FmuInterface(
            "turbulence record is drawn for it). It advances in whole control samples of sample_time_s (a whole "
            "multiple of the scenario's RK4 step numerics.step_s); a communication step must be a whole multiple of "
            "sample_time_s and start where the FMU is, else the FMU refuses it (fmi2Discard, nothing advanced, the "
-           "reason logged). The inputs are held over the step. probe_position_input true: the probe tip moves in a "
-           "straight line at constant velocity from where it is to probe_cmd_x/y/z_m, which it reaches at the end "
-           "of the step (no receiver response: the master's path passes through; the tip starts at the position "
-           "inputs' values at the end of initialization); false: probe_cmd_vx/vy/vz_m_s is the velocity command of "
+           "reason logged). The inputs are held over the step. probe_position_input true: the probe tip moves from "
+           "where it is to probe_cmd_x/y/z_m, which it reaches at the end of the step (no receiver response: the "
+           "master's path passes through; the tip starts at the position inputs' values at the end of "
+           "initialization): in a straight line at constant velocity, or with probe_velocity_feed true on the "
+           "parabola of constant acceleration from its position and velocity (probe_cmd_vx/vy/vz_m_s at the end "
+           "of the step before; at the start: their values at the end of initialization) to that position, so that "
+           "a smooth path fed with its velocity is followed to O(h^3) in position instead of O(h^2); false: probe_cmd_vx/vy/vz_m_s is the velocity command of "
            "the receiver's response (the scenario's [receiver]: lag, speed and acceleration bounds; the tip starts "
            "at the [probe] start point moving forward at its closure speed). reel_speed_cmd_m_s commands a reel of "
            "law \"python\" (unused with a built-in law), u_y_n/u_z_n the drogue's force through the [actuator] until "
@@ -91,11 +97,16 @@ ENGAGEMENT_FMU = FmuInterface(
         FmuVariable("probe_position_input", "parameter", "true: the probe tip follows the position inputs "
                     "probe_cmd_x/y/z_m; false: the velocity command inputs probe_cmd_vx/vy/vz_m_s through the "
                     "receiver's response", kind="Boolean"),
+        FmuVariable("probe_velocity_feed", "parameter", "with probe_position_input: the velocity inputs give the "
+                    "tip's velocity at the end of each step too, and within a step it moves on the parabola from its "
+                    "position and velocity to the position input (else on the straight line)", kind="Boolean"),
         *(FmuVariable(f"probe_cmd_{a}_m", "input", f"probe-tip position along S_p {a} ({d}) at the end of the "
                       "communication step (probe_position_input; at the end of initialization: where the tip starts)")
           for a, d in _AXES),
         *(FmuVariable(f"probe_cmd_v{a}_m_s", "input", f"probe-tip velocity command along S_p {a} ({d}), through the "
-                      "receiver's response (probe_position_input false)") for a, d in _AXES),
+                      "receiver's response (probe_position_input false); with probe_position_input and "
+                      "probe_velocity_feed: the tip's velocity at the end of the communication step (at the end of "
+                      "initialization: its start velocity)") for a, d in _AXES),
         FmuVariable("reel_speed_cmd_m_s", "input", "take-up speed command, positive reeling in, followed by the "
                     "drive within the motor's limits (a reel of law \"python\"; unused with a built-in law)"),
         FmuVariable("u_y_n", "input", "control force at the drogue along S_p y (right) until the probe couples "
@@ -109,7 +120,8 @@ ENGAGEMENT_FMU = FmuInterface(
         *(FmuVariable(f"probe_{a}_m", "output", f"probe-tip position along S_p {a}", initial_depends_on=_PROBE_START)
           for a, _ in _AXES),
         *(FmuVariable(f"probe_v{a}_m_s", "output", f"probe-tip velocity along S_p {a} (at the start: "
-                      + ("the probe's closure speed)" if a == "x" else "0)")) for a, _ in _AXES),
+                      + ("the probe's closure speed" if a == "x" else "0") + ", or with the velocity feed the "
+                      "velocity inputs)", initial_depends_on=_PROBE_START_V) for a, _ in _AXES),
         FmuVariable("coupled", "output", "the probe has captured the drogue and holds it", kind="Boolean"),
         FmuVariable("probe_load_n", "output", "magnitude of the probe's force on the drogue (0 until coupled)"),
         *(FmuVariable(f"probe_force_{a}_n", "output", f"the probe's force on the drogue along S_p {a} (the "
@@ -207,9 +219,15 @@ class EngagementCore:
         Control sample [s], a whole multiple of ``numerics.step_s``.
     position_input : bool
         The probe follows positions (passing through, no receiver response) instead of velocity commands.
+    velocity_feed : bool
+        With ``position_input``: the velocity inputs are the tip's velocity at the end of each
+        step, and it moves on the parabola from its position and velocity to the position input.
     probe_start_m : array_like (3,), optional
         Where the probe tip starts [m] (the position input at the end of initialization); default
         the ``[probe]`` start point.
+    probe_start_velocity_m_s : array_like (3,), optional
+        With ``velocity_feed``: the tip's velocity at the start [m/s] (the velocity inputs at the
+        end of initialization); default the closure speed forward.
     equilibria : dict, optional
         Balance positions solved before, by flight condition (filled in; a rebuild during
         initialization reuses them).
@@ -221,7 +239,8 @@ class EngagementCore:
     """
 
     def __init__(self, scenario, *, altitude_m: float, airspeed_m_s: float, wake_enabled: bool,
-                 sample_time_s: float, position_input: bool, probe_start_m=None, equilibria: dict | None = None):
+                 sample_time_s: float, position_input: bool, velocity_feed: bool = False, probe_start_m=None,
+                 probe_start_velocity_m_s=None, equilibria: dict | None = None):
         from ..engagement.chain import chain_equilibrium, initial_chain
         from ..engagement.stepper import EngagementStepper
         from ..scenarios.runner import drogue_controller
@@ -238,13 +257,17 @@ class EngagementCore:
             equilibria[key] = chain_equilibrium(params, initial_chain(params), sc.duration_s)[0]
         control = drogue_controller(sc)
         self.scenario, self.position_input = sc, bool(position_input)
+        self.velocity_feed = self.position_input and bool(velocity_feed)
+        start_v = probe_start_velocity_m_s if self.velocity_feed else None
         self.commands_reel = e.reel.law == "python"
         self.stepper = EngagementStepper(
             params, sc.duration_s, control_step_s=float(sample_time_s), reel=e.reel, probe=e.probe,
             bow_wave=e.bow_wave, receiver=e.receiver, control=control, drogue_command=control is None,
             actuator=sc.loop.actuator, sensor=Sensor(), equilibrium=equilibria[key], record=False,
-            receiver_pass_through=self.position_input, probe_start_m=probe_start_m if self.position_input else None)
+            receiver_pass_through=self.position_input, probe_start_m=probe_start_m if self.position_input else None,
+            probe_start_velocity_m_s=start_v)
         self.m = self.stepper.reset()
+        self._v_start = self.m.probe_velocity_m_s.copy()  # with the velocity feed: the next step's start velocity
         self.t0_s = 0.0  #: the FMU's time at the run's t = 0 [s] (the experiment's start time)
 
     @property
@@ -262,12 +285,17 @@ class EngagementCore:
         for name, value in inputs.items():
             if not math.isfinite(value):
                 raise StepFailure(self.t_s, f"input {name} = {value!r}: must be a finite number", final=False)
-        if self.position_input:
-            target = np.array([inputs[n] for n in _PROBE_POSITION])
-            receiver = (target - self.m.probe_position_m) / h_s  # reaches the target at the step's end
+        commands = {}
+        if self.position_input:  # the tip reaches the target at the step's end
+            gap = np.array([inputs[n] for n in _PROBE_POSITION]) - self.m.probe_position_m
+            if self.velocity_feed:  # from the velocity given for the step's start (not the parabola's end)
+                v0 = self._v_start
+                self._motion = (v0, 2.0 * (gap - v0 * h_s) / (h_s * h_s))
+                self._v_next = np.array([inputs[n] for n in _PROBE_VELOCITY])
+            else:
+                self._motion = (gap / h_s, np.zeros(3))
         else:
-            receiver = tuple(inputs[n] for n in _PROBE_VELOCITY)
-        commands = {"receiver": receiver}
+            commands["receiver"] = tuple(inputs[n] for n in _PROBE_VELOCITY)
         if self.commands_reel:
             commands["reel"] = inputs["reel_speed_cmd_m_s"]
         if "drogue" in self.stepper.roles:
@@ -319,7 +347,11 @@ class EngagementCore:
             raise StepFailure(self.t_s, self._ended())
         commands = self._commands(inputs, samples * st.control_step_s)
         target = st.step_index + samples * st.spc
+        if self.position_input:
+            st.move_receiver(*self._motion)
         self.m = st.step(samples=samples, **commands)
+        if self.velocity_feed:
+            self._v_start = self._v_next
         if st.step_index < target:
             raise StepFailure(self.t_s, self._ended())
 
@@ -372,7 +404,7 @@ def fmu_starts(scenario, sample_time_s: float) -> dict:
     out = core.outputs()
     starts = {"altitude_m": p.flight.altitude_m, "airspeed_m_s": p.flight.airspeed_m_s,
               "wake_enabled": bool(p.wake.enabled), "sample_time_s": float(sample_time_s),
-              "probe_position_input": False, "reel_speed_cmd_m_s": 0.0, "u_y_n": 0.0, "u_z_n": 0.0}
+              "probe_position_input": False, "probe_velocity_feed": False, "reel_speed_cmd_m_s": 0.0, "u_y_n": 0.0, "u_z_n": 0.0}
     starts.update({f"probe_cmd_{a}_m": out[f"probe_{a}_m"] for a, _ in _AXES})
     starts.update({f"probe_cmd_v{a}_m_s": v for (a, _), v in zip(_AXES, (scenario.engagement.probe.closure_speed_m_s,
                                                                            0.0, 0.0))})
@@ -396,8 +428,9 @@ def frozen_summary(scenario) -> str:
     reel = ("commanded by reel_speed_cmd_m_s" if e.reel.law == "python"
             else f"{e.reel.law!r}, built in (reel_speed_cmd_m_s unused)")
     drogue = "u_y_n, u_z_n" if ctrl == "none" else f"the built-in {ctrl.upper()} (u_y_n, u_z_n unused)"
-    turbulence = (f"{p.turbulence.intensity} turbulence, seed {p.turbulence.seed}" if p.turbulence.enabled
-                  else "no turbulence")
+    t = p.turbulence
+    turbulence = (f"{t.model} turbulence (sigma {', '.join(f'{s:g}' for s in t.sigma_m_s)} m/s), seed {t.seed}"
+                  if t.enabled else "no turbulence")
     bow = "bow wave" if e.bow_wave is not None and e.bow_wave.enabled else "no bow wave"
     return (f"Frozen scenario {scenario.name!r}: {p.hose.links} links, RK4 step {p.numerics.step_s:g} s, "
             f"duration {scenario.duration_s:g} s, {turbulence}, {bow}; reel law {reel}; drogue force: {drogue}")

@@ -257,20 +257,24 @@ class HoseDrogueEngagement(InterfaceSlave):
         self.register_interface(self._output, starts)
 
     def _settings(self) -> tuple:
-        """What the simulation is built from: parameters and, with the position input, the tip's start."""
+        """What the simulation is built from: parameters and, with the position input, the tip's
+        start (and with the velocity feed its start velocity)."""
         position = bool(self.probe_position_input)
-        start = tuple(float(getattr(self, n)) for n in ("probe_cmd_x_m", "probe_cmd_y_m", "probe_cmd_z_m"))
+        feed = position and bool(self.probe_velocity_feed)
+        start = tuple(float(getattr(self, f"probe_cmd_{a}_m")) for a in "xyz")
+        start_v = tuple(float(getattr(self, f"probe_cmd_v{a}_m_s")) for a in "xyz")
         return (float(self.altitude_m), float(self.airspeed_m_s), bool(self.wake_enabled), float(self.sample_time_s),
-                position, start if position else None)
+                position, feed, start if position else None, start_v if feed else None)
 
     def _model(self) -> EngagementCore:
         """The simulation: fixed once initialization ends, rebuilt for new settings before."""
         key = self._settings()
         if not self._started and self._core_key != key:
-            altitude, airspeed, wake, sample, position, start = key
+            altitude, airspeed, wake, sample, position, feed, start, start_v = key
             self._core = EngagementCore(self._scenario, altitude_m=altitude, airspeed_m_s=airspeed,
                                         wake_enabled=wake, sample_time_s=sample, position_input=position,
-                                        probe_start_m=start, equilibria=self._equilibria)
+                                        velocity_feed=feed, probe_start_m=start, probe_start_velocity_m_s=start_v,
+                                        equilibria=self._equilibria)
             self._core.t0_s = self._start_s
             self._core_key = key
         return self._core
