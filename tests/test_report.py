@@ -117,7 +117,6 @@ FIGURE_DATA = [
 
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
 SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
-SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
             "fig5-8", "table3", "fig10-11", "fig12-13", "pid-tuning", "hose3d", "animation", "accuracy", "long-runs",
             "engagement", "docking", "manoeuvres", "actuated-drogue"]
 
