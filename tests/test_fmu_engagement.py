@@ -233,3 +233,18 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys, ar
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0], err
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_check_validates_and_runs_the_engagement_fmu(case, capsys):
+    import json
+
+    scenario, _, _ = case
+    toml = scenario.source
+    assert main(["export-fmu", "--engagement", str(toml), "--duration", "0.5", "--check", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["ok"] and report["problems"] == []  # fmpy's validator and the units: 0 problems
+    sim = report["simulation"]
+    # the start inputs fly the probe straight at the drogue, which stays at its balance position
+    # until the contact at 2 s: within the equilibrium solver's 1e-6 m, and still (1e-9 m) over 0.5 s
+    assert sim["kind"] == "engagement" and sim["duration_s"] == pytest.approx(0.5)
+    assert sim["start_offset_m"] < 1e-6 and sim["drift_m"] < 1e-9
