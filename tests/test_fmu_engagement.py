@@ -248,3 +248,39 @@ def test_check_validates_and_runs_the_engagement_fmu(case, capsys):
     # until the contact at 2 s: within the equilibrium solver's 1e-6 m, and still (1e-9 m) over 0.5 s
     assert sim["kind"] == "engagement" and sim["duration_s"] == pytest.approx(0.5)
     assert sim["start_offset_m"] < 1e-6 and sim["drift_m"] < 1e-9
+
+
+@pytest.mark.parametrize("take_up_m_s", [0.0, 0.5])
+def test_the_reel_command_sets_the_take_up(case, tmp_path, take_up_m_s):
+    """A reel of law "python" commanded through reel_speed_cmd_m_s: the drive follows the held
+    command through its first-order lag (tau = speed_time_constant_s) within its torque limit, so
+    from rest L(t) = L0 - c (t - tau (1 - exp(-t / tau))); zero keeps the length (as locked)."""
+    import dataclasses
+
+    from hosedrogue.interop.fmu import export_fmu
+
+    scenario, _, _ = case
+    reel = dataclasses.replace(scenario.engagement.reel, law="python")
+    commanded = dataclasses.replace(scenario, duration_s=1.0,
+                                    engagement=dataclasses.replace(scenario.engagement, reel=reel))
+    fmu = export_fmu(tmp_path / "reel.fmu", commanded)
+    steps = round(1.0 / STEP_S)
+    rows, taken = fly(fmu, steps, lambda k, _: {"reel_speed_cmd_m_s": take_up_m_s}, position_input=False)
+    assert taken == steps and not rows[-1]["coupled"]  # the probe is still closing (contact at 2 s)
+    t = STEP_S * np.arange(steps + 1)
+    tau = reel.speed_time_constant_s
+    expected = rows[0]["hose_length_m"] - take_up_m_s * (t - tau * (1.0 - np.exp(-t / tau)))
+    length = np.array([r["hose_length_m"] for r in rows])
+    error = np.abs(length - expected)
+    # until the exit link is first merged (below 0.5 l_nom = 0.4 m, after 0.4 m taken up): RK4 on
+    # the lag's exponential at h / tau = 0.025, ~(h/tau)^4 / 120 ~ 3e-9 relative of the 0.4 m: 1e-8 m
+    merge = np.flatnonzero(np.abs(np.diff(length - expected)) > 1e-8)
+    before = error[:merge[0] + 1] if merge.size else error
+    print(f"take-up {take_up_m_s} m/s: max |L - L_exact| = {before.max():.3g} m before the merge at "
+          f"{t[merge[0] + 1] if merge.size else '-'} s, {error.max():.3g} m over 1 s")
+    assert before.max() < 1e-8 and (take_up_m_s == 0.0 or merge.size == 1)
+    # a merge keeps the joints, so it loses a little free length and changes the reel speed a little
+    # (docs/engagement.md, "Hose of varying length": 2 um lost over engage-response's take-up)
+    assert error.max() < 1e-6
+    # the reel speed at 1 s: the lag's, but for the merge's small speed jump (measured 3e-8 m/s)
+    assert rows[-1]["reel_speed_m_s"] == pytest.approx(take_up_m_s * (1.0 - math.exp(-1.0 / tau)), abs=1e-6)
