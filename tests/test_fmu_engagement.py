@@ -223,6 +223,7 @@ def test_a_step_past_the_frozen_duration_says_so(case):
 @pytest.mark.parametrize("argv, message", [
     (["--engagement", "paper-turbulence"], "has no engagement"),
     (["--engagement", "approach-moderate-pilot"], "pilot.enabled = true"),
+    (["--engagement", "approach-moderate-pid-actuated"], "drogue_actuator: the engagement FMU runs"),
     (["--engagement", "engage-response", "--config", "paper"], "--config paper: not with --engagement"),
     (["--duration", "2"], "--duration: only with --engagement"),
     (["--engagement", "no-such-scenario"], "no-such-scenario"),

@@ -36,7 +36,8 @@ def add_parser(sub) -> None:
                     "With --engagement SCENARIO: the engagement FMU of that scenario (the hose on its reel, the "
                     "drogue, the receiver's probe, capture and coupling), frozen at export. Its inputs: the probe "
                     "tip's position probe_cmd_x_m, probe_cmd_y_m, probe_cmd_z_m [m] at the end of each "
-                    "communication step (parameter probe_position_input true) or its velocity command "
+                    "communication step (parameter probe_position_input true; with probe_velocity_feed true also "
+                    "its velocity, probe_cmd_v*_m_s) or its velocity command "
                     "probe_cmd_vx_m_s, probe_cmd_vy_m_s, probe_cmd_vz_m_s [m/s] through the scenario's receiver "
                     "response, reel_speed_cmd_m_s [m/s] (a reel of law python) and u_y_n, u_z_n [N]; outputs: the "
                     "drogue's position [m] and velocity [m/s], the probe tip's, coupled, probe_load_n [N], "
@@ -47,7 +48,7 @@ def add_parser(sub) -> None:
                         "(not with --engagement: the scenario holds its tables)")
     s.add_argument("--engagement", metavar="SCENARIO",
                    help="export the engagement FMU of this engagement scenario (name or TOML file; an enabled "
-                        "[probe], no [pilot], equilibrium start, no sensor noise or delay)")
+                        "[probe], no [pilot] or [drogue_actuator], equilibrium start, no sensor noise or delay)")
     s.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
                    help="number of rigid links of the hose [-], >= 1 (default 20, or the scenario's)")
     s.add_argument("--duration", metavar="S", type=finite_float("--duration", 1e-9, 86400, "s"),

@@ -153,8 +153,9 @@ def fmu_scenario(scenario) -> "object":
     Raises
     ------
     ParameterError
-        One line for what the FMU cannot honour: no engagement, no enabled probe, a pilot, a
-        displaced start, a built-in drogue controller with a sample time, sensor noise or delay.
+        One line for what the FMU cannot honour: no engagement, no enabled probe, a pilot, the
+        drogue's control surfaces, a displaced start, a built-in drogue controller with a sample
+        time, sensor noise or delay.
     """
     e = scenario.engagement
     if e is None:
@@ -165,6 +166,9 @@ def fmu_scenario(scenario) -> "object":
                              "fly the probe tip (its start point, capture test and coupling come from [probe])")
     if e.pilot is not None and e.pilot.enabled:
         raise ParameterError("pilot.enabled = true: the engagement FMU's inputs fly the probe; remove [pilot]")
+    if scenario.loop.drogue_actuator is not None:
+        raise ParameterError("drogue_actuator: the engagement FMU runs the drogue's force as the ideal force (its "
+                             "stepper has no control surfaces); remove [drogue_actuator]")
     if scenario.initial != "equilibrium":
         raise ParameterError(f"scenario.initial = {scenario.initial!r}: the engagement FMU starts at the balance "
                              "position; use 'equilibrium'")
