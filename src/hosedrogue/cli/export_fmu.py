@@ -121,7 +121,8 @@ def run(args) -> int:
         check_out_path(args.out, "--out")
     model = _model(args)
     with tempfile.TemporaryDirectory(prefix="hosedrogue_check_") as tmp:
-        path = export_fmu(args.out if args.out is not None else Path(tmp) / ("engagement.fmu" if args.engagement else "hose.fmu"), model)
+        name = "engagement.fmu" if args.engagement else "hose.fmu"
+        path = export_fmu(args.out if args.out is not None else Path(tmp) / name, model)
         if args.out is not None:
             print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
         if not args.check:

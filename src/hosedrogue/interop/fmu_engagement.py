@@ -75,12 +75,15 @@ ENGAGEMENT_FMU = FmuInterface(
            "reason logged). The inputs are held over the step. probe_position_input true: the probe tip moves from "
            "where it is to probe_cmd_x/y/z_m, which it reaches at the end of the step (no receiver response: the "
            "master's path passes through; the tip starts at the position inputs' values at the end of "
-           "initialization): in a straight line at constant velocity, or with probe_velocity_feed true on the "
-           "parabola of constant acceleration from its position and velocity (probe_cmd_vx/vy/vz_m_s at the end "
-           "of the step before; at the start: their values at the end of initialization) to that position, so that "
-           "a smooth path fed with its velocity is followed to O(h^3) in position instead of O(h^2); false: probe_cmd_vx/vy/vz_m_s is the velocity command of "
-           "the receiver's response (the scenario's [receiver]: lag, speed and acceleration bounds; the tip starts "
-           "at the [probe] start point moving forward at its closure speed). reel_speed_cmd_m_s commands a reel of "
+           "initialization) on a parabola of constant acceleration: from its position with the slope there of "
+           "the parabola through the last three positions (where it was a step before, where it is, the input; "
+           "on the first step the straight line), or with probe_velocity_feed true with the velocity given "
+           "(probe_cmd_vx/vy/vz_m_s at the end of the step before; at the start their values at the end of "
+           "initialization), so a smooth path is followed to O(h^3) in position (a kink in the path overshoots "
+           "the chord by at most |dv| h / 8 in the step after it); false: probe_cmd_vx/vy/vz_m_s is the velocity "
+           "command of the receiver's response (the scenario's [receiver]: lag, speed and acceleration bounds; "
+           "the tip starts at the [probe] start point moving forward at its closure speed). reel_speed_cmd_m_s "
+           "commands a reel of "
            "law \"python\" (unused with a built-in law), u_y_n/u_z_n the drogue's force through the [actuator] until "
            "the probe couples (unused with a built-in drogue controller). Outputs are those of the state at the "
            "communication point, with the commands of the step that led there (no direct feedthrough). A run that "
@@ -98,8 +101,9 @@ ENGAGEMENT_FMU = FmuInterface(
                     "probe_cmd_x/y/z_m; false: the velocity command inputs probe_cmd_vx/vy/vz_m_s through the "
                     "receiver's response", kind="Boolean"),
         FmuVariable("probe_velocity_feed", "parameter", "with probe_position_input: the velocity inputs give the "
-                    "tip's velocity at the end of each step too, and within a step it moves on the parabola from its "
-                    "position and velocity to the position input (else on the straight line)", kind="Boolean"),
+                    "tip's velocity at the end of each step too: within a step it moves on the parabola from its "
+                    "position and the velocity given to the position input (else with the slope of the parabola "
+                    "through the last three positions)", kind="Boolean"),
         *(FmuVariable(f"probe_cmd_{a}_m", "input", f"probe-tip position along S_p {a} ({d}) at the end of the "
                       "communication step (probe_position_input; at the end of initialization: where the tip starts)")
           for a, d in _AXES),
@@ -272,6 +276,7 @@ class EngagementCore:
             probe_start_velocity_m_s=start_v)
         self.m = self.stepper.reset()
         self._v_start = self.m.probe_velocity_m_s.copy()  # with the velocity feed: the next step's start velocity
+        self._previous = None  # positions only: (where the tip was one step before [m], that step [s])
         self.t0_s = 0.0  #: the FMU's time at the run's t = 0 [s] (the experiment's start time)
 
     @property
@@ -290,14 +295,8 @@ class EngagementCore:
             if not math.isfinite(value):
                 raise StepFailure(self.t_s, f"input {name} = {value!r}: must be a finite number", final=False)
         commands = {}
-        if self.position_input:  # the tip reaches the target at the step's end
-            gap = np.array([inputs[n] for n in _PROBE_POSITION]) - self.m.probe_position_m
-            if self.velocity_feed:  # from the velocity given for the step's start (not the parabola's end)
-                v0 = self._v_start
-                self._motion = (v0, 2.0 * (gap - v0 * h_s) / (h_s * h_s))
-                self._v_next = np.array([inputs[n] for n in _PROBE_VELOCITY])
-            else:
-                self._motion = (gap / h_s, np.zeros(3))
+        if self.position_input:
+            self._motion = self._probe_motion(inputs, h_s)
         else:
             commands["receiver"] = tuple(inputs[n] for n in _PROBE_VELOCITY)
         if self.commands_reel:
@@ -305,6 +304,28 @@ class EngagementCore:
         if "drogue" in self.stepper.roles:
             commands["drogue"] = (inputs["u_y_n"], inputs["u_z_n"])
         return commands
+
+    def _probe_motion(self, inputs: dict, h_s: float) -> tuple:
+        """The tip's velocity [m/s] at the step's start and its constant acceleration [m/s^2] over
+        the step, which take it from where it is to the position input at the step's end.
+
+        The start velocity: with the velocity feed the one given for the step's start (the
+        velocity inputs of the step before); else the slope at the step's start of the parabola
+        through the last three positions (where the tip was one step before, where it is, the
+        input; on the first step the straight line), so that a smooth path is followed to O(h^3).
+        """
+        p0, p1 = self.m.probe_position_m.copy(), np.array([inputs[n] for n in _PROBE_POSITION])
+        if self.velocity_feed:
+            v0 = self._v_start
+            self._v_start = np.array([inputs[n] for n in _PROBE_VELOCITY])  # if the step is taken
+        elif self._previous is not None:
+            p_prev, h0 = self._previous
+            w = h0 + h_s
+            v0 = (p1 - p0) / h_s * (h0 / w) + (p0 - p_prev) / h0 * (h_s / w)
+        else:
+            v0 = (p1 - p0) / h_s
+        self._previous = (p0, h_s)
+        return v0, 2.0 * (p1 - p0 - v0 * h_s) / (h_s * h_s)
 
     def _ended(self) -> str:
         """Why the run is over (it failed, or ended at a miss or at its duration)."""
@@ -354,8 +375,6 @@ class EngagementCore:
         if self.position_input:
             st.move_receiver(*self._motion)
         self.m = st.step(samples=samples, **commands)
-        if self.velocity_feed:
-            self._v_start = self._v_next
         if st.step_index < target:
             raise StepFailure(self.t_s, self._ended())
 
@@ -408,7 +427,8 @@ def fmu_starts(scenario, sample_time_s: float) -> dict:
     out = core.outputs()
     starts = {"altitude_m": p.flight.altitude_m, "airspeed_m_s": p.flight.airspeed_m_s,
               "wake_enabled": bool(p.wake.enabled), "sample_time_s": float(sample_time_s),
-              "probe_position_input": False, "probe_velocity_feed": False, "reel_speed_cmd_m_s": 0.0, "u_y_n": 0.0, "u_z_n": 0.0}
+              "probe_position_input": False, "probe_velocity_feed": False, "reel_speed_cmd_m_s": 0.0, "u_y_n": 0.0,
+              "u_z_n": 0.0}
     starts.update({f"probe_cmd_{a}_m": out[f"probe_{a}_m"] for a, _ in _AXES})
     starts.update({f"probe_cmd_v{a}_m_s": v for (a, _), v in zip(_AXES, (scenario.engagement.probe.closure_speed_m_s,
                                                                            0.0, 0.0))})
