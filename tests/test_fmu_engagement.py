@@ -307,3 +307,21 @@ def test_the_reel_command_sets_the_take_up(case, tmp_path, take_up_m_s):
     assert error.max() < 1e-6
     # the reel speed at 1 s: the lag's, but for the merge's small speed jump (measured 3e-8 m/s)
     assert rows[-1]["reel_speed_m_s"] == pytest.approx(take_up_m_s * (1.0 - math.exp(-1.0 / tau)), abs=1e-6)
+
+
+def test_the_stepper_pass_through_is_refused_where_it_means_nothing(case):
+    from hosedrogue.engagement.stepper import EngagementStepper
+    from hosedrogue.errors import ParameterError
+    from hosedrogue.sections import Receiver
+
+    scenario, _, _ = case
+    e = scenario.engagement
+    kwargs = dict(control_step_s=STEP_S, reel=e.reel, probe=e.probe, record=False)
+    with pytest.raises(ParameterError, match="only with a receiver"):
+        EngagementStepper(scenario.params, 0.1, receiver_pass_through=True, **kwargs)
+    with pytest.raises(ParameterError, match=r"probe_start_m = \[1, 2\]: must be 3 finite numbers \[m\]"):
+        EngagementStepper(scenario.params, 0.1, receiver=Receiver(), probe_start_m=[1, 2], **kwargs)
+    stepper = EngagementStepper(scenario.params, 0.1, receiver=Receiver(), **kwargs)
+    stepper.reset()
+    with pytest.raises(ParameterError, match="move_receiver: only with receiver_pass_through"):
+        stepper.move_receiver((1.0, 0.0, 0.0), (0.0, 0.0, 0.0))
