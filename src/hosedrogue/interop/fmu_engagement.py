@@ -226,10 +226,12 @@ class EngagementCore:
     sample_time_s : float
         Control sample [s], a whole multiple of ``numerics.step_s``.
     position_input : bool
-        The probe follows positions (passing through, no receiver response) instead of velocity commands.
+        The probe follows positions (passing through, no receiver response) instead of velocity
+        commands: within a step on a parabola leaving with the slope of the parabola through the
+        last three positions (:meth:`_probe_motion`).
     velocity_feed : bool
         With ``position_input``: the velocity inputs are the tip's velocity at the end of each
-        step, and it moves on the parabola from its position and velocity to the position input.
+        step, and each parabola leaves with the velocity given for the step's start instead.
     probe_start_m : array_like (3,), optional
         Where the probe tip starts [m] (the position input at the end of initialization); default
         the ``[probe]`` start point.
