@@ -32,16 +32,8 @@ from ..units import NO_UNIT, unit_of
 from ..version import __version__
 from .fmu_core import INTERFACES, PARAMS_RESOURCE, HoseDrogueCore, fmu_params, parameter_starts
 from .fmu_description import documentation_html
-from .fmu_engagement import (
-    ENGAGEMENT_FMU,
-    SCENARIO_RESOURCE,
-    EngagementCore,
-    default_sample_time,
-    fmu_scenario,
-    fmu_starts,
-    frozen_summary,
-    scenario_record,
-)
+from .fmu_engagement import ENGAGEMENT_FMU, EngagementCore, fmu_starts
+from .fmu_frozen import SCENARIO_RESOURCE, default_sample_time, fmu_scenario, frozen_summary, scenario_record
 from .fmu_interface import INTERFACE_RESOURCE, interface_record
 
 #: The check's bound on the FMU's start against the balance position [m]: the equilibrium
@@ -142,7 +134,7 @@ def export_fmu(out: str | Path, params=PAPER, kind: str | None = None) -> Path:
         flight condition and wake switch, integration step ``numerics.step_s`` [s]; the flight
         condition and wake switch stay adjustable as FMU parameters). A
         :class:`~hosedrogue.scenarios.Scenario` with an engagement: the engagement FMU of that
-        scenario, frozen (:func:`hosedrogue.interop.fmu_engagement.fmu_scenario`; docs/interop.md).
+        scenario, frozen (:func:`hosedrogue.interop.fmu_frozen.fmu_scenario`; docs/interop.md).
     kind : str, optional
         Which FMU, a key of :data:`hosedrogue.interop.fmu_core.INTERFACES`; default the one of ``params``.
 
@@ -271,7 +263,7 @@ def exported_scenario(fmu: str | Path):
     starts : dict
         Start values of the parameters and inputs, by name.
     """
-    from .fmu_engagement import load_exported_scenario
+    from .fmu_frozen import load_exported_scenario
 
     with tempfile.TemporaryDirectory(prefix="hosedrogue_fmu_") as tmp:
         with zipfile.ZipFile(fmu) as zf:

@@ -18,7 +18,8 @@ from pythonfmu.enums import Fmi2Status
 
 from ..version import __version__
 from .fmu_core import HOSE_FMU, HoseDrogueCore, fmu_params, load_exported_params, parameter_starts
-from .fmu_engagement import ENGAGEMENT_FMU, EngagementCore, frozen_summary, load_exported_scenario
+from .fmu_engagement import ENGAGEMENT_FMU, EngagementCore
+from .fmu_frozen import frozen_summary, load_exported_scenario
 from .fmu_interface import FmuInterface, StepFailure, check_interface
 from .fmu_description import complete_model_description
 
