@@ -50,6 +50,7 @@ FIGURES = {
     "fig-docking-approach": "fig_docking_approach.png",
     "fig-docking-closure-speed": "fig_docking_closure_speed.png",
     "fig-docking-force-limit": "fig_docking_force_limit.png",
+    "fig-docking-env": "fig_docking_env.png",
     "fig-manoeuvres-steady": "fig_manoeuvres_steady.png",
     "fig-manoeuvres-entry": "fig_manoeuvres_turn_entry.png",
     "fig-manoeuvres-capture": "fig_manoeuvres_capture.png",
@@ -91,6 +92,7 @@ TABLES = {
     "table-docking-radii": "docking_bow_wave_radii.csv",
     "table-docking-closure-speed": "docking_closure_speed.csv",
     "table-docking-force-limit": "docking_force_limit.csv",
+    "table-docking-env": "docking_env.csv",
     "table-manoeuvres-breakdown": "manoeuvres_turn_breakdown.csv",
     "table-manoeuvres-capture": "manoeuvres_capture.csv",
     "table-servo-margins": "actuated_servo_margins.csv",
@@ -110,7 +112,7 @@ FIGURE_DATA = [
     "engagement_timeseries.csv", "engagement_snapshots.csv", "anim_engagement.csv",
     "docking_bow_wave_field.csv", "docking_bow_wave_displacement.csv", "docking_runs.csv", "docking_approach.csv",
     "docking_closure_speed.csv", "docking_closure_speed_runs.csv", "docking_force_limit.csv",
-    "docking_force_limit_runs.csv",
+    "docking_force_limit_runs.csv", "docking_env_episode.csv",
     "manoeuvres_bank.csv", "manoeuvres_flight_path.csv", "manoeuvres_turn_entry.csv",
     "actuated_paper_case.csv", "actuated_claims_runs.csv",
 ]
@@ -118,7 +120,7 @@ FIGURE_DATA = [
 #: Sections of the page (the paper's Sec. 2.3 and 3 and the report's own).
 SECTIONS = ["summary", "comparison", "table1", "differences", "convergence", "fig3", "fig4", "table2",
             "fig5-8", "table3", "fig10-11", "fig12-13", "pid-tuning", "hose3d", "animation", "accuracy", "long-runs",
-            "engagement", "docking", "manoeuvres", "actuated-drogue"]
+            "engagement", "docking", "docking-env", "manoeuvres", "actuated-drogue"]
 
 
 # --- the whole fast report, once -------------------------------------------------------------------

@@ -25,17 +25,17 @@ import math
 import numpy as np
 
 from ..controllers.linear import LinearController
+from ..errors import ParameterError
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, hold_controller_arrays
-from ..errors import ParameterError
 from ..params import Actuator, Params, Sensor
 from ..sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.stepper import StepperBase, sensor_noise3
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, chain_model
 from .driver import _STATUS, prepare
 from .events import contact_event, remesh_event, switch_event
-from .result import EngagementResult, assemble_result
+from .result import EngagementResult, assemble_result, segment_outputs
 
 class EngagementStepper(StepperBase):
     """An engagement advanced one control step at a time, its commands held in between.
@@ -323,6 +323,22 @@ class EngagementStepper(StepperBase):
     def outcome(self) -> dict:
         """The capture test's outcome so far (``result``, miss [m], closure speed [m/s], contact time [s])."""
         return self.run.outcome
+
+    def hose_shape(self) -> tuple[np.ndarray, np.ndarray]:
+        """The hose and the probe as they are now (the state, not the measurement: no sensor noise
+        or delay), for drawing a run that keeps no time series.
+
+        Returns
+        -------
+        joints_m : numpy.ndarray (n+1, 3)
+            Joint positions [m] in S_p, from the hose's exit (row 0) to the drogue (row n).
+        probe_m : numpy.ndarray (3,)
+            Probe tip position [m] in S_p.
+        """
+        run = self.run
+        joints, _, scal = segment_outputs(np.array([run.t]), run.z[None, :], run.chain, self.model, run.ep,
+                                          run.loop)[:3]
+        return joints[0], scal[0, [EK.O_PX, EK.O_PY, EK.O_PZ]]
 
     def result(self) -> EngagementResult:
         """The run so far as the usual :class:`~hosedrogue.results.EngagementResult` (``completed``

@@ -16,8 +16,8 @@ from pathlib import Path
 from typing import Callable
 
 from ..version import __version__
-from . import (accuracy, closed_loop, controllers, convergence, differences, docking, drogue_actuator, engagement,
-               hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
+from . import (accuracy, closed_loop, controllers, convergence, differences, docking, docking_env, drogue_actuator,
+               engagement, hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
                turbulence_speeds)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
@@ -65,6 +65,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("long_runs", "long runs", long_runs.build),
     Section("engagement", "engagement", engagement.build),
     Section("docking", "docking statistics and bow wave", docking.build),
+    Section("docking_env", "docking environment (Gymnasium)", docking_env.build, needs=("docking",)),
     Section("manoeuvres", "manoeuvres", manoeuvres.build),
     Section("drogue_actuator", "actuated drogue", drogue_actuator.build),
 )

@@ -47,8 +47,8 @@ MAX_OFFSET_DEG = 60.0
 #: Longest chain of ``extends`` (a guard against a scenario that extends itself in a loop).
 MAX_EXTENDS = 16
 
-__all__ = ["CONTROLLER_TYPES", "Scenario", "load_scenario", "scenario_from_dict", "shipped_scenarios", "resolve",
-           "merge_tables"]
+__all__ = ["CONTROLLER_TYPES", "Scenario", "load_scenario", "scenario_from_dict", "scenario_tables",
+           "shipped_scenarios", "resolve", "merge_tables"]
 
 
 @dataclass(frozen=True)
@@ -295,6 +295,31 @@ def _read_with_parents(name_or_path: str | Path) -> tuple[str, dict]:
         data = merge_tables(parent, {k: v for k, v in data.items() if k != "scenario"})
         data["scenario"] = {**parent_head, **child_head}
     return source, data
+
+
+def scenario_tables(name_or_path: str | Path) -> tuple[str, dict]:
+    """A scenario file's tables as :func:`load_scenario` reads them, its ``extends`` chain merged
+    in, not yet validated: to change some before :func:`scenario_from_dict` builds the scenario
+    (a ``[model] preset`` stays a preset here, unlike :meth:`Scenario.to_dict`'s resolved tables).
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+        A shipped scenario name or a TOML file (:func:`resolve`).
+
+    Returns
+    -------
+    source : str
+        Where it was found.
+    tables : dict
+        ``{table: {key: value}}`` (a new mapping: changing it changes nothing else).
+
+    Raises
+    ------
+    ParameterError
+        No such scenario, an ``extends`` loop or an unreadable file.
+    """
+    return _read_with_parents(name_or_path)  # parsed afresh on every call
 
 
 def _table(data: Mapping[str, Any], name: str) -> dict:

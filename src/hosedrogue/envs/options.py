@@ -1,0 +1,245 @@
+"""What a docking environment runs and how it scores an episode: the scenario built from the
+environment's options (:func:`docking_scenario`) and the reward's weights (:class:`DockingReward`)
+(docs/gym.md).
+
+The options change a scenario's tables before it is built, as a scenario file that ``extends`` it
+would: the turbulence intensity, the bow wave, the reel law, the drogue controller, the model
+preset, and the episode's time limit (the run's duration; a turbulence window that lasts to the
+scenario's end is stretched to the new end).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..config import preset_names
+from ..errors import ParameterError
+from ..fields import Section, real
+from ..scenarios import Scenario, scenario_from_dict, scenario_tables
+from ..standards import INTENSITY_FT_S
+
+#: Turbulence options besides a number [m/s]: off, or a MIL-F-8785C intensity at the altitude.
+TURBULENCE_CHOICES = ("none", *INTENSITY_FT_S)
+#: Reel laws an episode can run (the take-up law "python" would need a command the agent does not give).
+REEL_CHOICES = ("locked", "constant-tension", "response")
+#: Built-in drogue controllers, compiled in the loop (continuous).
+DROGUE_CHOICES = ("none", "pid", "lqr")
+#: The model without a preset: the paper's (Table 1), overridden by the scenario's own tables.
+PAPER_MODEL = "paper"
+#: Longest episode [s] (a gust record is drawn for the whole episode at every reset).
+MAX_TIME_LIMIT_S = 600.0
+
+
+@dataclass(frozen=True)
+class DockingReward(Section):
+    """The reward of one control step (docs/gym.md, "Reward"): the distance the probe closed on
+    the drogue, less the control effort, plus a bonus or a penalty when the episode ends::
+
+        r = progress_per_m (d_before - d_after) - control_penalty_1_s |a|^2 dt + terminal
+
+    with d the measured distance from the probe tip to the drogue [m], a the action (the velocity
+    command as fractions of the receiver's speed bounds) and dt the control step [s]; ``terminal``
+    is ``capture_bonus`` at a capture and minus the penalty of a miss, a failed latch, a breakaway
+    or a failed state (a time-out adds nothing: it is a truncation, not an outcome).
+    """
+
+    _section = "reward"
+    #: reward per metre the probe-drogue distance closes (negative when it opens) [1/m]
+    progress_per_m: float = field(default=1.0, metadata=real(0.0, 1e6, lo_open=False, unit="1/m"))
+    #: penalty per second of full-scale command on all three axes, |a|^2 dt [1/s]
+    control_penalty_1_s: float = field(default=0.01, metadata=real(0.0, 1e6, lo_open=False, unit="1/s"))
+    #: bonus of a capture: the probe in the basket within the capture radius and latch window [-]
+    capture_bonus: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
+    #: penalty of a miss: the coupler plane crossed beyond the capture radius [-]
+    miss_penalty: float = field(default=5.0, metadata=real(0.0, 1e6, lo_open=False))
+    #: penalty of a failed latch: within the radius, the closure speed outside the window [-]
+    failed_latch_penalty: float = field(default=5.0, metadata=real(0.0, 1e6, lo_open=False))
+    #: penalty of a breakaway: the probe strayed beyond the breakaway distance from the drogue [-]
+    breakaway_penalty: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
+    #: penalty of a failed state (the simulation diverged) [-]
+    failure_penalty: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
+
+    def terminal(self, outcome: str) -> float:
+        """The end-of-episode term of an outcome.
+
+        Parameters
+        ----------
+        outcome : str
+            One of :data:`hosedrogue.envs.docking.OUTCOMES`.
+
+        Returns
+        -------
+        float
+        """
+        return {"captured": self.capture_bonus, "miss": -self.miss_penalty,
+                "failed latch": -self.failed_latch_penalty, "breakaway": -self.breakaway_penalty,
+                "diverged": -self.failure_penalty}.get(outcome, 0.0)
+
+
+def reward_weights(reward: DockingReward | dict | None) -> DockingReward:
+    """A :class:`DockingReward` from one, a ``{weight: value}`` table (the rest default) or None.
+
+    Parameters
+    ----------
+    reward : DockingReward, dict or None
+        The weights.
+
+    Returns
+    -------
+    DockingReward
+    """
+    if reward is None:
+        return DockingReward()
+    if isinstance(reward, DockingReward):
+        return reward
+    return DockingReward.from_mapping(reward)
+
+
+def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, turbulence: str | float | None = None,
+                     bow_wave: bool | None = None, reel: str | None = None, drogue_controller: str | None = None,
+                     model: str | None = None, time_limit_s: float = 10.0) -> Scenario:
+    """The scenario an episode runs: ``scenario`` with the options applied (None: the scenario's own).
+
+    Parameters
+    ----------
+    scenario : str, Path or Scenario
+        An engagement with a probe: a shipped name, a TOML file, or a Scenario built in Python.
+    turbulence : str or float, optional
+        "none", a MIL-F-8785C intensity ("light", "moderate", "severe") at the scenario's
+        altitude, or an isotropic intensity [m/s].
+    bow_wave : bool, optional
+        The receiver's bow wave on or off (its shape: the scenario's ``[bow_wave]``, else the defaults).
+    reel : str, optional
+        The reel law: "locked", "constant-tension" or "response".
+    drogue_controller : str, optional
+        The drogue's built-in controller, compiled in the loop: "none", "pid" or "lqr".
+    model : str, optional
+        A model preset ("converged") or "paper" (none: the paper's model); with a scenario given
+        by name or file only (a Scenario object carries its model's parameters resolved).
+    time_limit_s : float
+        The episode's length [s] (the run's duration), in (0, 600].
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ParameterError
+        One line naming the option, the value and what is allowed; also a scenario the agent
+        cannot fly (no probe, a pilot, the user's controllers).
+    """
+    limit = _positive("time_limit_s", time_limit_s, MAX_TIME_LIMIT_S)
+    if isinstance(scenario, Scenario):
+        if model is not None:
+            raise ParameterError(f"model = {model!r}: a Scenario object carries its model's parameters resolved; "
+                                 "give the scenario by name or file to change its preset")
+        source, tables, name = scenario.source, scenario.to_dict(), scenario.name
+    elif isinstance(scenario, (str, Path)):
+        source, tables = scenario_tables(scenario)
+        name = Path(source).stem
+    else:
+        raise ParameterError(f"scenario = {scenario!r}: must be a scenario name, a TOML path or a Scenario")
+    base = scenario_from_dict(tables, name=name, source=source)
+    _check_flyable(base)
+    tables = {k: (dict(v) if isinstance(v, dict) else v) for k, v in tables.items()}
+    _set_turbulence(tables, turbulence, base, limit)
+    if bow_wave is not None:
+        if not isinstance(bow_wave, bool):
+            raise ParameterError(f"bow_wave = {bow_wave!r}: must be True, False or None (the scenario's)")
+        tables.setdefault("bow_wave", {})["enabled"] = bow_wave
+    if reel is not None:
+        tables.setdefault("reel", {})["law"] = _choice("reel", reel, REEL_CHOICES)
+    if drogue_controller is not None:
+        kind = _choice("drogue_controller", drogue_controller, DROGUE_CHOICES)
+        if kind != tables.get("controller", {}).get("type", "none"):
+            tables["controller"] = {"type": kind}
+    if model is not None:
+        _choice("model", model, (PAPER_MODEL, *preset_names()))
+        tables.pop("model", None)
+        if model != PAPER_MODEL:
+            tables["model"] = {"preset": model}
+    tables["scenario"] = {**tables.get("scenario", {}), "duration_s": limit}
+    out = scenario_from_dict(tables, name=name, source=source)
+    _check_flyable(out)
+    return out
+
+
+def _set_turbulence(tables: dict, turbulence, base: Scenario, limit: float) -> None:
+    """The turbulence option and the window: a window lasting to the scenario's end lasts to the episode's."""
+    table = tables.setdefault("turbulence", {})
+    if turbulence is not None:
+        if isinstance(turbulence, str):
+            level = _choice("turbulence", turbulence, TURBULENCE_CHOICES)
+            table["enabled"] = level != "none"
+            if level != "none":
+                table.pop("sigma_m_s", None)
+                table["intensity"] = level
+        else:
+            sigma = _positive("turbulence", turbulence, 50.0, unit="m/s", text=", or one of "
+                              + ", ".join(map(repr, TURBULENCE_CHOICES)))
+            table.pop("intensity", None)
+            table.update(enabled=True, sigma_m_s=sigma)
+    t = base.params.turbulence
+    if t.start_s + t.duration_s >= base.duration_s and math.isfinite(t.duration_s):
+        table["duration_s"] = max(limit - t.start_s, 0.0)
+
+
+def _check_flyable(sc: Scenario) -> None:
+    """The agent flies the probe: an engagement with an enabled probe, no pilot, no user's controllers,
+    no drogue control surfaces (the stepper has none)."""
+    e = sc.engagement
+    if e is None or e.probe is None or not e.probe.enabled:
+        raise ParameterError(f"scenario = {sc.name!r}: the agent flies the receiver's probe; give an engagement "
+                             "scenario with an enabled [probe] (e.g. 'approach-moderate')")
+    if e.pilot is not None and e.pilot.enabled:
+        raise ParameterError(f"scenario = {sc.name!r}: pilot.enabled = True: the agent flies the probe in the "
+                             "pilot's place; give a scenario without [pilot]")
+    if e.reel.law == "python":
+        raise ParameterError(f"scenario = {sc.name!r}: reel.law = 'python': an episode commands only the receiver; "
+                             f"choose one of {', '.join(map(repr, REEL_CHOICES))} (the reel option)")
+    if sc.loop.drogue_actuator is not None:
+        raise ParameterError(f"scenario = {sc.name!r}: [drogue_actuator]: the drogue's control surfaces are not "
+                             "in the stepping loop an episode runs on; give a scenario without [drogue_actuator] "
+                             "(the drogue controller's force then acts on the drogue directly)")
+    ctrl = sc.loop.controller
+    if ctrl.type not in DROGUE_CHOICES or ctrl.sampled:
+        raise ParameterError(f"scenario = {sc.name!r}: controller.type = {ctrl.type!r} (sample_time_s = "
+                             f"{ctrl.sample_time_s:g}): an episode runs a built-in drogue controller compiled in "
+                             f"the loop, continuous; choose one of {', '.join(map(repr, DROGUE_CHOICES))}")
+
+
+def _choice(name: str, value: Any, choices: tuple) -> str:
+    if value not in choices:
+        raise ParameterError(f"{name} = {value!r}: must be one of {', '.join(map(repr, choices))}, or None "
+                             "(the scenario's)")
+    return value
+
+
+def _positive(name: str, value: Any, hi: float, unit: str = "s", text: str = "") -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and 0 < value <= hi):
+        raise ParameterError(f"{name} = {value!r}: must be a finite number in (0, {hi:g}] {unit}{text}")
+    return float(value)
+
+
+def episode_receiver(scenario: Scenario):
+    """The receiver's response the agent flies through: the scenario's ``[receiver]`` limits
+    (its entry dropped: the agent gives the commands), else the defaults.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        An engagement.
+
+    Returns
+    -------
+    hosedrogue.sections.Receiver
+    """
+    from ..sections import Receiver
+
+    rcv = scenario.engagement.receiver
+    return Receiver() if rcv is None else dataclasses.replace(rcv, entry="", options={})
