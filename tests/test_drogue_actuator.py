@@ -301,20 +301,16 @@ def test_servo_too_fast_for_the_step_is_refused(tmp_path, capsys):
         simulate(PAPER, 1.0, drogue_actuator=DrogueActuator())
 
 
-def test_drogue_actuator_with_actuator_limits_or_sampled_control_is_refused():
+def test_drogue_actuator_with_actuator_limits_is_refused():
     """The surfaces make the force and set its limits: an [actuator] limit beside them is an error
-    (in a scenario and in simulate); the sampled-data controllers do not command them yet."""
-    from hosedrogue.sections import Controller
-
+    (in a scenario and in simulate). The sampled-data controllers command them
+    (tests/test_drogue_actuator_sampled.py)."""
     base = load_scenario("paper-turbulence-pid-actuated")
     limited = Loop(controller=base.loop.controller, actuator=Actuator(max_force_n=50.0), drogue_actuator=DrogueActuator())
     with pytest.raises(ParameterError, match=r"actuator: with \[drogue_actuator\]"):
         dataclasses.replace(base, loop=limited)
     with pytest.raises(ParameterError, match=r"actuator: with \[drogue_actuator\]"):
         simulate(base.params, 1.0, actuator=Actuator(max_force_n=50.0), drogue_actuator=DrogueActuator())
-    sampled = Loop(controller=Controller("pid", {}, sample_time_s=0.01), drogue_actuator=DrogueActuator())
-    with pytest.raises(ParameterError, match=r"controller.type = 'pid': the sampled-data controllers"):
-        dataclasses.replace(base, loop=sampled)
 
 
 # --- the studies -----------------------------------------------------------------------------------

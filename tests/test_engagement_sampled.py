@@ -304,7 +304,7 @@ def test_engagement_stepper_reset_is_reproducible(moderate):
 
     a, b, c = trace(5), trace(5), trace(6)
     np.testing.assert_array_equal(a, b)
-    assert np.max(np.abs(a - c)) > 1e-4
+    assert np.nanmax(np.abs(a - c)) > 1e-4  # drogue_q_pa is NaN without control surfaces
     with pytest.raises(ParameterError, match="this run takes no reel command"):
         st.reset()
         st.step(reel=0.5)

@@ -321,8 +321,10 @@ def test_sample_times_must_lie_on_the_rk4_grid():
 
 
 def test_measurement_is_read_only_and_copies_are_independent():
-    m = Measurement(np.arange(26.0))
-    assert m.t_s == 0.0 and m.hose_length_m == 19.0 and m.coupled
+    from hosedrogue.model.sampled import M_SIZE
+
+    m = Measurement(np.arange(float(M_SIZE)))
+    assert m.t_s == 0.0 and m.hose_length_m == 19.0 and m.coupled and m.drogue_q_pa == 26.0
     with pytest.raises(ValueError):
         m.drogue_position_m[0] = 1.0
     with pytest.raises(AttributeError):

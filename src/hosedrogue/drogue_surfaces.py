@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass, field
 
 from .errors import ParameterError
-from .fields import Section, integer, real
+from .fields import Section, choice, integer, real
 
 __all__ = ["DrogueActuator"]
 
@@ -28,6 +28,11 @@ class DrogueActuator(Section):
     at the measured q, each deflection command is clipped to the deflection limit and followed
     by the surface's servo, whose rate is clipped to the rate limit. Deflected surfaces add drag
     ``q S k_D sum delta_k^2`` along the relative wind.
+
+    ``command`` says what the drogue's controller commands: a force (every controller; the
+    mixing above) or, for a user's sampled-data controller (``[controller] type = "python"``),
+    the surfaces' deflections themselves, one per surface [rad], still clipped to the deflection
+    limit and followed by the servos (docs/controllers.md, "Commanding the control surfaces").
     """
 
     _section = "drogue_actuator"
@@ -54,6 +59,10 @@ class DrogueActuator(Section):
     reference_area_m2: float = field(default=0.2922, metadata=real(0.0, 10.0, unit="m^2"))
     #: Drag increment k_D of one surface on the reference area [1/rad^2]: Delta C_D = k_D delta_k^2.
     drag_slope_per_rad2: float = field(default=0.25, metadata=real(0.0, 50.0, lo_open=False, unit="1/rad^2"))
+    #: What the drogue's controller commands [-]: "force", the force (u_y_n, u_z_n) [N] mixed to
+    #: the surfaces at the measured dynamic pressure; "deflection", one deflection per surface
+    #: [rad] (surface 1 first), from a user's controller (``[controller] type = "python"``) only.
+    command: str = field(default="force", metadata=choice("force", "deflection"))
 
     @property
     def roll_angles_rad(self) -> list[float]:
@@ -95,8 +104,8 @@ class DrogueActuator(Section):
 
     def check_loop(self, ideal_actuator: bool, controller) -> None:
         """The loop's rules with the surfaces: they make the force and set its limits, so the
-        ``[actuator]`` keeps its defaults; a continuous controller commands them (the sampled-data
-        controllers do not command the surfaces yet).
+        ``[actuator]`` keeps its defaults; deflections are commanded by a user's controller only
+        (a built-in PID or LQR commands a force).
 
         Parameters
         ----------
@@ -113,6 +122,26 @@ class DrogueActuator(Section):
         if not ideal_actuator:
             raise ParameterError("actuator: with [drogue_actuator] the control surfaces make the force and limit it; "
                                  "remove the [actuator] limits")
-        if controller is not None and (controller.type == "python" or controller.sample_time_s > 0.0):
-            raise ParameterError(f"controller.type = {controller.type!r}: the sampled-data controllers do not command "
-                                 "the drogue's control surfaces yet; use a continuous pid or lqr with [drogue_actuator]")
+        if controller is not None and self.command == "deflection" and controller.type != "python":
+            raise ParameterError(f"drogue_actuator.command = 'deflection': controller.type = {controller.type!r} "
+                                 "commands a force; deflections come from a user's controller (type 'python'), or "
+                                 "set command = 'force'")
+
+    def check_force_command(self) -> None:
+        """Refuse ``command = "deflection"`` where a built-in controller commands the force (the
+        drivers' continuous and sampled built-in paths).
+
+        Raises
+        ------
+        ParameterError
+            One line naming ``drogue_actuator.command``.
+        """
+        if self.command != "force":
+            raise ParameterError("drogue_actuator.command = 'deflection': a built-in controller (a LinearController, "
+                                 "continuous or sampled) commands a force; deflections come from a user's sampled-"
+                                 "data controller, or set command = 'force'")
+
+    @property
+    def command_size(self) -> int:
+        """How many numbers the drogue's controller returns: 2 (the force) or one per surface."""
+        return 2 if self.command == "force" else self.surfaces

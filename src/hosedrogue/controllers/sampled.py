@@ -33,8 +33,9 @@ import numpy as np
 from ..errors import ParameterError
 from ..fields import check_entry, entry_name
 from ..model.sampled import (M_BALANCE, M_COUPLED, M_DROGUE, M_DROGUE_V, M_L, M_PROBE, M_PROBE_V, M_REEL_V, M_REL,
-                             M_REL_V, M_SIZE, M_T, M_T0)
-from .linear import LinearController
+                             M_Q, M_REL_V, M_SIZE, M_T, M_T0)
+from .discrete import (DiscreteLinearController, discretize, discretize_anti_windup,  # noqa: F401 (re-exported)
+                       linear_controller_factory)
 
 #: The roles of a sampled-data controller.
 ROLES = ("drogue", "reel", "receiver")
@@ -75,6 +76,9 @@ class Measurement:
         Hose tension at the exit [N].
     coupled : bool
         Whether the probe has captured the drogue.
+    drogue_q_pa : float
+        Dynamic pressure at the drogue [Pa], the air its control surfaces see (free stream,
+        wake, turbulence, bow wave); NaN without ``[drogue_actuator]``.
     drogue_balance_m : array (3,)
         The drogue's balance position at the start [m] (the reference of the built-in controllers).
 
@@ -144,6 +148,12 @@ class Measurement:
     def coupled(self) -> bool:
         """Whether the probe has captured the drogue."""
         return bool(self._buf[M_COUPLED] != 0.0)
+
+    @property
+    def drogue_q_pa(self) -> float:
+        """Dynamic pressure of the air the drogue's control surfaces see [Pa] (NaN without
+        ``[drogue_actuator]``): what a controller divides by to turn a force into deflections."""
+        return float(self._buf[M_Q])
 
     def copy(self) -> "Measurement":
         """A copy that the run does not update.
@@ -311,7 +321,7 @@ def load_entry(entry, name: str = "entry") -> Callable:
     return obj
 
 
-def command_problem(role: str, value) -> tuple[str | None, tuple]:
+def command_problem(role: str, value, size: int | None = None) -> tuple[str | None, tuple]:
     """What is wrong with a controller's command, and its numbers.
 
     Parameters
@@ -320,6 +330,9 @@ def command_problem(role: str, value) -> tuple[str | None, tuple]:
         The role (:data:`ROLES`).
     value : Any
         What the controller returned.
+    size : int, optional
+        The drogue's command size when it is not the force's 2: one deflection [rad] per
+        control surface (``[drogue_actuator] command = "deflection"``).
 
     Returns
     -------
@@ -329,9 +342,10 @@ def command_problem(role: str, value) -> tuple[str | None, tuple]:
     values : tuple of float
         The command's numbers (empty if it has a problem).
     """
-    size = COMMAND_SIZE[role]
+    expected = COMMANDS[role] if size is None or size == COMMAND_SIZE[role] else deflection_command_text(size)
+    size = COMMAND_SIZE[role] if size is None else int(size)
     if isinstance(value, (str, bytes)) or value is None:
-        return f"returned {value!r}, expected {COMMANDS[role]}", ()
+        return f"returned {value!r}, expected {expected}", ()
     try:
         if size == 1:
             values = (float(value),) if isinstance(value, (int, float)) else tuple(
@@ -345,7 +359,7 @@ def command_problem(role: str, value) -> tuple[str | None, tuple]:
             what = f"an array of shape {np.shape(value)}"
         except Exception:  # a ragged or odd object: say its type
             what = f"a {type(value).__name__}"
-        return f"returned {what}, expected {COMMANDS[role]}", ()
+        return f"returned {what}, expected {expected}", ()
     for v in values:
         if not math.isfinite(v):
             bad = "NaN" if math.isnan(v) else repr(v)
@@ -353,106 +367,16 @@ def command_problem(role: str, value) -> tuple[str | None, tuple]:
     return None, values
 
 
-def discretize(controller: LinearController, sample_time_s: float):
-    """The zero-order-hold discretization of a linear controller: with its input sampled every
-    T and its state updated as ``xd[k+1] = Ad xd[k] + Bd y[k]``, ``u[k] = Cd xd[k] + Dd y[k]``,
-    where ``[[Ad, Bd], [0, I]] = expm([[A, B], [0, 0]] T)``, ``Cd = C``, ``Dd = D``.
+def deflection_command_text(surfaces: int) -> str:
+    """How the messages say a deflection command of ``surfaces`` control surfaces.
 
     Parameters
     ----------
-    controller : LinearController
-        Continuous controller, measured offset [m] -> force [N].
-    sample_time_s : float
-        T [s], > 0.
+    surfaces : int
+        n_s [-].
 
     Returns
     -------
-    Ad, Bd, Cd, Dd : numpy.ndarray
-        (nc, nc), (nc, 2), (2, nc), (2, 2).
+    str
     """
-    from scipy.linalg import expm
-
-    nc = controller.n_states
-    block = np.zeros((nc + 2, nc + 2))
-    block[:nc, :nc] = controller.A
-    block[:nc, nc:] = controller.B
-    e = expm(block * float(sample_time_s))
-    return (np.ascontiguousarray(e[:nc, :nc]), np.ascontiguousarray(e[:nc, nc:]),
-            np.ascontiguousarray(controller.C, dtype=np.float64), np.ascontiguousarray(controller.D, dtype=np.float64))
-
-
-class DiscreteLinearController:
-    """A built-in linear drogue controller as a sampled-data controller of this interface: its
-    zero-order-hold discretization (:func:`discretize`) acting on the measured drogue offset from
-    its balance position, ``y = drogue_position_m[1:] - drogue_balance_m[1:]`` [m]. The compiled
-    loop runs the same law when a built-in controller has ``sample_time_s`` > 0.
-
-    Parameters
-    ----------
-    controller : LinearController
-        The continuous design.
-    sample_time_s : float
-        T [s].
-    """
-
-    def __init__(self, controller: LinearController, sample_time_s: float):
-        self.Ad, self.Bd, self.Cd, self.Dd = discretize(controller, sample_time_s)
-        self.x = np.zeros(self.Ad.shape[0])
-
-    def reset(self, m: Measurement) -> None:
-        """Zero the controller's state.
-
-        Parameters
-        ----------
-        m : Measurement
-            The first measurement (unused).
-        """
-        self.x[:] = 0.0
-
-    def __call__(self, t: float, m: Measurement) -> np.ndarray:
-        """The force (u_y, u_z) [N] for the measurement m at time t [s]; advances the state.
-
-        Parameters
-        ----------
-        t : float
-            Time [s].
-        m : Measurement
-            The measurement.
-
-        Returns
-        -------
-        numpy.ndarray (2,)
-        """
-        y = m.drogue_position_m[1:] - m.drogue_balance_m[1:]
-        u = self.Cd @ self.x + self.Dd @ y
-        self.x = self.Ad @ self.x + self.Bd @ y
-        return u
-
-
-def linear_controller_factory(controller: LinearController, sample_time_s: float) -> Callable:
-    """A factory of :class:`DiscreteLinearController` (for :class:`SampledController`).
-
-    Parameters
-    ----------
-    controller : LinearController
-        The continuous design.
-    sample_time_s : float
-        T [s].
-
-    Returns
-    -------
-    callable
-        ``factory() -> DiscreteLinearController``.
-    """
-    return _LinearFactory(controller, float(sample_time_s))
-
-
-@dataclass(frozen=True)
-class _LinearFactory:
-    """A picklable factory of a :class:`DiscreteLinearController` (Dask workers receive it by value)."""
-
-    controller: LinearController
-    sample_time_s: float
-
-    def __call__(self) -> DiscreteLinearController:
-        return DiscreteLinearController(self.controller, self.sample_time_s)
+    return f"{surfaces} deflections (delta_1 ... delta_{surfaces}) [rad]"

@@ -75,9 +75,10 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         With a :class:`LinearController` ``control``: 0 (continuous, the default) or the sample
         time [s] of its zero-order-hold discretization.
     drogue_actuator : hosedrogue.sections.DrogueActuator, optional
-        The drogue steers itself with these control surfaces (docs/model.md §10): the continuous
-        controller's force command is mixed to them; once coupled they return to neutral.
-        ``actuator`` must then have no limits; not with the sampled-data controllers.
+        The drogue steers itself with these control surfaces (docs/model.md §10): the
+        controller's force command (continuous or sampled) is mixed to them, or with ``command =
+        "deflection"`` a user's controller commands their deflections [rad]; once coupled they
+        return to neutral. ``actuator`` must then have no limits.
 
     Returns
     -------
@@ -92,26 +93,26 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         shape or not finite, a pilot or bow wave without a probe, a free length outside the
         reel's end stops, a controller's entry that cannot be imported.
     """
-    controllers = sampled_controllers(reel, receiver, control, sample_time_s)
+    controllers = sampled_controllers(reel, receiver, control, sample_time_s, drogue_actuator)
+    if drogue_actuator is not None and not isinstance(sampled_controller(control), SampledController):
+        drogue_actuator.check_force_command()  # a built-in controller (or none) commands a force
     if not controllers:
         return driver.simulate_engagement(params, duration_s, reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot,
                                           control=control, actuator=actuator, sensor=sensor, x0=x0,
                                           equilibrium=equilibrium, seed=seed, length_rate_m_s=length_rate_m_s,
                                           energy=energy, gravity_m_s2=gravity_m_s2, drogue_actuator=drogue_actuator)
-    if drogue_actuator is not None:
-        raise ParameterError("drogue_actuator: the sampled-data controllers do not command the drogue's control "
-                             "surfaces yet; use continuous built-in controllers (docs/model.md §10)")
     built = {role: c.build() for role, c in controllers.items()}  # a bad entry: an error before the run
     stepper = EngagementStepper(
         params, duration_s, control_step_s=control_step(controllers, params.numerics.step_s), reel=reel,
         probe=probe, bow_wave=bow_wave, pilot=pilot, receiver=receiver,
         control=None if "drogue" in controllers else control, drogue_command="drogue" in controllers,
         actuator=actuator, sensor=sensor, x0=x0, equilibrium=equilibrium, seed=seed,
-        length_rate_m_s=length_rate_m_s, energy=energy, gravity_m_s2=gravity_m_s2)
+        length_rate_m_s=length_rate_m_s, energy=energy, gravity_m_s2=gravity_m_s2, drogue_actuator=drogue_actuator)
     return drive(stepper, controllers, built)
 
 
-def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, sample_time_s: float = 0.0) -> dict:
+def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, sample_time_s: float = 0.0,
+                        drogue_actuator=None) -> dict:
     """The sampled-data controllers of an engagement: the user's take-up law (``reel.law =
     "python"``), the user's docking controller (``receiver``) and the drogue controller when it is
     the user's (a ``SampledController`` or ``Controller(type="python")``) or a built-in one with a
@@ -127,6 +128,8 @@ def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, s
         The drogue controller.
     sample_time_s : float
         The built-in drogue controller's sample time [s] (0: continuous, not sampled).
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (the sampled built-in controller's anti-windup).
 
     Returns
     -------
@@ -145,7 +148,8 @@ def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, s
         if isinstance(drogue, SampledController):
             out["drogue"] = drogue
         elif sample_time_s:
-            out["drogue"] = SampledController("drogue", linear_controller_factory(drogue, sample_time_s), sample_time_s)
+            factory = linear_controller_factory(drogue, sample_time_s, drogue_actuator)
+            out["drogue"] = SampledController("drogue", factory, sample_time_s)
     if reel is not None and reel.law == "python":
         out["reel"] = _section_controller("reel", reel)
     if receiver is not None:

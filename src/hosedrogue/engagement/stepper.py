@@ -28,7 +28,7 @@ from ..controllers.linear import LinearController
 from ..errors import ParameterError
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
-from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, hold_controller_arrays
+from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, held_command
 from ..params import Actuator, Params, Sensor
 from ..sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.stepper import StepperBase, sensor_noise3
@@ -82,6 +82,10 @@ class EngagementStepper(StepperBase):
         :meth:`result` also evaluates the energy terms [J].
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (docs/model.md §10): the built-in ``control`` or the held
+        drogue command (a force, or with ``command = "deflection"`` one deflection [rad] per
+        surface) commands them.
     receiver_pass_through : bool
         With a receiver: the probe tip moves as :meth:`move_receiver` says, without the
         receiver's response (no lag, no speed or acceleration bound) - for a probe path fed from
@@ -99,17 +103,22 @@ class EngagementStepper(StepperBase):
                  drogue_command: bool = False, actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
                  x0=None, equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
                  record: bool = True, energy: bool = False, gravity_m_s2: float | None = None,
-                 receiver_pass_through: bool = False, probe_start_m=None, probe_start_velocity_m_s=None):
+                 drogue_actuator=None, receiver_pass_through: bool = False, probe_start_m=None,
+                 probe_start_velocity_m_s=None):
         if receiver is None and (receiver_pass_through or probe_start_m is not None
                                  or probe_start_velocity_m_s is not None):
             raise ParameterError("receiver_pass_through, probe_start_m, probe_start_velocity_m_s: only with a receiver "
                                  "(the probe it flies)")
         if drogue_command:
-            control = LinearController(*hold_controller_arrays())
+            control = held_command(drogue_actuator)
+        elif drogue_actuator is not None:
+            drogue_actuator.check_force_command()  # a built-in controller (or none) commands a force
         self.start = prepare(params, duration_s, reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot,
                              receiver=receiver, control=control, actuator=actuator, sensor=sensor if
                              not drogue_command else Sensor(), x0=x0, equilibrium=equilibrium, seed=seed,
-                             length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2)
+                             length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2,
+                             drogue_actuator=drogue_actuator)
+        nd = control.n_states if drogue_command else 2  # the drogue command's numbers
         st = self.start
         self.pass_through = bool(receiver_pass_through)
         if receiver is not None:
@@ -123,14 +132,14 @@ class EngagementStepper(StepperBase):
         self._setup_sensor(sensor, control_step_s, self.h)
         self.roles = tuple(r for r, on in (("drogue", drogue_command), ("reel", st.reel.law == "python"),
                                            ("receiver", receiver is not None)) if on)
-        # the held commands (u_y, u_z, take-up speed, v_x, v_y, v_z), written into the state's
-        # slots before every control step
-        self._commands = np.zeros(6)
+        # the held commands (u_y, u_z or one deflection per surface, take-up speed, v_x, v_y, v_z),
+        # written into the state's slots before every control step
+        self._commands = np.zeros(nd + 4)
+        self._slots = {"drogue": tuple(range(nd)), "reel": (nd,), "receiver": (nd + 1, nd + 2, nd + 3)}
         self._dM, self._out = np.empty(2), np.empty(EK.O_SIZE)  # the last evaluation's outputs (probe_force_n)
-        self._slots = {"drogue": (0, 1), "reel": (2,), "receiver": (3, 4, 5)}
         self._slots = {role: self._slots[role] for role in self.roles}
         if receiver is not None:
-            self._commands[3] = st.ep[EK.EP_VC]
+            self._commands[nd + 1] = st.ep[EK.EP_VC]
         self.balance = st.drogue_eq.copy()
         self.seed = st.params.turbulence.seed
         self._model_seed = self.seed
@@ -155,7 +164,7 @@ class EngagementStepper(StepperBase):
         self._closed = []
         self._commands[:] = 0.0
         if "receiver" in self.roles:
-            self._commands[3] = st.ep[EK.EP_VC]
+            self._commands[self._slots["receiver"][0]] = st.ep[EK.EP_VC]
         self.ctr[C_TOTAL] = self.total_steps
         self.ctr[C_SPC] = self.spc
         self._on_chain()
@@ -237,19 +246,20 @@ class EngagementStepper(StepperBase):
         run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v0
         run.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = np.abs(a)
         # (vcmd - v) / tv >= |a| in the direction of a while v stays within v0 + a [0, span]
-        self._commands[3:6] = v0 + a * span + np.sign(a) * (np.abs(a) * tv + 1.0)
+        self._commands[list(self._slots["receiver"])] = v0 + a * span + np.sign(a) * (np.abs(a) * tv + 1.0)
 
     def _command_places(self, run) -> list:
         """(index in the held commands, index in the state) of every commanded number."""
         b = 4 * run.chain.n + EK.Z_TAIL
         places = []
+        slots = self._slots
         if "drogue" in self.roles:
             nx = b + int(run.ep[EK.EP_NPIL])
-            places += [(0, nx), (1, nx + 1)]
+            places += [(i, nx + i) for i in slots["drogue"]]
         if "reel" in self.roles:
-            places.append((2, b + int(run.ep[EK.EP_REEL_SLOT]) - 1))
+            places.append((slots["reel"][0], b + int(run.ep[EK.EP_REEL_SLOT]) - 1))
         if "receiver" in self.roles:
-            places += [(3 + i, b + EK.RCV_CX + i) for i in range(3)]
+            places += [(j, b + EK.RCV_CX + i) for i, j in enumerate(slots["receiver"])]
         return places
 
     def _close_record(self) -> None:
@@ -357,4 +367,4 @@ class EngagementStepper(StepperBase):
             segments.append((self._rec_chain, self._rec_ep, self._ts[:saved].copy(), self._zs[:saved].copy()))
         return assemble_result(self.params, segments, run.events, dict(run.outcome), self.model, st.drogue_eq,
                                self.energy, self._completed, self._message, run.delta_total, st.t_set, st.reel,
-                               self.probe, loop=run.loop)
+                               self.probe, loop=run.loop, drogue_actuator=st.drogue_actuator)

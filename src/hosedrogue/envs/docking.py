@@ -114,7 +114,7 @@ class DockingEnv(gymnasium.Env):
         self.stepper = EngagementStepper(
             sc.params, sc.duration_s, control_step_s=control_step_s, reel=e.reel, probe=e.probe,
             bow_wave=e.bow_wave, receiver=self.receiver, control=design_drogue_controller(sc), actuator=sc.loop.actuator,
-            sensor=sc.loop.sensor, record=False)
+            sensor=sc.loop.sensor, drogue_actuator=sc.loop.drogue_actuator, record=False)
         self.control_step_s = self.stepper.control_step_s
         self.metadata = {**self.metadata, "render_fps": 1.0 / self.control_step_s}
         #: the receiver's speed bounds [m/s]: an action of 1 commands them

@@ -190,8 +190,8 @@ def _set_turbulence(tables: dict, turbulence, base: Scenario, limit: float) -> N
 
 
 def _check_flyable(sc: Scenario) -> None:
-    """The agent flies the probe: an engagement with an enabled probe, no pilot, no user's controllers,
-    no drogue control surfaces (the stepper has none)."""
+    """The agent flies the probe: an engagement with an enabled probe, no pilot, no user's controllers
+    (the drogue's control surfaces, a ``[drogue_actuator]``, fly with the built-in controller)."""
     e = sc.engagement
     if e is None or e.probe is None or not e.probe.enabled:
         raise ParameterError(f"scenario = {sc.name!r}: the agent flies the receiver's probe; give an engagement "
@@ -202,10 +202,6 @@ def _check_flyable(sc: Scenario) -> None:
     if e.reel.law == "python":
         raise ParameterError(f"scenario = {sc.name!r}: reel.law = 'python': an episode commands only the receiver; "
                              f"choose one of {', '.join(map(repr, REEL_CHOICES))} (the reel option)")
-    if sc.loop.drogue_actuator is not None:
-        raise ParameterError(f"scenario = {sc.name!r}: [drogue_actuator]: the drogue's control surfaces are not "
-                             "in the stepping loop an episode runs on; give a scenario without [drogue_actuator] "
-                             "(the drogue controller's force then acts on the drogue directly)")
     ctrl = sc.loop.controller
     if ctrl.type not in DROGUE_CHOICES or ctrl.sampled:
         raise ParameterError(f"scenario = {sc.name!r}: controller.type = {ctrl.type!r} (sample_time_s = "

@@ -16,7 +16,11 @@
   dead band (the built-in ``response`` law's command, through the interface);
 * :func:`constant_takeup` - a reel commanding a constant take-up speed (zero: the ``locked`` reel);
 * :func:`discrete_pid` - the paper's PID (Eq. 33) discretized by zero-order hold at the sample
-  time, written out per channel (the built-in PID in sampled-data mode, through the interface).
+  time, written out per channel (the built-in PID in sampled-data mode, through the interface);
+* :func:`fixed_deflection` and :func:`deflection_pid` - drogue controllers that command the
+  control surfaces' deflections themselves (``[drogue_actuator] command = "deflection"``): fixed
+  deflections, and the discretized PID's force turned into deflections by the controller's own
+  minimum-norm mixing at the measured dynamic pressure ``m.drogue_q_pa``.
 
 Each factory returns an object with ``reset(m)`` and ``__call__(t, m)``; ``m`` is the
 measurement (:class:`hosedrogue.controllers.sampled.Measurement`), updated in place by the run.
@@ -305,3 +309,126 @@ def discrete_pid(**options) -> DiscretePID:
     DiscretePID
     """
     return DiscretePID(**options)
+
+
+class FixedDeflection:
+    """Commands every control surface to a fixed deflection (``[drogue_actuator] command =
+    "deflection"``): the surfaces' force is then ``q S C_F sum_k t_k delta_k`` (docs/model.md §10).
+
+    Parameters
+    ----------
+    deflections_deg : sequence of float
+        One deflection per surface [deg], surface 1 first (returned in radians, the command's unit).
+    """
+
+    def __init__(self, deflections_deg=(0.0, 0.0, 0.0, 0.0)):
+        self.command = [math.radians(float(d)) for d in deflections_deg]
+
+    def reset(self, m) -> None:
+        """Nothing to reset.
+
+        Parameters
+        ----------
+        m : Measurement
+            The first measurement.
+        """
+
+    def __call__(self, t: float, m) -> list:
+        """The deflections [rad] at time t [s].
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        m : Measurement
+            The measurement.
+
+        Returns
+        -------
+        list of float
+            delta_1 ... delta_n [rad].
+        """
+        return list(self.command)
+
+
+def fixed_deflection(**options) -> FixedDeflection:
+    """Factory of :class:`FixedDeflection`.
+
+    Parameters
+    ----------
+    **options
+        ``deflections_deg`` [deg], one per surface.
+
+    Returns
+    -------
+    FixedDeflection
+    """
+    return FixedDeflection(**options)
+
+
+class DeflectionPID(DiscretePID):
+    """The discretized paper's PID (:class:`DiscretePID`) commanding the surfaces' deflections
+    itself: its force F [N] mixed by the minimum-norm inversion at the measured dynamic pressure,
+    ``delta_k = t_k^T F / ((n / 2) q S C_F)``, t_k = (-sin phi_k, cos phi_k) the direction surface k
+    pushes (the built-in mixing of docs/model.md §10, here at the sample's q instead of every
+    evaluation's). The options repeat the ``[drogue_actuator]`` fields the mixing needs.
+
+    Parameters
+    ----------
+    sample_time_s : float
+        T [s] (the scenario's ``sample_time_s``).
+    surfaces : int
+        n [-].
+    roll_angle_deg : float
+        Roll position of surface 1 [deg].
+    force_slope_per_rad : float
+        C_F,delta [1/rad].
+    reference_area_m2 : float
+        S [m^2].
+    lateral, vertical : sequence of 4 float, optional
+        The PID's gains (:class:`DiscretePID`).
+    """
+
+    def __init__(self, sample_time_s, surfaces=4, roll_angle_deg=0.0, force_slope_per_rad=0.45,
+                 reference_area_m2=0.2922, lateral=None, vertical=None):
+        super().__init__(sample_time_s, lateral, vertical)
+        phi = [math.radians(roll_angle_deg) + 2.0 * math.pi * k / surfaces for k in range(surfaces)]
+        self.directions = [(-math.sin(a), math.cos(a)) for a in phi]
+        self.scale = 0.5 * surfaces * reference_area_m2 * force_slope_per_rad
+
+    def __call__(self, t: float, m) -> list:
+        """The deflections [rad] that make the PID's force at the measured q.
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        m : Measurement
+            The measurement (``drogue_q_pa`` [Pa]).
+
+        Returns
+        -------
+        list of float
+            delta_1 ... delta_n [rad].
+        """
+        fy, fz = super().__call__(t, m)
+        q = m.drogue_q_pa
+        if not q > 1.0:
+            raise ValueError(f"drogue_q_pa = {q!r}: no air to steer in (a [drogue_actuator] is needed)")
+        return [(ty * fy + tz * fz) / (self.scale * q) for ty, tz in self.directions]
+
+
+def deflection_pid(**options) -> DeflectionPID:
+    """Factory of :class:`DeflectionPID`.
+
+    Parameters
+    ----------
+    **options
+        ``sample_time_s`` [s] (required), the surfaces' ``surfaces``, ``roll_angle_deg``,
+        ``force_slope_per_rad``, ``reference_area_m2``, and the PID's ``lateral``, ``vertical``.
+
+    Returns
+    -------
+    DeflectionPID
+    """
+    return DeflectionPID(**options)

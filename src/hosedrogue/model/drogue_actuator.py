@@ -175,6 +175,36 @@ def surface_commands(on, m0, m1, c0, c1, q, z, nx, na, Cc, Dc, act, rates, base)
 
 
 @njit(**JIT_NO_ALLOC)
+def mixing_error(c0, c1, q, act):
+    """The anti-windup error [N] of a force command (c0, c1) [N] mixed at the dynamic pressure q
+    [Pa] (:func:`surface_commands` in force mode, without the servos): the force the clipped
+    deflection commands make minus the command; (0, 0) when no command is clipped. A sampled-data
+    controller's measured q gives its discrete anti-windup (:func:`hosedrogue.model.sampled.fl_linear_sampled_run`)."""
+    ns = int(act[DA_NS])
+    dmax = act[DA_DMAX]
+    qh = max(q, act[DA_QMIN])
+    scale = 0.5 * ns * qh * act[DA_SCF]
+    a0 = a1 = 0.0
+    clipped = False
+    for k in range(ns):
+        ty = act[DA_HEAD + 2 * k]
+        tz = act[DA_HEAD + 2 * k + 1]
+        cmd = (ty * c0 + tz * c1) / scale
+        if cmd > dmax:
+            cmd = dmax
+            clipped = True
+        elif cmd < -dmax:
+            cmd = -dmax
+            clipped = True
+        a0 += ty * cmd
+        a1 += tz * cmd
+    if not clipped:
+        return 0.0, 0.0
+    s = qh * act[DA_SCF]
+    return s * a0 - c0, s * a1 - c1
+
+
+@njit(**JIT_NO_ALLOC)
 def drogue_actuator_law(on, m0, m1, c0, c1, z, nx, na, px, py, pz, vx, vy, vz, rho, t, env, gust, Cc, Dc, act,
                         u, rates, base):
     """The actuated drogue at one evaluation (the module docstring's steps 1-4).

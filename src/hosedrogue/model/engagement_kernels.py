@@ -59,7 +59,7 @@ from .integrate import (actuator_rates, applied_force_at, control_law, controlle
 from . import drogue_actuator as DA
 from .frame import frame_loads
 from .kernels import NONFINITE, YAW_LIMIT
-from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
+from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_Q, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
                       R_REEL_V, R_T0, deliver)
 
 # --- ep layout -------------------------------------------------------------------------------
@@ -754,7 +754,8 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
 def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
     """The raw measurement (``hosedrogue.model.sampled.R_*``) of state z at time t [s]: drogue and
     probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
-    evaluation with the commands as they are, coupled flag."""
+    evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
+    (NaN without control surfaces)."""
     eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
     r, v = ws[4], ws[5]
     for i in range(3):
@@ -766,6 +767,7 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw[R_REEL_V] = -z[4 * n + Z_LD]
     raw[R_T0] = out[O_T0]
     raw[R_COUPLED] = ep[EP_COUPLED]
+    raw[R_Q] = out[O_Q] if ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act) else math.nan
 
 
 @njit(**JIT)

@@ -233,7 +233,8 @@ def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float, drogue_actuator
         Time each noise sample is held [s].
     drogue_actuator : hosedrogue.sections.DrogueActuator, optional
         The drogue's control surfaces (the controller's force command is mixed to them; its
-        ``anti_windup`` gain acts when they saturate); None: the force acts as commanded.
+        ``anti_windup`` gain acts when they saturate; with ``command = "deflection"`` the
+        controller's n_s outputs are the deflection commands [rad]); None: the force acts as commanded.
 
     Returns
     -------
@@ -244,10 +245,12 @@ def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float, drogue_actuator
 
     nc = ctrl.n_states
     act = actuator.as_array()
+    outputs = 2
     if drogue_actuator is not None:
-        act = DA.actuator_array(act, drogue_actuator, getattr(ctrl, "anti_windup", None), nc)
-    return LoopArrays(c(ctrl.A, (nc, nc)), c(ctrl.B, (nc, 2)), c(ctrl.C, (2, nc)), c(ctrl.D, (2, 2)), c(y_ref, (2,)),
-                      act, c(noise, (-1, 2)), float(noise_dt_s))
+        act = DA.actuator_array(act, drogue_actuator, getattr(ctrl, "anti_windup", None), nc, drogue_actuator.command)
+        outputs = drogue_actuator.command_size
+    return LoopArrays(c(ctrl.A, (nc, nc)), c(ctrl.B, (nc, 2)), c(ctrl.C, (outputs, nc)), c(ctrl.D, (outputs, 2)),
+                      c(y_ref, (2,)), act, c(noise, (-1, 2)), float(noise_dt_s))
 
 
 def loop_states(ctrl, actuator, drogue_actuator=None) -> np.ndarray:

@@ -2,16 +2,17 @@
 reads, and the fixed-length hose integrated between samples with the commands held.
 
 A sampled-data controller (docs/controllers.md) is called every control step; between calls the
-compiled loop runs with its command held. The drogue's force command is held as the state of a
-"hold" controller of the closed loop (:func:`hold_controller_arrays`: ``xc' = 0``, ``u = xc``
-through the actuator's limits), so the loops of :mod:`.integrate` and
+compiled loop runs with its command held. The drogue's command (its force, or the deflections of
+its control surfaces) is held as the state of a "hold" controller of the closed loop
+(:func:`held_command`: ``xc' = 0``, ``u = xc`` through the actuator's limits or to the
+surfaces), so the loops of :mod:`.integrate` and
 :mod:`.engagement_kernels` run unchanged between samples and the command survives remeshes.
 
 The measurement
 ---------------
 At each sample the kernels write the *raw* quantities of the state (``R_*`` layout: drogue
 position and velocity, probe tip position and velocity, free hose length and reel speed, exit
-tension, coupled flag) into a ring of ``D + 1`` rows, D the sensor delay in samples;
+tension, coupled flag, an actuated drogue's dynamic pressure) into a ring of ``D + 1`` rows, D the sensor delay in samples;
 :func:`deliver` turns the row of D samples ago (of sample 0 before then) into the measurement
 buffer (``M_*`` layout, read by :class:`hosedrogue.controllers.sampled.Measurement`): the drogue
 position gets the sensor noise of that instant (zero-order held, ``noise_dt``), the relative
@@ -21,18 +22,21 @@ position and velocity are drogue minus probe tip. Vectors in the tanker frame S_
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
+from . import drogue_actuator as DA
 from .integrate import closed_loop_deriv, rk4_step, rk4_step_given_k1, save_state, step_status
 from .kernels import OK, make_workspace_jit
 
 # --- raw measurement of a state (one ring row) ------------------------------------------------------
 R_DROGUE, R_DROGUE_V, R_PROBE, R_PROBE_V = 0, 3, 6, 9  # 3 each [m, m/s]
 R_L, R_REEL_V, R_T0, R_COUPLED = 12, 13, 14, 15  # [m], [m/s] (positive reeling in), [N], 0/1
-RAW_SIZE = 16
+R_Q = 16  # dynamic pressure at an actuated drogue [Pa] (NaN without control surfaces)
+RAW_SIZE = 17
 
 # --- the measurement buffer --------------------------------------------------------------------------
 M_T = 0  # time the quantities are of [s] (the call's time minus the delay)
@@ -41,7 +45,8 @@ M_PROBE, M_PROBE_V = 7, 10  # probe tip position [m] and velocity [m/s] (NaN wit
 M_REL, M_REL_V = 13, 16  # drogue minus probe tip [m, m/s]
 M_L, M_REEL_V, M_T0, M_COUPLED = 19, 20, 21, 22  # hose length [m], reel speed [m/s], exit tension [N], 0/1
 M_BALANCE = 23  # the drogue's balance position at the start [m] (the built-in controllers' reference)
-M_SIZE = 26
+M_Q = 26  # dynamic pressure the drogue's control surfaces see [Pa] (NaN without them)
+M_SIZE = 27
 
 
 @njit(**JIT_NO_ALLOC)
@@ -81,6 +86,7 @@ def deliver(ring, k, delay, sample_h, noise, noise_dt, balance, mbuf):
     mbuf[M_REEL_V] = row[R_REEL_V]
     mbuf[M_T0] = row[R_T0]
     mbuf[M_COUPLED] = row[R_COUPLED]
+    mbuf[M_Q] = row[R_Q]
 
 
 # --- the fixed-length hose between samples -----------------------------------------------------------
@@ -115,8 +121,9 @@ def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, C
 @njit(**JIT)
 def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u, raw):
     """The raw measurement (``R_*``) of the fixed-length state z at time t [s]: drogue position
-    and velocity, exit tension of the evaluation with the loop as it is, the hose length; no
-    probe (NaN), reel speed 0, not coupled."""
+    and velocity, exit tension of the evaluation with the loop as it is, the hose length, the
+    dynamic pressure at an actuated drogue (u[2] of the evaluation when ``u`` has room, else
+    NaN); no probe (NaN), reel speed 0, not coupled."""
     n = l.shape[0]
     closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work[4], u)
     r, v = ws[4], ws[5]
@@ -132,6 +139,7 @@ def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, n
     raw[R_REEL_V] = 0.0
     raw[R_T0] = ws[17][0]
     raw[R_COUPLED] = 0.0
+    raw[R_Q] = u[2] if u.shape[0] > 2 else math.nan
 
 
 #: The counters of a stepped run (an int64 array the advance kernels update in place): global RK4
@@ -172,18 +180,20 @@ def fl_advance(ctr, z, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_re
 @njit(**JIT)
 def fl_linear_sampled_run(z, nsteps, spc, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
                           noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension,
-                          ring, delay, noise3, noise3_dt, balance, Ad, Bd, Cd, Dd, nx):
+                          ring, delay, noise3, noise3_dt, balance, Ad, Bd, Cd, Dd, Bw, nx):
     """A built-in linear drogue controller in sampled-data mode, compiled end to end: every
     ``spc`` RK4 steps it reads the measured drogue offset ``y = (drogue y, z + noise) - balance``
     [m] of the measurement (:func:`deliver`, the sensor delay included) and sets the held force
     ``u = Cd xd + Dd y`` [N] (the hold controller's state ``z[nx:nx+2]``), then ``xd <- Ad xd +
-    Bd y`` (the zero-order-hold discretization); the loop arrays are the hold controller's.
+    Bd y + Bw e`` (the zero-order-hold discretization); the loop arrays are the hold controller's.
+    e is the anti-windup error of a drogue with control surfaces in force mode, the force its
+    clipped mixing makes at the measured q minus u (:func:`~.drogue_actuator.mixing_error`), else 0.
     Saves every ``every``-th step from 0 to ``nsteps`` into the record. Returns (status, saved
     count, steps done)."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
     work = np.empty((5, z.shape[0]))
-    u = np.empty(2)
+    u = np.empty(us.shape[1])  # room for an actuated drogue's q and servo rates (the saved outputs)
     mbuf = np.empty(M_SIZE)
     nd = Ad.shape[0]
     xd = np.zeros(nd)
@@ -202,8 +212,11 @@ def fl_linear_sampled_run(z, nsteps, spc, h, every, l, M, S, J, ps, env, gust, A
             for j in range(nd):
                 acc += Cd[i, j] * xd[j]
             z[nx + i] = acc
+        e0 = e1 = 0.0
+        if DA.is_actuated(act) and act[DA.DA_MODE] == DA.MODE_FORCE:
+            e0, e1 = DA.mixing_error(z[nx], z[nx + 1], mbuf[M_Q], act)
         for i in range(nd):
-            acc = Bd[i, 0] * y0 + Bd[i, 1] * y1
+            acc = Bd[i, 0] * y0 + Bd[i, 1] * y1 + Bw[i, 0] * e0 + Bw[i, 1] * e1
             for j in range(nd):
                 acc += Ad[i, j] * xd[j]
             xn[i] = acc
@@ -227,14 +240,31 @@ def fl_linear_sampled_run(z, nsteps, spc, h, every, l, M, S, J, ps, env, gust, A
     return OK, saved, nsteps
 
 
-def hold_controller_arrays():
-    """The "hold" controller whose two states are the held force command [N]: ``A = B = 0``
-    (2 x 2), ``C = I``, ``D = 0``; the actuator's force limit clips it and a rate-limited actuator
-    follows it, as for any controller of the loop.
+class HeldCommand(NamedTuple):
+    """The "hold" controller of a held command of ``n_states`` numbers (:func:`held_command`),
+    in the form :func:`~hosedrogue.model.integrate.loop_arrays` takes a controller."""
+
+    A: np.ndarray  #: (n, n) zeros [1/s]
+    B: np.ndarray  #: (n, 2) zeros
+    C: np.ndarray  #: (n, n) identity: the outputs are the states
+    D: np.ndarray  #: (n, 2) zeros
+    n_states: int  #: n [-]
+    anti_windup: None = None  #: none: the held command stays as it was given
+
+
+def held_command(drogue_actuator=None) -> HeldCommand:
+    """The hold controller of the drogue's command: the force (u_y, u_z) [N] (2 states; through
+    the ``[actuator]`` or mixed to the control surfaces), or with ``drogue_actuator.command =
+    "deflection"`` one deflection command per surface [rad] (n_s states).
+
+    Parameters
+    ----------
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue's control surfaces (their ``command`` and ``surfaces``).
 
     Returns
     -------
-    A, B, C, D : numpy.ndarray
-        (2, 2) each [1/s, -, N per state, N/m].
+    HeldCommand
     """
-    return np.zeros((2, 2)), np.zeros((2, 2)), np.eye(2), np.zeros((2, 2))
+    n = 2 if drogue_actuator is None else drogue_actuator.command_size
+    return HeldCommand(np.zeros((n, n)), np.zeros((n, 2)), np.eye(n), np.zeros((n, 2)), n)

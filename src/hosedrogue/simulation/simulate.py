@@ -84,9 +84,10 @@ def simulate(
         compiled end to end, the sensor's delay included.
     drogue_actuator : hosedrogue.sections.DrogueActuator, optional
         The drogue steers itself with these control surfaces: the controller's force command
-        is mixed to them at the measured dynamic pressure, and their deflections make the force
-        (docs/model.md, "Actuated drogue"); ``actuator`` must then have no limits. Not with a
-        Python ``control`` function.
+        (continuous or sampled) is mixed to them at the dynamic pressure at the drogue, and their
+        deflections make the force (docs/model.md §10); with ``command = "deflection"`` a user's
+        sampled-data controller commands the deflections [rad] itself. ``actuator`` must then
+        have no limits. Not with a Python ``control`` function.
 
     Returns
     -------
@@ -110,17 +111,14 @@ def simulate(
         raise ParameterError(f"x0: must be a finite array of shape ({4 * n},), got shape {x0.shape}")
     y_ref = equilibrium.drogue_position_m[1:].copy()
     control = sampled_controller(control)
-    if drogue_actuator is not None and (isinstance(control, SampledController) or sample_time_s):
-        raise ParameterError("drogue_actuator: the sampled-data controllers do not command the drogue's control "
-                             "surfaces yet; use a continuous LinearController (docs/model.md §10)")
     if isinstance(control, SampledController):
-        return _run_sampled(params, duration_s, x0, control, equilibrium, actuator, sensor, model)
+        return _run_sampled(params, duration_s, x0, control, equilibrium, actuator, sensor, model, drogue_actuator)
     if sample_time_s:
         if not isinstance(control, LinearController):
             raise ParameterError(f"sample_time_s = {sample_time_s!r}: a sampled-data built-in controller needs "
                                  "control = a LinearController")
         return _run_linear_sampled(params, duration_s, x0, control, equilibrium, actuator, sensor, model,
-                                   sample_time_s)
+                                   sample_time_s, drogue_actuator)
 
     outs = None  # derived outputs: the compiled RK4 loop saves them with the states
     surfaces = {}
@@ -180,7 +178,7 @@ def sampled_controller(control):
 
 
 def _run_sampled(params, duration_s, x0, control: SampledController, equilibrium, actuator, sensor,
-                 model) -> SimulationResult:
+                 model, drogue_actuator) -> SimulationResult:
     """A user's sampled-data drogue controller: the stepper driven by it (:mod:`.drive`)."""
     from .drive import control_step, drive
     from .stepper import FixedLengthStepper
@@ -188,18 +186,20 @@ def _run_sampled(params, duration_s, x0, control: SampledController, equilibrium
     built = {"drogue": control.build()}  # a bad entry or factory is an error before the run
     dt = control_step({"drogue": control}, params.numerics.step_s)
     stepper = FixedLengthStepper(params, duration_s, control_step_s=dt, x0=x0, equilibrium=equilibrium,
-                                 actuator=actuator, sensor=sensor, model=model)
+                                 actuator=actuator, sensor=sensor, model=model, drogue_actuator=drogue_actuator)
     return drive(stepper, {"drogue": control}, built)
 
 
 def _run_linear_sampled(params, duration_s, x0, control: LinearController, equilibrium, actuator, sensor, model,
-                        sample_time_s) -> SimulationResult:
+                        sample_time_s, drogue_actuator) -> SimulationResult:
     """A built-in linear controller in sampled-data mode, compiled end to end
     (:meth:`hosedrogue.simulation.stepper.FixedLengthStepper.run_linear`)."""
     from .stepper import FixedLengthStepper
 
+    if drogue_actuator is not None:
+        drogue_actuator.check_force_command()
     stepper = FixedLengthStepper(params, duration_s, control_step_s=sample_time_s, x0=x0, equilibrium=equilibrium,
-                                 actuator=actuator, sensor=sensor, model=model)
+                                 actuator=actuator, sensor=sensor, model=model, drogue_actuator=drogue_actuator)
     return stepper.run_linear(control)
 
 
@@ -209,6 +209,7 @@ def _run_compiled(model, params, x0, duration_s, control, y_ref, actuator, senso
     surfaces' result fields)."""
     if drogue_actuator is not None:
         drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
+        drogue_actuator.check_force_command()
         if params.numerics.integrator == "rk4":
             drogue_actuator.check_step(params.numerics.step_s)
     n = model.n

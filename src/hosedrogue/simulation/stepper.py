@@ -23,14 +23,14 @@ import numpy as np
 
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
-from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize
+from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
 from ..metrics import turbulence_window
 from ..model import kernels as K
-from ..model.integrate import loop_arrays, sensor_noise
-from ..model.integrate import save_state
+from ..model import drogue_actuator as DA
+from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
-                             hold_controller_arrays)
+                             held_command)
 from ..model.system import HoseModel
 from ..params import PAPER, Actuator, Params, Sensor
 from ..results import SimulationResult
@@ -199,8 +199,10 @@ class StepperBase:
 
         Parameters
         ----------
-        drogue : array_like (2,), optional
-            Force (u_y_n, u_z_n) [N] at the drogue (through the actuator's limits).
+        drogue : array_like (2,) or (n_s,), optional
+            Force (u_y_n, u_z_n) [N] at the drogue (through the actuator's limits, or mixed to
+            the control surfaces); with ``[drogue_actuator] command = "deflection"`` one
+            deflection command [rad] per surface.
         reel : float, optional
             Take-up speed command [m/s], positive reeling in (an engagement with ``reel.law =
             "python"``; the motor's torque and speed limits apply).
@@ -272,7 +274,7 @@ class StepperBase:
         cmd, slots = self._commands, self._slots[role]
 
         def bad(value):
-            return command_problem(role, value)[0] or f"returned {value!r}, expected {COMMANDS[role]}"
+            return command_problem(role, value, len(slots))[0] or f"returned {value!r}, expected {COMMANDS[role]}"
 
         if len(slots) == 1:
             i = slots[0]
@@ -285,7 +287,6 @@ class StepperBase:
                 if a - a != 0.0:  # NaN or inf
                     return bad(value)
                 cmd[i] = a
-                return None
             return hold1
         if len(slots) == 2:
             i, j = slots
@@ -300,8 +301,15 @@ class StepperBase:
                     return bad(value)
                 cmd[i] = a
                 cmd[j] = b
-                return None
             return hold2
+        if len(slots) > 3:  # one deflection per control surface
+            def hold_n(value):
+                problem, values = command_problem(role, value, len(slots))
+                if problem is not None:
+                    return problem
+                for i, v in zip(slots, values):
+                    cmd[i] = v
+            return hold_n
         i, j, k = slots
 
         def hold3(value):
@@ -315,7 +323,6 @@ class StepperBase:
             cmd[i] = a
             cmd[j] = b
             cmd[k] = c
-            return None
         return hold3
 
 
@@ -344,6 +351,11 @@ class FixedLengthStepper(StepperBase):
         Keep the time series for :meth:`result` (False: only the measurement, for speed).
     model : HoseModel, optional
         Reuse a model built from ``params`` (its gusts must cover the run).
+    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+        The drogue steers itself with these control surfaces (docs/model.md §10): the held force
+        is mixed to them at the dynamic pressure of each evaluation, or with ``command =
+        "deflection"`` the held command is their deflections [rad]; ``actuator`` must then have
+        no limits.
     """
 
     roles = ("drogue",)
@@ -351,7 +363,7 @@ class FixedLengthStepper(StepperBase):
     def __init__(self, params: Params = PAPER, duration_s: float = 10.0, *, control_step_s: float,
                  x0: np.ndarray | None = None, equilibrium: Equilibrium | None = None,
                  actuator: Actuator = Actuator(), sensor: Sensor = Sensor(), seed: int | None = None,
-                 record: bool = True, model: HoseModel | None = None):
+                 record: bool = True, model: HoseModel | None = None, drogue_actuator=None):
         if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
             raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
         if params.numerics.integrator != "rk4":
@@ -372,22 +384,28 @@ class FixedLengthStepper(StepperBase):
         if x0.shape != (4 * n,) or not np.all(np.isfinite(x0)):
             raise ParameterError(f"x0: must be a finite array of shape ({4 * n},), got shape {np.shape(x0)}")
         self.actuator = actuator
-        self.hold_controller = LinearController(*hold_controller_arrays())
+        if drogue_actuator is not None:
+            drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
+            drogue_actuator.check_step(params.numerics.step_s)
+        self.drogue_actuator = drogue_actuator
+        self.hold_controller = held_command(drogue_actuator)
+        nh = self.hold_controller.n_states
         self.nx = 4 * n
-        self.z0 = np.concatenate([x0, np.zeros(2 + (2 if actuator.rate_limited else 0))])
+        self.z0 = np.concatenate([x0, loop_states(self.hold_controller, actuator, drogue_actuator)])
         self.z = self.z0.copy()
-        self._commands = self.z[self.nx:self.nx + 2]  # the hold controller's states are the command
-        self._slots = {"drogue": (0, 1)}
+        self._commands = self.z[self.nx:self.nx + nh]  # the hold controller's states are the command
+        self._slots = {"drogue": tuple(range(nh))}
+        width = 2 if drogue_actuator is None else 3 + drogue_actuator.surfaces  # force (q, servo rates)
         self.balance = self.equilibrium.drogue_position_m.copy()
         self._setup_sensor(sensor, control_step_s, self.h)
         self.record = bool(record)
         nsave = self.total_steps // self.every + 1 if self.record else 1
-        self._rec = (np.empty(nsave), np.empty((nsave, self.z0.size)), np.empty((nsave, 2)),
+        self._rec = (np.empty(nsave), np.empty((nsave, self.z0.size)), np.empty((nsave, width)),
                      np.empty((nsave, n + 1, 3)), np.empty((nsave, 3)), np.empty((nsave, 3)), np.empty((nsave, 3)),
                      np.empty(nsave))
         self.ws = K.make_workspace(n)
         self.work = np.empty((5, self.z0.size))
-        self.u = np.empty(2)
+        self.u = np.empty(width)
         self.max_yaw = math.radians(params.numerics.max_yaw_deg)
         self.seed = params.turbulence.seed
         self._model_seed = self.seed
@@ -400,7 +418,8 @@ class FixedLengthStepper(StepperBase):
             self.params = self.params.replace(turbulence={"seed": self.seed})
             self.model = HoseModel(self.params, duration_s=self.duration_s)
             self._model_seed = self.seed
-        loop = loop_arrays(self.hold_controller, self.balance[1:], self.actuator, np.zeros((1, 2)), 1.0)
+        loop = loop_arrays(self.hold_controller, self.balance[1:], self.actuator, np.zeros((1, 2)), 1.0,
+                           self.drogue_actuator)
         self.noise3 = sensor_noise3(self.sensor, self.duration_s, self.seed)
         self.z[:] = self.z0
         self._args = self.model.kernel_args() + tuple(loop)
@@ -428,7 +447,7 @@ class FixedLengthStepper(StepperBase):
         """Run from the reset state to the end with a built-in linear controller in sampled-data
         mode, compiled end to end: its zero-order-hold discretization at the control step reads
         the measured drogue offset from the balance position and sets the held force
-        (:func:`hosedrogue.model.sampled.fl_linear_sampled_run`; the law of
+        (:func:`hosedrogue.model.sampled.fl_linear_sampled_run`; the law, anti-windup included, of
         :class:`~hosedrogue.controllers.sampled.DiscreteLinearController` through :meth:`step`).
 
         Parameters
@@ -442,10 +461,13 @@ class FixedLengthStepper(StepperBase):
         """
         if self.step_index != 0 or self._done:
             raise RuntimeError("run_linear starts from the reset state; call reset() first")
+        if self.drogue_actuator is not None:
+            self.drogue_actuator.check_force_command()
         Ad, Bd, Cd, Dd = discretize(controller, self.control_step_s)
+        Bw = discretize_anti_windup(controller, self.control_step_s) if self.drogue_actuator else np.zeros_like(Bd)
         status, saved, done = fl_linear_sampled_run(
             self.z, self.total_steps, self.spc, self.h, self.every, *self._args, self.max_yaw, *self._rec,
-            self.ring, self.delay, self.noise3, self.sensor.sample_time_s, self.balance, Ad, Bd, Cd, Dd, self.nx)
+            self.ring, self.delay, self.noise3, self.sensor.sample_time_s, self.balance, Ad, Bd, Cd, Dd, Bw, self.nx)
         self.ctr[C_STEP] = done
         self.ctr[C_SAVED] = saved
         if status == K.OK:
@@ -466,9 +488,13 @@ class FixedLengthStepper(StepperBase):
             raise RuntimeError("this stepper keeps no time series (record=False)")
         saved = int(self.ctr[C_SAVED])
         ts, zs, us, joints, dvel, ddrag, tow, tension = (a[:saved].copy() for a in self._rec)
+        surfaces = {}
+        if self.drogue_actuator is not None:
+            ns, na = self.drogue_actuator.surfaces, self.nx + self.hold_controller.n_states
+            surfaces = DA.result_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], self.drogue_actuator)
         return SimulationResult(
             t_s=ts, states=zs[:, :self.nx], joints_m=joints, drogue_position_m=joints[:, -1, :],
             drogue_velocity_m_s=dvel, drogue_drag_n=ddrag, tow_force_n=tow, exit_tension_n=tension,
-            control_force_n=us, completed=self._completed, message=self._message,
+            control_force_n=us[:, :2].copy(), completed=self._completed, message=self._message,
             equilibrium_m=self.balance.copy(), meta={"seed": self.seed, "params": self.params.to_dict()},
-            statistics_window_s=turbulence_window(self.params.turbulence))
+            statistics_window_s=turbulence_window(self.params.turbulence), **surfaces)

@@ -98,7 +98,7 @@ def authority_n(section: DrogueActuator, params=None) -> float:
     """The largest force per axis [N] the surfaces make at the nominal dynamic pressure (free stream
     1/2 rho V^2 of the flight condition, the wake aside) for a command along one axis: the
     minimum-norm mixing saturates when the surface most aligned with the axis reaches its limit,
-    ``F = (n_s / 2) q S C_F,delta delta_max / max_k |t_k . axis|`` (the smaller of the two axes).
+    ``F = (n_s / 2) q S C_F,delta delta_max / max_k abs(dot(t_k, axis))`` (the smaller of the two axes).
 
     Parameters
     ----------
