@@ -48,7 +48,7 @@ def add_parser(sub) -> None:
                         "(not with --engagement: the scenario holds its tables)")
     s.add_argument("--engagement", metavar="SCENARIO",
                    help="export the engagement FMU of this engagement scenario (name or TOML file; an enabled "
-                        "[probe], no [pilot] or [drogue_actuator], equilibrium start, no sensor noise or delay)")
+                        "[probe], no [pilot], surfaces commanded by force, equilibrium start, no sensor noise or delay)")
     s.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
                    help="number of rigid links of the hose [-], >= 1 (default 20, or the scenario's)")
     s.add_argument("--duration", metavar="S", type=finite_float("--duration", 1e-9, 86400, "s"),

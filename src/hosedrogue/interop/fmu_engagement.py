@@ -79,7 +79,8 @@ ENGAGEMENT_FMU = FmuInterface(
            "command of the receiver's response (the scenario's [receiver]: lag, speed and acceleration bounds; "
            "the tip starts at the [probe] start point moving forward at its closure speed). reel_speed_cmd_m_s "
            "commands a reel of "
-           "law \"python\" (unused with a built-in law), u_y_n/u_z_n the drogue's force through the [actuator] until "
+           "law \"python\" (unused with a built-in law), u_y_n/u_z_n the drogue's force through the [actuator] (or "
+           "the [drogue_actuator]'s control surfaces, mixed at the measured dynamic pressure) until "
            "the probe couples (unused with a built-in drogue controller). Outputs are those of the state at the "
            "communication point, with the commands of the step that led there (no direct feedthrough). A run that "
            "fails (non-finite state, yaw limit, the reel at an end stop), ends (a miss or failed latch at the coupler "
@@ -195,6 +196,7 @@ class EngagementCore:
             params, sc.duration_s, control_step_s=float(sample_time_s), reel=e.reel, probe=e.probe,
             bow_wave=e.bow_wave, receiver=e.receiver, control=control, drogue_command=control is None,
             actuator=sc.loop.actuator, sensor=Sensor(), equilibrium=equilibria[key], record=False,
+            drogue_actuator=sc.loop.drogue_actuator,
             receiver_pass_through=self.position_input, probe_start_m=probe_start_m if self.position_input else None,
             probe_start_velocity_m_s=start_v)
         self.m = self.stepper.reset()

@@ -37,8 +37,8 @@ def fmu_scenario(scenario) -> "object":
     ------
     ParameterError
         One line for what the FMU cannot honour: no engagement, no enabled probe, a pilot, the
-        drogue's control surfaces, a displaced start, a built-in drogue controller with a sample
-        time, sensor noise or delay.
+        drogue's control surfaces commanded by deflection, a displaced start, a built-in drogue
+        controller with a sample time, sensor noise or delay.
     """
     e = scenario.engagement
     if e is None:
@@ -49,9 +49,11 @@ def fmu_scenario(scenario) -> "object":
                              "fly the probe tip (its start point, capture test and coupling come from [probe])")
     if e.pilot is not None and e.pilot.enabled:
         raise ParameterError("pilot.enabled = true: the engagement FMU's inputs fly the probe; remove [pilot]")
-    if scenario.loop.drogue_actuator is not None:
-        raise ParameterError("drogue_actuator: the engagement FMU runs the drogue's force as the ideal force (its "
-                             "stepper has no control surfaces); remove [drogue_actuator]")
+    surfaces = scenario.loop.drogue_actuator
+    if surfaces is not None and surfaces.command == "deflection":
+        raise ParameterError("drogue_actuator.command = 'deflection': the engagement FMU's drogue inputs u_y_n, u_z_n "
+                             "are a force, mixed to the control surfaces at the measured dynamic pressure; set "
+                             "command = 'force'")
     if scenario.initial != "equilibrium":
         raise ParameterError(f"scenario.initial = {scenario.initial!r}: the engagement FMU starts at the balance "
                              "position; use 'equilibrium'")
@@ -108,6 +110,8 @@ def frozen_summary(scenario) -> str:
     reel = ("commanded by reel_speed_cmd_m_s" if e.reel.law == "python"
             else f"{e.reel.law!r}, built in (reel_speed_cmd_m_s unused)")
     drogue = "u_y_n, u_z_n" if ctrl == "none" else f"the built-in {ctrl.upper()} (u_y_n, u_z_n unused)"
+    if scenario.loop.drogue_actuator is not None:
+        drogue += ", made by its control surfaces"
     t = p.turbulence
     turbulence = (f"{t.model} turbulence (sigma {', '.join(f'{s:g}' for s in t.sigma_m_s)} m/s), seed {t.seed}"
                   if t.enabled else "no turbulence")
