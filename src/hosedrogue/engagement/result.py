@@ -99,9 +99,26 @@ def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray) -> np.
     return out
 
 
-def _coupler_geometry(joints, jvel, scal):
-    """Probe tip relative to the coupler plane (normal: the last link): distance along the normal
-    [m], radial miss [m] and closure speed [m/s]."""
+def coupler_geometry(joints, jvel, scal):
+    """The probe tip relative to the coupler plane (its normal: the last link's direction).
+
+    Parameters
+    ----------
+    joints, jvel : array (N, n+1, 3)
+        Joint positions [m] and velocities [m/s] (:func:`segment_outputs`).
+    scal : array (N, O_SIZE)
+        The scalar outputs (probe tip position and velocity [m, m/s]).
+
+    Returns
+    -------
+    distance : array (N,)
+        Probe tip minus drogue along the normal [m]: positive while the tip is aft of the plane
+        (the last link points aft).
+    miss : array (N,)
+        Radial distance of the tip from the drogue's axis [m].
+    closure : array (N,)
+        Closure speed of the tip toward the plane [m/s].
+    """
     e_last = joints[:, -1, :] - joints[:, -2, :]
     e_last /= np.linalg.norm(e_last, axis=1)[:, None]
     rel = scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]] - joints[:, -1, :]
@@ -127,7 +144,7 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
     chain, ep, ts, zs = segment
     n = chain.n
     joints, jvel, scal, tow, tdrog, drag = segment_outputs(ts, zs, chain, model, ep, loop)
-    dpl, miss, vclose = _coupler_geometry(joints, jvel, scal)
+    dpl, miss, vclose = coupler_geometry(joints, jvel, scal)
     cols = {"t": ts, "L": zs[:, 4 * n + EK.Z_L], "Ld": zs[:, 4 * n + EK.Z_LD], "T0": scal[:, EK.O_T0],
             "Td": tdrog, "fp": scal[:, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "pp": scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]],
             "cp": np.full(ts.size, ep[EK.EP_COUPLED] != 0.0), "slack": scal[:, EK.O_SLACK],

@@ -101,14 +101,48 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
                                           control=control, actuator=actuator, sensor=sensor, x0=x0,
                                           equilibrium=equilibrium, seed=seed, length_rate_m_s=length_rate_m_s,
                                           energy=energy, gravity_m_s2=gravity_m_s2, drogue_actuator=drogue_actuator)
-    built = {role: c.build() for role, c in controllers.items()}  # a bad entry: an error before the run
-    stepper = EngagementStepper(
-        params, duration_s, control_step_s=control_step(controllers, params.numerics.step_s), reel=reel,
-        probe=probe, bow_wave=bow_wave, pilot=pilot, receiver=receiver,
-        control=None if "drogue" in controllers else control, drogue_command="drogue" in controllers,
-        actuator=actuator, sensor=sensor, x0=x0, equilibrium=equilibrium, seed=seed,
-        length_rate_m_s=length_rate_m_s, energy=energy, gravity_m_s2=gravity_m_s2, drogue_actuator=drogue_actuator)
-    return drive(stepper, controllers, built)
+    return drive(*sampled_stepper(params, duration_s, controllers, reel=reel, probe=probe, bow_wave=bow_wave,
+                                  pilot=pilot, receiver=receiver, control=control, actuator=actuator, sensor=sensor,
+                                  x0=x0, equilibrium=equilibrium, seed=seed, length_rate_m_s=length_rate_m_s,
+                                  energy=energy, gravity_m_s2=gravity_m_s2, drogue_actuator=drogue_actuator))
+
+
+def sampled_stepper(params: Params, duration_s: float, controllers: dict, *, control=None, **options):
+    """The stepper of an engagement with sampled-data controllers, and those controllers built:
+    what :func:`simulate_engagement` hands to :func:`~hosedrogue.simulation.drive.drive` (a live
+    flight drives the same, its pilot one of the controllers: :mod:`hosedrogue.fly`).
+
+    Parameters
+    ----------
+    params : Params
+        Hose, drogue, flight and numerics.
+    duration_s : float
+        Simulated time [s].
+    controllers : dict
+        Role -> :class:`~hosedrogue.controllers.sampled.SampledController`
+        (:func:`sampled_controllers`), at least one.
+    control : LinearController, optional
+        The built-in continuous drogue controller compiled in the loop (ignored when the drogue's
+        controller is among ``controllers``).
+    **options
+        The other keyword arguments of :func:`simulate_engagement` (``reel``, ``probe``,
+        ``bow_wave``, ``pilot``, ``receiver``, ``actuator``, ``sensor``, ``x0``,
+        ``drogue_actuator``, ...).
+
+    Returns
+    -------
+    stepper : EngagementStepper
+        Reset, its control step the greatest common divisor of the controllers' sample times.
+    controllers : dict
+        ``controllers``.
+    built : dict
+        Role -> the controller object its factory made (a bad entry is an error before the run).
+    """
+    built = {role: c.build() for role, c in controllers.items()}
+    stepper = EngagementStepper(params, duration_s, control_step_s=control_step(controllers, params.numerics.step_s),
+                                control=None if "drogue" in controllers else control,
+                                drogue_command="drogue" in controllers, **options)
+    return stepper, controllers, built
 
 
 def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, sample_time_s: float = 0.0,

@@ -35,7 +35,7 @@ from ..simulation.stepper import StepperBase, sensor_noise3
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, chain_model
 from .driver import _STATUS, prepare
 from .events import contact_event, remesh_event, switch_event
-from .result import EngagementResult, assemble_result, segment_outputs
+from .result import EngagementResult, assemble_result, coupler_geometry, segment_outputs
 
 class EngagementStepper(StepperBase):
     """An engagement advanced one control step at a time, its commands held in between.
@@ -368,3 +368,31 @@ class EngagementStepper(StepperBase):
         return assemble_result(self.params, segments, run.events, dict(run.outcome), self.model, st.drogue_eq,
                                self.energy, self._completed, self._message, run.delta_total, st.t_set, st.reel,
                                self.probe, loop=run.loop, drogue_actuator=st.drogue_actuator)
+
+    def outputs(self) -> dict:
+        """The run's outputs at the current state, computed from it without recording it: what a
+        live display shows between the output times (the same compiled output kernel and coupler
+        geometry as :meth:`result`'s time series, so at an output time the two agree to the bit).
+
+        Returns
+        -------
+        dict
+            ``t_s`` [s]; ``joints_m`` (n+1, 3) the joints from the tow point to the drogue [m] in
+            S_p; ``drogue_velocity_m_s`` (3,); ``probe_position_m``, ``probe_velocity_m_s`` (3,)
+            [m, m/s] (the start point and zero without a probe); ``probe_force_n`` (3,) [N];
+            ``exit_tension_n`` [N]; ``hose_length_m`` [m]; ``links`` [-]; ``coupled`` [-];
+            ``plane_distance_m`` (probe tip aft of the coupler plane, positive aft) [m],
+            ``miss_distance_m`` (radial, in the plane) [m] and ``closure_speed_m_s`` [m/s].
+        """
+        run = self.run
+        n = run.chain.n
+        joints, jvel, scal, _, _, _ = segment_outputs(np.array([self.t_s]), run.z[None, :], run.chain, self.model,
+                                                      run.ep, run.loop)
+        dpl, miss, vclose = coupler_geometry(joints, jvel, scal)
+        return {"t_s": self.t_s, "joints_m": joints[0], "drogue_velocity_m_s": jvel[0, -1].copy(),
+                "probe_position_m": scal[0, [EK.O_PX, EK.O_PY, EK.O_PZ]],
+                "probe_velocity_m_s": scal[0, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]],
+                "probe_force_n": scal[0, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "exit_tension_n": float(scal[0, EK.O_T0]),
+                "hose_length_m": float(run.z[4 * n + EK.Z_L]), "links": n, "coupled": bool(run.ep[EK.EP_COUPLED]),
+                "plane_distance_m": float(dpl[0]), "miss_distance_m": float(miss[0]),
+                "closure_speed_m_s": float(vclose[0])}

@@ -217,18 +217,59 @@ def _run_fixed_length(scenario: Scenario) -> RunResult:
 def _run_engagement(scenario: Scenario) -> RunResult:
     from ..engagement import simulate_engagement
 
+    return simulate_engagement(scenario.params, scenario.duration_s, **engagement_arguments(scenario))
+
+
+def engagement_arguments(scenario: Scenario) -> dict:
+    """The keyword arguments of :func:`~hosedrogue.engagement.simulate_engagement` that run the
+    scenario's engagement: its sections, the drogue controller (designed, or the user's), the
+    actuator and sensor, the displaced initial state, the built-in controller's sample time.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A scenario with an engagement.
+
+    Returns
+    -------
+    dict
+        ``reel``, ``probe``, ``bow_wave``, ``pilot``, ``receiver``, ``control``, ``actuator``,
+        ``sensor``, ``x0``, ``sample_time_s``, ``drogue_actuator``.
+
+    Raises
+    ------
+    ParameterError
+        A user's controller that cannot be imported or built.
+    """
     e = scenario.engagement
     controllers = sampled_controllers(scenario)
     x0 = None
     if scenario.initial == "displaced":
         x0 = initial_state(scenario, solve_equilibrium(scenario.params))
     ctrl = scenario.loop.controller
-    return simulate_engagement(scenario.params, scenario.duration_s, reel=e.reel, probe=e.probe,
-                               bow_wave=e.bow_wave, pilot=e.pilot, receiver=e.receiver,
-                               control=_drogue(scenario, controllers), actuator=scenario.loop.actuator,
-                               sensor=scenario.loop.sensor, x0=x0,
-                               sample_time_s=ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0,
-                               drogue_actuator=scenario.loop.drogue_actuator)
+    return {"reel": e.reel, "probe": e.probe, "bow_wave": e.bow_wave, "pilot": e.pilot, "receiver": e.receiver,
+            "control": _drogue(scenario, controllers), "actuator": scenario.loop.actuator,
+            "sensor": scenario.loop.sensor, "x0": x0,
+            "sample_time_s": ctrl.sample_time_s if ctrl.type in ("pid", "lqr") else 0.0,
+            "drogue_actuator": scenario.loop.drogue_actuator}
+
+
+def run_meta(scenario: Scenario) -> dict:
+    """What a run records of its scenario in ``run.json`` (what :func:`run` puts in ``meta``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The case run.
+
+    Returns
+    -------
+    dict
+        Scenario name, source, model, duration [s], initial state, controller and its options,
+        actuator, sensor, the engagement's pilot, bow wave and receiver, the sampled-data
+        controllers, the parameters.
+    """
+    return _meta(scenario)
 
 
 def _meta(scenario: Scenario) -> dict:

@@ -5,7 +5,9 @@ Every control step of the stepper (the greatest common divisor of the controller
 times, :func:`control_step`), each controller whose sample is due is called with the
 measurement and its command is held by the stepper until its next call. A controller that
 raises or returns a bad command stops the run there with a one-line message naming it, the time
-and the problem; the stepper keeps what was computed (``completed`` False).
+and the problem; the stepper keeps what was computed (``completed`` False). A controller that
+holds the stepper may end the run itself in its call (``stepper.stop(message)``, e.g. the pilot
+of a live flight ending it): nothing is integrated after that.
 """
 
 from __future__ import annotations
@@ -89,6 +91,8 @@ def drive(stepper: StepperBase, controllers: Mapping[str, SampledController], bu
                 stepper.stop(_failure(role, name, t, "call", problem))
                 break
         else:
+            if stepper.done:  # a controller that ended the run itself (stepper.stop in its call)
+                break
             advance()
             k += 1
     return stepper.result()
