@@ -22,6 +22,7 @@ pytest.importorskip("pythonfmu")
 from fmpy.validation import validate_fmu  # noqa: E402
 
 from hosedrogue.interop.fmu_core import HOSE_FMU, INTERFACES  # noqa: E402
+from hosedrogue.interop.fmu_engagement import ENGAGEMENT_FMU  # noqa: E402
 
 LINKS = 4
 STEP_S = 0.005  # numerics.step_s of the exported parameters, the communication step here
@@ -35,7 +36,19 @@ def fmus(tmp_path_factory):
     prepare_python_host(LINKS)  # fmpy runs the FMUs in this interpreter (docs/interop.md)
     folder = tmp_path_factory.mktemp("fmus")
     params = PAPER.replace(hose={"links": LINKS})
-    return {kind: export_fmu(folder / f"{kind}.fmu", params, kind=kind) for kind in INTERFACES}
+    models = {HOSE_FMU.kind: params, ENGAGEMENT_FMU.kind: engagement_scenario()}
+    return {kind: export_fmu(folder / f"{kind}.fmu", models[kind], kind=kind) for kind in INTERFACES}
+
+
+def engagement_scenario():
+    """``engage-response`` on a coarse mesh, short: what the engagement FMU freezes at export."""
+    import dataclasses
+
+    from hosedrogue import load_scenario
+
+    scenario = load_scenario("engage-response")
+    return dataclasses.replace(scenario, duration_s=1.0, params=scenario.params.replace(
+        hose={"links": LINKS}, numerics={"step_s": STEP_S, "output_every": 1}))
 
 
 @pytest.fixture(scope="module")
@@ -279,3 +292,47 @@ def test_fmu_modules_import_downwards_only():
             visit(module, [module])
     assert graph.find_shortest_chain(importer="hosedrogue.interop.fmu_slave", imported="hosedrogue.interop.fmu") is None
     assert graph.find_shortest_chain(importer="hosedrogue.interop.fmu_core", imported="hosedrogue.interop.fmu_slave") is None
+
+
+#: A change of every parameter and input of the engagement FMU (from the position input with the
+#: velocity feed, where every probe input acts on the start).
+ENGAGEMENT_CHANGES = {"altitude_m": 9000.0, "airspeed_m_s": 160.0, "wake_enabled": False, "probe_cmd_x_m": -17.0,
+                      "probe_cmd_y_m": 0.5, "probe_cmd_z_m": 5.0, "probe_cmd_vx_m_s": 0.5, "probe_cmd_vy_m_s": 0.2,
+                      "probe_cmd_vz_m_s": 0.1, "reel_speed_cmd_m_s": 1.0, "u_y_n": 100.0, "u_z_n": 100.0,
+                      "probe_velocity_feed": False, "probe_position_input": False}
+
+
+def test_engagement_dependencies_cover_what_the_fmu_does(fmus):
+    """Every dependence the engagement FMU shows is declared (at the start: in InitialUnknowns;
+    running: none, the outputs have no direct feedthrough). Its start depends on the probe inputs
+    only in some modes, so the declaration may be wider than one mode shows."""
+    from fmpy.fmi2 import FMU2Slave
+
+    path = fmus[ENGAGEMENT_FMU.kind]
+    md = fmpy.read_model_description(str(path))
+    outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(path)),
+                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="dependencies")
+    fmu.instantiate()
+    try:
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.setBoolean([vr["probe_position_input"], vr["probe_velocity_feed"]], [True, True])
+        at_start = affected(fmu, md, ENGAGEMENT_CHANGES, outputs)
+        fmu.exitInitializationMode()
+        for k in range(40):  # the probe closing at its start speed, the drogue force on
+            fmu.setReal([vr["probe_cmd_x_m"], vr["u_y_n"]], [-18.0 + 1.5 * (k + 1) * STEP_S, 300.0])
+            fmu.doStep(currentCommunicationPoint=k * STEP_S, communicationStepSize=STEP_S)
+        inputs = {n: v for n, v in ENGAGEMENT_CHANGES.items() if n in {v.name for v in ENGAGEMENT_FMU.of("input")}}
+        running = affected(fmu, md, inputs, outputs)
+        fmu.terminate()
+    finally:
+        fmu.freeInstance()
+    initial = declared(md.initialUnknowns)
+    for name, outs in at_start.items():
+        assert all(name in initial[o] for o in outs), (name, outs)
+    assert at_start["altitude_m"] >= {"drogue_x_m", "drogue_z_m"}  # the balance position moves
+    assert at_start["probe_cmd_x_m"] == {"probe_x_m"} and at_start["probe_cmd_vx_m_s"] == {"probe_vx_m_s"}
+    assert all(not outs for outs in running.values()), running  # no direct feedthrough, as declared
+    assert all(not deps for deps in declared(md.outputs).values())

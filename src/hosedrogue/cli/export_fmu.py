@@ -1,14 +1,16 @@
-"""``hosedrogue export-fmu``: an FMI 2.0 co-simulation FMU of the hose-drogue model, and its check."""
+"""``hosedrogue export-fmu``: an FMI 2.0 co-simulation FMU of the hose-drogue model (the hose of
+fixed length, or with ``--engagement`` a scenario's engagement), and its check."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
 import tempfile
 from pathlib import Path
 
 from ..errors import ParameterError
-from .options import EXIT_BAD_INPUT, bounded_int, params_from_args
+from .options import EXIT_BAD_INPUT, bounded_int, finite_float, params_from_args
 
 NAME = "export-fmu"
 
@@ -30,11 +32,27 @@ def add_parser(sub) -> None:
                     "drogue_vz_m_s [m/s] (S_p: x forward, y right, z down) and tow_tension_n [N] (force at the "
                     "tow point); parameters: altitude_m [m], airspeed_m_s [m/s], wake_enabled. It starts at the "
                     "balance position and integrates with RK4 sub-steps of numerics.step_s [s]. Running it needs "
-                    "a Python with hosedrogue installed; --check validates it with fmpy and runs it here.")
+                    "a Python with hosedrogue installed; --check validates it with fmpy and runs it here. "
+                    "With --engagement SCENARIO: the engagement FMU of that scenario (the hose on its reel, the "
+                    "drogue, the receiver's probe, capture and coupling), frozen at export. Its inputs: the probe "
+                    "tip's position probe_cmd_x_m, probe_cmd_y_m, probe_cmd_z_m [m] at the end of each "
+                    "communication step (parameter probe_position_input true; with probe_velocity_feed true also "
+                    "its velocity, probe_cmd_v*_m_s) or its velocity command "
+                    "probe_cmd_vx_m_s, probe_cmd_vy_m_s, probe_cmd_vz_m_s [m/s] through the scenario's receiver "
+                    "response, reel_speed_cmd_m_s [m/s] (a reel of law python) and u_y_n, u_z_n [N]; outputs: the "
+                    "drogue's position [m] and velocity [m/s], the probe tip's, coupled, probe_load_n [N], "
+                    "exit_tension_n [N], hose_length_m [m], reel_speed_m_s [m/s]; parameter sample_time_s [s], the "
+                    "control sample it steps in (docs/interop.md, 'The engagement FMU').")
     s.add_argument("--config", metavar="PRESET|FILE", action="append", default=[],
-                   help="TOML file of parameter overrides ([hose], [flight], [numerics], ...) frozen into the FMU")
+                   help="TOML file of parameter overrides ([hose], [flight], [numerics], ...) frozen into the FMU "
+                        "(not with --engagement: the scenario holds its tables)")
+    s.add_argument("--engagement", metavar="SCENARIO",
+                   help="export the engagement FMU of this engagement scenario (name or TOML file; an enabled "
+                        "[probe], no [pilot], surfaces commanded by force, equilibrium start, no sensor noise or delay)")
     s.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
-                   help="number of rigid links of the hose [-], >= 1 (default 20)")
+                   help="number of rigid links of the hose [-], >= 1 (default 20, or the scenario's)")
+    s.add_argument("--duration", metavar="S", type=finite_float("--duration", 1e-9, 86400, "s"),
+                   help="with --engagement: the run's length frozen into the FMU [s] (default the scenario's)")
     s.add_argument("--out", metavar="FILE.fmu",
                    help="the FMU file to write (required, unless --check alone builds one to check and deletes it)")
     s.add_argument("--check", action="store_true",
@@ -42,6 +60,23 @@ def add_parser(sub) -> None:
                         "from the balance position; exit status 2 if it finds a problem")
     s.add_argument("--json", action="store_true", help="with --check: print the check's findings as JSON")
     s.set_defaults(func=run)
+
+
+def _model(args):
+    """What to export: the parameter set (fixed length) or the engagement scenario (``--engagement``)."""
+    if args.engagement is None:
+        if args.duration is not None:
+            raise ParameterError("--duration: only with --engagement (the fixed-length FMU runs for any time)")
+        return params_from_args(args)
+    from ..scenarios import load_scenario
+
+    if args.config:
+        raise ParameterError(f"--config {args.config[0]}: not with --engagement (the scenario file holds its tables: "
+                             "write them there, or extend it with [scenario] extends)")
+    scenario = load_scenario(args.engagement).with_overrides(duration_s=args.duration)
+    if args.links is not None:
+        scenario = dataclasses.replace(scenario, params=scenario.params.replace(hose={"links": args.links}))
+    return scenario
 
 
 def _print_check(report: dict) -> None:
@@ -56,7 +91,8 @@ def _print_check(report: dict) -> None:
           f"{len(report['units'])} of {report['variables']} variables have a unit")
     sim = report["simulation"]
     if sim is not None:
-        print(f"  {sim['duration_s']:g} s in fmpy ({sim['links']} links, step {sim['step_s']:g} s, zero inputs): "
+        inputs = "start inputs" if sim.get("kind") == "engagement" else "zero inputs"
+        print(f"  {sim['duration_s']:g} s in fmpy ({sim['links']} links, step {sim['step_s']:g} s, {inputs}): "
               f"start {sim['start_offset_m']:.3g} m from the balance position (bound "
               f"{report['start_tolerance_m']:g} m), drift {sim['drift_m']:.3g} m, {sim['wall_s']:.2f} s wall")
     print("  ok" if report["ok"] else "  FAILED")
@@ -83,9 +119,10 @@ def run(args) -> int:
         raise ParameterError("--json: only with --check")
     if args.out is not None:
         check_out_path(args.out, "--out")
-    params = params_from_args(args)
+    model = _model(args)
     with tempfile.TemporaryDirectory(prefix="hosedrogue_check_") as tmp:
-        path = export_fmu(args.out if args.out is not None else Path(tmp) / "hose.fmu", params)
+        name = "engagement.fmu" if args.engagement else "hose.fmu"
+        path = export_fmu(args.out if args.out is not None else Path(tmp) / name, model)
         if args.out is not None:
             print(f"wrote {path}", file=sys.stderr if args.json else sys.stdout)
         if not args.check:

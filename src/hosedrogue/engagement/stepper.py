@@ -25,6 +25,7 @@ import math
 import numpy as np
 
 from ..controllers.linear import LinearController
+from ..errors import ParameterError
 from ..model import engagement_kernels as EK
 from ..model import kernels as K
 from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, held_command
@@ -85,6 +86,15 @@ class EngagementStepper(StepperBase):
         The drogue's control surfaces (docs/model.md §10): the built-in ``control`` or the held
         drogue command (a force, or with ``command = "deflection"`` one deflection [rad] per
         surface) commands them.
+    receiver_pass_through : bool
+        With a receiver: the probe tip moves as :meth:`move_receiver` says, without the
+        receiver's response (no lag, no speed or acceleration bound) - for a probe path fed from
+        outside (the engagement FMU's position input).
+    probe_start_m : array_like (3,), optional
+        With a receiver: where the probe tip starts [m] in the tanker frame, instead of the
+        ``[probe]`` start point (its standoff and offsets from the drogue's balance position).
+    probe_start_velocity_m_s : array_like (3,), optional
+        With a receiver: the tip's velocity at the start [m/s], instead of the closure speed forward.
     """
 
     def __init__(self, params: Params, duration_s: float, *, control_step_s: float, reel: Reel | None = None,
@@ -93,7 +103,12 @@ class EngagementStepper(StepperBase):
                  drogue_command: bool = False, actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
                  x0=None, equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
                  record: bool = True, energy: bool = False, gravity_m_s2: float | None = None,
-                 drogue_actuator=None):
+                 drogue_actuator=None, receiver_pass_through: bool = False, probe_start_m=None,
+                 probe_start_velocity_m_s=None):
+        if receiver is None and (receiver_pass_through or probe_start_m is not None
+                                 or probe_start_velocity_m_s is not None):
+            raise ParameterError("receiver_pass_through, probe_start_m, probe_start_velocity_m_s: only with a receiver "
+                                 "(the probe it flies)")
         if drogue_command:
             control = held_command(drogue_actuator)
         elif drogue_actuator is not None:
@@ -105,6 +120,9 @@ class EngagementStepper(StepperBase):
                              drogue_actuator=drogue_actuator)
         nd = control.n_states if drogue_command else 2  # the drogue command's numbers
         st = self.start
+        self.pass_through = bool(receiver_pass_through)
+        if receiver is not None:
+            self._set_receiver_start(probe_start_m, probe_start_velocity_m_s)
         self.params, self.probe, self.duration_s = st.params, probe, float(duration_s)
         self.h = params.numerics.step_s
         self.total_steps = st.total_steps
@@ -118,6 +136,7 @@ class EngagementStepper(StepperBase):
         # written into the state's slots before every control step
         self._commands = np.zeros(nd + 4)
         self._slots = {"drogue": tuple(range(nd)), "reel": (nd,), "receiver": (nd + 1, nd + 2, nd + 3)}
+        self._dM, self._out = np.empty(2), np.empty(EK.O_SIZE)  # the last evaluation's outputs (probe_force_n)
         self._slots = {role: self._slots[role] for role in self.roles}
         if receiver is not None:
             self._commands[nd + 1] = st.ep[EK.EP_VC]
@@ -163,7 +182,6 @@ class EngagementStepper(StepperBase):
         run, model = self.run, self.model
         chain, n, nz = run.chain, run.chain.n, run.z.size
         self._ws, self._ws2 = K.make_workspace(n), K.make_workspace(n)
-        self._dM, self._out = np.empty(2), np.empty(EK.O_SIZE)
         self._work = np.empty((8, nz))
         self._zprev = np.empty(nz)
         rows = (self.total_steps - int(self.ctr[C_STEP])) // self.every + 2 if self.record else 1
@@ -178,6 +196,57 @@ class EngagementStepper(StepperBase):
                       self._zprev, self._ts, self._zs, self.record, self._work, self._ws, self._ws2, self._dM,
                       self._out, self.ring, self.delay, self.control_step_s, self.noise3, self.sensor.sample_time_s,
                       self.balance, self.mbuf, run.loads)
+
+    def _set_receiver_start(self, probe_start_m, probe_start_velocity_m_s) -> None:
+        """The receiver's start point and, passing through, its response switched off: no speed
+        bound, and the acceleration bound 0 holds the tip's velocity (:meth:`move_receiver` sets
+        both for each step)."""
+        st = self.start
+        b = 4 * st.chain.n + EK.Z_TAIL
+        if probe_start_m is not None:
+            p = np.asarray(probe_start_m, dtype=np.float64)
+            if p.shape != (3,) or not np.all(np.isfinite(p)):
+                raise ParameterError(f"probe_start_m = {probe_start_m!r}: must be 3 finite numbers [m]")
+            st.z[b + EK.RCV_X:b + EK.RCV_X + 3] = p
+            st.ep[[EK.EP_P0X, EK.EP_P0Y, EK.EP_P0Z]] = p
+        if probe_start_velocity_m_s is not None:
+            v = np.asarray(probe_start_velocity_m_s, dtype=np.float64)
+            if v.shape != (3,) or not np.all(np.isfinite(v)):
+                raise ParameterError(f"probe_start_velocity_m_s = {probe_start_velocity_m_s!r}: must be 3 finite "
+                                     "numbers [m/s]")
+            st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v
+        if self.pass_through:
+            st.ep[EK.EP_RCV_VMAX:EK.EP_RCV_VMAX + 3] = math.inf
+            st.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = 0.0
+
+    def move_receiver(self, velocity_m_s, acceleration_m_s2) -> None:
+        """Passing through (``receiver_pass_through``): from now on, until the next call, the
+        probe tip moves from where it is with this velocity and constant acceleration.
+
+        The receiver's response then yields exactly that motion: the velocity state is set, the
+        acceleration bound per axis is ``|a|`` and the held command lies far enough beyond the
+        velocity's range over the step that the lag's demand exceeds the bound throughout, so the
+        bound is the acceleration (RK4 integrates a constant acceleration exactly).
+
+        Parameters
+        ----------
+        velocity_m_s : array_like (3,)
+            The tip's velocity now [m/s], tanker frame.
+        acceleration_m_s2 : array_like (3,)
+            Its acceleration until the next call [m/s^2] (0: a straight line at constant speed).
+        """
+        if not self.pass_through:
+            raise ParameterError("move_receiver: only with receiver_pass_through (else the receiver's response "
+                                 "follows the command of step(receiver=...))")
+        run = self.run
+        b = 4 * run.chain.n + EK.Z_TAIL
+        v0, a = np.asarray(velocity_m_s, dtype=np.float64), np.asarray(acceleration_m_s2, dtype=np.float64)
+        span = self.duration_s + 1.0  # longer than any step [s]
+        tv = run.ep[EK.EP_RCV_TV]
+        run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v0
+        run.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = np.abs(a)
+        # (vcmd - v) / tv >= |a| in the direction of a while v stays within v0 + a [0, span]
+        self._commands[list(self._slots["receiver"])] = v0 + a * span + np.sign(a) * (np.abs(a) * tv + 1.0)
 
     def _command_places(self, run) -> list:
         """(index in the held commands, index in the state) of every commanded number."""
@@ -254,6 +323,12 @@ class EngagementStepper(StepperBase):
         """Nothing to add: the kernel saves every state on the output grid as it reaches it."""
 
     # --- the result ------------------------------------------------------------------------------
+    @property
+    def probe_force_n(self) -> np.ndarray:
+        """The probe's force on the drogue [N] (tanker frame; zero until coupled) at the time of
+        the last measurement, without the sensor (the receiver feels its opposite)."""
+        return self._out[EK.O_FPX:EK.O_FPZ + 1].copy()
+
     @property
     def outcome(self) -> dict:
         """The capture test's outcome so far (``result``, miss [m], closure speed [m/s], contact time [s])."""

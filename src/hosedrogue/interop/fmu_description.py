@@ -2,7 +2,7 @@
 
 pythonfmu writes the variables (names, causality, variability, start values) and the outputs of
 ``<ModelStructure>``. :func:`complete_model_description` adds, from the FMU's
-:class:`~hosedrogue.interop.fmu_core.FmuInterface`, what FMI 2.0 and strict importers expect
+:class:`~hosedrogue.interop.fmu_interface.FmuInterface`, what FMI 2.0 and strict importers expect
 beyond that: the unit of every variable that has one and their ``<UnitDefinitions>`` (SI base-unit
 exponents from :mod:`hosedrogue.units`), ``<InitialUnknowns>``, the ``dependencies`` of the
 outputs and initial unknowns, and a description of the host the FMU needs.
@@ -16,27 +16,31 @@ from xml.etree.ElementTree import Element, SubElement
 
 from ..units import UNITS
 from ..version import __version__
-from .fmu_core import FmuInterface, host_requirements
+from .fmu_interface import FmuInterface, host_requirements
 
 #: Elements of ``fmiModelDescription`` in the order of the FMI 2.0 schema.
 _SCHEMA_ORDER = ("ModelExchange", "CoSimulation", "UnitDefinitions", "TypeDefinitions", "LogCategories",
                  "DefaultExperiment", "VendorAnnotations", "ModelVariables", "ModelStructure")
 
 
-def model_description_text(interface: FmuInterface) -> str:
+def model_description_text(interface: FmuInterface, details: str = "") -> str:
     """The ``description`` attribute of an FMU's model description: what it is and what it needs.
 
     Parameters
     ----------
     interface : FmuInterface
         The FMU's interface.
+    details : str
+        What this export froze, one sentence (the engagement FMU's scenario), or "".
 
     Returns
     -------
     str
         One paragraph.
     """
-    return f"{interface.summary}. {host_requirements()} Documentation: documentation/index.html in the FMU."
+    frozen = f" {details}." if details else ""
+    return (f"{interface.summary}.{frozen} {host_requirements()} Documentation: documentation/index.html in "
+            "the FMU.")
 
 
 def _dependencies(interface: FmuInterface, names) -> str:
@@ -72,7 +76,8 @@ def _model_structure(root: Element, interface: FmuInterface) -> None:
                                          "dependencies": _dependencies(interface, v.initial_depends_on)})
 
 
-def complete_model_description(root: Element, interface: FmuInterface, generation_tool: str) -> Element:
+def complete_model_description(root: Element, interface: FmuInterface, generation_tool: str,
+                               details: str = "") -> Element:
     """Complete pythonfmu's model description of an FMU of ``interface`` (FMI 2.0 co-simulation).
 
     Adds the units and their definitions, the output and initial-unknown dependencies and the
@@ -86,6 +91,8 @@ def complete_model_description(root: Element, interface: FmuInterface, generatio
         The FMU's interface, in the order its variables were registered.
     generation_tool : str
         The ``generationTool`` attribute, e.g. ``"hosedrogue 0.1.0 (PythonFMU 0.7.0)"``.
+    details : str
+        What this export froze (:func:`model_description_text`).
 
     Returns
     -------
@@ -109,7 +116,7 @@ def complete_model_description(root: Element, interface: FmuInterface, generatio
     _model_structure(root, interface)
     if symbols:
         root.insert(_position(root, "UnitDefinitions"), _unit_definitions(symbols))
-    root.set("description", model_description_text(interface))
+    root.set("description", model_description_text(interface, details))
     root.set("generationTool", generation_tool)
     return root
 
@@ -124,7 +131,7 @@ def _position(root: Element, tag: str) -> int:
     return len(children)
 
 
-def documentation_html(interface: FmuInterface, starts: dict) -> str:
+def documentation_html(interface: FmuInterface, starts: dict, details: str = "") -> str:
     """The FMU's ``documentation/index.html``: what it simulates, what the host needs, its variables.
 
     Parameters
@@ -133,6 +140,8 @@ def documentation_html(interface: FmuInterface, starts: dict) -> str:
         The FMU's interface.
     starts : dict
         Start value of each parameter and input, by name (in the unit of its name).
+    details : str
+        What this export froze (:func:`model_description_text`), or "".
 
     Returns
     -------
@@ -152,6 +161,7 @@ def documentation_html(interface: FmuInterface, starts: dict) -> str:
     return (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(interface.model_name)}"
             f"</title></head><body>\n<h1>{html.escape(interface.model_name)} ({html.escape(interface.kind)} FMU, "
             f"hosedrogue {html.escape(__version__)})</h1>\n<p>{html.escape(interface.summary)}.</p>\n"
+            + (f"<p>{html.escape(details)}.</p>\n" if details else "") +
             f"<h2>Host</h2>\n<p>{html.escape(host_requirements())}</p>\n"
             f"<h2>Variables</h2>\n<table border=\"1\">\n<tr>{head}</tr>\n" + "\n".join(rows) + "\n</table>\n"
             f"<h2>Behaviour</h2>\n<p>{html.escape(interface.notes)}</p>\n</body></html>\n")

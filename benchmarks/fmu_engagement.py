@@ -1,0 +1,119 @@
+"""The engagement FMU against ``simulate`` on the full ``engage-response`` (issue 20's check),
+printed as figures (never asserted): the FMU exported by ``hosedrogue export-fmu --engagement``,
+run in fmpy (in this process) by a script master that feeds it the scenario's probe path at every
+RK4 step (``probe_position_input`` true: positions; with ``probe_velocity_feed`` true also their
+velocities; the capture time from the ``simulate`` run), against ``hosedrogue simulate
+engage-response`` (160 links, RK4 at 0.625 ms, 15 s).
+
+Prints, for each feed, the largest drogue-position difference (target <= 1e-6 m), that before the
+push's speed ramp (where the path is a straight line and the two runs are the same arithmetic),
+the hose-length difference, and the wall time of both runs. tests/test_fmu_engagement.py runs
+the same comparison on a coarse variant (20 links, 1.25 ms, 4 s) in seconds.
+
+Run:  .venv/bin/python benchmarks/fmu_engagement.py                       (the full case)
+      .venv/bin/python benchmarks/fmu_engagement.py --links 20 --step 0.00125 --duration 4
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+TARGET_M = 1e-6
+AXES = "xyz"
+
+
+def probe_path(t_s, start_m, probe, t_cap_s):
+    """engage-response's prescribed probe path (docs/engagement.md): forward at the closure speed,
+    after the capture on to ``push_m`` further, ending in a half-cosine speed ramp to rest. The
+    tip's position [m] and velocity [m/s]."""
+    vc, t_stop = probe.closure_speed_m_s, probe.stop_time_s
+    s, v = vc * t_s, vc
+    if t_s > t_cap_s:
+        cruise = max(probe.push_m - 0.5 * vc * t_stop, 0.0)
+        t_ramp = t_cap_s + cruise / vc
+        if t_s > t_ramp:
+            tau = min(t_s - t_ramp, t_stop)
+            w = math.pi / t_stop
+            s = vc * t_cap_s + cruise + 0.5 * vc * (tau + math.sin(w * tau) / w)
+            v = 0.5 * vc * (1.0 + math.cos(w * tau)) if tau < t_stop else 0.0
+    return [*(np.asarray(start_m) + (s, 0.0, 0.0)), v, 0.0, 0.0]
+
+
+def fly(fmu: Path, step_s: float, steps: int, path, feed: bool) -> np.ndarray:
+    """Drive the FMU in fmpy: the tip's position (and velocity) at the end of each step; drogue
+    positions and hose length."""
+    import fmpy
+    from fmpy.fmi2 import FMU2Slave
+
+    md = fmpy.read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    out = [vr[f"drogue_{a}_m"] for a in AXES] + [vr["hose_length_m"]]
+    cmd = [vr[f"probe_cmd_{a}_m"] for a in AXES] + [vr[f"probe_cmd_v{a}_m_s"] for a in AXES]
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(fmu)), instanceName="benchmark",
+                      modelIdentifier=md.coSimulation.modelIdentifier)
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    slave.enterInitializationMode()
+    slave.setBoolean([vr["probe_position_input"], vr["probe_velocity_feed"]], [True, feed])
+    slave.setReal([vr["sample_time_s"]] + cmd, [step_s, *path(0.0)])
+    slave.exitInitializationMode()
+    rows = [slave.getReal(out)]
+    for k in range(steps):
+        slave.setReal(cmd, list(path((k + 1) * step_s)))
+        slave.doStep(currentCommunicationPoint=k * step_s, communicationStepSize=step_s)
+        rows.append(slave.getReal(out))
+    slave.terminate()
+    slave.freeInstance()
+    return np.array(rows)
+
+
+def main() -> None:
+    from hosedrogue import load_scenario, run
+    from hosedrogue.interop.fmu import export_fmu, prepare_python_host
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--links", type=int)
+    ap.add_argument("--step", type=float, help="RK4 step [s]")
+    ap.add_argument("--duration", type=float, help="[s]")
+    args = ap.parse_args()
+    scenario = load_scenario("engage-response").with_overrides(duration_s=args.duration)
+    numerics = {"output_every": 1} | ({"step_s": args.step} if args.step else {})
+    hose = {"links": args.links} if args.links else {}
+    scenario = dataclasses.replace(scenario, params=scenario.params.replace(hose=hose, numerics=numerics))
+    p, probe = scenario.params, scenario.engagement.probe
+    print(f"engage-response: {p.hose.links} links, RK4 {p.numerics.step_s:g} s, {scenario.duration_s:g} s "
+          "(the machine's 2 cores are shared)")
+    prepare_python_host()
+    wall = time.perf_counter()
+    result = run(scenario)
+    sim_wall = time.perf_counter() - wall
+    frame = result.to_dataframe()
+    start = frame[[f"probe_{a}_m" for a in AXES]].to_numpy()[0]
+    t_cap = result.outcome["contact_time_s"]
+    t = frame["t_s"].to_numpy()
+    ramp = t_cap + (probe.push_m - 0.5 * probe.closure_speed_m_s * probe.stop_time_s) / probe.closure_speed_m_s
+    print(f"  outcome: {result.outcome['result']} at {t_cap:.4f} s; the push's ramp from {ramp:.4f} s; "
+          f"simulate {sim_wall:.1f} s wall")
+    with tempfile.TemporaryDirectory() as tmp:
+        fmu = export_fmu(Path(tmp) / "engagement.fmu", scenario)
+        steps = round(scenario.duration_s / p.numerics.step_s)
+        for feed in (False, True):
+            wall = time.perf_counter()
+            rows = fly(fmu, p.numerics.step_s, steps, lambda t: probe_path(t, start, probe, t_cap), feed)
+            fmu_wall = time.perf_counter() - wall
+            diff = np.abs(rows[:, :3] - frame[[f"drogue_{a}_m" for a in AXES]].to_numpy()).max(axis=1)
+            length = np.abs(rows[:, 3] - frame["hose_length_m"].to_numpy()).max()
+            print(f"  {'positions and velocities' if feed else 'positions only'}: drogue max |dP| = {diff.max():.3g} m "
+                  f"(target <= {TARGET_M:g} m), before the ramp {diff[t <= ramp].max():.3g} m; hose length max |dL| "
+                  f"= {length:.3g} m; FMU in fmpy {fmu_wall:.1f} s wall ({steps} communication steps)")
+
+
+if __name__ == "__main__":
+    main()
