@@ -84,8 +84,9 @@ def main() -> None:
     ap.add_argument("--duration", type=float, help="[s]")
     args = ap.parse_args()
     scenario = load_scenario("engage-response").with_overrides(duration_s=args.duration)
-    numerics = {"output_every": 1} | ({"step_s": args.step} if args.step else {})
-    hose = {"links": args.links} if args.links else {}
+    # the rigid links engage-response had before its hose became elastic (the FMU carries the rigid chain)
+    numerics = {"output_every": 1, "integrator": "rk4", "step_s": args.step or 0.000625}
+    hose = {"axial_stiffness_n": float("inf"), "axial_damping_n_s": 0.0} | ({"links": args.links} if args.links else {})
     scenario = dataclasses.replace(scenario, params=scenario.params.replace(hose=hose, numerics=numerics))
     p, probe = scenario.params, scenario.engagement.probe
     print(f"engage-response: {p.hose.links} links, RK4 {p.numerics.step_s:g} s, {scenario.duration_s:g} s "
