@@ -128,7 +128,7 @@ def _html(rows, docking, info, runs: int, fast: bool) -> str:
         + "</section>")
 
 
-def build(out: ReportFolder, settings: ReportSettings, docking: DockingSectionResult | None = None) -> None:
+def build(out: ReportFolder, settings: ReportSettings, *, docking: DockingSectionResult | None = None) -> None:
     """Fly the environment's policies, draw one episode, write the section.
 
     Parameters
