@@ -14,13 +14,15 @@ from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 NAME = "fly"
 
 
-#: Signals that end a session like Ctrl-C (a service manager's stop, a closed terminal).
-_TERMINATING = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+#: Signals that end a session: Ctrl-C, a service manager's stop, a closed terminal. SIGINT is
+#: handled here too, not left to Python: a process started in the background by a shell without
+#: job control inherits SIGINT ignored, and Python then never raises KeyboardInterrupt.
+_TERMINATING = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
 
 
 def _terminated(signum, frame):
-    """A terminating signal: stop as Ctrl-C does, saying which signal it was."""
-    raise KeyboardInterrupt(signal.Signals(signum).name)
+    """A terminating signal: stop, saying which signal it was ("Ctrl-C" for SIGINT)."""
+    raise KeyboardInterrupt("Ctrl-C" if signum == signal.SIGINT else signal.Signals(signum).name)
 
 
 def add_parser(sub) -> None:

@@ -290,7 +290,6 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
         Initial L' [m/s].
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
-
     drogue_actuator : hosedrogue.sections.DrogueActuator, optional
         The drogue steers itself with these control surfaces (the fixed-length loop's model,
         docs/model.md §10); once coupled their command is zero (they return to neutral).

@@ -345,10 +345,8 @@ class EngagementStepper(StepperBase):
         probe_m : numpy.ndarray (3,)
             Probe tip position [m] in S_p.
         """
-        run = self.run
-        joints, _, scal = segment_outputs(np.array([run.t]), run.z[None, :], run.chain, self.model, run.ep,
-                                          run.loop)[:3]
-        return joints[0], scal[0, [EK.O_PX, EK.O_PY, EK.O_PZ]]
+        out = self.outputs()
+        return out["joints_m"], out["probe_position_m"]
 
     def result(self) -> EngagementResult:
         """The run so far as the usual :class:`~hosedrogue.results.EngagementResult` (``completed``

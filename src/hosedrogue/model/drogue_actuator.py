@@ -133,6 +133,16 @@ def servo_rates(k, cmd, z, na, act, rates, base):
 
 
 @njit(**JIT_NO_ALLOC)
+def clip_deflection(cmd, dmax):
+    """A deflection command [rad] limited to [-dmax, dmax], and whether it was limited."""
+    if cmd > dmax:
+        return dmax, True
+    if cmd < -dmax:
+        return -dmax, True
+    return cmd, False
+
+
+@njit(**JIT_NO_ALLOC)
 def surface_commands(on, m0, m1, c0, c1, q, z, nx, na, Cc, Dc, act, rates, base):
     """Every surface's clipped deflection command and its servo derivatives (:func:`servo_rates`).
 
@@ -159,12 +169,8 @@ def surface_commands(on, m0, m1, c0, c1, q, z, nx, na, Cc, Dc, act, rates, base)
             cmd = Dc[k, 0] * m0 + Dc[k, 1] * m1
             for j in range(Cc.shape[1]):
                 cmd += Cc[k, j] * z[nx + j]
-        if cmd > dmax:
-            cmd = dmax
-            clipped = True
-        elif cmd < -dmax:
-            cmd = -dmax
-            clipped = True
+        cmd, limited = clip_deflection(cmd, dmax)
+        clipped = clipped or limited
         a0 += ty * cmd
         a1 += tz * cmd
         servo_rates(k, cmd, z, na, act, rates, base)
@@ -190,12 +196,8 @@ def mixing_error(c0, c1, q, act):
         ty = act[DA_HEAD + 2 * k]
         tz = act[DA_HEAD + 2 * k + 1]
         cmd = (ty * c0 + tz * c1) / scale
-        if cmd > dmax:
-            cmd = dmax
-            clipped = True
-        elif cmd < -dmax:
-            cmd = -dmax
-            clipped = True
+        cmd, limited = clip_deflection(cmd, dmax)
+        clipped = clipped or limited
         a0 += ty * cmd
         a1 += tz * cmd
     if not clipped:
