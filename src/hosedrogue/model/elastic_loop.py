@@ -117,7 +117,7 @@ def sdirk_stage(t, zbase, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, 
         stage_point(zbase, Kg, hg, pairs, Y)
         elastic_loop_deriv(t, Y, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, hg,
                            Kg, K, u)
-        d = correction_size(n, hg, Kg, K, Y)
+        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
         for i in range(nz):
             Kg[i] = K[i]
         if not math.isfinite(d):

@@ -927,7 +927,7 @@ def sdirk_stage(t, zbase, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, 
     for it in range(SDIRK_MAX_CORRECTIONS):
         stage_point(zbase, Kg, hg, pairs, Y)
         eng_deriv_elastic(t, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg, K)
-        d = correction_size(n, hg, Kg, K, Y)
+        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
         for i in range(nz):
             Kg[i] = K[i]
         if not math.isfinite(d):

@@ -68,17 +68,21 @@ def stage_point(zhat, K, hg, pairs, Y):
 
 
 @njit(**JIT_NO_ALLOC)
-def correction_size(n, hg, Kg, K, Y):
+def correction_size(n, hg, Kg, K, Y, cs):
     """How far the last correction moved the stage [m/s]: the largest change ``hg |K - Kg|`` of a
     stage velocity of the hose state ``[q, qd, lam, lamd, ...]`` (n links; Y the stage's state), the
-    angles' rates times their link's length; compared with :data:`SDIRK_TOLERANCE_M_S`."""
+    angles' rates as the speeds they give the link's end (the pitch's times the link's length and
+    the cosine of its yaw, ``cs[k, 2]``; the yaw's times the length); compared with
+    :data:`SDIRK_TOLERANCE_M_S`."""
     d = 0.0
     for k in range(n):
         lk = Y[4 * n + k]
-        for j in range(2):
-            v = abs(K[2 * n + 2 * k + j] - Kg[2 * n + 2 * k + j]) * lk
-            if v > d:
-                d = v
+        v = abs(K[2 * n + 2 * k] - Kg[2 * n + 2 * k]) * lk * abs(cs[k, 2])
+        if v > d:
+            d = v
+        v = abs(K[2 * n + 2 * k + 1] - Kg[2 * n + 2 * k + 1]) * lk
+        if v > d:
+            d = v
         v = abs(K[5 * n + k] - Kg[5 * n + k])
         if v > d:
             d = v
