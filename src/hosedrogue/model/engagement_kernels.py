@@ -1031,7 +1031,6 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
     segment counts: a segment continued in several calls takes the same times, and with elastic
     links the same SDIRK guesses). Returns (status, steps done, saved count)."""
     nz = z.shape[0]
-    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     saved = saved0
     elastic = ep[EP_ELASTIC] != 0.0
     nh = tail_start(n, ep)
@@ -1059,14 +1058,7 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
                                 work) != OK:
                 return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
         else:
-            eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
-            rk4_stage(z, 0.5 * h, k1, tmp)
-            eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k2)
-            rk4_stage(z, 0.5 * h, k2, tmp)
-            eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k3)
-            rk4_stage(z, h, k3, tmp)
-            eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
-            rk4_combine(z, h, k1, k2, k3, k4)
+            eng_rigid_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, work)
         t = t0 + (s0 + s) * h
         status = step_status(z, n, max_yaw)
         if status != OK:
@@ -1100,6 +1092,21 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
                 return PLANE, s, saved
             d_before = d
     return OK, nsteps, saved
+
+
+@njit(**JIT)
+def eng_rigid_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, work):
+    """One RK4 step of size h [s] of the rigid engagement from (t, z), in place (``work`` (8,
+    len(z)): the stages in rows 0-4)."""
+    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
+    eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
+    rk4_stage(z, 0.5 * h, k1, tmp)
+    eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k2)
+    rk4_stage(z, 0.5 * h, k2, tmp)
+    eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k3)
+    rk4_stage(z, h, k3, tmp)
+    eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
+    rk4_combine(z, h, k1, k2, k3, k4)
 
 
 @njit(**JIT)
