@@ -202,7 +202,7 @@ class EngagementStepper(StepperBase):
         bound, and the acceleration bound 0 holds the tip's velocity (:meth:`move_receiver` sets
         both for each step)."""
         st = self.start
-        b = 4 * st.chain.n + EK.Z_TAIL
+        b = EK.tail_start(st.chain.n, st.ep) + EK.Z_TAIL  # after the 4n rigid or the 6n elastic hose entries
         if probe_start_m is not None:
             p = np.asarray(probe_start_m, dtype=np.float64)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
@@ -239,7 +239,7 @@ class EngagementStepper(StepperBase):
             raise ParameterError("move_receiver: only with receiver_pass_through (else the receiver's response "
                                  "follows the command of step(receiver=...))")
         run = self.run
-        b = 4 * run.chain.n + EK.Z_TAIL
+        b = EK.tail_start(run.chain.n, run.ep) + EK.Z_TAIL
         v0, a = np.asarray(velocity_m_s, dtype=np.float64), np.asarray(acceleration_m_s2, dtype=np.float64)
         span = self.duration_s + 1.0  # longer than any step [s]
         tv = run.ep[EK.EP_RCV_TV]
