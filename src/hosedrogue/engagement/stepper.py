@@ -43,7 +43,7 @@ class EngagementStepper(StepperBase):
     Parameters
     ----------
     params : Params
-        Hose, drogue, flight and numerics (RK4, ``numerics.step_s`` [s], ``output_every``).
+        Hose, drogue, flight and numerics (the integrator, ``numerics.step_s`` [s], ``output_every``).
     duration_s : float
         Length of the run [s] (its gust record is drawn for it); the run is done there, or at a
         miss or failed latch, or at a failed state.
@@ -226,7 +226,8 @@ class EngagementStepper(StepperBase):
         The receiver's response then yields exactly that motion: the velocity state is set, the
         acceleration bound per axis is ``|a|`` and the held command lies far enough beyond the
         velocity's range over the step that the lag's demand exceeds the bound throughout, so the
-        bound is the acceleration (RK4 integrates a constant acceleration exactly).
+        bound is the acceleration (RK4 and the SDIRK of elastic links integrate a constant
+        acceleration exactly).
 
         Parameters
         ----------

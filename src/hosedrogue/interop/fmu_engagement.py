@@ -40,7 +40,7 @@ from ..sections import Sensor
 from .fmu_interface import FmuInterface, FmuVariable, StepFailure
 
 #: Relative tolerance of a master's communication time against the FMU's own [-]: round-off of
-#: the decimal times (the grid itself is exact: whole RK4 steps).
+#: the decimal times (the grid itself is exact: whole integration steps).
 TIME_RTOL = 1e-9
 
 _FLIGHT = ("altitude_m", "airspeed_m_s", "wake_enabled")
@@ -65,9 +65,10 @@ ENGAGEMENT_FMU = FmuInterface(
     notes=("The FMU starts at rest at the balance position of the flight condition (the parameters), solved when "
            "initialization ends, and runs the frozen scenario's duration_s (the DefaultExperiment's stop time; its "
            "turbulence record is drawn for it). It advances in whole control samples of sample_time_s (a whole "
-           "multiple of the scenario's RK4 step numerics.step_s); a communication step must be a whole multiple of "
-           "sample_time_s and start where the FMU is, else the FMU refuses it (fmi2Discard, nothing advanced, the "
-           "reason logged). The inputs are held over the step. probe_position_input true: the probe tip moves from "
+           "multiple of the scenario's integration step numerics.step_s: RK4, or the SDIRK of an elastic hose); a "
+           "communication step must be a whole multiple of sample_time_s and start where the FMU is, else the FMU "
+           "refuses it (fmi2Discard, nothing advanced, the reason logged). The inputs are held over the step. "
+           "probe_position_input true: the probe tip moves from "
            "where it is to probe_cmd_x/y/z_m, which it reaches at the end of the step (no receiver response: the "
            "master's path passes through; the tip starts at the position inputs' values at the end of "
            "initialization) on a parabola of constant acceleration: from its position with the slope there of "
