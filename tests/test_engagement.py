@@ -3,6 +3,7 @@ reasons, the three shipped scenarios, link-count convergence, scenario validatio
 line."""
 
 import json
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -120,18 +121,32 @@ def test_runs_say_which_peaks_are_converged(shipped):
     1.53 kN trail tension): every peak converged, no note. The responsive reel lets it go slack
     (the exit even in compression, -1.6 kN) and it snaps taut at the end of the push: its exit
     tension, rise and probe load are converged, the drogue-end tension of the snap is not. The
-    locked reel's hose keeps 1.7 m of slack and flails to the end, chaotically: no peak is converged
+    locked reel's hose keeps 1.7 m of slack and flails to the end, chaotically: only the slack is converged
     (docs/engagement.md). The rise is the peak exit tension above the trail tension at the start."""
     ct, resp, locked = (shipped[k].summary() for k in ("constant-tension", "response", "locked"))
     assert all(ct["converged"].values()) and not ct["notes"] and ct["peak_tension_converged"]
     assert resp["peak_tension_converged"] and not resp["converged"]["peak_drogue_tension_n"]
     assert resp["converged"]["peak_tension_rise_n"] and "snapped taut" in resp["notes"][0]
-    assert not locked["peak_tension_converged"] and not any(locked["converged"].values())
+    assert not locked["peak_tension_converged"] and locked["converged"]["peak_slack_m"]
+    assert not locked["converged"]["peak_probe_load_n"]
     assert "flailing" in locked["notes"][0]
     for law in LAWS:
         s = shipped[law].summary()
         assert s["peak_tension_rise_n"] == pytest.approx(s["peak_exit_tension_n"] - shipped[law].exit_tension_n[0],
                                                          rel=1e-12)
+
+
+def test_the_flail_stays_bounded_at_the_shipped_step(shipped):
+    """The locked reel's flail at the shipped 5 ms: with two fixed corrections per stage and no
+    step splitting the SDIRK gave 292 kN at 4 ms (measured 2026-12-01); with corrections to the
+    tolerance and split steps the peaks stay within what the hose can make. Bound: a snap at
+    10 m/s, far above the 1.5 m/s closure, makes v sqrt(EA mu) = 21 kN (EA = 1e6 N, mu = 4.4
+    kg/m); the probe load below a 20 kN structural figure of a probe is the same check on the
+    receiver's side (measured 3953 N and 2343 N)."""
+    s = shipped["locked"].summary()
+    assert shipped["locked"].completed
+    assert s["peak_exit_tension_n"] < 10.0 * math.sqrt(1e6 * 4.4), s["peak_exit_tension_n"]
+    assert s["peak_probe_load_n"] < 20e3, s["peak_probe_load_n"]
 
 
 def test_elastic_peaks_are_taken_at_every_step(shipped):

@@ -30,6 +30,8 @@ from ..sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE,
              "python": EK.LAW_COMMANDED}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
+           K.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is "
+                             "too long for the hose's motion: shorten numerics.step_s)",
            K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
            EK.REEL_END: "the free hose length left the reel's range between its end stops (fully reeled in or "
                         "fully paid out)"}
@@ -420,7 +422,7 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
     max_yaw = math.radians(num.max_yaw_deg)
     while run.step < total_steps:
         code, zprev = _segment(run, model, h, every, total_steps - run.step, max_yaw)
-        if code in (K.NONFINITE, K.YAW_LIMIT):
+        if code in (K.NONFINITE, K.YAW_LIMIT, K.STAGE_LIMIT):
             return code, f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
         if code == EK.REEL_END:
             L = run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_L]

@@ -301,7 +301,7 @@ class EngagementStepper(StepperBase):
     def _event(self, code: int) -> bool:
         """Handle what ended a compiled segment before the control step's end; True if the run ends."""
         run = self.run
-        if code in (K.NONFINITE, K.YAW_LIMIT, EK.REEL_END):
+        if code in (K.NONFINITE, K.YAW_LIMIT, K.STAGE_LIMIT, EK.REEL_END):
             message = f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
             if code == EK.REEL_END:
                 L = run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_L]

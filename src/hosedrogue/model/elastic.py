@@ -66,10 +66,11 @@ def make_elastic_workspace(n):
     -------
     tuple of numpy.ndarray
         U (n, 9), D^-1 (n, 6), right-hand sides (n, 3), tensions [N], strain rates [1/s],
-        augmentation [kg], length forces [N], length accelerations [m/s^2] (n,) each.
+        augmentation [kg], length forces [N], length accelerations [m/s^2] (n,) each, the angles'
+        augmentation (n, 2) [kg m^2].
     """
     return (np.empty((n, 9)), np.empty((n, 6)), np.empty((n, 3)), np.empty(n), np.empty(n), np.zeros(n),
-            np.empty(n), np.empty(n))
+            np.empty(n), np.empty(n), np.zeros((n, 2)))
 
 
 make_elastic_workspace_jit = njit(**JIT)(make_elastic_workspace)
@@ -162,12 +163,51 @@ def stiff_terms(n, l, hg, ps, guess, T, aug, taul):
 
 
 @njit(**JIT_NO_ALLOC)
-def elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, U, Dinv, rv, qdd, lamdd, tow_force):
+def angle_stiff_terms(n, l, lam, hg, ps, cs, T, guess, tau, augq):
+    """The angle blocks' augmentation ``augq`` (n, 2) [kg m^2] of an implicit stage (hg = h g [s];
+    0 for an explicit evaluation: zeros) and ``augq guess`` added to the angles' generalized
+    forces ``tau`` (n, 2) [N m], guess the stage's angle accelerations (2n,) [rad/s^2]
+    (:mod:`hosedrogue.model.implicit`): ``(h g)^2 (2 K_bend + T lam)`` per angle, the pitch's
+    times cos^2 of the yaw (the angle's rotation of the link).
+
+    ``K_bend = E I / lbar`` of the joints at either end of the link (``moment`` bending; the other
+    bending laws stay explicit) is the diagonal of the bending's tridiagonal stiffness in the
+    absolute angles; doubled, it bounds that stiffness (Gershgorin), which makes the corrections
+    contract on every bending mode. ``T lam`` (the link's tension, if pulling, times its length)
+    is the transverse stiffness of a straight string in absolute angles, whose inverse mass
+    matrix makes the string's fast waves ``2 sqrt(T / mu) / l``."""
+    if hg == 0.0:
+        for k in range(n):
+            augq[k, 0] = 0.0
+            augq[k, 1] = 0.0
+        return
+    EI = ps[PS_EI]
+    moment = ps[PS_BENDING] == BENDING_MOMENT
+    for k in range(n):
+        kb = 0.0
+        if moment:
+            if k > 0:
+                kb += EI / (0.5 * (l[k - 1] + l[k]))
+            if k < n - 1:
+                kb += EI / (0.5 * (l[k] + l[k + 1]))
+        ks = T[k] * lam[k] if T[k] > 0.0 else 0.0
+        kk = hg * hg * (2.0 * kb + ks)
+        c2 = cs[k, 2]
+        augq[k, 0] = kk * c2 * c2
+        augq[k, 1] = kk
+        tau[k, 0] += augq[k, 0] * guess[2 * k]
+        tau[k, 1] += augq[k, 1] * guess[2 * k + 1]
+
+
+@njit(**JIT_NO_ALLOC)
+def elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, U, Dinv, rv, qdd, lamdd, tow_force,
+                             augq):
     """Solve ``(H + diag(aug)) [qdd, lamdd] = Q`` in O(n) for the elastic chain.
 
     The articulated-body recursion of :func:`~hosedrogue.model.kernels.chain_forward_dynamics`
     with three joint coordinates per link (pitch, yaw, length): the joint's motion matrix is
-    ``G = [lam a, lam b, e]`` and its block ``D = G^T IA G + diag(J c2^2, J, aug)``. ``tau`` (n, 2)
+    ``G = [lam a, lam b, e]`` and its block ``D = G^T IA G + diag(J c2^2 + augq_0, J + augq_1, aug)``
+    (``augq`` (n, 2): :func:`angle_stiff_terms`). ``tau`` (n, 2)
     are the angles' generalized forces (:func:`~hosedrogue.model.kernels.rotational_terms`),
     ``taul`` (n,) the lengths' (minus the tension, :func:`stiff_terms`). Returns the force of the
     hose on the tow point (exit) into ``tow_force``.
@@ -196,10 +236,10 @@ def elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, U,
         u12 = IA01 * g2x + IA11 * g2y + IA12 * g2z
         u22 = IA02 * g2x + IA12 * g2y + IA22 * g2z
         c2 = cs[k, 2]
-        d00 = g0x * u00 + g0y * u10 + g0z * u20 + J[k] * c2 * c2
+        d00 = g0x * u00 + g0y * u10 + g0z * u20 + J[k] * c2 * c2 + augq[k, 0]
         d01 = g0x * u01 + g0y * u11 + g0z * u21
         d02 = g0x * u02 + g0y * u12 + g0z * u22
-        d11 = g1x * u01 + g1y * u11 + g1z * u21 + J[k]
+        d11 = g1x * u01 + g1y * u11 + g1z * u21 + J[k] + augq[k, 1]
         d12 = g1x * u02 + g1y * u12 + g1z * u22
         d22 = g2x * u02 + g2y * u12 + g2z * u22 + aug[k]
         # D^-1 by cofactors (D symmetric positive definite)
@@ -288,8 +328,9 @@ def elastic_evaluate_ws(t, x, u, l, M, J, ps, env, gust, ws, ews, hg, guess):
     ws[15], the length accelerations into ews[7]; the outputs of
     :func:`~hosedrogue.model.kernels.evaluate_ws` (joints ws[4], velocities ws[5], drogue drag
     ws[13], tow-point force ws[14], exit tension ws[17]) and the tensions ews[3]. ``hg`` and
-    ``guess`` (n,) [m/s^2]: an implicit stage's (:func:`stiff_terms`; hg = 0 explicit). Returns the
-    axial dissipation [W]."""
+    ``guess`` (the stage's slope guess, the rates of the state's 6n entries first): an implicit
+    stage's (:func:`stiff_terms`, :func:`angle_stiff_terms`; hg = 0 explicit, guess unused).
+    Returns the axial dissipation [W]."""
     n = l.shape[0]
     q = x[: 2 * n]
     qd = x[2 * n: 4 * n]
@@ -298,9 +339,10 @@ def elastic_evaluate_ws(t, x, u, l, M, J, ps, env, gust, ws, ews, hg, guess):
     elastic_loads(t, q, qd, lam, lamd, u, l, M, J, ps, env, gust, ws)
     T, epsd, aug, taul = ews[3], ews[4], ews[5], ews[6]
     p_axial = axial_tensions(n, l, lam, lamd, 0.0, ps, T, epsd)
-    stiff_terms(n, l, hg, ps, guess, T, aug, taul)
+    stiff_terms(n, l, hg, ps, guess[5 * n: 6 * n], T, aug, taul)
+    angle_stiff_terms(n, l, lam, hg, ps, ws[3], T, guess[2 * n: 4 * n], ws[9], ews[8])
     elastic_forward_dynamics(lam, M, J, n, ws[1], ws[2], ws[0], ws[3], ws[6], ws[7], ws[9], taul, aug,
-                             ews[0], ews[1], ews[2], ws[15], ews[7], ws[14])
+                             ews[0], ews[1], ews[2], ws[15], ews[7], ws[14], ews[8])
     ws[17][0] = elastic_exit_tension(n, l, lam, ps, ws[0], epsd)
     ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
     return p_axial
@@ -338,8 +380,7 @@ def elastic_static_residual(y, l, M, J, ps, env, gust, t, Q):
     x = np.zeros(6 * n)
     x[: 2 * n] = y[: 2 * n]
     x[4 * n: 5 * n] = y[2 * n: 3 * n]
-    qdd = np.zeros(n)
-    elastic_evaluate_ws(t, x, np.zeros(2), l, M, J, ps, env, gust, ws, ews, 0.0, qdd)
+    elastic_evaluate_ws(t, x, np.zeros(2), l, M, J, ps, env, gust, ws, ews, 0.0, x)
     # at rest the joint equations are H a = Q: the residual is Q itself, i.e. H a
     F, a, b, e = ws[7], ws[1], ws[2], ws[0]
     lam = y[2 * n: 3 * n]
@@ -362,9 +403,8 @@ def elastic_outputs_series(ts, xs, us, l, M, J, ps, env, gust, joints, drogue_ve
     n = l.shape[0]
     ws = make_workspace_jit(n)
     ews = make_elastic_workspace_jit(n)
-    zero = np.zeros(n)
     for i in range(ts.shape[0]):
-        elastic_evaluate_ws(ts[i], xs[i], us[i], l, M, J, ps, env, gust, ws, ews, 0.0, zero)
+        elastic_evaluate_ws(ts[i], xs[i], us[i], l, M, J, ps, env, gust, ws, ews, 0.0, xs[i])
         joints[i] = ws[4]
         drogue_vel[i] = ws[5][n]
         drogue_drag[i] = ws[13]

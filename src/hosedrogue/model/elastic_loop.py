@@ -10,15 +10,18 @@ formula of :func:`~hosedrogue.model.integrate.rk4_stage` and
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
 from .elastic import elastic_drogue_yz, elastic_evaluate_ws, make_elastic_workspace_jit
-from .implicit import SDIRK2_GAMMA, after_stage1, stage_point
+from .implicit import (SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, SDIRK_TOLERANCE_M_S, after_stage1,
+                       correction_size, stage_point)
 from .integrate import (actuator_rates, applied_force_at, controller_rates, is_open_loop, rk4_combine, rk4_stage,
                         step_status)
-from .kernels import OK, make_workspace_jit
+from .kernels import OK, STAGE_LIMIT, make_workspace_jit
 
 SCHEME_RK4, SCHEME_SDIRK2 = 0, 1
 
@@ -55,50 +58,99 @@ def elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
 @njit(**JIT_NO_ALLOC)
 def elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                  ews, pairs, work, u):
-    """One step of size h [s] from (t, z), in place (``iters``: the SDIRK's corrections per
-    stage). ``work`` (8, len(z)): RK4's stages, or the SDIRK's; ``work[7]`` must hold the slope guess of the SDIRK's first stage (the previous
-    step's last stage slope, or dz/dt at z) and receives the next one."""
-    n = l.shape[0]
-    lo, hi = 5 * n, 6 * n
+    """One step of size h [s] from (t, z), in place (``iters``: the SDIRK's least corrections per
+    stage, :mod:`hosedrogue.model.implicit`). ``work`` (8, len(z)): RK4's stages, or the SDIRK's
+    (rows 0-3, the step's start in rows 4-5); ``work[7]`` must hold the slope guess of the SDIRK's
+    first stage (the previous step's last stage slope, or dz/dt at z) and receives the next one.
+    Returns OK, or STAGE_LIMIT if the SDIRK's stages did not converge even on 16 substeps (z then
+    back at the step's start)."""
     if scheme == SCHEME_RK4:
         k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
         g = work[5]  # unused guess
         elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
-                           0.0, g[lo:hi], k1, u)
+                           0.0, g, k1, u)
         rk4_stage(z, 0.5 * h, k1, tmp)
         elastic_loop_deriv(t + 0.5 * h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
-                           ws, ews, 0.0, g[lo:hi], k2, u)
+                           ws, ews, 0.0, g, k2, u)
         rk4_stage(z, 0.5 * h, k2, tmp)
         elastic_loop_deriv(t + 0.5 * h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
-                           ws, ews, 0.0, g[lo:hi], k3, u)
+                           ws, ews, 0.0, g, k3, u)
         rk4_stage(z, h, k3, tmp)
         elastic_loop_deriv(t + h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-                           ews, 0.0, g[lo:hi], k4, u)
+                           ews, 0.0, g, k4, u)
         rk4_combine(z, h, k1, k2, k3, k4)
-        return
+        return OK
+    # the SDIRK (hosedrogue.model.implicit): the step, or where a stage's corrections do not
+    # converge 2, 4, 8, 16 substeps
+    z0, g0 = work[4], work[5]
+    nz = z.shape[0]
+    for i in range(nz):
+        z0[i] = z[i]
+        g0[i] = work[7][i]
+    m = 1
+    while m <= SDIRK_MAX_SUBSTEPS:
+        hs = h / m
+        ok = True
+        for j in range(m):
+            if not sdirk_step(t + j * hs, z, hs, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                              noise_dt, ws, ews, pairs, work, u):
+                ok = False
+                break
+        if ok:
+            return OK
+        for i in range(nz):
+            z[i] = z0[i]
+            work[7][i] = g0[i]
+        m *= 2
+    return STAGE_LIMIT
+
+
+@njit(**JIT_NO_ALLOC)
+def sdirk_stage(t, zbase, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, pairs,
+                hg, Kg, K, Y, u):
+    """One implicit stage from ``zbase``, the slope guess in Kg: corrections until the last moves no
+    stage velocity by more than SDIRK_TOLERANCE_M_S (at least ``iters``, at most
+    SDIRK_MAX_CORRECTIONS); the stage's slope into K (and Kg). Returns whether they converged."""
+    n = l.shape[0]
+    nz = zbase.shape[0]
+    for it in range(SDIRK_MAX_CORRECTIONS):
+        stage_point(zbase, Kg, hg, pairs, Y)
+        elastic_loop_deriv(t, Y, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, hg,
+                           Kg, K, u)
+        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
+        for i in range(nz):
+            Kg[i] = K[i]
+        if not math.isfinite(d):
+            return False
+        if it + 1 >= iters and d <= SDIRK_TOLERANCE_M_S:
+            return True
+    return False
+
+
+@njit(**JIT_NO_ALLOC)
+def sdirk_step(t, z, h, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, pairs,
+               work, u):
+    """One SDIRK step of size h [s] from (t, z), in place; False (z then undefined) if a stage's
+    corrections did not converge."""
     hg = h * SDIRK2_GAMMA
     Kg, K1, zhat, Y, K2 = work[0], work[1], work[2], work[3], work[7]
-    for i in range(z.shape[0]):
+    nz = z.shape[0]
+    for i in range(nz):
         Kg[i] = K2[i]
-    for it in range(iters):
-        stage_point(z, Kg, hg, pairs, Y)
-        elastic_loop_deriv(t + hg, Y, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-                           ews, hg, Kg[lo:hi], K1, u)
-        for i in range(z.shape[0]):
-            Kg[i] = K1[i]
+    if not sdirk_stage(t + hg, z, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
+                       pairs, hg, Kg, K1, Y, u):
+        return False
     stage_point(z, K1, hg, pairs, Y)
     after_stage1(z, h, K1, zhat)
-    for i in range(z.shape[0]):
+    for i in range(nz):
         Kg[i] = K1[i]  # the second stage's guess: the first stage's slope
-    for it in range(iters):
-        stage_point(zhat, Kg, hg, pairs, Y)
-        elastic_loop_deriv(t + h, Y, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-                           ews, hg, Kg[lo:hi], K2, u)
-        for i in range(z.shape[0]):
-            Kg[i] = K2[i]
+    if not sdirk_stage(t + h, zhat, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                       ews, pairs, hg, Kg, K2, Y, u):
+        return False
     stage_point(zhat, K2, hg, pairs, Y)
-    for i in range(z.shape[0]):
+    for i in range(nz):
         z[i] = Y[i]
+    return True
 
 
 def hose_pairs(n):
@@ -136,14 +188,13 @@ def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, 
     ws = make_workspace_jit(n)
     ews = make_elastic_workspace_jit(n)
     pairs = hose_pairs_jit(n)
-    lo, hi = 5 * n, 6 * n
     saved = 0
     for step in range(nsteps + 1):
         t = t0 + step * h
         if step % save_every == 0 or step == 0:
             # the true derivative at the saved state: its outputs, and the SDIRK's first guess
             elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
-                               0.0, work[6][lo:hi], work[6], u)
+                               0.0, work[6], work[6], u)
             if step == 0:
                 for i in range(nz):
                     work[7, i] = work[6, i]
@@ -159,8 +210,9 @@ def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, 
             saved += 1
         if step == nsteps:
             break
-        elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
-                     ws, ews, pairs, work, u)
+        if elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+                        ws, ews, pairs, work, u) != OK:
+            return STAGE_LIMIT, saved, t  # the state of step t kept (the run's last saved row may be older)
         status = step_status(z, n, max_yaw)
         if status != OK:
             return status, saved, t + h

@@ -56,13 +56,14 @@ from .kernels import (
     rotational_terms,
 )
 from .elastic import (add_axial_rates, axial_tensions, elastic_exit_tension, elastic_forward_dynamics,
-                      make_elastic_workspace_jit, stiff_terms, strain_energy)
-from .implicit import SDIRK2_GAMMA, after_stage1, stage_point
+                      make_elastic_workspace_jit, stiff_terms, strain_energy, angle_stiff_terms)
+from .implicit import (SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, SDIRK_TOLERANCE_M_S, after_stage1,
+                       correction_size, stage_point)
 from .integrate import (actuator_rates, applied_force_at, control_law, controller_rates, rk4_combine, rk4_stage,
                         step_status)
 from . import drogue_actuator as DA
 from .frame import frame_loads
-from .kernels import NONFINITE, YAW_LIMIT
+from .kernels import NONFINITE, STAGE_LIMIT, YAW_LIMIT
 from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_Q, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
                       R_REEL_V, R_T0, deliver)
 
@@ -750,6 +751,7 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
     T, epsd, aug, taul = ews[3], ews[4], ews[5], ews[6]
     p_axial = axial_tensions(n, l, lam, lamd, Ld, ps, T, epsd)
     stiff_terms(n, l, hg, ps, guess[5 * n: 6 * n], T, aug, taul)
+    angle_stiff_terms(n, l, lam, hg, ps, cs, T, guess[2 * n: 4 * n], tau, ews[8])
     T0 = elastic_exit_tension(n, l, lam, ps, e, epsd)
     chord = math.sqrt(r[n, 0] ** 2 + r[n, 1] ** 2 + r[n, 2] ** 2)
     arc = 0.0
@@ -791,7 +793,7 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
             taul[0] = -T[0] + (1.0 - s_r) * d0 * guess[5 * n] + s_r * (T0 + rest - mr * aLg)
             aug[0] = (1.0 - s_r) * d0
     elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, ews[0], ews[1], ews[2], ws[15],
-                             ews[7], ws[14])
+                             ews[7], ws[14], ews[8])
     if not prescribed:
         if hg != 0.0:
             Ldd = (T0 + d0 * (ews[7][0] - guess[5 * n] + aLg) + rest) / (mr + d0)
@@ -872,9 +874,11 @@ elastic_pairs_jit = njit(**JIT)(elastic_pairs)
 @njit(**JIT)
 def eng_elastic_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, work):
     """One step of size h [s] of the elastic engagement from (t, z), in place: RK4 or the SDIRK of
-    :mod:`hosedrogue.model.implicit` (``ep[EP_SCHEME]``). ``work`` (8, len(z)): the stages;
-    ``work[7]`` holds the SDIRK's first slope guess (the last stage slope of the previous step, or
-    dz/dt at z) and receives the next one."""
+    :mod:`hosedrogue.model.implicit` (``ep[EP_SCHEME]``). ``work`` (8, len(z)): the stages (the
+    SDIRK's in rows 0-3, the step's start in rows 4-5); ``work[7]`` holds the SDIRK's first slope
+    guess (the last stage slope of the previous step, or dz/dt at z) and receives the next one.
+    Returns OK, or STAGE_LIMIT if the SDIRK's stages did not converge even on 16 substeps (z
+    then back at the step's start)."""
     if ep[EP_SCHEME] == SCHEME_RK4:
         k1, k2, k3, k4, tmp, g = work[0], work[1], work[2], work[3], work[4], work[5]
         eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, g, k1)
@@ -887,32 +891,76 @@ def eng_elastic_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, 
         rk4_stage(z, h, k3, tmp)
         eng_deriv_elastic(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, g, k4)
         rk4_combine(z, h, k1, k2, k3, k4)
-        return
+        return OK
+    # the SDIRK: the step, or where a stage's corrections do not converge 2, 4, 8, 16 substeps
+    z0, g0 = work[4], work[5]
+    nz = z.shape[0]
+    for i in range(nz):
+        z0[i] = z[i]
+        g0[i] = work[7][i]
+    m = 1
+    while m <= SDIRK_MAX_SUBSTEPS:
+        hs = h / m
+        ok = True
+        for j in range(m):
+            if not sdirk_step(t + j * hs, z, hs, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
+                              pairs, work):
+                ok = False
+                break
+        if ok:
+            return OK
+        for i in range(nz):
+            z[i] = z0[i]
+            work[7][i] = g0[i]
+        m *= 2
+    return STAGE_LIMIT
+
+
+@njit(**JIT)
+def sdirk_stage(t, zbase, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, hg, Kg, K, Y):
+    """One implicit stage from ``zbase`` (:mod:`hosedrogue.model.implicit`), the slope guess in Kg:
+    corrections until the last moves no stage velocity by more than SDIRK_TOLERANCE_M_S, at least
+    ``ep[EP_ITER]``, at most SDIRK_MAX_CORRECTIONS. The stage's slope into K (and Kg). Returns
+    whether they converged."""
+    nz = zbase.shape[0]
+    least = int(ep[EP_ITER])
+    for it in range(SDIRK_MAX_CORRECTIONS):
+        stage_point(zbase, Kg, hg, pairs, Y)
+        eng_deriv_elastic(t, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg, K)
+        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
+        for i in range(nz):
+            Kg[i] = K[i]
+        if not math.isfinite(d):
+            return False
+        if it + 1 >= least and d <= SDIRK_TOLERANCE_M_S:
+            return True
+    return False
+
+
+@njit(**JIT)
+def sdirk_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, work):
+    """One SDIRK step of size h [s] from (t, z), in place, the first stage's guess in ``work[7]``
+    (which receives the next one). Returns False (z then undefined) if a stage's corrections did
+    not converge."""
     hg = h * SDIRK2_GAMMA
     Kg, K1, zhat, Y, K2 = work[0], work[1], work[2], work[3], work[7]
-    iters = int(ep[EP_ITER])
-    for i in range(z.shape[0]):
+    nz = z.shape[0]
+    for i in range(nz):
         Kg[i] = K2[i]
-    for it in range(iters):
-        stage_point(z, Kg, hg, pairs, Y)
-        eng_deriv_elastic(t + hg, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg,
-                          K1)
-        for i in range(z.shape[0]):
-            Kg[i] = K1[i]
+    if not sdirk_stage(t + hg, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, hg, Kg,
+                       K1, Y):
+        return False
     stage_point(z, K1, hg, pairs, Y)
     after_stage1(z, h, K1, zhat)
-    for i in range(z.shape[0]):
+    for i in range(nz):
         Kg[i] = K1[i]  # the second stage's guess: the first stage's slope
-    for it in range(iters):
-        stage_point(zhat, Kg, hg, pairs, Y)
-        eng_deriv_elastic(t + h, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg,
-                          K2)
-        for i in range(z.shape[0]):
-            Kg[i] = K2[i]
+    if not sdirk_stage(t + h, zhat, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, hg,
+                       Kg, K2, Y):
+        return False
     stage_point(zhat, K2, hg, pairs, Y)
-    for i in range(z.shape[0]):
+    for i in range(nz):
         z[i] = Y[i]
-
+    return True
 
 
 @njit(**JIT)
@@ -1007,8 +1055,9 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
         for i in range(nz):
             zprev[i] = z[i]
         if elastic:
-            eng_elastic_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs,
-                             work)
+            if eng_elastic_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs,
+                                work) != OK:
+                return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
         else:
             eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
             rk4_stage(z, 0.5 * h, k1, tmp)
@@ -1137,7 +1186,8 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
     ctr[C_STEP] = step0 + done
     ctr[C_SAVED] = saved
     ctr[C_STATUS] = status
-    if ctr[C_STEP] == target and status != NONFINITE and status != YAW_LIMIT and status != REEL_END:
+    failed = status == NONFINITE or status == YAW_LIMIT or status == REEL_END or status == STAGE_LIMIT
+    if ctr[C_STEP] == target and not failed:
         k = ctr[C_SAMPLE] + 1
         eng_raw(target * h, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, ring[k % ring.shape[0]])
         deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)

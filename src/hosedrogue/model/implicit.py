@@ -1,5 +1,5 @@
 """The stiff integrator of the elastic chains (numba): two-stage L-stable SDIRK, each stage solved
-by one linearly implicit correction inside the O(n) recursion (docs/model.md §11, "Time integration").
+by linearly implicit corrections inside the O(n) recursion (docs/model.md §11, "Time integration").
 
 Alexander's two-stage, second-order, L-stable, stiffly accurate SDIRK (Alexander 1977, SIAM J.
 Numer. Anal. 14, 1006; Hairer & Wanner, Solving ODEs II, IV.6), g = 1 - 1/sqrt(2)::
@@ -9,14 +9,24 @@ Numer. Anal. 14, 1006; Hairer & Wanner, Solving ODEs II, IV.6), g = 1 - 1/sqrt(2
 
 A stage ``Y = Yhat + h g f(Y)`` of the chain's second-order structure (positions p, velocities
 w, ``p' = w``, ``w' = a``) is ``w = what + h g a``, ``p = phat + h g w``: one unknown per
-velocity, the acceleration a. It is found by one correction from a guess a0 (the previous
-stage's slope): the state of the guess is evaluated with the axial spring-damper of every link
-taken implicitly - its Jacobian ``h g c_a / l + (h g)^2 EA / l`` added to the recursion's joint
-blocks and ``aug a0`` to the joint forces (:func:`hosedrogue.model.elastic.stiff_terms`) - which
-is exact for the linear spring-damper and leaves an O(h^2) error in a from the rest, so the step
-keeps its second order (local error O(h^3)). Everything else (the first-order states: reel work,
-controller, ...) takes the guess's slope. :func:`stage_point` forms a stage's state from Yhat and
-a slope guess.
+velocity, the acceleration a. It is found by corrections from a guess a0 (the previous stage's
+slope): each evaluates the state of the guess with a diagonal approximation of the stiff forces'
+Jacobian added to the recursion's joint blocks, ``aug (a - a0)`` (a simplified Newton iteration
+whose fixed point is the implicit stage):
+
+* the axial spring-damper of every link, ``h g c_a / l + (h g)^2 EA / l`` on its length
+  (:func:`hosedrogue.model.elastic.stiff_terms`): exact, it is linear in the length;
+* bending and the string stiffness of the tension on the angles, ``(h g)^2 (2 K_bend + T lam)``
+  (:func:`hosedrogue.model.elastic.angle_stiff_terms`): the bending's diagonal doubled bounds its
+  tridiagonal stiffness (Gershgorin), so the iteration contracts on every bending mode, and
+  ``T lam`` is the exact transverse stiffness of a straight string in absolute angles.
+
+The corrections go on until the last one moves no stage velocity by more than
+:data:`SDIRK_TOLERANCE_M_S` (:func:`correction_size`; at least ``numerics.sdirk_corrections``, at
+most :data:`SDIRK_MAX_CORRECTIONS`); a step whose stage does not converge is redone as 2, 4, 8,
+16 substeps, and beyond that the run stops (STAGE_LIMIT). Everything else (drag, the first-order
+states: reel work, controller, ...) takes the guess's slope. :func:`stage_point` forms a stage's
+state from Yhat and a slope guess.
 """
 
 from __future__ import annotations
@@ -29,6 +39,17 @@ from ..jit import JIT_NO_ALLOC
 
 #: The SDIRK's diagonal coefficient g = 1 - 1/sqrt(2) [-] (L-stable, second order).
 SDIRK2_GAMMA = 1.0 - 1.0 / math.sqrt(2.0)
+
+#: A stage's corrections have converged when the last one moved no stage velocity of the hose (a
+#: length's rate, or an angle's rate times its link's length) by more than this [m/s]: 1 mm/s,
+#: a thousandth of the probe's closure speed; over a 5 ms step it moves a joint by 5 um.
+SDIRK_TOLERANCE_M_S = 1e-3
+#: At most this many corrections per stage [-] (at least ``numerics.sdirk_corrections``); a stage
+#: that has not converged by then is redone on halved steps.
+SDIRK_MAX_CORRECTIONS = 6
+#: A step is split into at most this many equal substeps [-] (halving four times); a stage that
+#: does not converge on them stops the run (status STAGE_LIMIT).
+SDIRK_MAX_SUBSTEPS = 16
 
 
 @njit(**JIT_NO_ALLOC)
@@ -44,6 +65,28 @@ def stage_point(zhat, K, hg, pairs, Y):
         for j in range(cnt):
             K[p + j] = Y[w + j]
             Y[p + j] = zhat[p + j] + hg * K[p + j]
+
+
+@njit(**JIT_NO_ALLOC)
+def correction_size(n, hg, Kg, K, Y, cs):
+    """How far the last correction moved the stage [m/s]: the largest change ``hg |K - Kg|`` of a
+    stage velocity of the hose state ``[q, qd, lam, lamd, ...]`` (n links; Y the stage's state), the
+    angles' rates as the speeds they give the link's end (the pitch's times the link's length and
+    the cosine of its yaw, ``cs[k, 2]``; the yaw's times the length); compared with
+    :data:`SDIRK_TOLERANCE_M_S`."""
+    d = 0.0
+    for k in range(n):
+        lk = Y[4 * n + k]
+        v = abs(K[2 * n + 2 * k] - Kg[2 * n + 2 * k]) * lk * abs(cs[k, 2])
+        if v > d:
+            d = v
+        v = abs(K[2 * n + 2 * k + 1] - Kg[2 * n + 2 * k + 1]) * lk
+        if v > d:
+            d = v
+        v = abs(K[5 * n + k] - Kg[5 * n + k])
+        if v > d:
+            d = v
+    return hg * d
 
 
 @njit(**JIT_NO_ALLOC)

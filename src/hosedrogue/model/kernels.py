@@ -80,8 +80,8 @@ ENV_BW, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, ENV_BW_Q, ENV_BW_LEN = 17, 18, 19, 20, 21,
 #: circulation at its load factor and airspeed
 ENV_SIZE = ENV_M_END
 
-# status codes of the integrators
-OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
+# status codes of the integrators (STAGE_LIMIT: the elastic chains' SDIRK, hosedrogue.model.implicit)
+OK, NONFINITE, YAW_LIMIT, STEP_LIMIT, STAGE_LIMIT = 0, 1, 2, 3, 4
 
 
 @njit(**JIT_NO_ALLOC)

@@ -290,7 +290,7 @@ class HoseModel:
         if self.elastic:
             ews = E.make_elastic_workspace(self.n)
             E.elastic_evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.J, self.ps,
-                                  env, self.gust_values, ws, ews, 0.0, np.zeros(self.n))
+                                  env, self.gust_values, ws, ews, 0.0, x)
             qdd = np.concatenate([ws[15], ews[7]])
         else:
             K.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,

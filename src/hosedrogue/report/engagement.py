@@ -358,9 +358,10 @@ def _doubling_text(st: _Study) -> str:
         "drogue-end tension, made where the last slack goes out of the hose, is finer than the links "
         "and is marked not converged when the hose went slack. "
         + (f"The {', '.join(flailing)} reel leaves its loop flailing in the stream to the end of the run, a "
-           "chaotic motion whose peaks change with every change of mesh, step or probe path (a micrometre "
-           "of the probe's offset moves its peak exit tension by a third): none is converged (marked in the "
-           "tables and in <code>run.json</code>'s <code>converged</code> and <code>notes</code>)." if flailing else "") + "</p>")
+           "chaotic motion whose tension and probe load peaks change with every change of mesh, step or "
+           "probe path (a micrometre of the probe's offset moves its peak exit tension by 40 %): only its "
+           "slack is converged (marked in the tables and in <code>run.json</code>'s <code>converged</code> "
+           "and <code>notes</code>)." if flailing else "") + "</p>")
 
 
 def _prose(st: _Study) -> str:

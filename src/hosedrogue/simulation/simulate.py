@@ -34,6 +34,8 @@ _STATUS_TEXT = {
     K.NONFINITE: "the state became non-finite (numerical divergence)",
     K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular (likely the paper's almost undamped zigzag modes growing in turbulence; for long runs use the model preset: --config converged or [model] preset = \"converged\", docs/long-runs.md)",
     K.STEP_LIMIT: "the adaptive integrator could not meet its tolerance (step size limit)",
+    K.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is too "
+                   "long for the hose's motion: shorten numerics.step_s)",
 }
 
 
