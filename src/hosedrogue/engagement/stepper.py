@@ -220,13 +220,14 @@ class EngagementStepper(StepperBase):
             st.ep[EK.EP_FEED_T0] = 0.0
             st.ep[EK.EP_FEED_P:EK.EP_FEED_P + 3] = st.z[b + EK.RCV_X:b + EK.RCV_X + 3]
             st.ep[EK.EP_FEED_V:EK.EP_FEED_V + 3] = st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3]
-            st.ep[EK.EP_FEED_A:EK.EP_FEED_A + 3] = 0.0
+            st.ep[EK.EP_FEED_A:EK.EP_FEED_J + 3] = 0.0
 
-    def move_receiver(self, velocity_m_s, acceleration_m_s2) -> None:
+    def move_receiver(self, velocity_m_s, acceleration_m_s2, jerk_m_s3=(0.0, 0.0, 0.0)) -> None:
         """Passing through (``receiver_pass_through``): from now on, until the next call, the
-        probe tip moves from where it is with this velocity and constant acceleration.
+        probe tip moves from where it is on the cubic in time of this velocity, acceleration
+        and jerk.
 
-        The tip is then that parabola as a function of time (``EP_FEED``,
+        The tip is that cubic as a function of time (``EP_FEED``,
         :func:`hosedrogue.model.engagement_kernels.fed_tip`), evaluated at each integrator
         stage's time as a prescribed path is, so a path fed from outside meets the hose as the
         same path prescribed in the run does; the receiver's states follow it.
@@ -236,18 +237,21 @@ class EngagementStepper(StepperBase):
         velocity_m_s : array_like (3,)
             The tip's velocity now [m/s], tanker frame.
         acceleration_m_s2 : array_like (3,)
-            Its acceleration until the next call [m/s^2] (0: a straight line at constant speed).
+            Its acceleration now [m/s^2] (0 and no jerk: a straight line at constant speed).
+        jerk_m_s3 : array_like (3,)
+            Its rate of change of acceleration until the next call [m/s^3] (0: a parabola).
         """
         if not self.pass_through:
             raise ParameterError("move_receiver: only with receiver_pass_through (else the receiver's response "
                                  "follows the command of step(receiver=...))")
         run = self.run
         ep, b = run.ep, EK.tail_start(run.chain.n, run.ep) + EK.Z_TAIL
-        p0 = EK.fed_tip(self.t_s, ep)[:3]  # where the path fed so far has the tip now
+        p0 = EK.fed_tip(self.t_s, ep)[0]  # where the path fed so far has the tip now
         ep[EK.EP_FEED_T0] = self.t_s
         ep[EK.EP_FEED_P:EK.EP_FEED_P + 3] = p0
         ep[EK.EP_FEED_V:EK.EP_FEED_V + 3] = velocity_m_s
         ep[EK.EP_FEED_A:EK.EP_FEED_A + 3] = acceleration_m_s2
+        ep[EK.EP_FEED_J:EK.EP_FEED_J + 3] = jerk_m_s3
         run.z[b + EK.RCV_X:b + EK.RCV_X + 3] = p0
         run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = velocity_m_s
 
