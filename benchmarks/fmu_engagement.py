@@ -3,17 +3,21 @@ printed as figures (never asserted): the FMU exported by ``hosedrogue export-fmu
 run in fmpy (in this process) by a script master that feeds it the scenario's probe path at every
 integration step (``probe_position_input`` true: positions; with ``probe_velocity_feed`` true also
 their velocities; the capture time from the ``simulate`` run), against ``hosedrogue simulate
-engage-response``: the shipped scenario (160 elastic links, the SDIRK at 1 ms, 15 s) and the rigid
-links it had before its hose became elastic (RK4 at 0.625 ms; docs/model.md §11).
+engage-response``: the shipped scenario (160 elastic links, the SDIRK at 5 ms, 15 s) and the rigid
+links it had before its hose became elastic (RK4 at 0.625 ms; docs/model.md §11). The FMU moves the
+tip within a step on a parabola (positions) or a cubic (positions and velocities), met by the hose at
+every integration stage's time as simulate's prescribed path is (docs/interop.md, "Against
+simulate"; expect 1.4e-7 and 3.5e-9 m elastic, 1.4e-9 and 1.1e-10 m rigid).
 
 Prints, for each hose and feed, the largest drogue-position difference (target <= 1e-6 m), that
 before the push's speed ramp (where the path is a straight line and the two runs are the same
 arithmetic), the hose-length difference, and the wall time of both runs.
 tests/test_fmu_engagement.py runs the same comparison on a coarse variant (20 links, 4 s) in
-seconds.
+seconds; --links 20 --duration 4 --standoff 3.0006 --step S measures the convergence in the step
+(that standoff, the test's, keeps the capture off the step grid: see there).
 
 Run:  .venv/bin/python benchmarks/fmu_engagement.py                       (the full case, both hoses)
-      .venv/bin/python benchmarks/fmu_engagement.py --hose elastic --links 20 --duration 4
+      .venv/bin/python benchmarks/fmu_engagement.py --hose elastic --links 20 --duration 4 --standoff 3.0006 --step 0.0025
 """
 
 from __future__ import annotations
@@ -122,10 +126,15 @@ def main() -> None:
                     help="the shipped elastic hose, the former rigid links, or both")
     ap.add_argument("--links", type=int)
     ap.add_argument("--step", type=float,
-                    help="integration step [s] (default the hose's: 1 ms elastic, 0.625 ms rigid)")
+                    help="integration step [s] (default the hose's: 5 ms elastic, 0.625 ms rigid)")
     ap.add_argument("--duration", type=float, help="[s]")
+    ap.add_argument("--standoff", type=float, help="the probe's start standoff [m] (default the scenario's 3 m)")
     args = ap.parse_args()
     shipped = load_scenario("engage-response").with_overrides(duration_s=args.duration)
+    if args.standoff is not None:
+        e = shipped.engagement
+        probe = dataclasses.replace(e.probe, standoff_m=args.standoff)
+        shipped = dataclasses.replace(shipped, engagement=dataclasses.replace(e, probe=probe))
     prepare_python_host()
     for label in ("elastic", "rigid") if args.hose == "both" else (args.hose,):
         tables = RIGID if label == "rigid" else {"hose": {}, "numerics": {}}
