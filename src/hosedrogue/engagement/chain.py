@@ -113,8 +113,11 @@ def hose_mass_in_air(chain: Chain, params: Params) -> float:
 
 
 #: A link whose yaw passes this in its chart is moved to the other chart (the angle coordinates
-#: are singular at 90 deg); after the switch its yaw is at most 90 - 60 = 30 deg in the new chart.
-SWITCH_YAW_DEG = 60.0
+#: are singular at 90 deg); after the switch its yaw is at most 90 - 50 = 40 deg in the new chart.
+#: The switch is made between steps, so a link may turn by 35 deg within one before it meets the
+#: 85 deg guard (numerics.max_yaw_deg): the locked reel's flail turns links at up to 230 rad/s,
+#: 26 deg in its 2 ms step (with 60 deg, 25 deg of room, it stopped there).
+SWITCH_YAW_DEG = 50.0
 
 
 def _rot(v: np.ndarray, chart: float, inverse: bool = False) -> np.ndarray:

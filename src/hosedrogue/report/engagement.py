@@ -10,7 +10,7 @@ HTML section with every number read from the runs. ``report.json`` gains an ``"e
 block.
 
 The fast version runs the scenarios on a coarser mesh for a shorter time (the report settings'
-``engagement_*`` fields: 40 links, step 2.5 ms, 8 s instead of the shipped 160 links, 1 ms and
+``engagement_*`` fields: 40 links, step 2.5 ms, 8 s instead of the shipped 160 links, 5 ms (2 ms locked) and
 15 s) and checks the doubling 40 -> 80 instead of the shipped count's; the section says so at its top. The
 doubled mesh is :func:`hosedrogue.studies.convergence.with_links`.
 """
