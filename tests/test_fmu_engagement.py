@@ -216,7 +216,7 @@ def test_fed_the_probe_path_it_matches_simulate(request, hose, feed):
     else:
         # the cubic through both ends' positions and velocities: O(h^4) in position, O(h^3) in
         # velocity (measured 2.4e-9, 6.5e-10, 2.3e-11 m at 5, 2.5, 1.25 ms on the elastic hose, the
-        # first near the stages' correction tolerance; 1.3e-9, 1.1e-11, 1.1e-13 m on the rigid
+        # same with the stages corrected to 1e-9 m/s; 1.3e-9, 1.1e-11, 1.1e-13 m on the rigid
         # links): 1e-8 m, 4x the largest, 1 % of the check's
         assert drogue.max() < 1e-8 and length < 1e-8
     assert rows[-1]["coupled"] and not rows[0]["coupled"]
