@@ -43,7 +43,7 @@ class EngagementStepper(StepperBase):
     Parameters
     ----------
     params : Params
-        Hose, drogue, flight and numerics (RK4, ``numerics.step_s`` [s], ``output_every``).
+        Hose, drogue, flight and numerics (the integrator, ``numerics.step_s`` [s], ``output_every``).
     duration_s : float
         Length of the run [s] (its gust record is drawn for it); the run is done there, or at a
         miss or failed latch, or at a failed state.
@@ -198,11 +198,11 @@ class EngagementStepper(StepperBase):
                       self.balance, self.mbuf, run.loads)
 
     def _set_receiver_start(self, probe_start_m, probe_start_velocity_m_s) -> None:
-        """The receiver's start point and, passing through, its response switched off: no speed
-        bound, and the acceleration bound 0 holds the tip's velocity (:meth:`move_receiver` sets
-        both for each step)."""
+        """The receiver's start point and, passing through, its response replaced by the fed
+        path (``EP_FEED``): from the start point at the start velocity in a straight line until
+        :meth:`move_receiver` says otherwise."""
         st = self.start
-        b = 4 * st.chain.n + EK.Z_TAIL
+        b = EK.tail_start(st.chain.n, st.ep) + EK.Z_TAIL  # after the 4n rigid or the 6n elastic hose entries
         if probe_start_m is not None:
             p = np.asarray(probe_start_m, dtype=np.float64)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
@@ -216,37 +216,44 @@ class EngagementStepper(StepperBase):
                                      "numbers [m/s]")
             st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v
         if self.pass_through:
-            st.ep[EK.EP_RCV_VMAX:EK.EP_RCV_VMAX + 3] = math.inf
-            st.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = 0.0
+            st.ep[EK.EP_FEED] = 1.0
+            st.ep[EK.EP_FEED_T0] = 0.0
+            st.ep[EK.EP_FEED_P:EK.EP_FEED_P + 3] = st.z[b + EK.RCV_X:b + EK.RCV_X + 3]
+            st.ep[EK.EP_FEED_V:EK.EP_FEED_V + 3] = st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3]
+            st.ep[EK.EP_FEED_A:EK.EP_FEED_J + 3] = 0.0
 
-    def move_receiver(self, velocity_m_s, acceleration_m_s2) -> None:
+    def move_receiver(self, velocity_m_s, acceleration_m_s2, jerk_m_s3=(0.0, 0.0, 0.0)) -> None:
         """Passing through (``receiver_pass_through``): from now on, until the next call, the
-        probe tip moves from where it is with this velocity and constant acceleration.
+        probe tip moves from where it is on the cubic in time of this velocity, acceleration
+        and jerk.
 
-        The receiver's response then yields exactly that motion: the velocity state is set, the
-        acceleration bound per axis is ``|a|`` and the held command lies far enough beyond the
-        velocity's range over the step that the lag's demand exceeds the bound throughout, so the
-        bound is the acceleration (RK4 integrates a constant acceleration exactly).
+        The tip is that cubic as a function of time (``EP_FEED``,
+        :func:`hosedrogue.model.engagement_kernels.fed_tip`), evaluated at each integrator
+        stage's time as a prescribed path is, so a path fed from outside meets the hose as the
+        same path prescribed in the run does; the receiver's states follow it.
 
         Parameters
         ----------
         velocity_m_s : array_like (3,)
             The tip's velocity now [m/s], tanker frame.
         acceleration_m_s2 : array_like (3,)
-            Its acceleration until the next call [m/s^2] (0: a straight line at constant speed).
+            Its acceleration now [m/s^2] (0 and no jerk: a straight line at constant speed).
+        jerk_m_s3 : array_like (3,)
+            Its rate of change of acceleration until the next call [m/s^3] (0: a parabola).
         """
         if not self.pass_through:
             raise ParameterError("move_receiver: only with receiver_pass_through (else the receiver's response "
                                  "follows the command of step(receiver=...))")
         run = self.run
-        b = 4 * run.chain.n + EK.Z_TAIL
-        v0, a = np.asarray(velocity_m_s, dtype=np.float64), np.asarray(acceleration_m_s2, dtype=np.float64)
-        span = self.duration_s + 1.0  # longer than any step [s]
-        tv = run.ep[EK.EP_RCV_TV]
-        run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v0
-        run.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = np.abs(a)
-        # (vcmd - v) / tv >= |a| in the direction of a while v stays within v0 + a [0, span]
-        self._commands[list(self._slots["receiver"])] = v0 + a * span + np.sign(a) * (np.abs(a) * tv + 1.0)
+        ep, b = run.ep, EK.tail_start(run.chain.n, run.ep) + EK.Z_TAIL
+        p0 = EK.fed_tip(self.t_s, ep)[0]  # where the path fed so far has the tip now
+        ep[EK.EP_FEED_T0] = self.t_s
+        ep[EK.EP_FEED_P:EK.EP_FEED_P + 3] = p0
+        ep[EK.EP_FEED_V:EK.EP_FEED_V + 3] = velocity_m_s
+        ep[EK.EP_FEED_A:EK.EP_FEED_A + 3] = acceleration_m_s2
+        ep[EK.EP_FEED_J:EK.EP_FEED_J + 3] = jerk_m_s3
+        run.z[b + EK.RCV_X:b + EK.RCV_X + 3] = p0
+        run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = velocity_m_s
 
     def _command_places(self, run) -> list:
         """(index in the held commands, index in the state) of every commanded number."""

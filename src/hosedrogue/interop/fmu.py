@@ -92,10 +92,6 @@ def _payload(model, kind: str | None):
         if interface is not ENGAGEMENT_FMU:
             raise ParameterError(f"kind = {kind!r}: a scenario exports the {ENGAGEMENT_FMU.kind!r} FMU (the "
                                  "fixed-length FMU takes a Params)")
-        if model.params.hose.elastic:
-            raise ParameterError(f"hose.axial_stiffness_n = {model.params.hose.axial_stiffness_n!r}: the engagement FMU "
-                                 "carries the rigid chain (axial_stiffness_n = inf); set it, with numerics.integrator "
-                                 "= 'rk4', or run the elastic hose by hosedrogue simulate")
         scenario = fmu_scenario(model)
         starts = fmu_starts(scenario, default_sample_time(model))  # builds the run once: a bad value fails here
         record = scenario_record(scenario, starts)

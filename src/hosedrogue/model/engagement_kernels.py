@@ -84,7 +84,13 @@ from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R
 # [q, qd, lam, lamd], 6n; hosedrogue.model.elastic); EP_SCHEME the integrator, SCHEME_RK4 or
 # SCHEME_SDIRK2 (elastic only; hosedrogue.model.implicit); EP_ITER the SDIRK's corrections per stage
 EP_ELASTIC, EP_SCHEME, EP_ITER = 61, 62, 63
-EP_SIZE = 64
+# a probe path fed from outside (the engagement FMU's position input; hosedrogue.engagement.stepper's
+# receiver_pass_through): EP_FEED 1 when the receiver's tip is, instead of its response, the cubic
+# in time p(t) = P + V s + A s^2 / 2 + J s^3 / 6, s = t - T0, from EP_FEED_T0 [s] with EP_FEED_P (3)
+# [m], EP_FEED_V (3) [m/s], EP_FEED_A (3) [m/s^2] and EP_FEED_J (3) [m/s^3] (tanker frame),
+# evaluated at every stage's time as the prescribed path is (fed_tip)
+EP_FEED, EP_FEED_T0, EP_FEED_P, EP_FEED_V, EP_FEED_A, EP_FEED_J = 64, 65, 66, 69, 72, 75
+EP_SIZE = 78
 # EP_CTRL: 1 with a drogue controller in the loop (its states follow the pilot's, see below);
 # EP_NPIL: number of states of the block after the tail (the pilot's PIL_STATES or the receiver's
 # RCV_STATES, and the commanded reel's one; see below); EP_PIL_*: the pilot's reaction time [s], lag
@@ -257,11 +263,39 @@ def probe_state(t, ep):
 
 
 @njit(**JIT)
+def fed_axis(s, ep, i):
+    """Position, velocity and acceleration [m, m/s, m/s^2] along axis i of the fed path (``EP_FEED``)
+    s seconds after ``EP_FEED_T0``."""
+    v0, a0, j = ep[EP_FEED_V + i], ep[EP_FEED_A + i], ep[EP_FEED_J + i]
+    return (ep[EP_FEED_P + i] + s * (v0 + s * (0.5 * a0 + s * (j / 6.0))), v0 + s * (a0 + 0.5 * s * j),
+            a0 + s * j)
+
+
+@njit(**JIT)
+def fed_tip(t, ep):
+    """Position, velocity and acceleration [m, m/s, m/s^2] (tuples of 3) at time t of a probe path
+    fed from outside (``EP_FEED``): the cubic from ``EP_FEED_T0`` with ``EP_FEED_P``,
+    ``EP_FEED_V``, ``EP_FEED_A`` and ``EP_FEED_J``."""
+    s = t - ep[EP_FEED_T0]
+    px, vx, ax = fed_axis(s, ep, 0)
+    py, vy, ay = fed_axis(s, ep, 1)
+    pz, vz, az = fed_axis(s, ep, 2)
+    return (px, py, pz), (vx, vy, vz), (ax, ay, az)
+
+
+@njit(**JIT)
 def probe_tip(t, z, n, ep):
     """Probe-tip position and velocity [m, m/s] at time t and state z: :func:`probe_state`, whose
     lateral and vertical motion the pilot's states replace when a pilot flies the probe; the
-    receiver's states when the receiver flies it."""
+    receiver's states when the receiver flies it; a fed path (:func:`fed_tip`) as a function of
+    time, as the prescribed path, not through the states: an integrator's stages then see the tip
+    where the path is at their times (the states' stage values of a curved path are off by
+    O(h^2): the SDIRK's first stage puts it at p + hg v + (hg)^2 a, the path is at
+    p + hg v + (hg)^2 a / 2)."""
     if ep[EP_RCV] != 0.0:
+        if ep[EP_FEED] != 0.0:
+            p, v, _ = fed_tip(t, ep)
+            return p[0], p[1], p[2], v[0], v[1], v[2]
         b = tail_start(n, ep) + Z_TAIL
         return (z[b + RCV_X], z[b + RCV_X + 1], z[b + RCV_X + 2], z[b + RCV_VX], z[b + RCV_VX + 1],
                 z[b + RCV_VX + 2])
@@ -329,12 +363,20 @@ def pilot_rates(t, z, n, ep, hist, dz):
 
 
 @njit(**JIT)
-def receiver_rates(z, n, ep, dz):
+def receiver_rates(t, z, n, ep, dz):
     """dz/dt of the receiver's states (docs/controllers.md): per axis the held velocity command,
     clipped to the speed bound, is followed through the first-order lag tau_v with the
     acceleration clipped to its bound (the pilot model's response, :func:`pilot_rates`); the
-    command itself is held (zero rate)."""
+    command itself is held (zero rate). A fed path (``EP_FEED``): the tip's velocity and
+    acceleration at time t on it (:func:`fed_tip`; the states follow it, the tip is the path)."""
     b = tail_start(n, ep) + Z_TAIL
+    if ep[EP_FEED] != 0.0:
+        _, v, a = fed_tip(t, ep)
+        for i in range(3):
+            dz[b + RCV_X + i] = v[i]
+            dz[b + RCV_VX + i] = a[i]
+            dz[b + RCV_CX + i] = 0.0
+        return
     tv = ep[EP_RCV_TV]
     for i in range(3):
         vmax = ep[EP_RCV_VMAX + i]
@@ -665,7 +707,7 @@ def loop_rates(t, z, n, b, ep, loop, hist, out, dz):
     if ep[EP_PIL] != 0.0:
         pilot_rates(t, z, n, ep, hist, dz)
     elif ep[EP_RCV] != 0.0:
-        receiver_rates(z, n, ep, dz)
+        receiver_rates(t, z, n, ep, dz)
     if ep[EP_REEL_SLOT] != 0.0:
         dz[b + Z_TAIL + int(ep[EP_REEL_SLOT]) - 1] = 0.0  # the held take-up speed command
     if ep[EP_CTRL] != 0.0:
