@@ -1,17 +1,23 @@
 """The engagement FMU against ``simulate`` on the full ``engage-response`` (issue 20's check),
 printed as figures (never asserted): the FMU exported by ``hosedrogue export-fmu --engagement``,
 run in fmpy (in this process) by a script master that feeds it the scenario's probe path at every
-RK4 step (``probe_position_input`` true: positions; with ``probe_velocity_feed`` true also their
-velocities; the capture time from the ``simulate`` run), against ``hosedrogue simulate
-engage-response`` (160 links, RK4 at 0.625 ms, 15 s).
+integration step (``probe_position_input`` true: positions; with ``probe_velocity_feed`` true also
+their velocities; the capture time from the ``simulate`` run), against ``hosedrogue simulate
+engage-response``: the shipped scenario (160 elastic links, the SDIRK at 5 ms, 15 s) and the rigid
+links it had before its hose became elastic (RK4 at 0.625 ms; docs/model.md §11). The FMU moves the
+tip within a step on a parabola (positions) or a cubic (positions and velocities), met by the hose at
+every integration stage's time as simulate's prescribed path is (docs/interop.md, "Against
+simulate"; expect 1.4e-7 and 3.5e-9 m elastic, 1.4e-9 and 1.1e-10 m rigid).
 
-Prints, for each feed, the largest drogue-position difference (target <= 1e-6 m), that before the
-push's speed ramp (where the path is a straight line and the two runs are the same arithmetic),
-the hose-length difference, and the wall time of both runs. tests/test_fmu_engagement.py runs
-the same comparison on a coarse variant (20 links, 1.25 ms, 4 s) in seconds.
+Prints, for each hose and feed, the largest drogue-position difference (target <= 1e-6 m), that
+before the push's speed ramp (where the path is a straight line and the two runs are the same
+arithmetic), the hose-length difference, and the wall time of both runs.
+tests/test_fmu_engagement.py runs the same comparison on a coarse variant (20 links, 4 s) in
+seconds; --links 20 --duration 4 --standoff 3.0006 --step S measures the convergence in the step
+(that standoff, the test's, keeps the capture off the step grid: see there).
 
-Run:  .venv/bin/python benchmarks/fmu_engagement.py                       (the full case)
-      .venv/bin/python benchmarks/fmu_engagement.py --links 20 --step 0.00125 --duration 4
+Run:  .venv/bin/python benchmarks/fmu_engagement.py                       (the full case, both hoses)
+      .venv/bin/python benchmarks/fmu_engagement.py --hose elastic --links 20 --duration 4 --standoff 3.0006 --step 0.0025
 """
 
 from __future__ import annotations
@@ -74,23 +80,19 @@ def fly(fmu: Path, step_s: float, steps: int, path, feed: bool) -> np.ndarray:
     return np.array(rows)
 
 
-def main() -> None:
-    from hosedrogue import load_scenario, run
-    from hosedrogue.interop.fmu import export_fmu, prepare_python_host
+#: engage-response's hose before it became elastic: rigid links, RK4 at 0.625 ms
+RIGID = {"hose": {"axial_stiffness_n": float("inf"), "axial_damping_n_s": 0.0},
+         "numerics": {"integrator": "rk4", "step_s": 0.000625}}
 
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--links", type=int)
-    ap.add_argument("--step", type=float, help="RK4 step [s]")
-    ap.add_argument("--duration", type=float, help="[s]")
-    args = ap.parse_args()
-    scenario = load_scenario("engage-response").with_overrides(duration_s=args.duration)
-    numerics = {"output_every": 1} | ({"step_s": args.step} if args.step else {})
-    hose = {"links": args.links} if args.links else {}
-    scenario = dataclasses.replace(scenario, params=scenario.params.replace(hose=hose, numerics=numerics))
+
+def compare(scenario, label: str) -> None:
+    """Run ``scenario`` by simulate and its FMU in fmpy fed the probe path (both feeds); print the figures."""
+    from hosedrogue import run
+    from hosedrogue.interop.fmu import export_fmu
+
     p, probe = scenario.params, scenario.engagement.probe
-    print(f"engage-response: {p.hose.links} links, RK4 {p.numerics.step_s:g} s, {scenario.duration_s:g} s "
-          "(the machine's 2 cores are shared)")
-    prepare_python_host()
+    print(f"engage-response, {label}: {p.hose.links} links, {p.numerics.integrator} {p.numerics.step_s:g} s, "
+          f"{scenario.duration_s:g} s (the machine's 2 cores are shared)")
     wall = time.perf_counter()
     result = run(scenario)
     sim_wall = time.perf_counter() - wall
@@ -113,6 +115,33 @@ def main() -> None:
             print(f"  {'positions and velocities' if feed else 'positions only'}: drogue max |dP| = {diff.max():.3g} m "
                   f"(target <= {TARGET_M:g} m), before the ramp {diff[t <= ramp].max():.3g} m; hose length max |dL| "
                   f"= {length:.3g} m; FMU in fmpy {fmu_wall:.1f} s wall ({steps} communication steps)")
+
+
+def main() -> None:
+    from hosedrogue import load_scenario
+    from hosedrogue.interop.fmu import prepare_python_host
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--hose", choices=("elastic", "rigid", "both"), default="both",
+                    help="the shipped elastic hose, the former rigid links, or both")
+    ap.add_argument("--links", type=int)
+    ap.add_argument("--step", type=float,
+                    help="integration step [s] (default the hose's: 5 ms elastic, 0.625 ms rigid)")
+    ap.add_argument("--duration", type=float, help="[s]")
+    ap.add_argument("--standoff", type=float, help="the probe's start standoff [m] (default the scenario's 3 m)")
+    args = ap.parse_args()
+    shipped = load_scenario("engage-response").with_overrides(duration_s=args.duration)
+    if args.standoff is not None:
+        e = shipped.engagement
+        probe = dataclasses.replace(e.probe, standoff_m=args.standoff)
+        shipped = dataclasses.replace(shipped, engagement=dataclasses.replace(e, probe=probe))
+    prepare_python_host()
+    for label in ("elastic", "rigid") if args.hose == "both" else (args.hose,):
+        tables = RIGID if label == "rigid" else {"hose": {}, "numerics": {}}
+        hose = tables["hose"] | ({"links": args.links} if args.links else {})
+        numerics = tables["numerics"] | {"output_every": 1} | ({"step_s": args.step} if args.step else {})
+        scenario = dataclasses.replace(shipped, params=shipped.params.replace(hose=hose, numerics=numerics))
+        compare(scenario, "shipped, elastic" if label == "elastic" else "rigid links (before the hose became elastic)")
 
 
 if __name__ == "__main__":

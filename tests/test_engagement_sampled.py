@@ -182,8 +182,13 @@ def test_pd_docking_captures_where_the_straight_line_misses(moderate):
 def locked_setup():
     """engage-locked's set-up (the probe closes at 1.5 m/s, pushes 2 m, holds; 15 s) on 40 links
     (the link count that keeps this a few seconds; the 160-link figures are in
-    benchmarks/user_controllers.py)."""
-    return with_links(load_scenario("engage-locked"), 40)
+    benchmarks/user_controllers.py), with rigid links on the RK4 step the scenario had before its
+    hose became elastic (the figures below are the rigid chain's; the elastic hose's zero take-up:
+    tests/test_engagement_elastic.py)."""
+    sc = load_scenario("engage-locked")
+    rigid = sc.params.replace(hose={"axial_stiffness_n": math.inf, "axial_damping_n_s": 0.0},
+                              numerics={"integrator": "rk4", "step_s": 0.000625, "output_every": 16})
+    return with_links(dataclasses.replace(sc, params=rigid), 40)
 
 
 def test_zero_takeup_is_the_locked_reel(locked_setup):

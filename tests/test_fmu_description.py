@@ -41,7 +41,8 @@ def fmus(tmp_path_factory):
 
 
 def engagement_scenario():
-    """``engage-response`` on a coarse mesh, short: what the engagement FMU freezes at export."""
+    """``engage-response`` (its elastic hose, docs/model.md §11, on the SDIRK) on a coarse mesh,
+    short: what the engagement FMU freezes."""
     import dataclasses
 
     from hosedrogue import load_scenario

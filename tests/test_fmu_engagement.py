@@ -19,43 +19,73 @@ from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import FMU2Slave  # noqa: E402
 
 LINKS = 20
-#: RK4 step [s] of the coarse variant: engage-response's 0.625 ms scaled with the link length
-#: would be 5 ms at 20 links; 1.25 ms keeps the probe path's first-order hold in the ramp (below)
-#: at 3e-7 m, under the check's 1e-6 m
-STEP_S = 0.00125
-DURATION_S = 4.0  # capture at 2.0 s (3 m at 1.5 m/s), the push's ramp 2.83-3.83 s
+#: SDIRK step [s] of the coarse variant: engage-response's own 5 ms
+STEP_S = 0.005
+#: RK4 step [s] of the rigid variant: engage-response's former 0.625 ms scaled with the link
+#: length would be 5 ms at 20 links; 1.25 ms keeps the probe path's first-order hold in the ramp
+#: (below) at 3e-7 m, under the check's 1e-6 m
+RIGID_STEP_S = 0.00125
+DURATION_S = 4.0  # capture at 2.0004 s (3.0006 m at 1.5 m/s), the push's ramp 2.83-3.83 s
+#: [m]: engage-response's 3 m would put the capture at 2.0 s, on the end of a step, a knife edge
+#: where rounding (1e-13 m in the tip's position) decides in which step the tip crosses the
+#: coupler plane (the elastic FMU flown by velocity commands coupled one step before simulate:
+#: 3e-4 m apart); 0.6 mm more puts it 0.08 of a step past the grid at 5 ms (0.32 at 1.25 ms), 0.6 mm
+#: of tip travel against rounding's 1e-13 m
+STANDOFF_M = 3.0006
 AXES = "xyz"
 
-#: engage-response on 20 links instead of 160, 4 s instead of 15 (the full case: docs/interop.md)
-COARSE = f"""
+
+def coarse(rigid: bool) -> str:
+    """engage-response on 20 links instead of 160, 4 s instead of 15 (the full case:
+    docs/interop.md): its elastic hose (docs/model.md §11) and the SDIRK, or the rigid links
+    (RK4) it had before its hose became elastic."""
+    hose = "axial_stiffness_n = inf\naxial_damping_n_s = 0.0" if rigid else ""
+    numerics = f'integrator = "rk4"\nstep_s = {RIGID_STEP_S}' if rigid else f"step_s = {STEP_S}"
+    return f"""
 [scenario]
 extends = "engage-response"
-name = "engage-response-coarse"
+name = "engage-response-coarse{'-rigid' if rigid else ''}"
 duration_s = {DURATION_S}
 
 [hose]
 links = {LINKS}
+{hose}
+
+[probe]
+standoff_m = {STANDOFF_M}
 
 [numerics]
-step_s = {STEP_S}
+{numerics}
 output_every = 1
 """
 
 
-@pytest.fixture(scope="module")
-def case(tmp_path_factory):
+def build_case(tmp_path_factory, rigid: bool):
     """The coarse scenario file, its run by ``simulate`` and its engagement FMU."""
     from hosedrogue import load_scenario, run
     from hosedrogue.interop.fmu import prepare_python_host
 
     prepare_python_host()  # fmpy runs the FMU in this interpreter (docs/interop.md)
-    folder = tmp_path_factory.mktemp("engagement_fmu")
+    folder = tmp_path_factory.mktemp("engagement_fmu_rigid" if rigid else "engagement_fmu")
     toml = folder / "coarse.toml"
-    toml.write_text(COARSE)
+    toml.write_text(coarse(rigid))
     fmu = folder / "engagement.fmu"
     assert main(["export-fmu", "--engagement", str(toml), "--out", str(fmu)]) == 0
     scenario = load_scenario(str(toml))
+    assert scenario.params.hose.elastic != rigid
     return scenario, run(scenario), fmu
+
+
+@pytest.fixture(scope="module")
+def case(tmp_path_factory):
+    """The coarse engage-response with its elastic hose (the SDIRK at 5 ms)."""
+    return build_case(tmp_path_factory, rigid=False)
+
+
+@pytest.fixture(scope="module")
+def rigid_case(tmp_path_factory):
+    """The coarse engage-response with rigid links (RK4 at 1.25 ms)."""
+    return build_case(tmp_path_factory, rigid=True)
 
 
 def prescribed_path(t_s, start_m, probe, t_cap_s):
@@ -75,8 +105,8 @@ def prescribed_path(t_s, start_m, probe, t_cap_s):
     return np.asarray(start_m) + (s, 0.0, 0.0), np.array([v, 0.0, 0.0])
 
 
-def fly(fmu, steps, command, start=None, position_input=True, velocity_feed=False):
-    """Drive the FMU like a script master: per communication step of STEP_S, set the inputs
+def fly(fmu, steps, command, start=None, position_input=True, velocity_feed=False, step_s=STEP_S):
+    """Drive the FMU like a script master: per communication step of ``step_s`` [s], set the inputs
     ``command(k, outputs) -> {name: value}`` and take the step; the outputs at every point."""
     md = fmpy.read_model_description(str(fmu))
     vr = {v.name: v.valueReference for v in md.modelVariables}
@@ -89,7 +119,7 @@ def fly(fmu, steps, command, start=None, position_input=True, velocity_feed=Fals
         slave.setupExperiment(startTime=0.0)
         slave.enterInitializationMode()
         slave.setBoolean([vr["probe_position_input"], vr["probe_velocity_feed"]], [position_input, velocity_feed])
-        slave.setReal([vr["sample_time_s"]], [STEP_S])
+        slave.setReal([vr["sample_time_s"]], [step_s])
         if start is not None:
             slave.setReal([vr[f"probe_cmd_{a}_m"] for a in AXES], list(start))
         slave.exitInitializationMode()
@@ -104,7 +134,7 @@ def fly(fmu, steps, command, start=None, position_input=True, velocity_feed=Fals
             inputs = command(k, rows[-1])
             slave.setReal([vr[n] for n in inputs], list(inputs.values()))
             try:
-                slave.doStep(currentCommunicationPoint=k * STEP_S, communicationStepSize=STEP_S)
+                slave.doStep(currentCommunicationPoint=k * step_s, communicationStepSize=step_s)
             except FMICallException:  # fmi2Discard: the step was not taken
                 break
             taken += 1
@@ -131,24 +161,26 @@ def columns(rows, prefix):
 
 
 @pytest.mark.parametrize("feed", [False, True], ids=["positions", "positions-and-velocities"])
-def test_fed_the_probe_path_it_matches_simulate(case, feed):
+@pytest.mark.parametrize("hose", ["elastic", "rigid"])
+def test_fed_the_probe_path_it_matches_simulate(request, hose, feed):
     """The check of issue 20: the FMU in fmpy, fed the probe path of engage-response (positions at
     each communication step, with the velocity feed their velocities too; the capture time from
-    the run), against ``simulate``."""
-    scenario, result, fmu = case
+    the run), against ``simulate``: the shipped elastic hose and the rigid links."""
+    scenario, result, fmu = request.getfixturevalue("rigid_case" if hose == "rigid" else "case")
+    step_s = scenario.params.numerics.step_s
     probe = scenario.engagement.probe
     frame = result.to_dataframe()
     start = frame[[f"probe_{a}_m" for a in AXES]].to_numpy()[0]
     t_cap = result.outcome["contact_time_s"]
     assert result.completed and result.outcome["result"] == "captured"
-    steps = round(DURATION_S / STEP_S)
+    steps = round(DURATION_S / step_s)
 
     def command(k, _):
-        p, v = prescribed_path((k + 1) * STEP_S, start, probe, t_cap)
+        p, v = prescribed_path((k + 1) * step_s, start, probe, t_cap)
         names = [f"probe_cmd_{a}_m" for a in AXES] + ([f"probe_cmd_v{a}_m_s" for a in AXES] if feed else [])
         return dict(zip(names, [*p, *v]))
 
-    rows, taken = fly(fmu, steps, command, start=start, velocity_feed=feed)
+    rows, taken = fly(fmu, steps, command, start=start, velocity_feed=feed, step_s=step_s)
     assert taken == steps and len(rows) == len(frame)
     t = frame["t_s"].to_numpy()
     drogue = np.abs(columns(rows, "drogue") - frame[[f"drogue_{a}_m" for a in AXES]].to_numpy()).max(axis=1)
@@ -156,18 +188,37 @@ def test_fed_the_probe_path_it_matches_simulate(case, feed):
     length = np.abs(np.array([r["hose_length_m"] for r in rows]) - frame["hose_length_m"].to_numpy()).max()
     ramp = t_cap + (probe.push_m - 0.5 * probe.closure_speed_m_s * probe.stop_time_s) / probe.closure_speed_m_s
     fed = "positions and velocities" if feed else "positions"
-    print(f"FMU ({fed}) vs simulate: drogue max |dP| = {drogue.max():.3g} m ({drogue[t <= ramp].max():.3g} m before "
-          f"the push's ramp at {ramp:.3f} s), probe tip {probe_tip:.3g} m, hose length {length:.3g} m")
+    print(f"FMU ({hose}, {fed}) vs simulate: drogue max |dP| = {drogue.max():.3g} m ({drogue[t <= ramp].max():.3g} m "
+          f"before the push's ramp at {ramp:.3f} s), probe tip {probe_tip:.3g} m, hose length {length:.3g} m")
     # the probe tip at the communication points is the fed path to rounding (1e-12 m of 20 m)
     assert probe_tip < 1e-12
-    # until the ramp the path is straight at constant speed, so the FMU's parabolas through it are
-    # the path itself: the same run to rounding (1e-9 m)
+    if feed:  # the cubic through both ends' positions and velocities ends at the velocity fed:
+        # rounding of positions of 20 m differenced over the step, 1e-9 m/s
+        tip_v = np.array([[r[f"probe_v{a}_m_s"] for a in AXES] for r in rows[1:]])
+        fed_v = np.array([prescribed_path((k + 1) * step_s, start, probe, t_cap)[1] for k in range(steps)])
+        assert np.abs(tip_v - fed_v).max() < 1e-9
+    # until the ramp the path is straight at constant speed, so the FMU's polynomials through it
+    # are the path itself: the same run to rounding (1e-9 m)
     assert drogue[t <= ramp].max() < 1e-9
-    # in the ramp the FMU moves the tip on parabolas (through the last three positions, or from the
-    # velocity given), the run on the cosine: a difference of order h^3 (measured 3.9e-8, 5.1e-9,
-    # 6.5e-10 m at 5, 2.5, 1.25 ms with positions; 1.3e-8, 1.8e-9, 2.1e-10 m with velocities);
-    # the check's bound 1e-6 m, here 1e-8 m (15x the measured: a smooth path is followed to O(h^3))
-    assert drogue.max() < 1e-8 and length < 1e-8
+    # in the ramp the kernel evaluates the FMU's tip, as the run's prescribed path, at every
+    # integrator stage's time (not as states through the stages: the SDIRK's first stage had it at
+    # p + hg v + (hg)^2 a where the path is at p + hg v + (hg)^2 a / 2, 1.8e-6 m here at 5 ms,
+    # O(h^2)), so what remains is how the FMU's polynomial over each step departs from the cosine
+    if not feed:
+        # the parabola leaving with the three-point parabola's slope: it meets the fed positions at
+        # both ends, so its velocity error has zero mean over the step; RK4's Simpson weights
+        # integrate that quadratic exactly (measured O(h^3): 4.3e-8, 5.4e-9, 6.7e-10 m at 5, 2.5,
+        # 1.25 ms on the rigid links; bound 1e-8 m at 1.25 ms), the SDIRK's two stages (at hg and
+        # h) only a linear one (O(h^2): 1.6e-7, 4.2e-8, 1.1e-8 m on the elastic hose): the check's
+        # 1e-6 m
+        bound = 1e-8 if hose == "rigid" else 1e-6
+        assert drogue.max() < bound and length < bound
+    else:
+        # the cubic through both ends' positions and velocities: O(h^4) in position, O(h^3) in
+        # velocity (measured 2.4e-9, 6.5e-10, 2.3e-11 m at 5, 2.5, 1.25 ms on the elastic hose, the
+        # same with the stages corrected to 1e-9 m/s; 1.3e-9, 1.1e-11, 1.1e-13 m on the rigid
+        # links): 1e-8 m, 4x the largest, 1 % of the check's
+        assert drogue.max() < 1e-8 and length < 1e-8
     assert rows[-1]["coupled"] and not rows[0]["coupled"]
     assert max(r["probe_load_n"] for r in rows) == pytest.approx(result.outcome["peak_probe_load_n"], rel=1e-3)
 
@@ -214,7 +265,9 @@ def test_velocity_commands_through_the_receiver_hold_the_closure_speed(case):
 
 
 @pytest.mark.parametrize("inputs, reason", [
-    ({"u_y_n": 1e7}, r"stopped at t = [0-9.e+-]+ s: .*(yaw passed the limit|non-finite)"),  # 1600x the tow tension
+    # 1600x the tow tension: the rigid links swing past the yaw limit, the elastic hose's responsive
+    # reel pays out past its end stop (measured: at 0.061 s, L = 30.8 m of 30 m)
+    ({"u_y_n": 1e7}, r"stopped at t = [0-9.e+-]+ s: .*(yaw passed the limit|non-finite|left the reel's range)"),
     ({"u_y_n": math.nan}, r"refused a step at t = 0 s: input u_y_n = nan: must be a finite number"),
 ])
 def test_a_failed_step_logs_its_reason(case, inputs, reason):
@@ -273,23 +326,25 @@ def test_check_validates_and_runs_the_engagement_fmu(case, capsys):
 
 
 @pytest.mark.parametrize("take_up_m_s", [0.0, 0.5])
-def test_the_reel_command_sets_the_take_up(case, tmp_path, take_up_m_s):
+def test_the_reel_command_sets_the_take_up(rigid_case, tmp_path, take_up_m_s):
     """A reel of law "python" commanded through reel_speed_cmd_m_s: the drive follows the held
     command through its first-order lag (tau = speed_time_constant_s) within its torque limit, so
-    from rest L(t) = L0 - c (t - tau (1 - exp(-t / tau))); zero keeps the length (as locked)."""
+    from rest L(t) = L0 - c (t - tau (1 - exp(-t / tau))); zero keeps the length (as locked). On
+    the rigid links: their RK4 integrates the lag to the bounds below."""
     import dataclasses
 
     from hosedrogue.interop.fmu import export_fmu
 
-    scenario, _, _ = case
+    scenario, _, _ = rigid_case
     reel = dataclasses.replace(scenario.engagement.reel, law="python")
     commanded = dataclasses.replace(scenario, duration_s=1.0,
                                     engagement=dataclasses.replace(scenario.engagement, reel=reel))
     fmu = export_fmu(tmp_path / "reel.fmu", commanded)
-    steps = round(1.0 / STEP_S)
-    rows, taken = fly(fmu, steps, lambda k, _: {"reel_speed_cmd_m_s": take_up_m_s}, position_input=False)
+    steps = round(1.0 / RIGID_STEP_S)
+    rows, taken = fly(fmu, steps, lambda k, _: {"reel_speed_cmd_m_s": take_up_m_s}, position_input=False,
+                      step_s=RIGID_STEP_S)
     assert taken == steps and not rows[-1]["coupled"]  # the probe is still closing (contact at 2 s)
-    t = STEP_S * np.arange(steps + 1)
+    t = RIGID_STEP_S * np.arange(steps + 1)
     tau = reel.speed_time_constant_s
     expected = rows[0]["hose_length_m"] - take_up_m_s * (t - tau * (1.0 - np.exp(-t / tau)))
     length = np.array([r["hose_length_m"] for r in rows])

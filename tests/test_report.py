@@ -291,8 +291,8 @@ def _folder(path):
 
 def test_engagement_section_alone_marks_the_fast_runs(tmp_path):
     """The fast version's engagement runs are not the shipped mesh: the section says so; every
-    reel captures, the locked reel whips (its exit-tension peak flagged), the constant-tension
-    reel does not."""
+    reel captures; on its 0.4 m links no peak is claimed converged (docs/engagement.md); the
+    tension wave is drawn and written."""
     from hosedrogue.report import engagement
     from hosedrogue.report.settings import FAST
 
@@ -305,11 +305,16 @@ def test_engagement_section_alone_marks_the_fast_runs(tmp_path):
     for law, run in eng["runs"].items():
         assert run["captured"] is True, law
         assert run["peak_probe_load_n"] > 0 and run["peak_slack_m"] > 0, law
-    assert eng["runs"]["locked"]["peak_exit_tension_converged"] is False
-    assert eng["runs"]["constant-tension"]["peak_exit_tension_converged"] is True
+    # the fast version's 0.4 m links are coarser than the 0.1 m the peaks were shown to converge at
+    assert not any(v for run in eng["runs"].values() for v in run["converged"].values())
     (section,) = [s.html for s in out.sections if s.anchor == "engagement"]
     assert 'id="engagement-fast"' in section and f"{eng['links']} links" in section
     assert "not converged" in section
+    # the elastic hose's tension wave: a figure and its data around each run's peak exit tension
+    assert 'id="fig-engagement-wave"' in section and (tmp_path / "fig_engagement_wave.png").exists()
+    wave = np.genfromtxt(tmp_path / "engagement_wave.csv", delimiter=",", names=True, dtype=None, encoding=None)
+    assert set(wave["scenario"]) == {"engage-locked", "engage-constant-tension", "engage-response"}
+    assert np.max(wave["tension_n"]) > 1000.0 and np.max(wave["s_m"]) > 15.0
 
 
 def test_manoeuvres_section_alone(tmp_path):

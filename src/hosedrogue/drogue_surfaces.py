@@ -145,3 +145,21 @@ class DrogueActuator(Section):
     def command_size(self) -> int:
         """How many numbers the drogue's controller returns: 2 (the force) or one per surface."""
         return 2 if self.command == "force" else self.surfaces
+
+    def check_hose(self, axial_stiffness_n: float) -> None:
+        """The surfaces' kernels run the rigid links' state layout: refuse an elastic hose.
+
+        Parameters
+        ----------
+        axial_stiffness_n : float
+            The hose's axial stiffness EA [N] (``hose.axial_stiffness_n``; inf: rigid links).
+
+        Raises
+        ------
+        ParameterError
+            One line naming ``hose.axial_stiffness_n`` and what is allowed with the surfaces.
+        """
+        if math.isfinite(axial_stiffness_n):
+            raise ParameterError(f"hose.axial_stiffness_n = {axial_stiffness_n!r}: the drogue's control surfaces "
+                                 "([drogue_actuator]) run with rigid links only for now; set it to inf or remove "
+                                 "[drogue_actuator] (docs/model.md §11)")

@@ -78,6 +78,14 @@ class Hose(Section):
     #: the opposite on link k+1 (0 in the paper's case; the ``converged`` preset's value,
     #: eta E I / omega_ref, is derived in docs/long-runs.md).
     bending_damping_n_m2_s: float = field(default=0.0, metadata=real(0.0, 1e6, lo_open=False, unit="N m^2 s"))
+    #: Axial stiffness EA of the hose [N]: every link becomes a spring of stiffness EA / l along
+    #: itself, its length a coordinate of the chain (docs/model.md §11); inf (the paper's case):
+    #: rigid, inextensible links. The engagement scenarios' 1e6 N is reasoned in docs/model.md §11.
+    axial_stiffness_n: float = field(default=INF, metadata=real(0.0, unit="N", inf_ok=True))
+    #: Kelvin-Voigt axial damping c_a of the hose wall [N s]: a link's tension is
+    #: EA eps + c_a deps/dt for its strain eps (0: none; needs a finite ``axial_stiffness_n``);
+    #: c_a = eta EA / omega for a loss factor eta at the frequency omega (docs/model.md §11).
+    axial_damping_n_s: float = field(default=0.0, metadata=real(0.0, 1e9, lo_open=False, unit="N s"))
 
     def _check_consistency(self) -> None:
         if self.inner_diameter_m >= self.outer_diameter_m:
@@ -85,6 +93,16 @@ class Hose(Section):
                 f"hose.inner_diameter_m = {self.inner_diameter_m!r}: must be smaller than "
                 f"hose.outer_diameter_m = {self.outer_diameter_m!r}"
             )
+        if self.axial_damping_n_s > 0.0 and math.isinf(self.axial_stiffness_n):
+            raise ParameterError(
+                f"hose.axial_damping_n_s = {self.axial_damping_n_s!r}: an inextensible hose "
+                f"(hose.axial_stiffness_n = inf) has no axial damping; give a finite axial_stiffness_n or 0"
+            )
+
+    @property
+    def elastic(self) -> bool:
+        """Whether the links stretch (a finite ``axial_stiffness_n``)."""
+        return math.isfinite(self.axial_stiffness_n)
 
     @property
     def link_length_m(self) -> float:
@@ -196,8 +214,10 @@ class Numerics(Section):
 
     _section = "numerics"
     #: "rk4": fixed-step classical Runge-Kutta (the paper's); "adaptive": DOP853 with
-    #: ``rtol`` and ``atol`` (cross-checks).
-    integrator: str = field(default="rk4", metadata=choice("rk4", "adaptive"))
+    #: ``rtol`` and ``atol`` (cross-checks); "sdirk2": the fixed-step, L-stable two-stage SDIRK
+    #: with each link's axial spring-damper implicit inside the O(n) recursion, for elastic
+    #: hoses (``hose.axial_stiffness_n`` finite; docs/model.md §11).
+    integrator: str = field(default="rk4", metadata=choice("rk4", "adaptive", "sdirk2"))
     #: RK4 step [s]; the adaptive integrator outputs every ``step_s * output_every``.
     step_s: float = field(default=0.005, metadata=real(0.0, 1.0, unit="s"))
     #: Keep every ``output_every``-th step in the result [-].
@@ -207,6 +227,10 @@ class Numerics(Section):
     #: Absolute tolerance of the adaptive integrator, alike on every state component, in that
     #: component's own unit (link angles rad, their rates rad/s, controller and actuator states).
     atol: float = field(default=1e-11, metadata=real(0.0, 1.0, unit="state units"))
+    #: Corrections per stage of the "sdirk2" integrator [-]: each evaluates the chain at the
+    #: stage's current guess with the axial spring-damper implicit (docs/model.md §11); 2 keeps
+    #: the violent snaps of a whip stable at the engagement scenarios' steps, where 1 does not.
+    sdirk_corrections: int = field(default=2, metadata=integer(1, 10))
     #: A link yaw beyond this [deg] stops the run: the angle coordinates are singular at 90 deg.
     max_yaw_deg: float = field(default=85.0, metadata=real(0.0, 89.9, unit="deg"))
 

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from .load_convergence import converged_peaks, went_slack
 from .metrics import WithSurfaces
 from .version import __version__
 
@@ -268,17 +269,6 @@ class SimulationResult(WithSurfaces, RunResult):
 SUMMARY_KEYS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",
                 "peak_slack_m", "peak_drogue_excursion_m", "peak_control_force_n")
 
-#: The hose counts as gone slack when its exit tension falls below this fraction of the steady
-#: trail tension (the exit tension at the start, at the balance position).
-SLACK_TENSION_FRACTION = 0.1
-
-#: ``notes`` entry of a run in which the hose went slack (:meth:`EngagementResult.went_slack`).
-SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail tension): peak_exit_tension_n "
-              "and min_exit_tension_n are snap spikes of an inextensible link chain and are not converged "
-              "with the link count (docs/engagement.md). The peak probe load and the peak slack of the shipped "
-              "scenarios change by less than 5 % when their links are doubled")
-
-
 @dataclass(frozen=True, kw_only=True)
 class EngagementResult(WithSurfaces, RunResult):
     """Time histories (S_p, SI units) and the outcome of one engagement run.
@@ -300,9 +290,14 @@ class EngagementResult(WithSurfaces, RunResult):
     links: np.ndarray  #: (N,) number of links
     hose_mass_kg: np.ndarray  #: (N,) hose mass in the air from the lumped masses [kg]
     joint_velocities_m_s: list  #: per output time, (n+1, 3) joint velocities [m/s]
-    energy: dict  #: "kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe" (N,) [J]
+    energy: dict  #: "kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe", "axial" (N,) [J]
     events: list  #: remesh, chart and contact events (dicts, times [s], jumps [m], [m/s], [J])
     outcome: dict  #: result, contact figures and peaks (keys carry their units, e.g. ``peak_slack_m``)
+    #: elastic links: (steps + 1, 5) the loads after every integration step: time [s], exit
+    #: tension [N], drogue-end tension [N], probe load [N], slack [m] (None for rigid links)
+    step_loads: np.ndarray | None = None
+    #: elastic links: per output time, every link's tension [N] (n,), exit link first (None for rigid links)
+    link_tensions_n: list | None = None
 
     def extra_columns(self) -> dict[str, np.ndarray]:
         """The engagement's columns after :data:`COLUMNS`: reel, tensions, probe, coupler-plane
@@ -374,22 +369,19 @@ class EngagementResult(WithSurfaces, RunResult):
 
     def went_slack(self) -> bool:
         """Whether the hose went (nearly) slack: the exit tension fell below
-        :data:`SLACK_TENSION_FRACTION` of the steady trail tension. Then the hose whips, and the
-        exit-tension spikes when it snaps taut again are not converged with the link count
-        (docs/engagement.md; the shipped scenarios' minimum exit tension: locked reel -1.9 kN,
-        responsive reel 38 N, of a 1.53 kN trail tension; the constant-tension reel keeps 551 N and
-        all its peaks converge).
+        :data:`~hosedrogue.load_convergence.SLACK_TENSION_FRACTION` of the steady trail tension
+        (:func:`hosedrogue.load_convergence.went_slack`).
 
         Returns
         -------
         bool
         """
-        T = np.asarray(self.exit_tension_n)
-        return bool(T.size and np.min(T) < SLACK_TENSION_FRACTION * T[0])
+        return went_slack(self.exit_tension_n)
 
     def summary(self) -> dict[str, Any]:
         """The run's ``"engagement"`` object: :data:`SUMMARY_KEYS` first, then the supporting
-        figures, ``peak_tension_converged`` and ``notes`` (what not to read as converged).
+        figures, ``peak_tension_converged``, ``converged`` (which peaks are converged with the link
+        count) and ``notes`` (why the others are not; :func:`hosedrogue.load_convergence.converged_peaks`).
 
         Returns
         -------
@@ -399,9 +391,11 @@ class EngagementResult(WithSurfaces, RunResult):
         o = self.outcome
         out = {k: o.get(k) for k in SUMMARY_KEYS}
         out.update({k: v for k, v in o.items() if k not in out})
-        slack = self.went_slack()
-        out["peak_tension_converged"] = not slack
-        out["notes"] = [SLACK_NOTE] if slack else []
+        converged, notes = converged_peaks(self.t_s, self.exit_tension_n, self.slack_m,
+                                           self.hose_length_m[0] / self.links[0], self.step_loads is not None)
+        out["peak_tension_converged"] = converged["peak_exit_tension_n"]
+        out["converged"] = converged
+        out["notes"] = notes
         return out
 
     def plot(self, **kwargs):

@@ -19,6 +19,10 @@ with the load per length ``f = mu g z + d(r, e)``: gravity and the same drag law
 ``d = -1/2 rho pi d_o (c_t v_t |v_t| n + c_n |V_n| V_n)``; the drogue drag
 ``D_d = -1/2 rho |w| (-w) (pi d_d^2 / 4) c_d`` at the drogue.
 
+An elastic hose (finite ``hose.axial_stiffness_n`` = EA) is stretched by its tension: with s
+the material (unstretched) arc length and the loads per material length, ``dr/ds = (1 + |G| /
+EA) G / |G|`` (docs/model.md §11); its actual length is ``L + int |G| / EA ds``.
+
 Because the drogue end carries a known load once its position is known, the problem is solved by
 shooting on the drogue position ``r_L`` (3 unknowns): integrate the six equations from s = L
 back to s = 0 starting from ``r(L) = r_L``, ``G(L) = m_d g z + D_d(r_L)`` (DOP853, relative
@@ -54,7 +58,7 @@ RTOL, ATOL = 1e-13, 1e-12
 class ContinuumShape:
     """Steady shape of the continuous hose, in S_p (x forward, y right, z down), SI units."""
 
-    s_m: np.ndarray  #: arc length from the tow point (k,) [m]
+    s_m: np.ndarray  #: arc length from the tow point (k,) [m] (material arc length for an elastic hose)
     position_m: np.ndarray  #: hose centreline (k, 3) [m]; row 0 is the tow point
     tension_n: np.ndarray  #: load carried along the hose, G(s) (k, 3) [N]
     drogue_position_m: np.ndarray  #: (3,) [m]
@@ -111,6 +115,7 @@ class _Loads:
         self.cda_d = math.pi * drogue.diameter_m**2 / 4.0 * drogue.drag_coefficient
         self.m_d = drogue.mass_kg
         self.wake_on = params.wake.enabled and self.rho > 0.0
+        self.EA = hose.axial_stiffness_n  # inf: inextensible
 
     def air(self, r: np.ndarray) -> np.ndarray:
         w = np.array([-self.V, 0.0, 0.0])
@@ -154,8 +159,10 @@ class _Loads:
 
     def rhs(self, s, y):
         r, G = y[:3], y[3:]
-        e = G / np.linalg.norm(G)
-        return np.concatenate([e, -self.per_length(r, e)])
+        T = np.linalg.norm(G)
+        e = G / T
+        # an elastic hose is stretched by its tension: a material element ds is (1 + T / EA) ds long
+        return np.concatenate([(1.0 + T / self.EA) * e, -self.per_length(r, e)])
 
 
 def _integrate(loads: _Loads, r_L: np.ndarray, L: float, dense: bool = False):

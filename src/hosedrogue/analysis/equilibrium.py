@@ -24,6 +24,7 @@ import scipy.optimize
 
 from ..constants import G0
 from ..errors import EquilibriumError
+from ..model import elastic as E
 from ..model import kernels as K
 from ..model.system import HoseModel
 from ..params import PAPER, Params
@@ -47,6 +48,10 @@ class Equilibrium:
     balance_ratio: float  #: D = V_D / L_H: drogue drop below the tow point over hose length
     residual: float  #: max |Q| over S_1 g l_1 (dimensionless)
     solver: object = field(repr=False)  #: scipy OptimizeResult of the last Newton solve
+    #: elastic links: their actual lengths (n,) [m] under the steady tension; None for rigid links
+    lengths_m: np.ndarray | None = None
+    #: elastic links: the hose's stretch, actual minus material length [m] (0 for rigid links)
+    stretch_m: float = 0.0
 
     @property
     def link_angles_rad(self) -> np.ndarray:
@@ -59,8 +64,11 @@ class Equilibrium:
 
     @property
     def state(self) -> np.ndarray:
-        """The full state [q, 0] (4n,)."""
-        return np.concatenate([self.q, np.zeros_like(self.q)])
+        """The full state [q, 0] (4n,); for elastic links [q, 0, lam, 0] (6n,)."""
+        rest = np.concatenate([self.q, np.zeros_like(self.q)])
+        if self.lengths_m is None:
+            return rest
+        return np.concatenate([rest, self.lengths_m, np.zeros_like(self.lengths_m)])
 
     def to_dict(self) -> dict:
         return {
@@ -203,9 +211,15 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) ->
                 sol,
             )
     q = sol.x.copy()
+    lengths = None
+    if model.elastic:
+        sol, res, q, lengths = _elastic_newton(model, env_full, q, scale)
     # angles are only defined modulo 2 pi; report the principal values
     q = (q + np.pi) % (2 * np.pi) - np.pi
-    out = model.outputs(np.concatenate([q, np.zeros_like(q)]), steady=True)
+    rest = np.concatenate([q, np.zeros_like(q)])
+    if lengths is not None:
+        rest = np.concatenate([rest, lengths, np.zeros_like(lengths)])
+    out = model.outputs(rest, steady=True)
     drogue = out.joints_m[-1].copy()
     return Equilibrium(
         q=q,
@@ -217,4 +231,43 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) ->
         balance_ratio=float(drogue[2] / model.params.hose.length_m),
         residual=res,
         solver=sol,
+        lengths_m=lengths,
+        stretch_m=0.0 if lengths is None else float(np.sum(lengths) - np.sum(model.l)),
     )
+
+
+def _elastic_newton(model: HoseModel, env: np.ndarray, q_rigid: np.ndarray, scale: float):
+    """The elastic chain's balance position from the rigid one: each link stretched by its rigid
+    tension (``lam = l (1 + T / EA)``), then MINPACK's hybrid Newton on the elastic static
+    generalized forces of angles and lengths (:func:`hosedrogue.model.elastic.elastic_static_residual`).
+    Returns the solver result, the scaled residual, the angles [rad] and the lengths [m]."""
+    n, l = model.n, model.l
+    gust = model.gust_values
+    Q = np.empty(3 * n)
+
+    def fun(y):
+        E.elastic_static_residual(np.ascontiguousarray(y), l, model.M, model.J, model.ps, env, gust, 0.0, Q)
+        return Q.copy()
+
+    def jac(y, h=1e-9):
+        m = y.size
+        Jm = np.empty((m, m))
+        yp = y.copy()
+        for i in range(m):
+            step = h * max(1.0, abs(y[i]))
+            yp[i] = y[i] + step
+            fp = fun(yp)
+            yp[i] = y[i] - step
+            fm = fun(yp)
+            yp[i] = y[i]
+            Jm[:, i] = (fp - fm) / (2 * step)
+        return Jm
+
+    tension = fun(np.concatenate([q_rigid, l]))[2 * n:] / l  # at lam = l the residual is l T_rigid
+    y0 = np.concatenate([q_rigid, l * (1.0 + tension / model.ps[K.PS_EA])])
+    sol = scipy.optimize.root(fun, y0, jac=jac, method="hybr", options={"xtol": 1e-14})
+    res = float(np.max(np.abs(fun(sol.x)))) / scale
+    if not (res < RESIDUAL_TOLERANCE):
+        raise EquilibriumError(f"elastic equilibrium not found: residual {res:.3g} of the weight moment "
+                               f"(solver: {sol.message})", sol)
+    return sol, res, sol.x[: 2 * n].copy(), sol.x[2 * n:].copy()

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import kernels as K
+from ..errors import ParameterError
 from ..model.system import HoseModel
 from ..params import PAPER, Params
 from .equilibrium import Equilibrium, solve_equilibrium
@@ -84,6 +85,10 @@ def linearize(params: Params = PAPER, equilibrium: Equilibrium | None = None,
         Central-difference Jacobians (step :data:`FD_STEP`) in SI units.
     """
     model = model if model is not None else HoseModel(params)
+    if model.elastic:
+        raise ParameterError(f"hose.axial_stiffness_n = {model.params.hose.axial_stiffness_n!r}: the linearization is "
+                             "of the rigid chain (axial_stiffness_n = inf); a drogue controller for an elastic hose "
+                             "is designed on its rigid twin (controllers.design.rigid_twin)")
     eq = equilibrium if equilibrium is not None else solve_equilibrium(params, model=model)
     f = _steady_derivative(model)
     x0 = eq.state

@@ -34,8 +34,9 @@ def add_parser(sub) -> None:
                     "balance position and integrates with RK4 sub-steps of numerics.step_s [s]. Running it needs "
                     "a Python with hosedrogue installed; --check validates it with fmpy and runs it here. "
                     "With --engagement SCENARIO: the engagement FMU of that scenario (the hose on its reel, the "
-                    "drogue, the receiver's probe, capture and coupling), frozen at export. Its inputs: the probe "
-                    "tip's position probe_cmd_x_m, probe_cmd_y_m, probe_cmd_z_m [m] at the end of each "
+                    "drogue, the receiver's probe, capture and coupling; the scenario's hose, rigid or elastic), "
+                    "frozen at export. Its inputs: the probe tip's position probe_cmd_x_m, probe_cmd_y_m, "
+                    "probe_cmd_z_m [m] at the end of each "
                     "communication step (parameter probe_position_input true; with probe_velocity_feed true also "
                     "its velocity, probe_cmd_v*_m_s) or its velocity command "
                     "probe_cmd_vx_m_s, probe_cmd_vy_m_s, probe_cmd_vz_m_s [m/s] through the scenario's receiver "
@@ -50,7 +51,7 @@ def add_parser(sub) -> None:
                    help="export the engagement FMU of this engagement scenario (name or TOML file; an enabled "
                         "[probe], no [pilot], surfaces commanded by force, equilibrium start, no sensor noise or delay)")
     s.add_argument("--links", metavar="N", type=bounded_int("--links", 1, 1000),
-                   help="number of rigid links of the hose [-], >= 1 (default 20, or the scenario's)")
+                   help="number of links of the hose [-], >= 1 (default 20, or the scenario's)")
     s.add_argument("--duration", metavar="S", type=finite_float("--duration", 1e-9, 86400, "s"),
                    help="with --engagement: the run's length frozen into the FMU [s] (default the scenario's)")
     s.add_argument("--out", metavar="FILE.fmu",

@@ -1,6 +1,7 @@
 """``hosedrogue study``: the studies of the report run on their own; ``study docking`` runs the
-docking grid (:mod:`hosedrogue.studies.docking`), ``study actuator`` the actuated drogue's studies
-(:mod:`.study_actuator`)."""
+docking grid (:mod:`hosedrogue.studies.docking`), ``study whip-loads`` the whip's loads against
+the hose's axial stiffness and the closure speed (:mod:`hosedrogue.studies.whip_loads`),
+``study actuator`` the actuated drogue's studies (:mod:`.study_actuator`)."""
 
 from __future__ import annotations
 
@@ -63,7 +64,64 @@ def add_parser(sub) -> None:
     d.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     d.add_argument("--quiet", action="store_true", help="no progress bars")
     d.set_defaults(func=run_docking)
+    _add_whip_loads(studies)
     add_study_parser(studies)
+
+
+def _add_whip_loads(studies) -> None:
+    """Register ``study whip-loads``."""
+    from ..studies.whip_loads import CLOSURE_SPEEDS_M_S, SCENARIOS, STIFFNESSES_N
+
+    w = studies.add_parser(
+        "whip-loads", help="the whip's loads against the hose's axial stiffness and the closure speed",
+        description=(
+            "Run the shipped engagement scenarios (one per reel law) over a grid of the hose's axial stiffness EA "
+            "[N] (its axial damping at the shipped loss factor 0.1 of the first axial mode) and the probe's "
+            "closure speed [m/s], one run per point (no turbulence: deterministic). Prints per run the peak exit "
+            "tension [N], its rise above the trail tension [N], the drogue-end tension [N], the probe load [N] "
+            "and the slack [m], a * where the run does not call the peak converged. docs/engagement.md, "
+            "'Whip loads'."))
+    w.add_argument("--stiffness", metavar="EA", nargs="+", type=finite_float("--stiffness", 1e3, 1e10, "N"),
+                   default=list(STIFFNESSES_N), help="axial stiffnesses [N] (default 1e5 1e6 1e7 1e8)")
+    w.add_argument("--closure-speeds", metavar="V", nargs="+", type=finite_float("--closure-speeds", 0.3, 3.0, "m/s"),
+                   default=list(CLOSURE_SPEEDS_M_S), help="probe closure speeds [m/s] (default 0.5 1 1.5 2 2.5)")
+    w.add_argument("--scenarios", metavar="NAME", nargs="+", choices=SCENARIOS, default=list(SCENARIOS),
+                   help=f"engagement scenarios (default {' '.join(SCENARIOS)})")
+    w.add_argument("--links", metavar="N", type=bounded_int("--links", 2, 1000),
+                   help="links of every run [-] (default the scenarios' 160)")
+    w.add_argument("--step", metavar="H", type=finite_float("--step", 1e-5, 0.01, "s"),
+                   help="integration step with --links [s] (default the scenarios')")
+    w.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    w.set_defaults(func=run_whip_loads)
+
+
+def run_whip_loads(args) -> int:
+    """Run the whip-load grid; print its rows (or JSON). Exit 3 if any run stopped early.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (see :mod:`hosedrogue.cli`).
+    """
+    from ..studies.whip_loads import PEAKS, whip_load_study
+
+    rows = whip_load_study(args.stiffness, args.closure_speeds, args.scenarios, args.links, args.step)
+    if args.json:
+        print(json.dumps({"rows": [r.to_dict() for r in rows]}, indent=2))
+    else:
+        print("law, EA [N], closure [m/s]: " + ", ".join(PEAKS) + " (* not converged)")
+        for r in rows:
+            vals = ", ".join(f"{r.peaks[k]:.4g}{'' if r.converged[k] else '*'}" for k in PEAKS)
+            print(f"{r.law}, {r.stiffness_n:g}, {r.closure_speed_m_s:g}: {vals}; {r.result}")
+    if not all(r.completed for r in rows):
+        print(f"hosedrogue: {sum(not r.completed for r in rows)} runs stopped early", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    return 0
 
 
 def _specs(args) -> tuple[list, list, list]:

@@ -113,8 +113,11 @@ def hose_mass_in_air(chain: Chain, params: Params) -> float:
 
 
 #: A link whose yaw passes this in its chart is moved to the other chart (the angle coordinates
-#: are singular at 90 deg); after the switch its yaw is at most 90 - 60 = 30 deg in the new chart.
-SWITCH_YAW_DEG = 60.0
+#: are singular at 90 deg); after the switch its yaw is at most 90 - 50 = 40 deg in the new chart.
+#: The switch is made between steps, so a link may turn by 35 deg within one before it meets the
+#: 85 deg guard (numerics.max_yaw_deg): the locked reel's flail turns links at up to 230 rad/s,
+#: 26 deg in its 2 ms step (with 60 deg, 25 deg of room, it stopped there).
+SWITCH_YAW_DEG = 50.0
 
 
 def _rot(v: np.ndarray, chart: float, inverse: bool = False) -> np.ndarray:
@@ -252,12 +255,24 @@ def split(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
         The new mesh.
     """
     n = chain.n
-    q, qd, tail = z[: 2 * n], z[2 * n: 4 * n], z[4 * n:]
+    q, qd = z[: 2 * n], z[2 * n: 4 * n]
     q2 = np.concatenate([q[:2], q])
     qd2 = np.concatenate([qd[:2], qd])
     lengths = np.concatenate([[chain.l[0] - chain.l_nom, chain.l_nom], chain.l[1:]])
     new = chain_arrays(params, lengths, chain.l_nom, np.r_[chain.chart[0], chain.chart])
-    return np.concatenate([q2, qd2, tail]), new
+    if not params.hose.elastic:
+        return np.concatenate([q2, qd2, z[4 * n:]]), new
+    lam, lamd, tail = z[4 * n: 5 * n], z[5 * n: 6 * n], z[6 * n:]
+    L, Ld = tail[EK.Z_L], tail[EK.Z_LD]
+    l0 = L - float(np.sum(chain.l[1:]))
+    rho = (l0 - chain.l_nom) / l0  # the new exit link's share of the old one's material
+    # the new joint is the material point rho l0 from the exit: the same strain on both sides, its
+    # velocity along the line interpolated between the exit's material (L' lam_0 / l_0) and joint 1
+    lam_a = rho * lam[0]
+    lamd_a = Ld * lam[0] / l0 * (1.0 - rho) + rho * lamd[0]
+    lam2 = np.concatenate([[lam_a, lam[0] - lam_a], lam[1:]])
+    lamd2 = np.concatenate([[lamd_a, lamd[0] - lamd_a], lamd[1:]])
+    return np.concatenate([q2, qd2, lam2, lamd2, tail]), new
 
 
 def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chain, float]:
@@ -284,6 +299,8 @@ def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
     """
     n = chain.n
     assert n >= 2
+    if params.hose.elastic:
+        return _merge_elastic(z, chain, params)
     q, qd, tail = z[: 2 * n], z[2 * n: 4 * n], z[4 * n:].copy()
     L, Ld = tail[EK.Z_L], tail[EK.Z_LD]
     l0 = L - float(np.sum(chain.l[1:]))
@@ -307,6 +324,36 @@ def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
     lengths = np.concatenate([[lam], chain.l[2:]])
     new = chain_arrays(params, lengths, chain.l_nom, np.r_[ch, chain.chart[2:]])
     return np.concatenate([q2, qd2, tail]), new, delta
+
+
+def _merge_elastic(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chain, float]:
+    """:func:`merge` of elastic links (docs/model.md §11): the new exit link runs straight to old
+    joint 2 (which with everything aft keeps position and velocity), its actual length ``|r_2|``
+    and rate ``V_2 . e``; it keeps the two links' mean strain, so it holds the material
+    ``|r_2| / (1 + eps)`` and the free length L drops by the rest. L' (the reel's) is unchanged."""
+    n = chain.n
+    q, qd = z[: 2 * n], z[2 * n: 4 * n]
+    lam, lamd, tail = z[4 * n: 5 * n], z[5 * n: 6 * n], z[6 * n:].copy()
+    L = tail[EK.Z_L]
+    l0 = L - float(np.sum(chain.l[1:]))
+    l1 = chain.l[1]
+    e0, a0, b0 = frame(q[0], q[1], chain.chart[0])
+    e1, a1, b1 = frame(q[2], q[3], chain.chart[1])
+    r2 = lam[0] * e0 + lam[1] * e1
+    V2 = lamd[0] * e0 + lam[0] * (a0 * qd[0] + b0 * qd[1]) + lamd[1] * e1 + lam[1] * (a1 * qd[2] + b1 * qd[3])
+    lam_new = float(np.linalg.norm(r2))
+    e = r2 / lam_new
+    lamd_new = float(V2 @ e)
+    edot = (V2 - lamd_new * e) / lam_new
+    ch = best_chart(e)
+    th1, th2, d1, d2 = coordinates(e, edot, ch)
+    strain = (lam[0] + lam[1]) / (l0 + l1) - 1.0
+    delta = l0 + l1 - lam_new / (1.0 + strain)
+    tail[EK.Z_L] = L - delta
+    lengths = np.concatenate([[lam_new / (1.0 + strain)], chain.l[2:]])
+    new = chain_arrays(params, lengths, chain.l_nom, np.r_[ch, chain.chart[2:]])
+    znew = np.concatenate([[th1, th2], q[4:], [d1, d2], qd[4:], [lam_new], lam[2:], [lamd_new], lamd[2:], tail])
+    return znew, new, delta
 
 
 def chain_model(params: Params, chain: Chain, duration_s: float | None = None) -> HoseModel:

@@ -30,6 +30,8 @@ from ..sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE,
              "python": EK.LAW_COMMANDED}
 _STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
+           K.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is "
+                             "too long for the hose's motion: shorten numerics.step_s)",
            K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
            EK.REEL_END: "the free hose length left the reel's range between its end stops (fully reeled in or "
                         "fully paid out)"}
@@ -104,6 +106,9 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
         ep[EK.EP_VC] = 0.0
         ep[EK.EP_P0X] = drogue_eq[0] - 1e3  # parked far aft, never used
     ep[EK.EP_T_CAP] = math.inf
+    ep[EK.EP_ELASTIC] = 1.0 if hose.elastic else 0.0
+    ep[EK.EP_SCHEME] = EK.SCHEME_SDIRK2 if params.numerics.integrator == "sdirk2" else EK.SCHEME_RK4
+    ep[EK.EP_ITER] = params.numerics.sdirk_corrections
     set_bow_wave(ep, params, bow_wave)
     return ep
 
@@ -217,6 +222,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     status, message = _integrate(run, start.params, probe, start.model, duration_s)
     return assemble_result(start.params, run.segments, run.events, run.outcome, start.model, start.drogue_eq, energy,
                            status == K.OK, message, run.delta_total, start.t_set, start.reel, probe, loop=start.loop,
+                           step_loads=step_record(start.params, run),
                            drogue_actuator=start.drogue_actuator)
 
 
@@ -250,6 +256,7 @@ class Start:
         ep = self.ep.copy()
         return _Run(z=self.z.copy(), chain=self.chain, ep=ep, outcome=outcome, loop=self.loop,
                     hist=drogue_history(ep, self.total_steps),
+                    loads=np.full((self.total_steps + 1 if self.params.hose.elastic else 1, 4), math.nan),
                     segments=[(self.chain, ep.copy(), np.array([0.0]), self.z[None, :].copy())])
 
 
@@ -296,6 +303,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     """
     _check_duration(duration_s)
     params.numerics.steps(duration_s)
+    _check_integrator(params)
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
     reel = Reel() if reel is None else reel
@@ -304,12 +312,13 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2,
                                                 duration_s)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
-    L0 = z[4 * chain.n + EK.Z_L]
+    L0 = z[EK.tail_start(chain.n, ep) + EK.Z_L]
     if not reel.min_length_m <= L0 <= reel.max_length_m:
         raise ParameterError(f"hose.length_m = {L0!r}: the free length must lie between the reel's end stops "
                              f"reel.min_length_m = {reel.min_length_m!r} and reel.max_length_m = {reel.max_length_m!r} m")
     set_pilot(ep, pilot, params.numerics.step_s)
     if drogue_actuator is not None:
+        drogue_actuator.check_hose(params.hose.axial_stiffness_n)  # the surfaces' kernels: rigid links
         drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
         drogue_actuator.check_step(params.numerics.step_s)
     z = np.concatenate([z, extra_states(ep, control, actuator, pilot, receiver, reel, drogue_actuator)])
@@ -321,6 +330,35 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
         ep[EK.EP_TSET] = t_set
     return Start(params, chain, model, drogue_eq, z, ep, loop, t_set, reel, probe,
                  int(round(duration_s / params.numerics.step_s)), drogue_actuator)
+
+
+def step_record(params: Params, run) -> np.ndarray | None:
+    """The elastic links' per-step loads of a run up to its last step, or None for rigid links.
+
+    Parameters
+    ----------
+    params : Params
+        The run's parameters (``hose.elastic``).
+    run : _Run
+        The run (its ``loads`` and ``step``).
+
+    Returns
+    -------
+    array (steps + 1, 4) or None
+    """
+    return run.loads[: run.step + 1] if params.hose.elastic else None
+
+
+def _check_integrator(params: Params) -> None:
+    """The engagement runs fixed steps: RK4 (rigid or elastic links) or, for elastic links, the
+    stiff SDIRK (docs/model.md §11)."""
+    integrator = params.numerics.integrator
+    if params.hose.elastic and integrator == "adaptive":
+        raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "
+                             "(hose.axial_stiffness_n finite); use 'sdirk2' or 'rk4'")
+    if not params.hose.elastic and integrator == "sdirk2":
+        raise ParameterError("numerics.integrator = 'sdirk2': the stiff integrator of elastic hoses; "
+                             "with rigid links (hose.axial_stiffness_n = inf) use 'rk4'")
 
 
 def _check_duration(duration_s) -> None:
@@ -342,10 +380,11 @@ def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: floa
     n = chain.n
     L0 = float(np.sum(chain.l))
     hose0 = equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
-    if hose0.shape != (4 * n,) or not np.all(np.isfinite(hose0)):
-        raise ParameterError(f"x0: must be a finite array of shape ({4 * n},)")
+    nh = model.state_size  # 4n, or 6n for elastic links [q, qd, lam, lamd]
+    if hose0.shape != (nh,) or not np.all(np.isfinite(hose0)):
+        raise ParameterError(f"x0: must be a finite array of shape ({nh},)")
     if equilibrium is None:
-        drogue_eq = model.joint_positions(hose0[: 2 * n])[-1]
+        drogue_eq = model.joint_positions(hose0[: 2 * n], hose0[4 * n: 5 * n] if model.elastic else None)[-1]
     else:
         drogue_eq = equilibrium.drogue_position_m.copy()
     z = np.concatenate([hose0, [L0, float(length_rate_m_s)], np.zeros(EK.Z_TAIL - 2)])
@@ -364,6 +403,9 @@ class _Run:
     segments: list
     loop: Any  #: the controller's LoopArrays (empty without a controller)
     hist: np.ndarray  #: the drogue history the pilot's delay reads (loop.drogue_history)
+    #: elastic links: the loads after every step (exit and drogue-end tension [N], probe load [N],
+    #: slack [m]; engagement_kernels.state_loads), NaN until written; a (1, 4) placeholder otherwise
+    loads: np.ndarray = field(default_factory=lambda: np.full((1, 4), math.nan))
     events: list = field(default_factory=list)
     step: int = 0
     t: float = 0.0
@@ -380,10 +422,10 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
     max_yaw = math.radians(num.max_yaw_deg)
     while run.step < total_steps:
         code, zprev = _segment(run, model, h, every, total_steps - run.step, max_yaw)
-        if code in (K.NONFINITE, K.YAW_LIMIT):
+        if code in (K.NONFINITE, K.YAW_LIMIT, K.STAGE_LIMIT):
             return code, f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
         if code == EK.REEL_END:
-            L = run.z[4 * run.chain.n + EK.Z_L]
+            L = run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_L]
             return code, (f"stopped at t = {run.t:.4f} s: {_STATUS[code]}: L = {L:.3f} m, range "
                           f"[{run.ep[EK.EP_L_MIN]:g}, {run.ep[EK.EP_L_MAX]:g}] m")
         if code == EK.CHART:
@@ -409,7 +451,7 @@ def _segment(run: _Run, model, h: float, every: int, remaining: int, max_yaw: fl
     code, done, saved = EK.eng_segment(
         z, run.t, run.step, h, remaining, every, chain.n, lw, Mw, Jw, model.ps, model.env, model.gust_values,
         run.ep, chain.chart, run.loop, run.hist, max_yaw, math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom,
-        MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs)
+        MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs, run.loads)
     run.step += done
     run.t = run.step * h
     if saved:

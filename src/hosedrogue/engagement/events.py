@@ -72,7 +72,7 @@ def remesh_event(run, code: int, params, model) -> None:
     """
     before, e_before = _at(run, model)
     n_before = run.chain.n
-    Ld_before = run.z[4 * n_before + EK.Z_LD]
+    Ld_before = run.z[EK.tail_start(n_before, run.ep) + EK.Z_LD]
     if code == EK.SPLIT:
         run.z, run.chain = split(run.z, run.chain, params)
         delta = 0.0
@@ -85,7 +85,7 @@ def remesh_event(run, code: int, params, model) -> None:
         "kind": "split" if code == EK.SPLIT else "merge", "t_s": run.t, "links_before": n_before,
         "links_after": run.chain.n, "position_jump_m": pos_jump, "velocity_jump_m_s": vel_jump,
         "length_lost_m": float(delta),
-        "reel_speed_jump_m_s": 0.0 if code == EK.SPLIT else float(-(run.z[4 * run.chain.n + EK.Z_LD] - Ld_before)),
+        "reel_speed_jump_m_s": 0.0 if code == EK.SPLIT else float(-(run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_LD] - Ld_before)),
         "energy_jump_j": float(np.sum(e_after) - np.sum(e_before)),
     })
 

@@ -19,7 +19,7 @@ from ..results import EngagementResult
 from .chain import Chain, hose_mass_in_air
 
 #: Names of the energy terms, in the order of the columns of the energy kernel and the work states.
-ENERGY_TERMS = ("kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe")
+ENERGY_TERMS = ("kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe", "axial")
 
 
 def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.ndarray, loop=None):
@@ -54,6 +54,8 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
         Tension in the last link [N].
     drag : array (N, 3)
         Aerodynamic force on the drogue [N].
+    links_t : array (N, n)
+        Elastic links: every link's tension [N], exit link first (NaN for rigid links).
     """
     n = chain.n
     N = ts.size
@@ -63,14 +65,15 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     tow = np.empty((N, 3))
     tdrog = np.empty(N)
     drag = np.empty((N, 3))
+    links_t = np.full((N, n), np.nan)
     if loop is None:
         from .loop import no_loop
 
         loop = no_loop()
     EK.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
                    chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, loop, joints, jvel, scal, tow, tdrog,
-                   drag)
-    return joints, jvel, scal, tow, tdrog, drag
+                   drag, links_t)
+    return joints, jvel, scal, tow, tdrog, drag, links_t
 
 
 def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray) -> np.ndarray:
@@ -134,7 +137,7 @@ def _hose_masses(zs, chain: Chain, ep, params: Params) -> np.ndarray:
     masses = []
     lw, Mw, Jw = chain.l.copy(), chain.M.copy(), chain.J.copy()
     for z in zs:
-        EK.set_variable_link(z[4 * n + EK.Z_L], n, lw, Mw, Jw, ep)
+        EK.set_variable_link(z[EK.tail_start(n, ep) + EK.Z_L], n, lw, Mw, Jw, ep)
         masses.append(hose_mass_in_air(Chain(lw, Mw, Jw, chain.l_nom, chain.chart), params))
     return np.array(masses)
 
@@ -143,23 +146,25 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
     """One segment's columns (keys of :func:`assemble_result`), joint positions and velocities."""
     chain, ep, ts, zs = segment
     n = chain.n
-    joints, jvel, scal, tow, tdrog, drag = segment_outputs(ts, zs, chain, model, ep, loop)
+    joints, jvel, scal, tow, tdrog, drag, links_t = segment_outputs(ts, zs, chain, model, ep, loop)
     dpl, miss, vclose = coupler_geometry(joints, jvel, scal)
-    cols = {"t": ts, "L": zs[:, 4 * n + EK.Z_L], "Ld": zs[:, 4 * n + EK.Z_LD], "T0": scal[:, EK.O_T0],
+    b = EK.tail_start(n, ep)
+    cols = {"t": ts, "L": zs[:, b + EK.Z_L], "Ld": zs[:, b + EK.Z_LD], "T0": scal[:, EK.O_T0],
             "Td": tdrog, "fp": scal[:, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "pp": scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]],
             "cp": np.full(ts.size, ep[EK.EP_COUPLED] != 0.0), "slack": scal[:, EK.O_SLACK],
             "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, EK.O_TAU],
             "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
-            "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [EK.O_UY, EK.O_UZ]], "drag": drag}
+            "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [EK.O_UY, EK.O_UZ]], "drag": drag,
+            "links_t": list(links_t)}
     if loop is not None and ep[EK.EP_CTRL] != 0.0 and DA.is_actuated(loop.act):
         ns = int(loop.act[DA.DA_NS])
-        na = 4 * n + EK.Z_TAIL + int(ep[EK.EP_NPIL]) + loop.Ac.shape[0]
+        na = b + EK.Z_TAIL + int(ep[EK.EP_NPIL]) + loop.Ac.shape[0]
         cols["defl"] = zs[:, na:na + ns]
         cols["rate"] = scal[:, EK.O_SERVO:EK.O_SERVO + ns]
         cols["q"] = scal[:, EK.O_Q]
     if energy:
         en = segment_energies(zs, chain, model, ep)
-        cols["E"] = np.column_stack([en, zs[:, 4 * n + EK.Z_WM:4 * n + EK.Z_WP + 1]])
+        cols["E"] = np.column_stack([en, zs[:, b + EK.Z_WM:b + EK.Z_WAX + 1]])
     return cols, joints, jvel
 
 
@@ -171,6 +176,7 @@ def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float)
         "peak_exit_tension_n": float(np.max(cat["T0"])),
         "min_exit_tension_n": float(np.min(cat["T0"])),
         "peak_drogue_tension_n": float(np.max(cat["Td"])),
+        "peak_tension_rise_n": float(np.max(cat["T0"]) - cat["T0"][0]),
         "peak_slack_m": float(np.max(cat["slack"])),
         "peak_drogue_excursion_m": float(np.max(excursion)),
         "hose_length_start_m": float(cat["L"][0]),
@@ -184,9 +190,23 @@ def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float)
     }
 
 
+def _step_peaks(record: np.ndarray) -> dict:
+    """The peaks of the per-step load record (t [s], exit tension [N], drogue-end tension [N],
+    probe load [N], slack [m]), which replace those of the saved outputs: a whip's tension pulse
+    lasts a few milliseconds, shorter than the output interval."""
+    record = record[np.all(np.isfinite(record), axis=1)]  # a diverged run's last state aside
+    return {"peak_probe_load_n": float(np.max(record[:, 3])),
+            "peak_exit_tension_n": float(np.max(record[:, 1])),
+            "peak_tension_rise_n": float(np.max(record[:, 1]) - record[0, 1]),
+            "min_exit_tension_n": float(np.min(record[:, 1])),
+            "peak_drogue_tension_n": float(np.max(record[:, 2])),
+            "peak_slack_m": float(np.max(record[:, 4]))}
+
+
 def assemble_result(params: Params, segments: list, events: list, outcome: dict, model, drogue_eq: np.ndarray,
                     energy: bool, completed: bool, message: str, delta_total: float, t_set: float,
-                    reel, probe, loop=None, drogue_actuator=None) -> EngagementResult:
+                    reel, probe, loop=None, step_loads: np.ndarray | None = None,
+                    drogue_actuator=None) -> EngagementResult:
     """Evaluate the outputs of every segment and build the run's result.
 
     Parameters
@@ -219,6 +239,9 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         The receiver's probe.
     loop : LoopArrays, optional
         The drogue controller's arrays (see :func:`segment_outputs`).
+    step_loads : array (steps + 1, 4), optional
+        Elastic links: exit and drogue-end tension [N], probe load [N] and slack [m] after every
+        integration step (``engagement_kernels.state_loads``); the run's peaks are taken from it.
     drogue_actuator : hosedrogue.sections.DrogueActuator, optional
         The drogue's control surfaces (their deflections, rates and q become result fields).
 
@@ -234,10 +257,16 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
             cols.setdefault(k, []).append(v)
         joints_all.extend(list(joints))
         jvel_all.extend(list(jvel))
+    link_tensions = [t for seg in cols.pop("links_t") for t in seg] if params.hose.elastic else None
+    cols.pop("links_t", None)
     cat = {k: np.concatenate(v) for k, v in cols.items()}
     surfaces = {} if "defl" not in cat else DA.result_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
     outcome.update(_peaks(cat, drogue_eq, events, delta_total, t_set))
+    record = None
+    if step_loads is not None:
+        record = np.column_stack([np.arange(step_loads.shape[0]) * params.numerics.step_s, step_loads])
+        outcome.update(_step_peaks(record))
     if reel.law == "locked":
         outcome["tension_set_n"] = None
     meta = {"reel": reel.to_dict(), "probe": probe.to_dict() if probe is not None else None,
@@ -251,6 +280,6 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         motor_torque_n_m=cat["tau"], control_force_n=cat["u"], miss_distance_series_m=cat["miss"], plane_distance_m=cat["dplane"],
         closure_speed_series_m_s=cat["vclose"],
         links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
-        energy=en_dict, events=events, outcome=outcome, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
+        energy=en_dict, events=events, outcome=outcome, step_loads=record, link_tensions_n=link_tensions, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
         completed=completed, message=message, meta=meta, statistics_window_s=turbulence_window(params.turbulence),
         **surfaces)

@@ -33,7 +33,7 @@ from ..params import Actuator, Params, Sensor
 from ..sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.stepper import StepperBase, sensor_noise3
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, chain_model
-from .driver import _STATUS, prepare
+from .driver import _STATUS, prepare, step_record
 from .events import contact_event, remesh_event, switch_event
 from .result import EngagementResult, assemble_result, coupler_geometry, segment_outputs
 
@@ -43,7 +43,7 @@ class EngagementStepper(StepperBase):
     Parameters
     ----------
     params : Params
-        Hose, drogue, flight and numerics (RK4, ``numerics.step_s`` [s], ``output_every``).
+        Hose, drogue, flight and numerics (the integrator, ``numerics.step_s`` [s], ``output_every``).
     duration_s : float
         Length of the run [s] (its gust record is drawn for it); the run is done there, or at a
         miss or failed latch, or at a failed state.
@@ -182,7 +182,7 @@ class EngagementStepper(StepperBase):
         run, model = self.run, self.model
         chain, n, nz = run.chain, run.chain.n, run.z.size
         self._ws, self._ws2 = K.make_workspace(n), K.make_workspace(n)
-        self._work = np.empty((5, nz))
+        self._work = np.empty((8, nz))
         self._zprev = np.empty(nz)
         rows = (self.total_steps - int(self.ctr[C_STEP])) // self.every + 2 if self.record else 1
         self._ts, self._zs = np.empty(rows), np.empty((rows, nz))
@@ -195,14 +195,14 @@ class EngagementStepper(StepperBase):
                       math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom, MERGE_RATIO * chain.l_nom, n >= 2,
                       self._zprev, self._ts, self._zs, self.record, self._work, self._ws, self._ws2, self._dM,
                       self._out, self.ring, self.delay, self.control_step_s, self.noise3, self.sensor.sample_time_s,
-                      self.balance, self.mbuf)
+                      self.balance, self.mbuf, run.loads)
 
     def _set_receiver_start(self, probe_start_m, probe_start_velocity_m_s) -> None:
-        """The receiver's start point and, passing through, its response switched off: no speed
-        bound, and the acceleration bound 0 holds the tip's velocity (:meth:`move_receiver` sets
-        both for each step)."""
+        """The receiver's start point and, passing through, its response replaced by the fed
+        path (``EP_FEED``): from the start point at the start velocity in a straight line until
+        :meth:`move_receiver` says otherwise."""
         st = self.start
-        b = 4 * st.chain.n + EK.Z_TAIL
+        b = EK.tail_start(st.chain.n, st.ep) + EK.Z_TAIL  # after the 4n rigid or the 6n elastic hose entries
         if probe_start_m is not None:
             p = np.asarray(probe_start_m, dtype=np.float64)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
@@ -216,41 +216,48 @@ class EngagementStepper(StepperBase):
                                      "numbers [m/s]")
             st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v
         if self.pass_through:
-            st.ep[EK.EP_RCV_VMAX:EK.EP_RCV_VMAX + 3] = math.inf
-            st.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = 0.0
+            st.ep[EK.EP_FEED] = 1.0
+            st.ep[EK.EP_FEED_T0] = 0.0
+            st.ep[EK.EP_FEED_P:EK.EP_FEED_P + 3] = st.z[b + EK.RCV_X:b + EK.RCV_X + 3]
+            st.ep[EK.EP_FEED_V:EK.EP_FEED_V + 3] = st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3]
+            st.ep[EK.EP_FEED_A:EK.EP_FEED_J + 3] = 0.0
 
-    def move_receiver(self, velocity_m_s, acceleration_m_s2) -> None:
+    def move_receiver(self, velocity_m_s, acceleration_m_s2, jerk_m_s3=(0.0, 0.0, 0.0)) -> None:
         """Passing through (``receiver_pass_through``): from now on, until the next call, the
-        probe tip moves from where it is with this velocity and constant acceleration.
+        probe tip moves from where it is on the cubic in time of this velocity, acceleration
+        and jerk.
 
-        The receiver's response then yields exactly that motion: the velocity state is set, the
-        acceleration bound per axis is ``|a|`` and the held command lies far enough beyond the
-        velocity's range over the step that the lag's demand exceeds the bound throughout, so the
-        bound is the acceleration (RK4 integrates a constant acceleration exactly).
+        The tip is that cubic as a function of time (``EP_FEED``,
+        :func:`hosedrogue.model.engagement_kernels.fed_tip`), evaluated at each integrator
+        stage's time as a prescribed path is, so a path fed from outside meets the hose as the
+        same path prescribed in the run does; the receiver's states follow it.
 
         Parameters
         ----------
         velocity_m_s : array_like (3,)
             The tip's velocity now [m/s], tanker frame.
         acceleration_m_s2 : array_like (3,)
-            Its acceleration until the next call [m/s^2] (0: a straight line at constant speed).
+            Its acceleration now [m/s^2] (0 and no jerk: a straight line at constant speed).
+        jerk_m_s3 : array_like (3,)
+            Its rate of change of acceleration until the next call [m/s^3] (0: a parabola).
         """
         if not self.pass_through:
             raise ParameterError("move_receiver: only with receiver_pass_through (else the receiver's response "
                                  "follows the command of step(receiver=...))")
         run = self.run
-        b = 4 * run.chain.n + EK.Z_TAIL
-        v0, a = np.asarray(velocity_m_s, dtype=np.float64), np.asarray(acceleration_m_s2, dtype=np.float64)
-        span = self.duration_s + 1.0  # longer than any step [s]
-        tv = run.ep[EK.EP_RCV_TV]
-        run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v0
-        run.ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = np.abs(a)
-        # (vcmd - v) / tv >= |a| in the direction of a while v stays within v0 + a [0, span]
-        self._commands[list(self._slots["receiver"])] = v0 + a * span + np.sign(a) * (np.abs(a) * tv + 1.0)
+        ep, b = run.ep, EK.tail_start(run.chain.n, run.ep) + EK.Z_TAIL
+        p0 = EK.fed_tip(self.t_s, ep)[0]  # where the path fed so far has the tip now
+        ep[EK.EP_FEED_T0] = self.t_s
+        ep[EK.EP_FEED_P:EK.EP_FEED_P + 3] = p0
+        ep[EK.EP_FEED_V:EK.EP_FEED_V + 3] = velocity_m_s
+        ep[EK.EP_FEED_A:EK.EP_FEED_A + 3] = acceleration_m_s2
+        ep[EK.EP_FEED_J:EK.EP_FEED_J + 3] = jerk_m_s3
+        run.z[b + EK.RCV_X:b + EK.RCV_X + 3] = p0
+        run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = velocity_m_s
 
     def _command_places(self, run) -> list:
         """(index in the held commands, index in the state) of every commanded number."""
-        b = 4 * run.chain.n + EK.Z_TAIL
+        b = EK.tail_start(run.chain.n, run.ep) + EK.Z_TAIL
         places = []
         slots = self._slots
         if "drogue" in self.roles:
@@ -300,10 +307,10 @@ class EngagementStepper(StepperBase):
     def _event(self, code: int) -> bool:
         """Handle what ended a compiled segment before the control step's end; True if the run ends."""
         run = self.run
-        if code in (K.NONFINITE, K.YAW_LIMIT, EK.REEL_END):
+        if code in (K.NONFINITE, K.YAW_LIMIT, K.STAGE_LIMIT, EK.REEL_END):
             message = f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
             if code == EK.REEL_END:
-                L = run.z[4 * run.chain.n + EK.Z_L]
+                L = run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_L]
                 message += f": L = {L:.3f} m, range [{run.ep[EK.EP_L_MIN]:g}, {run.ep[EK.EP_L_MAX]:g}] m"
             self._finish(False, message, state_valid=False)
             return True
@@ -365,7 +372,8 @@ class EngagementStepper(StepperBase):
             segments.append((self._rec_chain, self._rec_ep, self._ts[:saved].copy(), self._zs[:saved].copy()))
         return assemble_result(self.params, segments, run.events, dict(run.outcome), self.model, st.drogue_eq,
                                self.energy, self._completed, self._message, run.delta_total, st.t_set, st.reel,
-                               self.probe, loop=run.loop, drogue_actuator=st.drogue_actuator)
+                               self.probe, loop=run.loop, step_loads=step_record(self.params, run),
+                               drogue_actuator=st.drogue_actuator)
 
     def outputs(self) -> dict:
         """The run's outputs at the current state, computed from it without recording it: what a
@@ -384,13 +392,13 @@ class EngagementStepper(StepperBase):
         """
         run = self.run
         n = run.chain.n
-        joints, jvel, scal, _, _, _ = segment_outputs(np.array([self.t_s]), run.z[None, :], run.chain, self.model,
-                                                      run.ep, run.loop)
+        joints, jvel, scal = segment_outputs(np.array([self.t_s]), run.z[None, :], run.chain, self.model, run.ep,
+                                             run.loop)[:3]
         dpl, miss, vclose = coupler_geometry(joints, jvel, scal)
         return {"t_s": self.t_s, "joints_m": joints[0], "drogue_velocity_m_s": jvel[0, -1].copy(),
                 "probe_position_m": scal[0, [EK.O_PX, EK.O_PY, EK.O_PZ]],
                 "probe_velocity_m_s": scal[0, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]],
                 "probe_force_n": scal[0, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "exit_tension_n": float(scal[0, EK.O_T0]),
-                "hose_length_m": float(run.z[4 * n + EK.Z_L]), "links": n, "coupled": bool(run.ep[EK.EP_COUPLED]),
+                "hose_length_m": float(run.z[EK.tail_start(n, run.ep) + EK.Z_L]), "links": n, "coupled": bool(run.ep[EK.EP_COUPLED]),
                 "plane_distance_m": float(dpl[0]), "miss_distance_m": float(miss[0]),
                 "closure_speed_m_s": float(vclose[0])}

@@ -100,6 +100,9 @@ def _payload(model, kind: str | None):
     if interface is ENGAGEMENT_FMU or not isinstance(model, Params):
         raise ParameterError(f"params = {type(model).__name__}: the fixed-length FMU takes a Params, the engagement "
                              "FMU a Scenario with an engagement (load_scenario)")
+    if model.hose.elastic:
+        raise ParameterError(f"hose.axial_stiffness_n = {model.hose.axial_stiffness_n!r}: the fixed-length FMU carries "
+                             "the rigid chain (axial_stiffness_n = inf); an elastic hose is simulated by hosedrogue simulate")
     fmu_params(model, model.flight.altitude_m, model.flight.airspeed_m_s, model.wake.enabled)  # validate
     starts = parameter_starts(interface, model) | {v.name: v.start for v in interface.of("input")}
     return interface, {PARAMS_RESOURCE: json.dumps(model.to_dict(), indent=1)}, starts, ""

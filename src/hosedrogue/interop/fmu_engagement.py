@@ -40,7 +40,7 @@ from ..sections import Sensor
 from .fmu_interface import FmuInterface, FmuVariable, StepFailure
 
 #: Relative tolerance of a master's communication time against the FMU's own [-]: round-off of
-#: the decimal times (the grid itself is exact: whole RK4 steps).
+#: the decimal times (the grid itself is exact: whole integration steps).
 TIME_RTOL = 1e-9
 
 _FLIGHT = ("altitude_m", "airspeed_m_s", "wake_enabled")
@@ -65,17 +65,20 @@ ENGAGEMENT_FMU = FmuInterface(
     notes=("The FMU starts at rest at the balance position of the flight condition (the parameters), solved when "
            "initialization ends, and runs the frozen scenario's duration_s (the DefaultExperiment's stop time; its "
            "turbulence record is drawn for it). It advances in whole control samples of sample_time_s (a whole "
-           "multiple of the scenario's RK4 step numerics.step_s); a communication step must be a whole multiple of "
-           "sample_time_s and start where the FMU is, else the FMU refuses it (fmi2Discard, nothing advanced, the "
-           "reason logged). The inputs are held over the step. probe_position_input true: the probe tip moves from "
+           "multiple of the scenario's integration step numerics.step_s: RK4, or the SDIRK of an elastic hose); a "
+           "communication step must be a whole multiple of sample_time_s and start where the FMU is, else the FMU "
+           "refuses it (fmi2Discard, nothing advanced, the reason logged). The inputs are held over the step. "
+           "probe_position_input true: the probe tip moves from "
            "where it is to probe_cmd_x/y/z_m, which it reaches at the end of the step (no receiver response: the "
            "master's path passes through; the tip starts at the position inputs' values at the end of "
-           "initialization) on a parabola of constant acceleration: from its position with the slope there of "
+           "initialization) on a parabola of constant acceleration from its position with the slope there of "
            "the parabola through the last three positions (where it was a step before, where it is, the input; "
-           "on the first step the straight line), or with probe_velocity_feed true with the velocity given "
-           "(probe_cmd_vx/vy/vz_m_s at the end of the step before; at the start their values at the end of "
-           "initialization), so a smooth path is followed to O(h^3) in position (a kink in the path overshoots "
-           "the chord by at most |dv| h / 8 in the step after it); false: probe_cmd_vx/vy/vz_m_s is the velocity "
+           "on the first step the straight line), so a smooth path is followed to O(h^3) in position (a kink in "
+           "the path overshoots the chord by at most |dv| h / 8 in the step after it); with probe_velocity_feed "
+           "true on the cubic from its position and velocity (probe_cmd_vx/vy/vz_m_s at the end of the step "
+           "before; at the start their values at the end of initialization) to the position and velocity inputs, "
+           "to O(h^4) in position. The tip is that curve as a function of time, met by the hose at every "
+           "integration stage's time as a prescribed probe path is; false: probe_cmd_vx/vy/vz_m_s is the velocity "
            "command of the receiver's response (the scenario's [receiver]: lag, speed and acceleration bounds; "
            "the tip starts at the [probe] start point moving forward at its closure speed). reel_speed_cmd_m_s "
            "commands a reel of "
@@ -97,9 +100,9 @@ ENGAGEMENT_FMU = FmuInterface(
                     "probe_cmd_x/y/z_m; false: the velocity command inputs probe_cmd_vx/vy/vz_m_s through the "
                     "receiver's response", kind="Boolean"),
         FmuVariable("probe_velocity_feed", "parameter", "with probe_position_input: the velocity inputs give the "
-                    "tip's velocity at the end of each step too: within a step it moves on the parabola from its "
-                    "position and the velocity given to the position input (else with the slope of the parabola "
-                    "through the last three positions)", kind="Boolean"),
+                    "tip's velocity at the end of each step too: within a step it moves on the cubic from its "
+                    "position and the velocity given to the position and velocity inputs (else on the parabola "
+                    "leaving with the slope of the parabola through the last three positions)", kind="Boolean"),
         *(FmuVariable(f"probe_cmd_{a}_m", "input", f"probe-tip position along S_p {a} ({d}) at the end of the "
                       "communication step (probe_position_input; at the end of initialization: where the tip starts)")
           for a, d in _AXES),
@@ -153,7 +156,8 @@ class EngagementCore:
         last three positions (:meth:`_probe_motion`).
     velocity_feed : bool
         With ``position_input``: the velocity inputs are the tip's velocity at the end of each
-        step, and each parabola leaves with the velocity given for the step's start instead.
+        step, and within a step the tip moves on the cubic through both ends' positions and
+        velocities instead.
     probe_start_m : array_like (3,), optional
         Where the probe tip starts [m] (the position input at the end of initialization); default
         the ``[probe]`` start point.
@@ -231,26 +235,32 @@ class EngagementCore:
         return commands
 
     def _probe_motion(self, inputs: dict, h_s: float) -> tuple:
-        """The tip's velocity [m/s] at the step's start and its constant acceleration [m/s^2] over
-        the step, which take it from where it is to the position input at the step's end.
+        """The tip's velocity [m/s] and acceleration [m/s^2] at the step's start and its jerk
+        [m/s^3] over the step, which take it from where it is to the position input at the step's
+        end.
 
-        The start velocity: with the velocity feed the one given for the step's start (the
-        velocity inputs of the step before); else the slope at the step's start of the parabola
-        through the last three positions (where the tip was one step before, where it is, the
-        input; on the first step the straight line), so that a smooth path is followed to O(h^3).
+        With the velocity feed the cubic (Hermite) from where the tip is at the velocity given for
+        the step's start (the velocity inputs of the step before) to the position and velocity
+        inputs: a smooth path followed to O(h^4) in position, O(h^3) in velocity. Else the
+        parabola leaving with the slope at the step's start of the parabola through the last
+        three positions (where the tip was one step before, where it is, the input; on the first
+        step the straight line): O(h^3) in position.
         """
         p0, p1 = self.m.probe_position_m.copy(), np.array([inputs[n] for n in _PROBE_POSITION])
+        chord = (p1 - p0) / h_s
         if self.velocity_feed:
             v0 = self._v_start
-            self._v_start = np.array([inputs[n] for n in _PROBE_VELOCITY])  # if the step is taken
-        elif self._previous is not None:
+            v1 = np.array([inputs[n] for n in _PROBE_VELOCITY])
+            self._v_start = v1  # if the step is taken
+            return v0, (6.0 * chord - 4.0 * v0 - 2.0 * v1) / h_s, (6.0 * (v0 + v1) - 12.0 * chord) / (h_s * h_s)
+        if self._previous is not None:
             p_prev, h0 = self._previous
             w = h0 + h_s
-            v0 = (p1 - p0) / h_s * (h0 / w) + (p0 - p_prev) / h0 * (h_s / w)
+            v0 = chord * (h0 / w) + (p0 - p_prev) / h0 * (h_s / w)
         else:
-            v0 = (p1 - p0) / h_s
+            v0 = chord
         self._previous = (p0, h_s)
-        return v0, 2.0 * (p1 - p0 - v0 * h_s) / (h_s * h_s)
+        return v0, 2.0 * (chord - v0) / h_s, np.zeros(3)
 
     def _ended(self) -> str:
         """Why the run is over (it failed, or ended at a miss or at its duration)."""

@@ -78,7 +78,7 @@ def fmu_scenario(scenario) -> "object":
 
 def default_sample_time(scenario) -> float:
     """The start of ``sample_time_s`` [s]: the scenario's ``[receiver] sample_time_s`` if it has a
-    ``[receiver]``, else its RK4 step ``numerics.step_s`` (a probe path fed at every step).
+    ``[receiver]``, else its integration step ``numerics.step_s`` (a probe path fed at every step).
 
     Parameters
     ----------
@@ -116,7 +116,10 @@ def frozen_summary(scenario) -> str:
     turbulence = (f"{t.model} turbulence (sigma {', '.join(f'{s:g}' for s in t.sigma_m_s)} m/s), seed {t.seed}"
                   if t.enabled else "no turbulence")
     bow = "bow wave" if e.bow_wave is not None and e.bow_wave.enabled else "no bow wave"
-    return (f"Frozen scenario {scenario.name!r}: {p.hose.links} links, RK4 step {p.numerics.step_s:g} s, "
+    hose = (f"elastic links (EA {p.hose.axial_stiffness_n:g} N, c_a {p.hose.axial_damping_n_s:g} N s)"
+            if p.hose.elastic else "rigid links")
+    return (f"Frozen scenario {scenario.name!r}: {p.hose.links} {hose}, {p.numerics.integrator.upper()} step "
+            f"{p.numerics.step_s:g} s, "
             f"duration {scenario.duration_s:g} s, {turbulence}, {bow}; reel law {reel}; drogue force: {drogue}")
 
 

@@ -297,7 +297,7 @@ class HoseDrogueEngagement(InterfaceSlave):
         stop_time : float or None
             [s]
         tolerance : float or None
-            Unused (fixed-step RK4).
+            Unused (fixed steps: RK4, or the SDIRK of an elastic hose).
         """
         self._start_s = float(start_time)
         if self._core is not None:

@@ -52,7 +52,10 @@ from .frame import ENV_M_END, ENV_M_ON, ENV_M_T, ENV_M_V0, frame_loads, frame_te
 #: mass lumped at the tow point (joint 0) [kg]: carried by the tanker, it never moves, so it
 #: enters only the tow-point force (its weight); nonzero for the ``split`` lumping
 PS_M_TOW = 11
-PS_SIZE = 12
+#: axial stiffness EA [N] of the hose (inf: rigid, inextensible links, the paper's) and its
+#: Kelvin-Voigt axial damping c_a [N s] (tension EA eps + c_a deps/dt; :mod:`hosedrogue.model.elastic`)
+PS_EA, PS_CA = 12, 13
+PS_SIZE = 14
 BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
 DRAG_MIDPOINT, DRAG_GAUSS2 = 0, 1
 #: Two-point Gauss-Legendre abscissa on [0, 1] measured from the link's centre: 1/(2 sqrt 3).
@@ -77,8 +80,8 @@ ENV_BW, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, ENV_BW_Q, ENV_BW_LEN = 17, 18, 19, 20, 21,
 #: circulation at its load factor and airspeed
 ENV_SIZE = ENV_M_END
 
-# status codes of the integrators
-OK, NONFINITE, YAW_LIMIT, STEP_LIMIT = 0, 1, 2, 3
+# status codes of the integrators (STAGE_LIMIT: the elastic chains' SDIRK, hosedrogue.model.implicit)
+OK, NONFINITE, YAW_LIMIT, STEP_LIMIT, STAGE_LIMIT = 0, 1, 2, 3, 4
 
 
 @njit(**JIT_NO_ALLOC)
@@ -229,6 +232,15 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
     structural bending damping. When the tanker manoeuvres (``env[ENV_M_ON]``) gravity is left
     to :func:`frame.frame_loads`, with the other apparent forces."""
+    joint_forces_stretched(t, u, l, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag)
+
+
+@njit(**JIT_NO_ALLOC)
+def joint_forces_stretched(t, u, l, lam, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
+    """:func:`joint_forces` of a chain whose links have the material (unstretched) lengths l and
+    the actual lengths lam [m] (the elastic chain, :mod:`hosedrogue.model.elastic`): the drag
+    area and the bending's lbar are per material length, the links' angular velocities (the
+    structural damping) use the actual lengths; ``lam`` is ``l`` for rigid links."""
     g = ps[PS_G]
     rho = ps[PS_RHO]
     level = env[ENV_M_ON] == 0.0
@@ -329,9 +341,9 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     # sum (c_b / lbar) |w_k+1 - w_k|^2.
     cb = ps[PS_BEND_DAMP]
     if cb > 0.0:
-        ox, oy, oz = link_omega(0, l, e, v)
+        ox, oy, oz = link_omega(0, lam, e, v)
         for k in range(n - 1):
-            px, py, pz = link_omega(k + 1, l, e, v)
+            px, py, pz = link_omega(k + 1, lam, e, v)
             cd = cb / (0.5 * (l[k] + l[k + 1]))
             mx = cd * (px - ox)
             my = cd * (py - oy)

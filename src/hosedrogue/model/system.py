@@ -18,6 +18,7 @@ from ..environment.atmosphere import density
 from ..environment.turbulence import GustRecord, generate_gusts
 from ..environment.wake import wake_scalars
 from ..params import PAPER, ParameterError, Params
+from . import elastic as E
 from . import frame
 from . import kernels as K
 
@@ -159,7 +160,12 @@ class HoseModel:
         ps[K.PS_DRAG_QUAD] = {"midpoint": K.DRAG_MIDPOINT, "gauss2": K.DRAG_GAUSS2}[hose.drag_quadrature]
         ps[K.PS_BEND_DAMP] = hose.bending_damping_n_m2_s
         ps[K.PS_M_TOW] = self.M_tow
+        ps[K.PS_EA] = hose.axial_stiffness_n
+        ps[K.PS_CA] = hose.axial_damping_n_s
         self.ps = ps
+        #: elastic links (finite axial stiffness): the hose state is [q, qd, lam, lamd] (6n), lam
+        #: the links' actual lengths [m] (:mod:`hosedrogue.model.elastic`)
+        self.elastic = hose.elastic
         if gusts is None:
             turb = params.turbulence
             if turb.enabled and math.isinf(turb.duration_s) and duration_s is None:
@@ -239,20 +245,58 @@ class HoseModel:
         return (self.l, self.M, self.S, self.J, self.ps, env, self.gust_values)
 
     # --- state-level entry points -------------------------------------------------------------
+    @property
+    def state_size(self) -> int:
+        """Length of the hose state: 4n ``[q, qd]``, or 6n ``[q, qd, lam, lamd]`` for elastic links."""
+        return (6 if self.elastic else 4) * self.n
+
+    def rigid_only(self, what: str) -> "HoseModel":
+        """This model, if its links are rigid; for a path that runs the rigid chain only.
+
+        Parameters
+        ----------
+        what : str
+            The path, for the message (e.g. "the fixed-length stepper").
+
+        Returns
+        -------
+        HoseModel
+            ``self``.
+
+        Raises
+        ------
+        ParameterError
+            One line naming ``hose.axial_stiffness_n`` when the links are elastic.
+        """
+        if self.elastic:
+            raise ParameterError(f"hose.axial_stiffness_n = {self.params.hose.axial_stiffness_n!r}: {what} runs rigid "
+                                 "links (axial_stiffness_n = inf); simulate an elastic hose with a continuous controller")
+        return self
+
     def _check_state(self, x: np.ndarray) -> np.ndarray:
         x = np.ascontiguousarray(x, dtype=np.float64)
-        if x.shape != (4 * self.n,):
-            raise ValueError(f"state has shape {x.shape}; expected ({4 * self.n},) = [q, qd] for n = {self.n}")
+        if x.shape != (self.state_size,):
+            layout = "[q, qd, lam, lamd]" if self.elastic else "[q, qd]"
+            raise ValueError(f"state has shape {x.shape}; expected ({self.state_size},) = {layout} for n = {self.n}")
         return x
 
     def outputs(self, x, t: float = 0.0, u=(0.0, 0.0), steady: bool = False) -> StateOutputs:
-        """Accelerations and derived outputs at state ``x`` = [q, qd], time t [s], force u [N]."""
+        """Accelerations and derived outputs at state ``x`` = [q, qd] (elastic: [q, qd, lam,
+        lamd], and ``qdd`` then holds the angles' and the lengths' accelerations, 3n), time t [s],
+        force u [N]."""
         x = self._check_state(x)
         ws = K.make_workspace(self.n)
         env = self.steady_env if steady else self.env
-        K.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
-                      self.ps, env, self.gust_values, ws)
-        qdd, r, v, dd, tf = ws[15], ws[4], ws[5], ws[13], ws[14]
+        if self.elastic:
+            ews = E.make_elastic_workspace(self.n)
+            E.elastic_evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.J, self.ps,
+                                  env, self.gust_values, ws, ews, 0.0, x)
+            qdd = np.concatenate([ws[15], ews[7]])
+        else:
+            K.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
+                          self.ps, env, self.gust_values, ws)
+            qdd = ws[15]
+        r, v, dd, tf = ws[4], ws[5], ws[13], ws[14]
         return StateOutputs(qdd, r, v, dd, tf, float(ws[17][0]))
 
     def accelerations(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
@@ -260,8 +304,12 @@ class HoseModel:
         return self.outputs(np.concatenate([q, qd]), t, u).qdd
 
     def derivative(self, t: float, x, u=(0.0, 0.0)) -> np.ndarray:
-        """dx/dt of the state x = [q, qd] (4n,)."""
+        """dx/dt of the state x = [q, qd] (4n,), or of [q, qd, lam, lamd] (6n,) for elastic links."""
         x = self._check_state(x)
+        if self.elastic:
+            n = self.n
+            acc = self.outputs(x, t, u).qdd
+            return np.concatenate([x[2 * n: 4 * n], acc[: 2 * n], x[5 * n:], acc[2 * n:]])
         dx = np.empty_like(x)
         K.rhs(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
               self.ps, self.env, self.gust_values, dx)
@@ -278,8 +326,12 @@ class HoseModel:
         return K.mass_matrix_at(np.ascontiguousarray(q, dtype=np.float64), self.l, self.S, self.J, self.ps)
 
     def energy(self, x) -> tuple[float, float]:
-        """(kinetic, potential) energy [J]; potential includes the ``moment`` bending energy."""
-        return K.energy(self._check_state(x), self.l, self.M, self.J, self.ps)
+        """(kinetic, potential) energy [J]; potential includes the ``moment`` bending energy
+        (and, for elastic links, their strain energy)."""
+        x = self._check_state(x)
+        if self.elastic:
+            return E.elastic_energy(x, self.l, self.M, self.J, self.ps)
+        return K.energy(x, self.l, self.M, self.J, self.ps)
 
     def static_residual(self, q, steady: bool = True) -> np.ndarray:
         """Generalized forces at rest [N m] (2n,); zero at an equilibrium."""
@@ -289,12 +341,16 @@ class HoseModel:
                           self.ps, env, self.gust_values, 0.0, Q)
         return Q
 
-    def joint_positions(self, q) -> np.ndarray:
+    def joint_positions(self, q, lengths=None) -> np.ndarray:
         """Joint positions (n+1, 3) [m] in S_p; row 0 is the tow point (the compiled kernels'
-        definition: :func:`kernels.link_frames` then :func:`kernels.chain_positions`)."""
+        definition: :func:`kernels.link_frames` then :func:`kernels.chain_positions`).
+
+        ``lengths`` (n,) [m]: the links' actual lengths (an elastic chain's); default the model's
+        link lengths."""
         q = np.ascontiguousarray(q, dtype=np.float64)
         ws = K.make_workspace(self.n)
         K.link_frames(q, self.n, ws[0], ws[1], ws[2], ws[3])
         r = np.empty((self.n + 1, 3))
-        K.chain_positions(self.l, ws[0], r)
+        lengths = self.l if lengths is None else np.ascontiguousarray(lengths, dtype=np.float64)
+        K.chain_positions(lengths, ws[0], r)
         return r

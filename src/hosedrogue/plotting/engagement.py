@@ -1,5 +1,5 @@
 """Figures of the report section "Engagement": time histories of several engagement runs side by
-side, a strip of hose-shape snapshots, and a GIF of the whip. Functions return a Figure (or write
+side, a strip of hose-shape snapshots, the tension wave along an elastic hose, and a GIF of the whip. Functions return a Figure (or write
 the GIF); they never call ``show()`` nor select a backend."""
 
 from __future__ import annotations
@@ -224,3 +224,121 @@ def animate_engagement(results: Mapping[str, object], path: str | Path, fps: int
 
 
 __all__ = ["plot_engagement_history", "plot_hose_snapshots", "plot_drogue_region", "animate_engagement"]
+
+
+def tension_field(result, l_nom: float):
+    """Tension along the hose of an elastic engagement run: per output time the material arc
+    length of every link's midpoint from the exit [m] and its tension [N].
+
+    Links 1..n-1 have the material length ``l_nom`` (splits cut it, a merge only makes a new exit
+    link), so link k's midpoint sits ``(n - k - 1/2) l_nom`` of material before the drogue.
+
+    Parameters
+    ----------
+    result : EngagementResult
+        An elastic run (``link_tensions_n`` set).
+    l_nom : float
+        The nominal link length [m].
+
+    Returns
+    -------
+    list of (float, numpy.ndarray, numpy.ndarray)
+        (time [s], arc length [m], tension [N]) per output time.
+    """
+    rows = []
+    for t, L, tension in zip(result.t_s, result.hose_length_m, result.link_tensions_n):
+        n = tension.size
+        s = L - (n - np.arange(n) - 0.5) * l_nom
+        s[0] = 0.5 * (L - (n - 1) * l_nom)
+        rows.append((float(t), s, np.asarray(tension)))
+    return rows
+
+
+def plot_tension_wave(results: Mapping[str, object], l_nom: float, windows: Mapping[str, tuple],
+                      wave_speed_m_s: float | None = None) -> Figure:
+    """The tension wave of the whip: tension [kN] along the hose (material arc length from the
+    exit) against time, one panel per elastic run (each with its colour scale), in the given
+    time windows; dashed lines of
+    slope +-``wave_speed_m_s`` (the axial wave speed sqrt(EA / mu)) through each window's peak.
+
+    Parameters
+    ----------
+    results : mapping of str to EngagementResult
+        Panel title -> elastic run with outputs fine enough to resolve the wave (about 1 ms).
+    l_nom : float
+        Nominal link length [m] (:func:`tension_field`).
+    windows : mapping of str to (float, float)
+        Panel title -> time window [s].
+    wave_speed_m_s : float, optional
+        Axial wave speed [m/s] of the reference lines.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    names = list(results)
+    fig, axes = new_figure(1, len(names), size=(4.3 * len(names), 4.2), squeeze=False)
+    for j, name in enumerate(names):
+        ax = axes[0, j]
+        t0, t1 = windows[name]
+        rows = [r for r in tension_field(results[name], l_nom) if t0 <= r[0] <= t1]
+        n = min(r[1].size for r in rows)  # the links all rows have (a merge removes one at the exit)
+        S = np.array([r[1][-n:] for r in rows])
+        T = np.array([[r[0]] * n for r in rows])
+        mesh = ax.pcolormesh(S, T, np.array([r[2][-n:] for r in rows]) / 1e3, shading="nearest", cmap="viridis")
+        fig.colorbar(mesh, ax=ax, label="tension [kN]" if j == len(names) - 1 else None)
+        if wave_speed_m_s:
+            k = int(np.argmax([np.max(r[2]) for r in rows]))
+            tp, sp = rows[k][0], rows[k][1][int(np.argmax(rows[k][2]))]
+            for sign in (1.0, -1.0):
+                ss = np.array([0.0, S.max()])
+                ax.plot(ss, tp + sign * (ss - sp) / wave_speed_m_s, "w--", lw=0.8)
+            ax.set_ylim(T.min(), T.max())
+        ax.set_xlim(0.0, S.max())
+        ax.set_title(name, fontsize=9)
+        ax.set_xlabel("arc length from the exit [m]")
+        if j == 0:
+            ax.set_ylabel("time [s]")
+    return fig
+
+
+#: Rows of :func:`plot_whip_loads`: (key of a study row's peaks, axis label).
+_WHIP_ROWS = (("peak_tension_rise_n", "exit-tension rise [kN]"), ("peak_probe_load_n", "peak probe load [kN]"))
+
+
+def plot_whip_loads(rows: Sequence[object]) -> Figure:
+    """The whip-load study: the rise of the exit tension above the trail tension and the peak
+    probe load [kN] against the closure speed [m/s], one line per axial stiffness EA, one column
+    per reel law; hollow markers where the run does not call the peak converged.
+
+    Parameters
+    ----------
+    rows : sequence of hosedrogue.studies.whip_loads.WhipLoadRow
+        The study's rows.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    laws = list(dict.fromkeys(r.law for r in rows))
+    stiffnesses = sorted({r.stiffness_n for r in rows})
+    fig, axes = new_figure(len(_WHIP_ROWS), len(laws), size=(3.5 * len(laws) + 0.8, 2.6 * len(_WHIP_ROWS) + 0.4),
+                           sharex=True, sharey="row", squeeze=False)
+    for j, law in enumerate(laws):
+        for i, (key, label) in enumerate(_WHIP_ROWS):
+            ax = axes[i, j]
+            for c, ea in enumerate(stiffnesses):
+                sel = sorted((r for r in rows if r.law == law and r.stiffness_n == ea), key=lambda r: r.closure_speed_m_s)
+                v = np.array([r.closure_speed_m_s for r in sel])
+                y = np.array([r.peaks[key] for r in sel]) / 1e3
+                ok = np.array([r.converged[key] for r in sel], dtype=bool)
+                ax.plot(v, y, color=f"C{c}", lw=1.0, label=f"EA {ea:.0e} N")
+                ax.plot(v[ok], y[ok], "o", color=f"C{c}", ms=4)
+                ax.plot(v[~ok], y[~ok], "o", mfc="none", color=f"C{c}", ms=4)
+            _grid(ax)
+            if j == 0:
+                ax.set_ylabel(label, fontsize=8)
+        axes[0, j].set_title(law, fontsize=9)
+        axes[-1, j].set_xlabel("closure speed [m/s]")
+    axes[0, 0].legend(fontsize=7)
+    return fig

@@ -18,7 +18,7 @@ from typing import Callable
 from ..version import __version__
 from . import (accuracy, closed_loop, controllers, convergence, differences, docking, docking_env, drogue_actuator,
                engagement, hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
-               turbulence_speeds)
+               turbulence_speeds, whip_loads)
 from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
@@ -64,6 +64,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("animation", "animation", hose_views.build_animation, needs=("closed_loop",)),
     Section("long_runs", "long runs", long_runs.build),
     Section("engagement", "engagement", engagement.build),
+    Section("whip_loads", "whip loads", whip_loads.build),
     Section("docking", "docking statistics and bow wave", docking.build),
     Section("docking_env", "docking environment (Gymnasium)", docking_env.build, needs=("docking",)),
     Section("manoeuvres", "manoeuvres", manoeuvres.build),

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from ..studies.docking_grid import (ACTUATOR_LEVELS, CLOSURE_SPEEDS_M_S, DEFLECTION_LIMITS_DEG, FORCE_CONTROLLERS,
                                     FORCE_LEVELS, FORCE_LIMITS_N, SERVO_BANDWIDTHS_HZ)
 from ..studies.drogue_actuator import LEVELS as ACTUATOR_CLAIM_LEVELS
+from ..studies.whip_loads import CLOSURE_SPEEDS_M_S as WHIP_CLOSURE_SPEEDS_M_S
+from ..studies.whip_loads import STIFFNESSES_N as WHIP_STIFFNESSES_N
 
 __all__ = ["ReportSettings", "FULL", "FAST"]
 
@@ -78,13 +80,21 @@ class ReportSettings:
         Links of the engagement section's runs; None: the shipped scenarios' mesh (then the two
         fields below are ignored).
     engagement_step_s : float or None
-        RK4 step of those runs [s] (with ``engagement_links``).
+        Integration step of those runs [s] (with ``engagement_links``).
     engagement_output_every : int or None
         Output every this many steps (with ``engagement_links``).
     engagement_duration_s : float or None
         Simulated length of those runs [s]; None: the scenarios' own.
     engagement_animation_after_contact_s : float
         The engagement GIF runs from 0.5 s before contact to this long after it [s].
+    whip_stiffnesses_n : tuple of float
+        Axial stiffnesses of the whip-load study [N].
+    whip_closure_speeds_m_s : tuple of float
+        Probe closure speeds of that study [m/s].
+    whip_links : int or None
+        Links of its runs; None: the shipped scenarios' mesh and step.
+    whip_step_s : float or None
+        Integration step of its runs [s] (with ``whip_links``).
     manoeuvre_banks_deg : tuple of float
         Bank angles of the steady-turn sweep [deg].
     manoeuvre_flight_paths_deg : tuple of float
@@ -138,6 +148,10 @@ class ReportSettings:
     engagement_output_every: int | None
     engagement_duration_s: float | None
     engagement_animation_after_contact_s: float
+    whip_stiffnesses_n: tuple
+    whip_closure_speeds_m_s: tuple
+    whip_links: int | None
+    whip_step_s: float | None
     manoeuvre_banks_deg: tuple
     manoeuvre_flight_paths_deg: tuple
     manoeuvre_runs: int
@@ -183,6 +197,10 @@ FULL = ReportSettings(
     engagement_output_every=None,
     engagement_duration_s=None,
     engagement_animation_after_contact_s=6.0,  # the whip and the hose's settling after it
+    whip_stiffnesses_n=WHIP_STIFFNESSES_N,
+    whip_closure_speeds_m_s=WHIP_CLOSURE_SPEEDS_M_S,
+    whip_links=None,
+    whip_step_s=None,
     manoeuvre_banks_deg=tuple(float(b) for b in range(0, 46, 5)),
     manoeuvre_flight_paths_deg=(-10.0, -7.5, -5.0, -2.5, 0.0, 2.5, 5.0, 7.5, 10.0),
     manoeuvre_runs=200,
@@ -224,10 +242,14 @@ FAST = ReportSettings(
     docking_force_levels=("moderate",),
     docking_force_controllers=("pid",),
     engagement_links=40,  # the doubling check then runs 80
-    engagement_step_s=0.0025,  # the shipped 0.625 ms at 160 links, scaled with the link length
+    engagement_step_s=0.0025,  # the stiff SDIRK at 40 links of 0.4 m (the shipped: 5 ms at 160, the locked reel 2 ms)
     engagement_output_every=4,  # output every 10 ms, as shipped
     engagement_duration_s=8.0,  # contact at 2 s and the whip after it
     engagement_animation_after_contact_s=4.0,
+    whip_stiffnesses_n=(1e5, 1e6, 1e8),  # the ends and the shipped stiffness
+    whip_closure_speeds_m_s=(1.0, 2.5),
+    whip_links=40,
+    whip_step_s=0.0025,  # as the fast engagement runs
     manoeuvre_banks_deg=(0.0, 15.0, 30.0, 45.0),
     manoeuvre_flight_paths_deg=(-10.0, 0.0, 10.0),
     manoeuvre_runs=2,  # the campaigns' machinery, not their statistics

@@ -90,15 +90,23 @@ class Scenario:
         if self.engagement is not None and not isinstance(self.engagement, Engagement):
             raise ParameterError(f"engagement = {self.engagement!r}: must be a hosedrogue.sections.Engagement or None")
         num = self.params.numerics
-        if num.integrator == "rk4" or self.engagement is not None:
+        if num.integrator != "adaptive" or self.engagement is not None:
             num.steps(self.duration_s, "scenario.duration_s")  # at least one step
         if self.loop.drogue_actuator is not None:
+            self.loop.drogue_actuator.check_hose(self.params.hose.axial_stiffness_n)
             self.loop.drogue_actuator.check_loop(self.loop.actuator == Actuator(), self.loop.controller)
             if num.integrator == "rk4" or self.engagement is not None:
                 self.loop.drogue_actuator.check_step(num.step_s)
-        if self.engagement is not None and num.integrator != "rk4":
+        if self.engagement is not None and num.integrator == "adaptive":
             raise ParameterError(f"numerics.integrator = {num.integrator!r}: the engagement (hose of varying "
-                                 "length) is integrated with fixed-step RK4 only; use 'rk4'")
+                                 "length) is integrated with fixed steps; use 'rk4' (or 'sdirk2' for an elastic hose)")
+        elastic = self.params.hose.elastic
+        if num.integrator == "sdirk2" and not elastic:
+            raise ParameterError("numerics.integrator = 'sdirk2': the stiff integrator of elastic hoses; with rigid "
+                                 "links (hose.axial_stiffness_n = inf) use 'rk4'")
+        if num.integrator == "adaptive" and elastic:
+            raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "
+                                 "(hose.axial_stiffness_n finite); use 'sdirk2' or 'rk4'")
 
     # --- the control loop, by its parts --------------------------------------------------------------
     @property

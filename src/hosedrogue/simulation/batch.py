@@ -101,6 +101,9 @@ def simulate_batch(params: Params, seeds, duration_s: float, controller: LinearC
     radii = np.asarray(capture_radii_m, dtype=np.float64)
     if radii.ndim != 1 or radii.size == 0 or not np.all(np.isfinite(radii) & (radii > 0)):
         raise ParameterError(f"capture_radii_m = {list(capture_radii_m)!r}: must be numbers > 0 m")
+    if params.hose.elastic:
+        raise ParameterError(f"hose.axial_stiffness_n = {params.hose.axial_stiffness_n!r}: the compiled batch runs "
+                             "rigid links (axial_stiffness_n = inf); run an elastic hose seed by seed with simulate")
     model = HoseModel(params, duration_s=duration_s)
     eq = equilibrium if equilibrium is not None else solve_equilibrium(params, model=model)
     V = params.flight.airspeed_m_s

@@ -34,6 +34,8 @@ _STATUS_TEXT = {
     K.NONFINITE: "the state became non-finite (numerical divergence)",
     K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular (likely the paper's almost undamped zigzag modes growing in turbulence; for long runs use the model preset: --config converged or [model] preset = \"converged\", docs/long-runs.md)",
     K.STEP_LIMIT: "the adaptive integrator could not meet its tolerance (step size limit)",
+    K.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is too "
+                   "long for the hose's motion: shorten numerics.step_s)",
 }
 
 
@@ -106,11 +108,16 @@ def simulate(
     if equilibrium is None:
         equilibrium = solve_equilibrium(params, model=model)
     n = model.n
+    nh = model.state_size  # 4n, or 6n for elastic links
+    _check_integrator(model)
     x0 = equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
-    if x0.shape != (4 * n,) or not np.all(np.isfinite(x0)):
-        raise ParameterError(f"x0: must be a finite array of shape ({4 * n},), got shape {x0.shape}")
+    if x0.shape != (nh,) or not np.all(np.isfinite(x0)):
+        raise ParameterError(f"x0: must be a finite array of shape ({nh},), got shape {x0.shape}")
     y_ref = equilibrium.drogue_position_m[1:].copy()
     control = sampled_controller(control)
+    if model.elastic and (isinstance(control, SampledController) or sample_time_s):
+        raise ParameterError("controller: a sampled-data controller runs the rigid fixed-length chain "
+                             "(hose.axial_stiffness_n = inf); an elastic hose takes a continuous controller")
     if isinstance(control, SampledController):
         return _run_sampled(params, duration_s, x0, control, equilibrium, actuator, sensor, model, drogue_actuator)
     if sample_time_s:
@@ -208,6 +215,7 @@ def _run_compiled(model, params, x0, duration_s, control, y_ref, actuator, senso
     the drogue's control surfaces; returns (ts, xs, us, status, t_stop, outs or None, the
     surfaces' result fields)."""
     if drogue_actuator is not None:
+        drogue_actuator.check_hose(params.hose.axial_stiffness_n)  # the surfaces' kernels: rigid links
         drogue_actuator.check_loop(actuator == Actuator(), None)  # the surfaces make the force, its limits
         drogue_actuator.check_force_command()
         if params.numerics.integrator == "rk4":
@@ -218,7 +226,9 @@ def _run_compiled(model, params, x0, duration_s, control, y_ref, actuator, senso
     loop = loop_arrays(ctrl, y_ref, actuator, noise, sensor.sample_time_s, drogue_actuator)
     z0 = closed_loop_state(x0, ctrl, actuator, drogue_actuator)
     outs = None
-    if params.numerics.integrator == "rk4":
+    if model.elastic:
+        ts, zs, us, status, t_stop, outs = _run_elastic(model, z0, duration_s, loop)
+    elif params.numerics.integrator == "rk4":
         ts, zs, us, status, t_stop, outs = _run_rk4(model, z0, duration_s, loop)
     else:
         ts, zs, us, status, t_stop = _run_adaptive(model, z0, duration_s, loop)
@@ -226,7 +236,7 @@ def _run_compiled(model, params, x0, duration_s, control, y_ref, actuator, senso
     if drogue_actuator is not None:
         ns, na = drogue_actuator.surfaces, 4 * n + ctrl.n_states
         surfaces = DA.result_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], drogue_actuator)
-    return ts, zs[:, : 4 * n], us[:, :2], status, t_stop, outs, surfaces
+    return ts, zs[:, : model.state_size], us[:, :2], status, t_stop, outs, surfaces
 
 
 def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator, drogue_actuator=None) -> np.ndarray:
@@ -283,6 +293,37 @@ def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
     max_yaw = math.radians(model.params.numerics.max_yaw_deg)
     status, saved, t_stop = rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw,
                                     ts, zs, us, *outs)
+    return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)
+
+
+def _check_integrator(model: HoseModel) -> None:
+    """The integrators of each chain: the elastic one runs RK4 or the stiff SDIRK, the rigid one
+    RK4 or the adaptive DOP853 (docs/model.md §5, §11)."""
+    integrator = model.params.numerics.integrator
+    if model.elastic and integrator == "adaptive":
+        raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "
+                             "(hose.axial_stiffness_n finite); use 'sdirk2' or 'rk4'")
+    if not model.elastic and integrator == "sdirk2":
+        raise ParameterError("numerics.integrator = 'sdirk2': the stiff integrator of elastic hoses; "
+                             "with rigid links (hose.axial_stiffness_n = inf) use 'rk4' or 'adaptive'")
+
+
+def _run_elastic(model: HoseModel, z0, duration_s, loop: LoopArrays):
+    """The fixed-length elastic chain, compiled: RK4 or the SDIRK (``numerics.integrator``)."""
+    from ..model.elastic_loop import SCHEME_RK4, SCHEME_SDIRK2, elastic_run
+
+    h, nsteps = fixed_steps(model.params, duration_s)
+    every = model.params.numerics.output_every
+    nsave = nsteps // every + 1
+    ts = np.empty(nsave)
+    zs = np.empty((nsave, z0.size))
+    us = np.empty((nsave, 2))
+    outs = output_arrays(nsave, model.n)
+    scheme = SCHEME_SDIRK2 if model.params.numerics.integrator == "sdirk2" else SCHEME_RK4
+    max_yaw = math.radians(model.params.numerics.max_yaw_deg)
+    status, saved, t_stop = elastic_run(z0, 0.0, h, nsteps, every, scheme, model.params.numerics.sdirk_corrections,
+                                        model.l, model.M, model.J, model.ps,
+                                        model.env, model.gust_values, *loop, max_yaw, ts, zs, us, *outs)
     return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)
 
 
@@ -424,6 +465,12 @@ def _run_python_control(model, params, x0, duration_s, control):
 
 def _derived_outputs(model: HoseModel, ts, xs, us):
     outs = output_arrays(ts.size, model.n)
+    if model.elastic:
+        from ..model.elastic import elastic_outputs_series
+
+        elastic_outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
+                               model.l, model.M, model.J, model.ps, model.env, model.gust_values, *outs)
+        return outs
     K.outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
                      *model.kernel_args(), *outs)
     return outs

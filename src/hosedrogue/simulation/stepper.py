@@ -377,7 +377,7 @@ class FixedLengthStepper(StepperBase):
         self.duration_s = float(duration_s)
         if model is None or not model.gusts_cover(duration_s):
             model = HoseModel(params, duration_s=duration_s)
-        self.model = model
+        self.model = model.rigid_only("the fixed-length stepper")
         self.equilibrium = equilibrium if equilibrium is not None else solve_equilibrium(params, model=model)
         n = model.n
         x0 = self.equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)

@@ -157,8 +157,11 @@ def lowest_modes(lm) -> tuple[float, float]:
 
 
 def with_links(scenario, links: int):
-    """The scenario on ``links`` links, the RK4 step scaled with the link length and the output
+    """The scenario on ``links`` links, the step scaled with the link length and the output
     interval [s] kept (to the nearest whole number of steps): the mesh of a link-doubling check.
+    With the stiff SDIRK (elastic links, whose bending and string waves are implicit,
+    docs/model.md §11) the step is not bounded by the links: a finer mesh scales it with them,
+    a coarser one keeps it.
 
     Parameters
     ----------
@@ -178,7 +181,11 @@ def with_links(scenario, links: int):
     if isinstance(links, bool) or not isinstance(links, (int, np.integer)) or links < 1:
         raise ParameterError(f"links = {links!r}: must be an integer >= 1")
     p = scenario.params
-    step = p.numerics.step_s * p.hose.links / links
-    every = int(round(p.numerics.output_every * p.numerics.step_s / step))
+    ratio = p.hose.links / links
+    # RK4's step follows the link length both ways; the SDIRK's is set by the motion it resolves, so
+    # a finer mesh halves it with the links (both refined together) and a coarser one keeps it
+    sdirk = p.numerics.integrator == "sdirk2"
+    step = p.numerics.step_s * (min(ratio, 1.0) if sdirk else ratio)
+    every = max(1, int(round(p.numerics.output_every * p.numerics.step_s / step)))
     return dataclasses.replace(scenario, params=p.replace(hose={"links": int(links)},
                                                           numerics={"step_s": step, "output_every": every}))

@@ -1,0 +1,219 @@
+"""The fixed-length elastic chain's closed loop (numba): RK4 or the stiff SDIRK (docs/model.md §11).
+
+The state is ``z = [x, xc, (ua)]`` with the elastic hose state ``x = [q, qd, lam, lamd]`` (6n:
+angles [rad], their rates [rad/s], the links' actual lengths [m] and their rates [m/s]), then the
+controller's and the rate-limited actuator's states as in :mod:`hosedrogue.model.integrate`,
+whose control, actuator and controller laws it uses. ``scheme`` 0 is the classical RK4 (the
+formula of :func:`~hosedrogue.model.integrate.rk4_stage` and
+:func:`~hosedrogue.model.integrate.rk4_combine`), 1 the SDIRK of :mod:`hosedrogue.model.implicit`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..jit import JIT, JIT_NO_ALLOC
+from .elastic import elastic_drogue_yz, elastic_evaluate_ws, make_elastic_workspace_jit
+from .implicit import (SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, SDIRK_TOLERANCE_M_S, after_stage1,
+                       correction_size, stage_point)
+from .integrate import (actuator_rates, applied_force_at, controller_rates, is_open_loop, rk4_combine, rk4_stage,
+                        step_status)
+from .kernels import OK, STAGE_LIMIT, make_workspace_jit
+
+SCHEME_RK4, SCHEME_SDIRK2 = 0, 1
+
+
+@njit(**JIT_NO_ALLOC)
+def elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, hg,
+                       guess, dz, u):
+    """dz/dt of z = [x, xc, (ua)] (x the 6n elastic hose state); u receives the force applied to
+    the drogue. ``hg``, ``guess``: an implicit stage's (:func:`hosedrogue.model.elastic.stiff_terms`);
+    0 and anything for the true derivative. Returns the axial dissipation [W]."""
+    n = l.shape[0]
+    nx = 6 * n
+    if is_open_loop(z, nx, Cc, Dc):
+        u[0] = 0.0
+        u[1] = 0.0
+        m0 = m1 = c0 = c1 = 0.0
+    else:
+        y, zz = elastic_drogue_yz(z[: 2 * n], z[4 * n: 5 * n], n, ws)
+        m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
+    p = elastic_evaluate_ws(t, z[:nx], u, l, M, J, ps, env, gust, ws, ews, hg, guess)
+    qdd = ws[15]
+    lamdd = ews[7]
+    for i in range(2 * n):
+        dz[i] = z[2 * n + i]
+        dz[2 * n + i] = qdd[i]
+    for k in range(n):
+        dz[4 * n + k] = z[5 * n + k]
+        dz[5 * n + k] = lamdd[k]
+    actuator_rates(c0, c1, z, nx + Ac.shape[0], act, dz)
+    controller_rates(m0, m1, z, nx, Ac, Bc, dz)
+    return p
+
+
+@njit(**JIT_NO_ALLOC)
+def elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                 ews, pairs, work, u):
+    """One step of size h [s] from (t, z), in place (``iters``: the SDIRK's least corrections per
+    stage, :mod:`hosedrogue.model.implicit`). ``work`` (8, len(z)): RK4's stages, or the SDIRK's
+    (rows 0-3, the step's start in rows 4-5); ``work[7]`` must hold the slope guess of the SDIRK's
+    first stage (the previous step's last stage slope, or dz/dt at z) and receives the next one.
+    Returns OK, or STAGE_LIMIT if the SDIRK's stages did not converge even on 16 substeps (z then
+    back at the step's start)."""
+    if scheme == SCHEME_RK4:
+        k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
+        g = work[5]  # unused guess
+        elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
+                           0.0, g, k1, u)
+        rk4_stage(z, 0.5 * h, k1, tmp)
+        elastic_loop_deriv(t + 0.5 * h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+                           ws, ews, 0.0, g, k2, u)
+        rk4_stage(z, 0.5 * h, k2, tmp)
+        elastic_loop_deriv(t + 0.5 * h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+                           ws, ews, 0.0, g, k3, u)
+        rk4_stage(z, h, k3, tmp)
+        elastic_loop_deriv(t + h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                           ews, 0.0, g, k4, u)
+        rk4_combine(z, h, k1, k2, k3, k4)
+        return OK
+    # the SDIRK (hosedrogue.model.implicit): the step, or where a stage's corrections do not
+    # converge 2, 4, 8, 16 substeps
+    z0, g0 = work[4], work[5]
+    nz = z.shape[0]
+    for i in range(nz):
+        z0[i] = z[i]
+        g0[i] = work[7][i]
+    m = 1
+    while m <= SDIRK_MAX_SUBSTEPS:
+        hs = h / m
+        ok = True
+        for j in range(m):
+            if not sdirk_step(t + j * hs, z, hs, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                              noise_dt, ws, ews, pairs, work, u):
+                ok = False
+                break
+        if ok:
+            return OK
+        for i in range(nz):
+            z[i] = z0[i]
+            work[7][i] = g0[i]
+        m *= 2
+    return STAGE_LIMIT
+
+
+@njit(**JIT_NO_ALLOC)
+def sdirk_stage(t, zbase, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, pairs,
+                hg, Kg, K, Y, u):
+    """One implicit stage from ``zbase``, the slope guess in Kg: corrections until the last moves no
+    stage velocity by more than SDIRK_TOLERANCE_M_S (at least ``iters``, at most
+    SDIRK_MAX_CORRECTIONS); the stage's slope into K (and Kg). Returns whether they converged."""
+    n = l.shape[0]
+    nz = zbase.shape[0]
+    for it in range(SDIRK_MAX_CORRECTIONS):
+        stage_point(zbase, Kg, hg, pairs, Y)
+        elastic_loop_deriv(t, Y, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, hg,
+                           Kg, K, u)
+        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
+        for i in range(nz):
+            Kg[i] = K[i]
+        if not math.isfinite(d):
+            return False
+        if it + 1 >= iters and d <= SDIRK_TOLERANCE_M_S:
+            return True
+    return False
+
+
+@njit(**JIT_NO_ALLOC)
+def sdirk_step(t, z, h, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, pairs,
+               work, u):
+    """One SDIRK step of size h [s] from (t, z), in place; False (z then undefined) if a stage's
+    corrections did not converge."""
+    hg = h * SDIRK2_GAMMA
+    Kg, K1, zhat, Y, K2 = work[0], work[1], work[2], work[3], work[7]
+    nz = z.shape[0]
+    for i in range(nz):
+        Kg[i] = K2[i]
+    if not sdirk_stage(t + hg, z, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
+                       pairs, hg, Kg, K1, Y, u):
+        return False
+    stage_point(z, K1, hg, pairs, Y)
+    after_stage1(z, h, K1, zhat)
+    for i in range(nz):
+        Kg[i] = K1[i]  # the second stage's guess: the first stage's slope
+    if not sdirk_stage(t + h, zhat, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                       ews, pairs, hg, Kg, K2, Y, u):
+        return False
+    stage_point(zhat, K2, hg, pairs, Y)
+    for i in range(nz):
+        z[i] = Y[i]
+    return True
+
+
+def hose_pairs(n):
+    """The second-order pairs (position row, velocity row, count) of the elastic hose state.
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+
+    Returns
+    -------
+    numpy.ndarray (2, 3) of int64
+        ``(0, 2n, 2n)`` for the angles and ``(4n, 5n, n)`` for the lengths.
+    """
+    return np.array([[0, 2 * n, 2 * n], [4 * n, 5 * n, n]], dtype=np.int64)
+
+
+hose_pairs_jit = njit(**JIT)(hose_pairs)
+
+
+@njit(**JIT)
+def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
+    """Integrate ``nsteps`` steps of size h [s] from (t0, z0) with ``scheme`` (RK4 or SDIRK with
+    ``iters`` corrections per stage); keep
+    every ``save_every``-th state in ts, zs, us and its outputs (joints [m], drogue velocity
+    [m/s], drogue drag [N], tow-point force [N], exit tension [N]), as
+    :func:`~hosedrogue.model.integrate.rk4_run`. Returns (status, saved count, stop time)."""
+    n = l.shape[0]
+    z = z0.copy()
+    nz = z.shape[0]
+    work = np.zeros((8, nz))
+    u = np.empty(2)
+    ws = make_workspace_jit(n)
+    ews = make_elastic_workspace_jit(n)
+    pairs = hose_pairs_jit(n)
+    saved = 0
+    for step in range(nsteps + 1):
+        t = t0 + step * h
+        if step % save_every == 0 or step == 0:
+            # the true derivative at the saved state: its outputs, and the SDIRK's first guess
+            elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
+                               0.0, work[6], work[6], u)
+            if step == 0:
+                for i in range(nz):
+                    work[7, i] = work[6, i]
+            ts[saved] = t
+            zs[saved, :] = z
+            us[saved, 0] = u[0]
+            us[saved, 1] = u[1]
+            joints[saved] = ws[4]
+            drogue_vel[saved] = ws[5][n]
+            drogue_drag[saved] = ws[13]
+            tow[saved] = ws[14]
+            tension[saved] = ws[17][0]
+            saved += 1
+        if step == nsteps:
+            break
+        if elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
+                        ws, ews, pairs, work, u) != OK:
+            return STAGE_LIMIT, saved, t  # the state of step t kept (the run's last saved row may be older)
+        status = step_status(z, n, max_yaw)
+        if status != OK:
+            return status, saved, t + h
+    return OK, saved, t0 + nsteps * h

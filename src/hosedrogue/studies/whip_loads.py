@@ -1,0 +1,223 @@
+"""The whip's loads against the hose's axial stiffness and the closure speed, for the three reel laws.
+
+A grid of the shipped engagement scenarios (``engage-locked``, ``engage-constant-tension``,
+``engage-response``): the axial stiffness EA [N] and the probe's closure speed [m/s] are varied,
+everything else is the scenario's. The axial damping follows EA at the shipped loss factor: the
+Kelvin-Voigt damping ``c_a = eta EA / omega_1`` with ``eta`` = 0.1 at the trailed hose's first
+axial mode ``omega_1`` (:func:`first_axial_mode_rad_s`), so every EA has the same damping ratio
+of its slowest axial wave (docs/model.md §11). The probe's latch window is opened down to
+:data:`MIN_CLOSURE_SPEED_M_S` so that the slowest probe couples (the coupler sees the closure
+speed along the inclined last link, 0.48 m/s of 0.5 m/s), and each run lasts until
+:data:`SETTLE_S` after the probe stops. Each row reports the peaks of :mod:`hosedrogue.results`
+(taken at every step) and which of them the run calls converged.
+
+``hosedrogue study whip-loads`` runs it from the command line; the report's section "Whip loads"
+presents it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.optimize
+
+from ..params import Params
+
+#: The shipped engagement scenarios, one per reel law.
+SCENARIOS = ("engage-locked", "engage-constant-tension", "engage-response")
+#: The grid of the full study: axial stiffness [N] and closure speed [m/s] (the brief's ranges).
+STIFFNESSES_N = (1e5, 1e6, 1e7, 1e8)
+CLOSURE_SPEEDS_M_S = (0.5, 1.0, 1.5, 2.0, 2.5)
+#: The shipped scenarios' loss factor of the axial damping at the first axial mode [-].
+LOSS_FACTOR = 0.1
+#: The latch window's lower end in the study [m/s], below the coupler's 0.48 m/s of the 0.5 m/s probe.
+MIN_CLOSURE_SPEED_M_S = 0.3
+#: Each run goes on this long after the probe stops [s]: the snap at the end of the push and its
+#: waves (the shipped runs: 15 s, contact at 2 s, the push over at 3.6 s).
+SETTLE_S = 5.0
+#: The peaks of a row (units in the names), as the run's summary names them.
+PEAKS = ("peak_exit_tension_n", "peak_tension_rise_n", "peak_drogue_tension_n", "peak_probe_load_n", "peak_slack_m")
+
+
+def first_axial_mode_rad_s(params: Params) -> float:
+    """The first axial natural frequency [rad/s] of the trailed elastic hose: a uniform bar of
+    length L and mass mu L, fixed at the exit, with the drogue's mass m_d at its free end:
+    ``omega_1 = beta c / L``, ``c = sqrt(EA / mu)``, beta the first root of ``beta tan beta =
+    mu L / m_d`` (33.8 rad/s for the paper's hose at EA = 1e6 N).
+
+    Parameters
+    ----------
+    params : Params
+        Hose length [m], mass per length [kg/m], axial stiffness [N] (finite) and drogue mass [kg].
+
+    Returns
+    -------
+    float
+    """
+    hose = params.hose
+    ratio = hose.mass_per_length_kg_m * hose.length_m / params.drogue.mass_kg
+    beta = scipy.optimize.brentq(lambda b: b * math.tan(b) - ratio, 1e-9, math.pi / 2 - 1e-12)
+    return beta * math.sqrt(hose.axial_stiffness_n / hose.mass_per_length_kg_m) / hose.length_m
+
+
+def axial_damping_n_s(params: Params, stiffness_n: float, loss_factor: float = LOSS_FACTOR) -> float:
+    """Kelvin-Voigt axial damping [N s] of loss factor ``loss_factor`` at the first axial mode of
+    the hose with axial stiffness ``stiffness_n`` [N]: ``eta EA / omega_1``.
+
+    Parameters
+    ----------
+    params : Params
+        The hose and drogue (:func:`first_axial_mode_rad_s`).
+    stiffness_n : float
+        Axial stiffness EA [N].
+    loss_factor : float
+        eta [-].
+
+    Returns
+    -------
+    float
+    """
+    p = params.replace(hose={"axial_stiffness_n": float(stiffness_n), "axial_damping_n_s": 0.0})
+    return loss_factor * stiffness_n / first_axial_mode_rad_s(p)
+
+
+@dataclass(frozen=True)
+class WhipLoadRow:
+    """One run of the grid: its settings, outcome, peaks and their convergence flags."""
+
+    law: str  #: reel law
+    stiffness_n: float  #: axial stiffness EA [N]
+    damping_n_s: float  #: axial damping c_a [N s]
+    closure_speed_m_s: float  #: probe closure speed [m/s]
+    links: int  #: links of the run [-]
+    result: str  #: the capture's outcome
+    completed: bool  #: the run reached its end
+    peaks: dict  #: PEAKS -> value (N or m)
+    converged: dict  #: PEAKS -> bool (the run summary's)
+
+    def to_dict(self) -> dict:
+        """The row as a flat dict (``converged_<peak>`` flags after the peaks)."""
+        d = {k: v for k, v in dataclasses.asdict(self).items() if k not in ("peaks", "converged")}
+        d.update(self.peaks)
+        d.update({f"converged_{k}": v for k, v in self.converged.items()})
+        return d
+
+
+def study_scenario(name: str, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
+                   step_s: float | None = None):
+    """The scenario of one grid point: ``name`` with EA, its damping, the closure speed, the wider
+    latch window and the run's length; on ``links`` links at ``step_s`` [s] if given.
+
+    Parameters
+    ----------
+    name : str
+        A shipped engagement scenario.
+    stiffness_n : float
+        Axial stiffness EA [N].
+    closure_speed_m_s : float
+        Probe closure speed [m/s].
+    links : int, optional
+        Links of the run (default the scenario's).
+    step_s : float, optional
+        Integration step [s] with ``links`` (default the scenario's).
+
+    Returns
+    -------
+    hosedrogue.scenarios.Scenario
+    """
+    from ..scenarios import load_scenario
+    from ..sections import Engagement
+
+    sc = load_scenario(name)
+    hose = {"axial_stiffness_n": float(stiffness_n), "axial_damping_n_s": axial_damping_n_s(sc.params, stiffness_n)}
+    numerics = {}
+    if links is not None:
+        hose["links"] = int(links)
+        h = step_s if step_s is not None else sc.params.numerics.step_s
+        numerics = {"step_s": h, "output_every": max(1, int(round(0.01 / h)))}
+    probe = dataclasses.replace(sc.engagement.probe, closure_speed_m_s=float(closure_speed_m_s),
+                                min_closure_speed_m_s=MIN_CLOSURE_SPEED_M_S)
+    v = probe.closure_speed_m_s
+    duration = (probe.standoff_m + probe.push_m) / v + probe.stop_time_s + SETTLE_S
+    return dataclasses.replace(sc, params=sc.params.replace(hose=hose, numerics=numerics), duration_s=duration,
+                               engagement=Engagement(reel=sc.engagement.reel, probe=probe,
+                                                     bow_wave=sc.engagement.bow_wave, pilot=sc.engagement.pilot))
+
+
+def run_point(name: str, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
+              step_s: float | None = None) -> WhipLoadRow:
+    """Run one grid point (:func:`study_scenario`) and read its row.
+
+    Parameters
+    ----------
+    name, stiffness_n, closure_speed_m_s, links, step_s
+        See :func:`study_scenario` (EA [N], closure speed [m/s], step [s]).
+
+    Returns
+    -------
+    WhipLoadRow
+    """
+    from ..scenarios.runner import run
+
+    sc = study_scenario(name, stiffness_n, closure_speed_m_s, links, step_s)
+    r = run(sc)
+    s = r.summary()
+    return WhipLoadRow(law=sc.engagement.reel.law, stiffness_n=float(stiffness_n),
+                       damping_n_s=sc.params.hose.axial_damping_n_s, closure_speed_m_s=float(closure_speed_m_s),
+                       links=sc.params.hose.links, result=s["result"], completed=r.completed,
+                       peaks={k: s[k] for k in PEAKS}, converged=dict(s["converged"]))
+
+
+def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEEDS_M_S, scenarios=SCENARIOS,
+                    links: int | None = None, step_s: float | None = None, progress=None) -> list[WhipLoadRow]:
+    """The grid: every scenario x stiffness x closure speed, one run each (deterministic: no
+    turbulence, so no seeds).
+
+    Parameters
+    ----------
+    stiffnesses_n : sequence of float
+        Axial stiffnesses EA [N].
+    closure_speeds_m_s : sequence of float
+        Probe closure speeds [m/s].
+    scenarios : sequence of str
+        The engagement scenarios (one per reel law).
+    links : int, optional
+        Links of every run (default the scenarios').
+    step_s : float, optional
+        Integration step with ``links`` [s].
+    progress : callable, optional
+        Called with a short text before each run.
+
+    Returns
+    -------
+    list of WhipLoadRow
+    """
+    rows = []
+    for name in scenarios:
+        for ea in stiffnesses_n:
+            for v in closure_speeds_m_s:
+                if progress is not None:
+                    progress(f"{name}, EA {ea:g} N, {v:g} m/s")
+                rows.append(run_point(name, ea, v, links, step_s))
+    return rows
+
+
+def snap_scale_n(params: Params, speed_m_s: float) -> float:
+    """The tension behind a snap front of speed ``speed_m_s`` [m/s] in the elastic hose,
+    ``v sqrt(EA mu)`` [N] (the wave equation's, docs/model.md §11).
+
+    Parameters
+    ----------
+    params : Params
+        Axial stiffness EA [N] and mass per length mu [kg/m].
+    speed_m_s : float
+        Snap speed [m/s].
+
+    Returns
+    -------
+    float
+    """
+    return float(speed_m_s * np.sqrt(params.hose.axial_stiffness_n * params.hose.mass_per_length_kg_m))

@@ -1,0 +1,107 @@
+"""The whip-load study and the rule of which loads are converged (docs/engagement.md, "Whip loads"
+and "Link-count convergence")."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from hosedrogue.cli import main
+from hosedrogue.load_convergence import (COARSE_NOTE, FLAIL_NOTE, SNAP_NOTE, converged_peaks, flailing,
+                                         went_slack)
+from hosedrogue.model.elastic_loop import SCHEME_RK4, elastic_run
+from hosedrogue.model.integrate import loop_arrays
+from hosedrogue.controllers.linear import LinearController
+from hosedrogue.model.system import HoseModel
+from hosedrogue.model import kernels as K
+from hosedrogue.params import PAPER, Actuator
+from hosedrogue.studies.whip_loads import axial_damping_n_s, first_axial_mode_rad_s, study_scenario
+
+T = np.linspace(0.0, 10.0, 1001)
+
+
+def test_convergence_rule():
+    """The rule's four cases on synthetic histories: a taut hose (every peak converged), a snap
+    (exit tension below 10 % of the trail tension, then taut: all but the drogue-end tension), a
+    flailing loop (slack above 0.1 m over the last second: only the slack), links longer than
+    0.1 m (none); rigid links keep the former rule (a slack hose: no tension peak)."""
+    taut = np.full(T.size, 1500.0)
+    snap = taut.copy()
+    snap[300:320] = 50.0
+    tight, loose = np.full(T.size, 0.01), np.full(T.size, 1.5)
+    assert not went_slack(taut) and went_slack(snap) and flailing(T, loose) and not flailing(T, tight)
+    flags, notes = converged_peaks(T, taut, tight, 0.1, True)
+    assert all(flags.values()) and notes == []
+    flags, notes = converged_peaks(T, snap, tight, 0.1, True)
+    assert not flags["peak_drogue_tension_n"] and flags["peak_exit_tension_n"] and notes == [SNAP_NOTE]
+    flags, notes = converged_peaks(T, snap, loose, 0.1, True)
+    assert [k for k, v in flags.items() if v] == ["peak_slack_m"] and notes == [FLAIL_NOTE]
+    flags, notes = converged_peaks(T, taut, tight, 0.4, True)
+    assert not any(flags.values()) and notes == [COARSE_NOTE]
+    flags, _ = converged_peaks(T, snap, tight, 0.4, False)
+    assert not flags["peak_exit_tension_n"] and flags["peak_probe_load_n"] and flags["peak_slack_m"]
+
+
+def test_first_axial_mode_is_the_chains():
+    """The first axial frequency of the trailed hose as a bar fixed at the exit with the drogue's
+    mass at its end (beta tan beta = mu L / m_d; 33.8 rad/s at 1e6 N), against the elastic chain's
+    own: a straight 40-link chain, air, gravity and damping off, released from a uniform stretch of
+    1e-4, its drogue's oscillation counted over 1 s (RK4 at 20 us). Bound 0.5 %: the split lumping's
+    second-order error at 40 links (l / L = 1/40: ~(pi l / 2 L)^2 / 6 = 2.6e-4) plus the higher
+    modes' share of the uniform start."""
+    EA, n = 1e6, 40
+    p = PAPER.replace(hose={"links": n, "link_inertia": "rod", "bending": "off", "mass_lumping": "split",
+                            "axial_stiffness_n": EA}, flight={"density_scale": 0.0})
+    omega = first_axial_mode_rad_s(p)
+    assert omega == pytest.approx(33.78, abs=0.01)
+    model = HoseModel(p)
+    model.ps[K.PS_G] = 0.0
+    x0 = np.zeros(6 * n)
+    x0[4 * n: 5 * n] = model.l * (1.0 + 1e-4)
+    h, steps = 2e-5, 50000
+    loop = loop_arrays(LinearController.static_zero(), np.zeros(2), Actuator(), np.zeros((1, 2)), 1.0)
+    N = steps // 10 + 1
+    ts, zs, us = np.empty(N), np.empty((N, 6 * n)), np.empty((N, 2))
+    outs = (np.empty((N, n + 1, 3)), np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 3)), np.empty(N))
+    status, saved, _ = elastic_run(x0, 0.0, h, steps, 10, SCHEME_RK4, 2, model.l, model.M, model.J, model.ps,
+                                   model.env, model.gust_values, *loop, math.radians(85.0), ts, zs, us, *outs)
+    assert status == K.OK
+    x = -outs[0][:saved, -1, 0]  # the drogue's distance aft of the exit
+    d = x - np.mean(x)
+    crossings = ts[:saved][1:][(d[:-1] < 0) & (d[1:] >= 0)]
+    measured = 2 * math.pi / np.mean(np.diff(crossings))
+    assert abs(measured / omega - 1.0) < 5e-3, (measured, omega)
+
+
+def test_study_scenario_keeps_the_loss_factor():
+    """A grid point: EA and the damping 0.1 EA / omega_1 (2960 N s at 1e6 N, rounded to the shipped
+    3000; 9360 N s at 1e7 N), the closure speed, the latch window opened to 0.3 m/s, and a run
+    lasting until 5 s after the probe stops."""
+    sc = study_scenario("engage-response", 1e7, 0.5)
+    assert sc.params.hose.axial_stiffness_n == 1e7
+    assert sc.params.hose.axial_damping_n_s == pytest.approx(9360, rel=1e-3)
+    assert axial_damping_n_s(sc.params, 1e6) == pytest.approx(2960, rel=1e-3)
+    probe = sc.engagement.probe
+    assert probe.closure_speed_m_s == 0.5 and probe.min_closure_speed_m_s == 0.3
+    assert sc.duration_s == pytest.approx((3.0 + 2.0) / 0.5 + probe.stop_time_s + 5.0)
+
+
+def test_cli_whip_loads_json(capsys):
+    """``hosedrogue study whip-loads`` on one coarse point prints its row as JSON: captured, the
+    five peaks, their flags (none converged on 0.4 m links)."""
+    code = main(["study", "whip-loads", "--stiffness", "1e6", "--closure-speeds", "2.5", "--scenarios",
+                 "engage-constant-tension", "--links", "40", "--step", "0.0025", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    (row,) = out["rows"]
+    assert row["result"] == "captured" and row["links"] == 40 and row["stiffness_n"] == 1e6
+    assert row["peak_exit_tension_n"] > row["peak_tension_rise_n"] > 0
+    assert not any(v for k, v in row.items() if k.startswith("converged_"))
+
+
+def test_cli_whip_loads_bad_input(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["study", "whip-loads", "--stiffness", "-5"])
+    assert exc.value.code == 2
+    assert "--stiffness" in capsys.readouterr().err
