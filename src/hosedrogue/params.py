@@ -227,9 +227,11 @@ class Numerics(Section):
     #: Absolute tolerance of the adaptive integrator, alike on every state component, in that
     #: component's own unit (link angles rad, their rates rad/s, controller and actuator states).
     atol: float = field(default=1e-11, metadata=real(0.0, 1.0, unit="state units"))
-    #: Corrections per stage of the "sdirk2" integrator [-]: each evaluates the chain at the
-    #: stage's current guess with the axial spring-damper implicit (docs/model.md §11); 2 keeps
-    #: the violent snaps of a whip stable at the engagement scenarios' steps, where 1 does not.
+    #: Least corrections per stage of the "sdirk2" integrator [-]: each evaluates the chain at
+    #: the stage's current guess with the axial, bending and string stiffness implicit; more
+    #: follow (up to 6, or this many) until the last moves no stage velocity by more than 1 mm/s,
+    #: and a step whose stages do not converge is split (docs/model.md §11). 2: with 1 the
+    #: engagement scenarios take as long (more of the corrections beyond the first are needed).
     sdirk_corrections: int = field(default=2, metadata=integer(1, 10))
     #: A link yaw beyond this [deg] stops the run: the angle coordinates are singular at 90 deg.
     max_yaw_deg: float = field(default=85.0, metadata=real(0.0, 89.9, unit="deg"))

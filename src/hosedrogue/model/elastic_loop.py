@@ -113,7 +113,7 @@ def sdirk_stage(t, zbase, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, 
     SDIRK_MAX_CORRECTIONS); the stage's slope into K (and Kg). Returns whether they converged."""
     n = l.shape[0]
     nz = zbase.shape[0]
-    for it in range(SDIRK_MAX_CORRECTIONS):
+    for it in range(max(SDIRK_MAX_CORRECTIONS, iters)):
         stage_point(zbase, Kg, hg, pairs, Y)
         elastic_loop_deriv(t, Y, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, hg,
                            Kg, K, u)

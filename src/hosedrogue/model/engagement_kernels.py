@@ -966,7 +966,7 @@ def sdirk_stage(t, zbase, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, 
     whether they converged."""
     nz = zbase.shape[0]
     least = int(ep[EP_ITER])
-    for it in range(SDIRK_MAX_CORRECTIONS):
+    for it in range(max(SDIRK_MAX_CORRECTIONS, least)):
         stage_point(zbase, Kg, hg, pairs, Y)
         eng_deriv_elastic(t, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg, K)
         d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
