@@ -524,6 +524,40 @@ def air_with_bow_wave(t, env, gust, ep, px, py, pz, scratch):
 
 
 @njit(**JIT)
+def reel_outputs(Ld, n, l, ep, dM, v, cs, qd, T0, Ldd, taum, slack, px, py, pz, fx, fy, fz, vpx, vpy, vpz, pm, pf,
+                 out):
+    """The evaluation's outputs of the reel, the probe and the powers into ``out`` (the ``O_*``
+    slots), both chains: the exit tension T0 [N], L'' [m/s^2], the motor torque [N m], the slack
+    [m], the probe tip, its force and velocity, the motor's and the friction's power and the
+    exit's, and the power of the kinetic energy carried by hose joining (L' > 0) or leaving the
+    moving masses (dM into ``dM``, :func:`mass_rates`) [W]."""
+    mass_rates(Ld, n, l, ep, dM)
+    v1 = v[1, 0] ** 2 + v[1, 1] ** 2 + v[1, 2] ** 2
+    pflux = 0.5 * dM[0] * v1
+    if ep[EP_JLINK] < 0.0:
+        c20 = cs[0, 2]
+        pflux += 0.5 * 0.25 * ep[EP_MU] * l[0] * l[0] * Ld * (c20 * c20 * qd[0] * qd[0] + qd[1] * qd[1])
+    out[O_T0] = T0
+    out[O_LDD] = Ldd
+    out[O_TAU] = taum
+    out[O_SLACK] = slack
+    out[O_PX] = px
+    out[O_PY] = py
+    out[O_PZ] = pz
+    out[O_FPX] = fx
+    out[O_FPY] = fy
+    out[O_FPZ] = fz
+    out[O_VPX] = vpx
+    out[O_VPY] = vpy
+    out[O_VPZ] = vpz
+    out[O_PMOTOR] = pm
+    out[O_PFRIC] = pf
+    out[O_PEXIT] = -Ld * T0
+    out[O_PFLUX] = pflux
+    out[O_PPROBE] = fx * v[n, 0] + fy * v[n, 1] + fz * v[n, 2]
+
+
+@njit(**JIT)
 def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out):
     """Accelerations (ws[15] holds qdd, out[O_LDD] holds L'') and the outputs of state z; chart
     (n,) selects each link's angle chart (:func:`apply_charts`); ``loop`` the drogue controller's
@@ -618,31 +652,8 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     T0 = T00 - me * Ldd
     for i in range(2 * n):
         qdd[i] += Ldd * qdde[i]
-    # power of the kinetic energy carried by hose joining (L' > 0) or leaving the moving masses
-    mass_rates(Ld, n, l, ep, dM)
-    v1 = v[1, 0] ** 2 + v[1, 1] ** 2 + v[1, 2] ** 2
-    pflux = 0.5 * dM[0] * v1
-    if ep[EP_JLINK] < 0.0:
-        c20 = cs[0, 2]
-        pflux += 0.5 * 0.25 * ep[EP_MU] * l[0] * l[0] * Ld * (c20 * c20 * qd[0] * qd[0] + qd[1] * qd[1])
-    out[O_T0] = T0
-    out[O_LDD] = Ldd
-    out[O_TAU] = taum
-    out[O_SLACK] = slack
-    out[O_PX] = px
-    out[O_PY] = py
-    out[O_PZ] = pz
-    out[O_FPX] = fx
-    out[O_FPY] = fy
-    out[O_FPZ] = fz
-    out[O_VPX] = vpx
-    out[O_VPY] = vpy
-    out[O_VPZ] = vpz
-    out[O_PMOTOR] = pm
-    out[O_PFRIC] = pf
-    out[O_PEXIT] = -Ld * T0
-    out[O_PFLUX] = pflux
-    out[O_PPROBE] = fx * v[n, 0] + fy * v[n, 1] + fz * v[n, 2]
+    reel_outputs(Ld, n, l, ep, dM, v, cs, qd, T0, Ldd, taum, slack, px, py, pz, fx, fy, fz, vpx, vpy, vpz, pm, pf,
+                 out)
 
 
 @njit(**JIT)
@@ -841,30 +852,8 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
             Ldd = (T0 + d0 * (ews[7][0] - guess[5 * n] + aLg) + rest) / (mr + d0)
         else:
             Ldd = (T0 + rest) / mr
-    mass_rates(Ld, n, l, ep, dM)
-    v1 = v[1, 0] ** 2 + v[1, 1] ** 2 + v[1, 2] ** 2
-    pflux = 0.5 * dM[0] * v1
-    if ep[EP_JLINK] < 0.0:
-        c20 = cs[0, 2]
-        pflux += 0.5 * 0.25 * ep[EP_MU] * l[0] * l[0] * Ld * (c20 * c20 * qd[0] * qd[0] + qd[1] * qd[1])
-    out[O_T0] = T0
-    out[O_LDD] = Ldd
-    out[O_TAU] = taum
-    out[O_SLACK] = slack
-    out[O_PX] = px
-    out[O_PY] = py
-    out[O_PZ] = pz
-    out[O_FPX] = fx
-    out[O_FPY] = fy
-    out[O_FPZ] = fz
-    out[O_VPX] = vpx
-    out[O_VPY] = vpy
-    out[O_VPZ] = vpz
-    out[O_PMOTOR] = pm
-    out[O_PFRIC] = pf
-    out[O_PEXIT] = -Ld * T0
-    out[O_PFLUX] = pflux
-    out[O_PPROBE] = fx * v[n, 0] + fy * v[n, 1] + fz * v[n, 2]
+    reel_outputs(Ld, n, l, ep, dM, v, cs, qd, T0, Ldd, taum, slack, px, py, pz, fx, fy, fz, vpx, vpy, vpz, pm, pf,
+                 out)
     out[O_PAXIAL] = p_axial
 
 
