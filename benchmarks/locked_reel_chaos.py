@@ -3,8 +3,9 @@ path, printed as figures (never asserted; docs/engagement.md, "Link-count conver
 
 ``engage-locked`` (and, for comparison, ``engage-response``) is run with the probe's lateral
 offset ``probe.offset_y_m`` moved by 0, 1, 2, 3, 10 um, 0.1 and 1 mm - changes far below any
-tolerance of a real probe's path - on the shipped mesh (160 links, the SDIRK at 1 ms) and, with
-``--doubled``, on the link-doubling mesh (320 links at 0.25 ms). For each peak the smallest,
+tolerance of a real probe's path - on the shipped mesh (160 links, the SDIRK at 2 ms for the
+locked reel, 5 ms for the responsive one) and, with ``--doubled``, on the link-doubling mesh (320
+links at half the step). For each peak the smallest,
 median and largest value over the offsets and the spread (largest minus smallest over the
 median) are printed. A peak whose spread under such a perturbation exceeds the 3 % link-doubling
 bound cannot converge to it with the mesh: the run is chaotic, and a mesh change acts as one more
