@@ -284,6 +284,16 @@ def fed_tip(t, ep):
 
 
 @njit(**JIT)
+def probe_force(ep, n, r, v, px, py, pz, vpx, vpy, vpz):
+    """The coupling's force on the drogue (joint n of r, v) [N] from the probe tip at (px, py, pz)
+    moving at (vpx, vpy, vpz): the spring ``EP_KP`` [N/m] and damper ``EP_CP`` [N s/m] between them."""
+    kp = ep[EP_KP]
+    cp = ep[EP_CP]
+    return (kp * (px - r[n, 0]) + cp * (vpx - v[n, 0]), kp * (py - r[n, 1]) + cp * (vpy - v[n, 1]),
+            kp * (pz - r[n, 2]) + cp * (vpz - v[n, 2]))
+
+
+@njit(**JIT)
 def probe_tip(t, z, n, ep):
     """Probe-tip position and velocity [m, m/s] at time t and state z: :func:`probe_state`, whose
     lateral and vertical motion the pilot's states replace when a pilot flies the probe; the
@@ -604,11 +614,7 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, l, M, J, n, e, r, v, ws[16], F, Mom)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
-        kp = ep[EP_KP]
-        cp = ep[EP_CP]
-        fx = kp * (px - r[n, 0]) + cp * (vpx - v[n, 0])
-        fy = kp * (py - r[n, 1]) + cp * (vpy - v[n, 1])
-        fz = kp * (pz - r[n, 2]) + cp * (vpz - v[n, 2])
+        fx, fy, fz = probe_force(ep, n, r, v, px, py, pz, vpx, vpy, vpz)
         F[n, 0] += fx
         F[n, 1] += fy
         F[n, 2] += fz
@@ -791,11 +797,7 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
                 Mom)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
-        kp = ep[EP_KP]
-        cp = ep[EP_CP]
-        fx = kp * (px - r[n, 0]) + cp * (vpx - v[n, 0])
-        fy = kp * (py - r[n, 1]) + cp * (vpy - v[n, 1])
-        fz = kp * (pz - r[n, 2]) + cp * (vpz - v[n, 2])
+        fx, fy, fz = probe_force(ep, n, r, v, px, py, pz, vpx, vpy, vpz)
         F[n, 0] += fx
         F[n, 1] += fy
         F[n, 2] += fz
@@ -1116,8 +1118,10 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
             return MERGE, s, saved
         if probing:
             # the coupler plane needs the kinematics only: the frames and joint positions that the
-            # full evaluation would write, bit for bit (chain_kinematics is its first half)
-            chain_kinematics(z, n, l, M, J, ep, chart, ws)
+            # full evaluation would write, bit for bit (chain_kinematics is its first half); with
+            # elastic links state_loads has just written them for this z
+            if not elastic:
+                chain_kinematics(z, n, l, M, J, ep, chart, ws)
             d = plane_distance(z, n, l, ws, t, ep)
             if d_before > 0.0 and d <= 0.0:
                 return PLANE, s, saved
@@ -1157,11 +1161,7 @@ def state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, row):
     f = 0.0
     if ep[EP_COUPLED] != 0.0:
         px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
-        kp = ep[EP_KP]
-        cp = ep[EP_CP]
-        fx = kp * (px - r[n, 0]) + cp * (vpx - v[n, 0])
-        fy = kp * (py - r[n, 1]) + cp * (vpy - v[n, 1])
-        fz = kp * (pz - r[n, 2]) + cp * (vpz - v[n, 2])
+        fx, fy, fz = probe_force(ep, n, r, v, px, py, pz, vpx, vpy, vpz)
         f = math.sqrt(fx * fx + fy * fy + fz * fz)
     row[2] = f
     arc = 0.0
