@@ -26,7 +26,7 @@ INF = math.inf
 
 
 def real(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = False, unit: str = "",
-         inf_ok: bool = False, optional: bool = False) -> dict:
+         inf_ok: bool | str = False, optional: bool = False) -> dict:
     """Metadata of a real-valued field in the range (lo, hi] (openness selectable).
 
     Parameters
@@ -37,8 +37,9 @@ def real(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = Fa
         Whether the bound itself is excluded.
     unit : str
         The field's unit ("m", "m/s", "N", ...; "" for none).
-    inf_ok : bool
-        Whether ``inf`` is allowed (as "no limit"); then ``hi`` must be ``inf``.
+    inf_ok : bool or str
+        Whether ``inf`` is allowed (as "no limit", or what the string says it means); then ``hi``
+        must be ``inf``.
     optional : bool
         Whether the field may be left out (``None``: its meaning is the section's to say, e.g.
         "unchanged"); a scenario file then simply omits the key.
@@ -212,7 +213,7 @@ def describe(meta: Mapping[str, Any]) -> str:
     what = "a number" if closed_inf else "a finite number"
     range_text = f"{what} in {left}{lo:g}, {hi_s}{right}{unit}"
     if closed_inf:
-        range_text += " (inf: no limit)"
+        range_text += f" (inf: {closed_inf if isinstance(closed_inf, str) else 'no limit'})"
     if meta.get("optional"):
         range_text += ", or left out"
     if kind == "vec3":

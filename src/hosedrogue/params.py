@@ -81,7 +81,7 @@ class Hose(Section):
     #: Axial stiffness EA of the hose [N]: every link becomes a spring of stiffness EA / l along
     #: itself, its length a coordinate of the chain (docs/model.md §11); inf (the paper's case):
     #: rigid, inextensible links. The engagement scenarios' 1e6 N is reasoned in docs/model.md §11.
-    axial_stiffness_n: float = field(default=INF, metadata=real(0.0, unit="N", inf_ok=True))
+    axial_stiffness_n: float = field(default=INF, metadata=real(0.0, unit="N", inf_ok="rigid links"))
     #: Kelvin-Voigt axial damping c_a of the hose wall [N s]: a link's tension is
     #: EA eps + c_a deps/dt for its strain eps (0: none; needs a finite ``axial_stiffness_n``);
     #: c_a = eta EA / omega for a loss factor eta at the frequency omega (docs/model.md §11).
