@@ -1,4 +1,5 @@
-"""The one set of compilation options of every numba function in the package.
+"""The one set of compilation options of every numba function in the package, and a cache that
+cannot run stale code.
 
 numba compiles a jitted function that another one calls on first use, and a callee compiled
 inside a caller takes the caller's floating-point flags: a kernel shared by two loops compiled
@@ -12,14 +13,136 @@ order does not matter.
   (``nsz``), but neither reassociation (vectorized reductions whose order depends on array
   alignment would make results differ in the last bits between processes) nor "no NaNs/infs"
   (divergence must still be detected);
+* ``no_cfunc_wrapper``: numba builds, beside each function's Python entry, a C-callable wrapper
+  for ``cfunc`` and first-class function values; the package uses neither, and the wrapper costs
+  compile time for every one of its 160-odd compiled signatures (docs/develop.md, "Compile time");
 * :data:`JIT_NO_ALLOC` is :data:`JIT` without numba's runtime (``_nrt=False``) for the kernels of
   the time loop, which allocate nothing: taking an array out of the workspace tuple or slicing
   the state then costs no atomic reference-count update (those were ~1.5 us of a 3 us
   evaluation at 20 links). Such a kernel cannot allocate (``np.empty`` in one fails to compile).
   ``_nrt`` is an underscore option of numba's jit (numba 0.59-0.68 at least).
+
+**The cache.** numba's on-disk cache (``cache=True``) keys each function's entries on the source
+of the file that defines it alone, but a cached function holds the machine code of every
+function it calls: with the callee in another file, editing the callee leaves the caller's cache
+valid, and the next process runs the old callee (numba's documentation, "Notes on caching"). Here
+every compiled function of the package is stamped instead with :func:`source_stamp`, the hash
+of the source of every module of the package that compiles code (any module that imports numba)
+and of numba's version: any change in any of them recompiles every cached function of the
+package, whatever it calls, and nothing else does. The stamp is taken once per process. The
+locators that apply it (:class:`PackageCacheLocator` and its kin) come before numba's own for the
+package's files only; other packages' functions are cached as numba does.
 """
 
+from __future__ import annotations
+
+import functools
+import hashlib
+import re
+from pathlib import Path
+
+import numba
+from numba.core import caching
+
 #: Options of every compiled function that may allocate.
-JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"})
+JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"}, no_cfunc_wrapper=True)
 #: :data:`JIT` for functions that allocate nothing (no reference counting).
 JIT_NO_ALLOC = dict(JIT, _nrt=False)
+
+#: The package's folder: the functions defined under it take :func:`source_stamp`.
+PACKAGE_DIR = Path(__file__).resolve().parent
+_IMPORTS_NUMBA = re.compile(rb"^\s*(?:from\s+numba\b|import\s+numba\b)", re.MULTILINE)
+
+
+def compiled_modules(package_dir: Path = PACKAGE_DIR) -> list[Path]:
+    """The package's modules that compile code, sorted.
+
+    Parameters
+    ----------
+    package_dir : pathlib.Path
+        The package's folder (default: this package's).
+
+    Returns
+    -------
+    list of pathlib.Path
+        Every ``.py`` file under ``package_dir`` that imports numba (``import numba`` or
+        ``from numba ...`` at the start of a line).
+    """
+    return sorted(p for p in package_dir.rglob("*.py")
+                  if "__pycache__" not in p.parts and _IMPORTS_NUMBA.search(p.read_bytes()))
+
+
+@functools.lru_cache(maxsize=None)
+def source_stamp(package_dir: Path = PACKAGE_DIR) -> str:
+    """What a cached compiled function of the package is valid for.
+
+    Parameters
+    ----------
+    package_dir : pathlib.Path
+        The package's folder (default: this package's).
+
+    Returns
+    -------
+    str
+        SHA-256 (hex) of numba's version and of the path (relative to the package) and bytes of
+        every module :func:`compiled_modules` lists.
+    """
+    h = hashlib.sha256(f"numba {numba.__version__}\n".encode())
+    for path in compiled_modules(package_dir):
+        data = path.read_bytes()
+        h.update(f"{path.relative_to(package_dir).as_posix()} {len(data)}\n".encode())
+        h.update(data)
+    return h.hexdigest()
+
+
+def _in_package(py_file) -> bool:
+    try:
+        Path(py_file).resolve().relative_to(PACKAGE_DIR)
+    except (OSError, ValueError):
+        return False
+    return True
+
+
+class _PackageStamp:
+    """Mixin of the package's cache locators: the package's source stamp, not the file's, and
+    only for the package's own files (numba's locators handle every other)."""
+
+    def get_source_stamp(self):
+        return source_stamp()
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        if not _in_package(py_file):
+            return None
+        return super().from_function(py_func, py_file)
+
+
+def _numba_name(name):
+    """A class of numba's caching module by its public name (numba >= 0.61) or its former,
+    underscored one (0.59-0.60)."""
+    return getattr(caching, name, None) or getattr(caching, "_" + name)
+
+
+class PackageCacheLocator(_PackageStamp, _numba_name("UserProvidedCacheLocator")):
+    """numba's ``NUMBA_CACHE_DIR`` locator, stamped with :func:`source_stamp`."""
+
+
+class PackageInTreeCacheLocator(_PackageStamp, _numba_name("InTreeCacheLocator")):
+    """numba's ``__pycache__`` locator, stamped with :func:`source_stamp`."""
+
+
+class PackageUserWideCacheLocator(_PackageStamp, _numba_name("UserWideCacheLocator")):
+    """numba's user-wide locator (a read-only install), stamped with :func:`source_stamp`."""
+
+
+def _install_locators() -> None:
+    """Put the package's locators first in numba's list (once; before any function of the
+    package is decorated, since a dispatcher picks its locator when it is created)."""
+    classes = _numba_name("CacheImpl")._locator_classes
+    ours = [PackageCacheLocator, PackageInTreeCacheLocator, PackageUserWideCacheLocator]
+    if classes[:len(ours)] != ours:
+        classes[:0] = ours
+
+
+_install_locators()
+
