@@ -20,8 +20,8 @@ joint's acceleration ``L'' e_0 + 2 L' de_0/dt``. The existing kernels are reused
 State ``z = [q (2n), qd (2n), L, L', W_motor, W_friction, W_exit, W_flux, W_probe]``: the five
 last entries integrate powers for the energy balance (work of the motor on the drum, heat of the
 drum's friction, work of the exit on the hose, kinetic energy carried by hose joining or leaving
-the moving masses, work of the probe on the drogue). ``ep`` holds the engagement scalars
-(indices below); ``ws`` is :func:`~hosedrogue.model.kernels.make_workspace` of n links and
+the moving masses, work of the probe on the drogue; the tail's slots ``Z_*``, and the ``EP_*`` of
+``ep``, the engagement scalars, are declared in :mod:`hosedrogue.model.layout`); ``ws`` is :func:`~hosedrogue.model.kernels.make_workspace` of n links and
 ``ws2`` a second one for the unit-L'' solve.
 """
 
@@ -66,44 +66,18 @@ from .frame import frame_loads
 from .kernels import NONFINITE, STAGE_LIMIT, YAW_LIMIT
 from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_Q, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
                       R_REEL_V, R_T0, deliver)
-
-# --- ep layout -------------------------------------------------------------------------------
-(EP_MU, EP_MD, EP_SPLIT, EP_JLINK, EP_L0,
- EP_LAW, EP_RD, EP_JR, EP_CR, EP_TSET, EP_TAU_MAX, EP_V_IN_MAX, EP_V_OUT_MAX, EP_K_GOV,
- EP_KS, EP_DB, EP_KV,
- EP_PAY_T0, EP_PAY_DIST, EP_PAY_V, EP_PAY_A,
- EP_PROBE, EP_P0X, EP_P0Y, EP_P0Z, EP_VC, EP_PUSH, EP_T_STOP, EP_KP, EP_CP, EP_COUPLED, EP_T_CAP,
- EP_S_CAP, EP_JD,
- EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_Q, EP_BW_LEN,
- EP_CTRL, EP_NPIL, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV, EP_PIL_VMAX, EP_PIL_AMAX, EP_H,
- EP_L_MIN, EP_L_MAX) = range(50)
-# the sampled-data controllers' entries (docs/controllers.md): the pilot flag, the receiver and
-# the commanded reel
-(EP_PIL, EP_RCV, EP_RCV_TV, EP_RCV_VMAX, EP_RCV_AMAX, EP_REEL_SLOT, EP_REEL_TV) = (50, 51, 52, 53, 56, 59, 60)
-# the elastic links' entries (docs/model.md §11): EP_ELASTIC 1 for elastic links (the hose state
-# [q, qd, lam, lamd], 6n; hosedrogue.model.elastic); EP_SCHEME the integrator, SCHEME_RK4 or
-# SCHEME_SDIRK2 (elastic only; hosedrogue.model.implicit); EP_ITER the SDIRK's corrections per stage
-EP_ELASTIC, EP_SCHEME, EP_ITER = 61, 62, 63
-# a probe path fed from outside (the engagement FMU's position input; hosedrogue.engagement.stepper's
-# receiver_pass_through): EP_FEED 1 when the receiver's tip is, instead of its response, the cubic
-# in time p(t) = P + V s + A s^2 / 2 + J s^3 / 6, s = t - T0, from EP_FEED_T0 [s] with EP_FEED_P (3)
-# [m], EP_FEED_V (3) [m/s], EP_FEED_A (3) [m/s^2] and EP_FEED_J (3) [m/s^3] (tanker frame),
-# evaluated at every stage's time as the prescribed path is (fed_tip)
-EP_FEED, EP_FEED_T0, EP_FEED_P, EP_FEED_V, EP_FEED_A, EP_FEED_J = 64, 65, 66, 69, 72, 75
-EP_SIZE = 78
-# EP_CTRL: 1 with a drogue controller in the loop (its states follow the pilot's, see below);
-# EP_NPIL: number of states of the block after the tail (the pilot's PIL_STATES or the receiver's
-# RCV_STATES, and the commanded reel's one; see below); EP_PIL_*: the pilot's reaction time [s], lag
-# [s], velocity time constant [s], speed [m/s] and acceleration [m/s^2] bounds; EP_H: the RK4
-# step [s] (the index of the drogue history the pilot's delay reads); EP_L_MIN, EP_L_MAX: the free
-# hose length's range [m] between the drum's end stops (fully reeled in, fully paid out)
-# EP_PIL: 1 when the pilot flies the probe (its states open the block after the tail); EP_RCV: 1
-# when the receiver flies it (its RCV_STATES states open the block: probe tip position and
-# velocity [m, m/s] and the held velocity command [m/s]), with the velocity time constant
-# EP_RCV_TV [s] and the per-axis bounds EP_RCV_VMAX (3) [m/s] and EP_RCV_AMAX (3) [m/s^2];
-# EP_REEL_SLOT: 1 + the place in the block of the held take-up speed command [m/s] of the
-# commanded reel (LAW_COMMANDED), 0 without; EP_REEL_TV: its speed time constant [s]. EP_NPIL
-# counts the whole block.
+from .layout import (  # the ep, state tail, pilot, receiver and out tables, declared and documented there
+    EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_LEN, EP_BW_Q, EP_COUPLED, EP_CP, EP_CR, EP_CTRL, EP_DB, EP_ELASTIC,
+    EP_FEED, EP_FEED_A, EP_FEED_J, EP_FEED_P, EP_FEED_T0, EP_FEED_V, EP_H, EP_ITER, EP_JD, EP_JLINK, EP_JR,
+    EP_K_GOV, EP_KP, EP_KS, EP_KV, EP_L0, EP_L_MAX, EP_L_MIN, EP_LAW, EP_MD, EP_MU, EP_NPIL, EP_P0X, EP_P0Y,
+    EP_P0Z, EP_PAY_A, EP_PAY_DIST, EP_PAY_T0, EP_PAY_V, EP_PIL, EP_PIL_AMAX, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV,
+    EP_PIL_VMAX, EP_PROBE, EP_PUSH, EP_RCV, EP_RCV_AMAX, EP_RCV_TV, EP_RCV_VMAX, EP_RD, EP_REEL_SLOT, EP_REEL_TV,
+    EP_S_CAP, EP_SCHEME, EP_SIZE, EP_SPLIT, EP_T_CAP, EP_T_STOP, EP_TAU_MAX, EP_TSET, EP_V_IN_MAX, EP_V_OUT_MAX,
+    EP_VC, O_CY, O_CZ, O_EY, O_EZ, O_FPX, O_FPY, O_FPZ, O_LDD, O_MY, O_MZ, O_PAXIAL, O_PEXIT, O_PFLUX, O_PFRIC,
+    O_PMOTOR, O_PPROBE, O_PX, O_PY, O_PZ, O_Q, O_SERVO, O_SIZE, O_SLACK, O_T0, O_TAU, O_UY, O_UZ, O_VPX, O_VPY,
+    O_VPZ, PIL_STATES, PIL_VY, PIL_VZ, PIL_Y, PIL_Z, RCV_CX, RCV_STATES, RCV_VX, RCV_X, Z_L, Z_LD, Z_TAIL, Z_WAX,
+    Z_WF, Z_WFLUX, Z_WM, Z_WP, Z_WX,
+)
 
 # bow-wave shapes (EP_BW); EP_BW_D* is the source (the line's forward end) minus the probe tip [m]
 BW_OFF, BW_RANKINE, BW_LINE = SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE
@@ -112,32 +86,6 @@ LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE, LAW_COMMANDED = 0, 1, 2, 3
 
 # integrators of the elastic chain (EP_SCHEME): RK4, or the stiff SDIRK of hosedrogue.model.implicit
 SCHEME_RK4, SCHEME_SDIRK2 = 0, 1
-
-# state tail (after the hose entries: 4n, or 6n for elastic links, see tail_start)
-Z_L, Z_LD, Z_WM, Z_WF, Z_WX, Z_WFLUX, Z_WP, Z_WAX = range(8)
-Z_TAIL = 8
-# Z_WAX: heat of the links' axial damping [J] (elastic links; 0 otherwise)
-# after the tail: the pilot's states (if any: probe tip y, z [m] and their rates [m/s]), then the
-# controller's states and, for a rate-limited actuator, the applied force [N] - the layout of
-# hosedrogue.model.integrate's closed loop with x = everything before the controller
-PIL_Y, PIL_Z, PIL_VY, PIL_VZ = range(4)
-PIL_STATES = 4
-# or the receiver's: probe tip position, velocity, held velocity command (tanker frame)
-RCV_X, RCV_VX, RCV_CX = 0, 3, 6
-RCV_STATES = 9
-
-# out layout (scalars of one evaluation)
-(O_T0, O_LDD, O_TAU, O_SLACK, O_PX, O_PY, O_PZ, O_FPX, O_FPY, O_FPZ, O_VPX, O_VPY, O_VPZ,
- O_PMOTOR, O_PFRIC, O_PEXIT, O_PFLUX, O_PPROBE,
- O_UY, O_UZ, O_MY, O_MZ, O_CY, O_CZ, O_PAXIAL, O_Q, O_EY, O_EZ) = range(28)
-#: an actuated drogue's servo derivatives (:func:`hosedrogue.model.drogue_actuator.servo_rates`):
-#: the surfaces' deflection rates [rad/s] first, then (second order) the servo rates' derivatives
-O_SERVO = 28
-O_SIZE = O_SERVO + 2 * DA.MAX_SURFACES
-# O_UY, O_UZ: control force applied at the drogue [N]; O_MY, O_MZ: the measured drogue offsets
-# [m]; O_CY, O_CZ: the commanded force [N] (differs from the applied one for a rate-limited actuator);
-# O_PAXIAL: power dissipated by the links' axial damping [W] (elastic links);
-# O_Q: an actuated drogue's dynamic pressure [Pa]; O_EY, O_EZ: its anti-windup error [N]
 
 # segment stop codes (besides kernels.OK / NONFINITE / YAW_LIMIT)
 SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13

@@ -5,7 +5,8 @@ The closed-loop state is ``z = [x, xc, ua]``: the hose state ``x = [q, qd]`` (4n
 controller state ``xc``, and - only when the actuator is rate-limited - the applied force ``ua``
 (2). The controller reads the drogue's lateral and vertical offset from ``y_ref`` (plus sensor
 noise) and commands ``u = Cc xc + Dc y`` [N], clipped to ``+-act[0:2]`` per axis. ``act`` is
-``[max_hor_n, max_ver_n, max_rate_n_s, time_constant_s]``; with a finite rate the applied force
+``[max_hor_n, max_ver_n, max_rate_n_s, time_constant_s]`` (``ACT_*`` of
+:mod:`hosedrogue.model.layout`); with a finite rate the applied force
 follows the command as ``ua' = clip((u - ua) / time_constant, -rate, rate)``.
 
 A drogue that steers itself with control surfaces (``act`` longer than the ideal actuator's
@@ -36,6 +37,7 @@ from .kernels import (
     make_workspace_jit,
 )
 from . import drogue_actuator as DA
+from .layout import ACT_RATE, ACT_TAU, ACT_U_MAX
 
 
 #: compilation options of the loop's functions that allocate nothing (:mod:`hosedrogue.jit`)
@@ -85,10 +87,10 @@ def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
         acc = Dc[i, 0] * m0 + Dc[i, 1] * m1
         for j in range(nc):
             acc += Cc[i, j] * z[nx + j]
-        if acc > u_max[i]:
-            acc = u_max[i]
-        elif acc < -u_max[i]:
-            acc = -u_max[i]
+        if acc > u_max[ACT_U_MAX + i]:
+            acc = u_max[ACT_U_MAX + i]
+        elif acc < -u_max[ACT_U_MAX + i]:
+            acc = -u_max[ACT_U_MAX + i]
         u[i] = acc
     return m0, m1
 
@@ -196,9 +198,9 @@ def actuator_rates(c0, c1, z, na, act, dz):
     state ends at ``na``): ``ua' = clip((u_cmd - ua) / time_constant, -rate, rate)`` for the
     commanded force (c0, c1) [N]. Also used by the engagement kernels."""
     if z.shape[0] > na:
-        rate = act[2]
+        rate = act[ACT_RATE]
         for i in range(2):
-            r = ((c0 if i == 0 else c1) - z[na + i]) / act[3]
+            r = ((c0 if i == 0 else c1) - z[na + i]) / act[ACT_TAU]
             dz[na + i] = min(max(r, -rate), rate)
 
 

@@ -19,17 +19,10 @@ the time integrators never form it: :func:`chain_forward_dynamics` solves for ``
 an articulated-body recursion. The dense path (:func:`accelerations_dense`) stays as the
 reference the recursion is tested against.
 
-Layout of the scalar arrays (indices are the module constants below):
-
-``ps`` (model): gravity, density, airspeed, outer diameter, c_t, c_n, drogue area x c_d, E I,
-bending mode (0 off, 1 paper, 2 moment), link drag quadrature (0 midpoint, 1 two-point Gauss),
-structural bending damping c_b [N m^2 s], mass lumped at the tow point. The drogue's rotational
-inertia is the last link's transverse inertia (in ``J[n-1]``, docs/model.md §2).
-``env`` (air): airspeed, frozen flag, gust window on/off, gust record t0/dt, then the 6 wake
-scalars of :func:`hosedrogue.environment.wake.wake_scalars`, then the gust interpolation flag,
-the per-evaluation gust, the bow wave and the tanker's motion (slots ``ENV_M_*`` of
-:mod:`hosedrogue.model.frame`; when the tanker manoeuvres, its motion table follows the
-``ENV_SIZE`` scalars and every evaluation's copy of env holds the frame terms at its time).
+The scalar arrays ``ps`` (the model's) and ``env`` (the air's; with the tanker's motion,
+:mod:`hosedrogue.model.frame`) are laid out in :mod:`hosedrogue.model.layout` (``PS_*``,
+``ENV_*``). The drogue's rotational inertia is the last link's transverse inertia (in
+``J[n-1]``, docs/model.md §2).
 """
 
 from __future__ import annotations
@@ -44,41 +37,18 @@ from ..environment.turbulence import gust_at
 from ..environment.wake import wake_velocity
 
 from ..jit import JIT, JIT_NO_ALLOC  # noqa: E402 - the one set of compilation options
-from .frame import ENV_M_END, ENV_M_ON, ENV_M_T, ENV_M_V0, frame_loads, frame_terms, frame_wind
+from .frame import frame_loads, frame_terms, frame_wind
+from .layout import (  # the ps and env tables, declared and documented there
+    ENV_BW, ENV_BW_LEN, ENV_BW_Q, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, ENV_FROZEN, ENV_G_CUBIC, ENV_G_DT, ENV_G_NOW,
+    ENV_G_T0, ENV_GU, ENV_GV, ENV_GW, ENV_M_ON, ENV_M_T, ENV_M_V0, ENV_SIZE, ENV_T_OFF, ENV_T_ON, ENV_V,
+    ENV_WAKE, PS_BEND_DAMP, PS_BENDING, PS_CA, PS_CN, PS_CT, PS_DO, PS_DRAG_QUAD, PS_DROGUE_CDA, PS_EA, PS_EI,
+    PS_G, PS_M_TOW, PS_RHO, PS_SIZE, PS_V,
+)
 
-# ps layout
-(PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_DRAG_QUAD,
- PS_BEND_DAMP) = range(11)
-#: mass lumped at the tow point (joint 0) [kg]: carried by the tanker, it never moves, so it
-#: enters only the tow-point force (its weight); nonzero for the ``split`` lumping
-PS_M_TOW = 11
-#: axial stiffness EA [N] of the hose (inf: rigid, inextensible links, the paper's) and its
-#: Kelvin-Voigt axial damping c_a [N s] (tension EA eps + c_a deps/dt; :mod:`hosedrogue.model.elastic`)
-PS_EA, PS_CA = 12, 13
-PS_SIZE = 14
 BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
 DRAG_MIDPOINT, DRAG_GAUSS2 = 0, 1
 #: Two-point Gauss-Legendre abscissa on [0, 1] measured from the link's centre: 1/(2 sqrt 3).
 GAUSS2_OFFSET = 0.5 / math.sqrt(3.0)
-
-# env layout
-ENV_V, ENV_FROZEN, ENV_T_ON, ENV_T_OFF, ENV_G_T0, ENV_G_DT = range(6)
-ENV_WAKE = 6
-#: 1.0: read the gust record with the cubic interpolant, 0.0: linearly
-ENV_G_CUBIC = 12
-#: per-evaluation scratch (in the workspace's copy of env, never in the model's): flag 1.0 when
-#: ENV_GU..ENV_GW hold the gust at the evaluation's time (the "uniform" distribution: one lookup
-#: per evaluation instead of one per link; the same arithmetic, so the same bits)
-ENV_G_NOW, ENV_GU, ENV_GV, ENV_GW = 13, 14, 15, 16
-#: the receiver's bow wave (:func:`hosedrogue.environment.bow_wave.bow_wave_velocity`): shape code
-#: (0 none, the model's), source position in S_p [m], flux [m^3/s], line length [m]; the
-#: engagement writes them into its evaluation's copy of env, where the probe tip is
-ENV_BW, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, ENV_BW_Q, ENV_BW_LEN = 17, 18, 19, 20, 21, 22
-#: the tanker's motion (:mod:`hosedrogue.model.frame`): slots 23 (on/off) to 37 (the frame terms
-#: of the evaluation), then, in the model's env only, the motion table from ENV_SIZE on; with the
-#: motion on, the evaluation's copy holds the airspeed at its time in ENV_V and the wake's
-#: circulation at its load factor and airspeed
-ENV_SIZE = ENV_M_END
 
 # status codes of the integrators (STAGE_LIMIT: the elastic chains' SDIRK, hosedrogue.model.implicit)
 OK, NONFINITE, YAW_LIMIT, STEP_LIMIT, STAGE_LIMIT = 0, 1, 2, 3, 4
