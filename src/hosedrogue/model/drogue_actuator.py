@@ -39,11 +39,8 @@ from .kernels import air_velocity
 # the ideal actuator's entries at the head of ``act`` (ACT_IDEAL of them) and the surfaces' after
 # them (DA_*, to DA_HEAD), declared and documented there; MAX_SURFACES the most surfaces
 from .layout import (ACT_IDEAL, DA_DMAX, DA_HEAD, DA_MODE, DA_NC, DA_NS, DA_OMEGA, DA_ORDER, DA_QMIN, DA_RMAX,
-                     DA_SCF, DA_SKD, DA_ZETA, MAX_SURFACES)
+                     DA_SCF, DA_SKD, DA_ZETA, MAX_SURFACES, MODE_DEFLECTION, MODE_FORCE)
 
-#: Command modes: the controller commands a force [N] (mixed to the surfaces), or the surfaces'
-#: deflections [rad] directly (its outputs, one per surface).
-MODE_FORCE, MODE_DEFLECTION = 0, 1
 COMMAND_MODES = {"force": MODE_FORCE, "deflection": MODE_DEFLECTION}
 #: Below this dynamic pressure [Pa] the inversion divides by it instead (no air: the commands saturate).
 Q_MIN_PA = 1.0

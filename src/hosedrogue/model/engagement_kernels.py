@@ -21,8 +21,9 @@ State ``z = [q (2n), qd (2n), L, L', W_motor, W_friction, W_exit, W_flux, W_prob
 last entries integrate powers for the energy balance (work of the motor on the drum, heat of the
 drum's friction, work of the exit on the hose, kinetic energy carried by hose joining or leaving
 the moving masses, work of the probe on the drogue; the tail's slots ``Z_*``, and the ``EP_*`` of
-``ep``, the engagement scalars, are declared in :mod:`hosedrogue.model.layout`); ``ws`` is :func:`~hosedrogue.model.kernels.make_workspace` of n links and
-``ws2`` a second one for the unit-L'' solve.
+``ep``, the engagement scalars, are declared in :mod:`hosedrogue.model.layout`); ``ws`` is
+:func:`~hosedrogue.model.kernels.make_workspace` of n links and ``ws2`` a second one for the
+unit-L'' solve.
 """
 
 from __future__ import annotations
@@ -32,7 +33,6 @@ import math
 import numpy as np
 from numba import njit
 
-from ..environment.bow_wave import SHAPE_LINE, SHAPE_OFF, SHAPE_RANKINE
 from .kernels import (
     PS_RHO,
     ENV_BW,
@@ -63,34 +63,22 @@ from .integrate import (actuator_rates, applied_force_at, control_law, controlle
                         step_status)
 from . import drogue_actuator as DA
 from .frame import frame_loads
-from .kernels import NONFINITE, STAGE_LIMIT, YAW_LIMIT
 from .sampled import (C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, R_COUPLED, R_Q, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
                       R_REEL_V, R_T0, deliver)
-from .layout import (  # the ep, state tail, pilot, receiver and out tables, declared and documented there
-    EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_LEN, EP_BW_Q, EP_COUPLED, EP_CP, EP_CR, EP_CTRL, EP_DB, EP_ELASTIC,
-    EP_FEED, EP_FEED_A, EP_FEED_J, EP_FEED_P, EP_FEED_T0, EP_FEED_V, EP_H, EP_ITER, EP_JD, EP_JLINK, EP_JR,
-    EP_K_GOV, EP_KP, EP_KS, EP_KV, EP_L0, EP_L_MAX, EP_L_MIN, EP_LAW, EP_MD, EP_MU, EP_NPIL, EP_P0X, EP_P0Y,
-    EP_P0Z, EP_PAY_A, EP_PAY_DIST, EP_PAY_T0, EP_PAY_V, EP_PIL, EP_PIL_AMAX, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV,
-    EP_PIL_VMAX, EP_PROBE, EP_PUSH, EP_RCV, EP_RCV_AMAX, EP_RCV_TV, EP_RCV_VMAX, EP_RD, EP_REEL_SLOT, EP_REEL_TV,
-    EP_S_CAP, EP_SCHEME, EP_SIZE, EP_SPLIT, EP_T_CAP, EP_T_STOP, EP_TAU_MAX, EP_TSET, EP_V_IN_MAX, EP_V_OUT_MAX,
-    EP_VC, O_CY, O_CZ, O_EY, O_EZ, O_FPX, O_FPY, O_FPZ, O_LDD, O_MY, O_MZ, O_PAXIAL, O_PEXIT, O_PFLUX, O_PFRIC,
+from .layout import (  # the ep, state tail, pilot, receiver and out tables, their codes and the status codes,
+    # declared and documented there
+    BW_LINE, BW_OFF, BW_RANKINE, CHART, EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ, EP_BW_LEN, EP_BW_Q, EP_COUPLED, EP_CP,
+    EP_CR, EP_CTRL, EP_DB, EP_ELASTIC, EP_FEED, EP_FEED_A, EP_FEED_J, EP_FEED_P, EP_FEED_T0, EP_FEED_V, EP_H,
+    EP_ITER, EP_JD, EP_JLINK, EP_JR, EP_KP, EP_KS, EP_KV, EP_K_GOV, EP_L0, EP_LAW, EP_L_MAX, EP_L_MIN, EP_MD, EP_MU,
+    EP_NPIL, EP_P0X, EP_P0Y, EP_P0Z, EP_PAY_A, EP_PAY_DIST, EP_PAY_T0, EP_PAY_V, EP_PIL, EP_PIL_AMAX, EP_PIL_DELAY,
+    EP_PIL_LAG, EP_PIL_TV, EP_PIL_VMAX, EP_PROBE, EP_PUSH, EP_RCV, EP_RCV_AMAX, EP_RCV_TV, EP_RCV_VMAX, EP_RD,
+    EP_REEL_SLOT, EP_REEL_TV, EP_SCHEME, EP_SIZE, EP_SPLIT, EP_S_CAP, EP_TAU_MAX, EP_TSET, EP_T_CAP, EP_T_STOP,
+    EP_VC, EP_V_IN_MAX, EP_V_OUT_MAX, LAW_COMMANDED, LAW_CONSTANT_TENSION, LAW_LOCKED, LAW_RESPONSE, MERGE,
+    NONFINITE, O_CY, O_CZ, O_EY, O_EZ, O_FPX, O_FPY, O_FPZ, O_LDD, O_MY, O_MZ, O_PAXIAL, O_PEXIT, O_PFLUX, O_PFRIC,
     O_PMOTOR, O_PPROBE, O_PX, O_PY, O_PZ, O_Q, O_SERVO, O_SIZE, O_SLACK, O_T0, O_TAU, O_UY, O_UZ, O_VPX, O_VPY,
-    O_VPZ, PIL_STATES, PIL_VY, PIL_VZ, PIL_Y, PIL_Z, RCV_CX, RCV_STATES, RCV_VX, RCV_X, Z_L, Z_LD, Z_TAIL, Z_WAX,
-    Z_WF, Z_WFLUX, Z_WM, Z_WP, Z_WX,
+    O_VPZ, PIL_STATES, PIL_VY, PIL_VZ, PIL_Y, PIL_Z, PLANE, RCV_CX, RCV_STATES, RCV_VX, RCV_X, REEL_END, SCHEME_RK4,
+    SCHEME_SDIRK2, SPLIT, STAGE_LIMIT, YAW_LIMIT, Z_L, Z_LD, Z_TAIL, Z_WAX, Z_WF, Z_WFLUX, Z_WM, Z_WP, Z_WX,
 )
-
-# bow-wave shapes (EP_BW); EP_BW_D* is the source (the line's forward end) minus the probe tip [m]
-BW_OFF, BW_RANKINE, BW_LINE = SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE
-
-LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE, LAW_COMMANDED = 0, 1, 2, 3
-
-# integrators of the elastic chain (EP_SCHEME): RK4, or the stiff SDIRK of hosedrogue.model.implicit
-SCHEME_RK4, SCHEME_SDIRK2 = 0, 1
-
-# segment stop codes (besides kernels.OK / NONFINITE / YAW_LIMIT)
-SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13
-# failure code: the free hose length left [EP_L_MIN, EP_L_MAX] (the reel reached an end stop)
-REEL_END = 20
 
 
 @njit(**JIT)

@@ -38,20 +38,16 @@ from ..environment.wake import wake_velocity
 
 from ..jit import JIT, JIT_NO_ALLOC  # noqa: E402 - the one set of compilation options
 from .frame import frame_loads, frame_terms, frame_wind
-from .layout import (  # the ps and env tables, declared and documented there
-    ENV_BW, ENV_BW_LEN, ENV_BW_Q, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, ENV_FROZEN, ENV_G_CUBIC, ENV_G_DT, ENV_G_NOW,
-    ENV_G_T0, ENV_GU, ENV_GV, ENV_GW, ENV_M_ON, ENV_M_T, ENV_M_V0, ENV_SIZE, ENV_T_OFF, ENV_T_ON, ENV_V,
-    ENV_WAKE, PS_BEND_DAMP, PS_BENDING, PS_CA, PS_CN, PS_CT, PS_DO, PS_DRAG_QUAD, PS_DROGUE_CDA, PS_EA, PS_EI,
-    PS_G, PS_M_TOW, PS_RHO, PS_SIZE, PS_V,
+from .layout import (  # the ps and env tables, their codes and the status codes, declared there
+    BENDING_MOMENT, BENDING_OFF, BENDING_PAPER, DRAG_GAUSS2, DRAG_MIDPOINT, ENV_BW, ENV_BW_LEN, ENV_BW_Q, ENV_BW_X,
+    ENV_BW_Y, ENV_BW_Z, ENV_FROZEN, ENV_GU, ENV_GV, ENV_GW, ENV_G_CUBIC, ENV_G_DT, ENV_G_NOW, ENV_G_T0, ENV_M_ON,
+    ENV_M_T, ENV_M_V0, ENV_SIZE, ENV_T_OFF, ENV_T_ON, ENV_V, ENV_WAKE, NONFINITE, OK, PS_BENDING, PS_BEND_DAMP,
+    PS_CA, PS_CN, PS_CT, PS_DO, PS_DRAG_QUAD, PS_DROGUE_CDA, PS_EA, PS_EI, PS_G, PS_M_TOW, PS_RHO, PS_SIZE, PS_V,
+    STAGE_LIMIT, STEP_LIMIT, YAW_LIMIT,
 )
 
-BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
-DRAG_MIDPOINT, DRAG_GAUSS2 = 0, 1
 #: Two-point Gauss-Legendre abscissa on [0, 1] measured from the link's centre: 1/(2 sqrt 3).
 GAUSS2_OFFSET = 0.5 / math.sqrt(3.0)
-
-# status codes of the integrators (STAGE_LIMIT: the elastic chains' SDIRK, hosedrogue.model.implicit)
-OK, NONFINITE, YAW_LIMIT, STEP_LIMIT, STAGE_LIMIT = 0, 1, 2, 3, 4
 
 
 @njit(**JIT_NO_ALLOC)

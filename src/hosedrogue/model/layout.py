@@ -1,4 +1,5 @@
-"""The slot tables of the compiled core: every float array the kernels exchange, declared once.
+"""The slot tables of the compiled core: every float array the kernels exchange, declared once,
+and the codes its slots hold.
 
 The kernels pass their scalars in flat float64 arrays. Each array's slots are declared here, as a
 :class:`Layout`: a sequence of ``(name, width, meaning)`` entries, from which the offsets
@@ -6,7 +7,9 @@ and the table's end are computed, never typed by hand. The names stay plain modu
 ``(PS_G, PS_RHO, ...) = PS.offsets()``, which numba freezes into the compiled code as constants
 (the test suite checks that each name on the left is its entry's offset). A table may continue
 after another (``after=``), as the tanker's motion slots (:data:`ENV_M`) continue the air's
-(:data:`ENV`) in the one ``env`` array.
+(:data:`ENV`) in the one ``env`` array. The codes some slots hold (the reel's law in ``EP_LAW``,
+the bending mode in ``PS_BENDING``, ...) and the kernels' status codes (``C_STATUS``) follow
+their tables.
 
 The tables, by the array they lay out:
 
@@ -41,6 +44,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+from ..environment.bow_wave import SHAPE_LINE, SHAPE_OFF, SHAPE_RANKINE
 from ..environment.wake import WAKE_SIZE
 
 
@@ -145,6 +149,9 @@ PS = Layout("ps", [
 (PS_G, PS_RHO, PS_V, PS_DO, PS_CT, PS_CN, PS_DROGUE_CDA, PS_EI, PS_BENDING, PS_DRAG_QUAD, PS_BEND_DAMP, PS_M_TOW,
  PS_EA, PS_CA) = PS.offsets()
 PS_SIZE = PS.end
+#: codes of PS_BENDING and PS_DRAG_QUAD
+BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
+DRAG_MIDPOINT, DRAG_GAUSS2 = 0, 1
 
 # --- env: the air (kernels) --------------------------------------------------------------------
 ENV = Layout("env", [
@@ -242,6 +249,9 @@ SURFACES = Layout("act (control surfaces)", [
 ], after=ACT)
 (DA_NS, DA_ORDER, DA_OMEGA, DA_ZETA, DA_DMAX, DA_RMAX, DA_SCF, DA_SKD, DA_MODE, DA_QMIN, DA_NC) = SURFACES.offsets()
 DA_HEAD = SURFACES.end
+#: codes of DA_MODE: the controller commands a force [N] (mixed to the surfaces), or the
+#: surfaces' deflections [rad] directly (its outputs, one per surface)
+MODE_FORCE, MODE_DEFLECTION = 0, 1
 #: Most surfaces (the section's range), so the engagement's output row has room for every servo rate.
 MAX_SURFACES = 8
 
@@ -340,6 +350,11 @@ EP = Layout("ep", [
  EP_ELASTIC, EP_SCHEME, EP_ITER,
  EP_FEED, EP_FEED_T0, EP_FEED_P, EP_FEED_V, EP_FEED_A, EP_FEED_J) = EP.offsets()
 EP_SIZE = EP.end
+#: codes of EP_LAW (the reel's laws), EP_BW (the bow wave's shapes, hosedrogue.environment.bow_wave's)
+#: and EP_SCHEME (the elastic chain's integrators: RK4, or the stiff SDIRK of hosedrogue.model.implicit)
+LAW_LOCKED, LAW_CONSTANT_TENSION, LAW_RESPONSE, LAW_COMMANDED = 0, 1, 2, 3
+BW_OFF, BW_RANKINE, BW_LINE = SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE
+SCHEME_RK4, SCHEME_SDIRK2 = 0, 1
 
 # --- the engagement's state: z = [hose (4n, or 6n for elastic links), tail, block, controller] ---
 #: the tail, after the hose entries (engagement kernels' tail_start): L, L' and the work states of
@@ -467,6 +482,15 @@ CTR = Layout("counters", [
 ])
 C_STEP, C_SAVED, C_SAMPLE, C_TOTAL, C_SPC, C_STATUS, C_TARGET, C_ORIGIN = CTR.offsets()
 C_SIZE = CTR.end
+
+# --- the kernels' status codes (what the integrators return; C_STATUS holds the last) ----------
+#: the integrators' (STAGE_LIMIT: the elastic chains' SDIRK, hosedrogue.model.implicit)
+OK, NONFINITE, YAW_LIMIT, STEP_LIMIT, STAGE_LIMIT = 0, 1, 2, 3, 4
+#: the engagement's segment stop codes: a remesh (the exit link split or merged), the probe tip
+#: crossing the coupler plane, a link's yaw past the switch angle (its angles change chart)
+SPLIT, MERGE, PLANE, CHART = 10, 11, 12, 13
+#: failure code: the free hose length left [EP_L_MIN, EP_L_MAX] (the reel reached an end stop)
+REEL_END = 20
 
 #: every table, for the docs and the tests
 TABLES = (PS, ENV, ENV_M, MOTION_HEAD, MOTION_ROW, ACT, SURFACES, EP, TAIL, PILOT, RECEIVER, OUT, RAW, MEAS, CTR)
