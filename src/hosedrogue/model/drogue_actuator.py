@@ -1,6 +1,6 @@
 """The drogue's control surfaces in the compiled loop (numba): the one definition of their force,
 drag, mixing and servo dynamics, which the fixed-length loop (:mod:`.integrate`) and the
-engagement (:mod:`.engagement_kernels`) both call (docs/model.md, "Actuated drogue").
+engagement (:mod:`hosedrogue.model.engagement`) both call (docs/model.md, "Actuated drogue").
 
 The surfaces' parameters follow the ideal actuator's :data:`ACT_IDEAL` entries in the loop's
 ``act`` array (:func:`actuator_array`; the slots ``DA_*`` of :mod:`hosedrogue.model.layout`); an
@@ -12,7 +12,7 @@ One evaluation (:func:`drogue_actuator_law`), after the caller has measured the 
 evaluated the controller (:func:`hosedrogue.model.integrate.control_law`):
 
 1. ``q = 1/2 rho |v_drogue - w|^2``, w the air at the drogue
-   (:func:`~hosedrogue.model.kernels.air_velocity`: free stream, wake, gusts, bow wave);
+   (:func:`~hosedrogue.model.chain_loads.air_velocity`: free stream, wake, gusts, bow wave);
 2. the commands: in ``force`` mode the minimum-norm mixing of the commanded force F_c at the
    measured q, ``delta_c,k = t_k . F_c / ((n_s / 2) q S C_F)`` (t_k the direction surface k
    pushes, ``sum_k t_k t_k^T = (n_s / 2) I``); in ``deflection`` mode the controller's own n_s
@@ -35,7 +35,7 @@ import numpy as np
 from numba import njit
 
 from ..jit import JIT_NO_ALLOC
-from .kernels import air_velocity
+from .chain_loads import air_velocity
 # the ideal actuator's entries at the head of ``act`` (ACT_IDEAL of them) and the surfaces' after
 # them (DA_*, to DA_HEAD), declared and documented there; MAX_SURFACES the most surfaces
 from .layout import (ACT_IDEAL, DA_DMAX, DA_HEAD, DA_MODE, DA_NC, DA_NS, DA_OMEGA, DA_ORDER, DA_QMIN, DA_RMAX,

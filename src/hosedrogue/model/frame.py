@@ -18,7 +18,7 @@ rate and the rate seen in B; and the air, at rest far from the tanker, moves rel
 * :func:`flight_state` - bank, flight-path angle, airspeed, their rates and the path flown at t;
 * :func:`frame_terms` - b_g, a_0, Omega, alpha, the air's speed, the path time and the wake's
   circulation factor at t, into the evaluation's copy of ``env`` (called by
-  :func:`hosedrogue.model.kernels.fill_env`, so both chains see the one evaluation);
+  :func:`hosedrogue.model.chain_loads.fill_env`, so both chains see the one evaluation);
 * :func:`frame_loads` - the apparent forces and moments (both chains call it after their
   ``joint_forces``); :func:`frame_wind` - the air's rotation seen at a point.
 

@@ -24,18 +24,9 @@ from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
 
-from .kernels import (
-    NONFINITE,
-    OK,
-    PS_RHO,
-    YAW_LIMIT,
-    drogue_from_frames,
-    env_at,
-    forward_dynamics_ws,
-    link_frames,
-    loads_given_frames,
-    make_workspace_jit,
-)
+from .layout import NONFINITE, OK, PS_RHO, YAW_LIMIT
+from .chain_dynamics import forward_dynamics_ws, loads_given_frames, make_workspace_jit
+from .chain_loads import drogue_from_frames, env_at, link_frames
 from . import drogue_actuator as DA
 from .layout import ACT_RATE, ACT_TAU, ACT_U_MAX
 
@@ -98,7 +89,7 @@ def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
 @njit(**LOOP_JIT)
 def drogue_yz(z, l, ws):
     """Drogue lateral and vertical position [m] of the hose state at the start of z, through the
-    link frames in the workspace ws (overwritten) and :func:`kernels.drogue_from_frames`."""
+    link frames in the workspace ws (overwritten) and :func:`chain_loads.drogue_from_frames`."""
     n = l.shape[0]
     link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
     return drogue_from_frames(l, ws[0])
@@ -388,7 +379,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
     in ts, zs, us (the force applied at that state) and its derived outputs in joints (N, n+1, 3)
     [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] and tension (N,) [N] (as
-    :func:`~hosedrogue.model.kernels.outputs_series` gives them). Returns (status, saved count,
+    :func:`~hosedrogue.model.chain_dynamics.outputs_series` gives them). Returns (status, saved count,
     stop time).
 
     The outputs of a saved state come from the first stage of the step that starts there (one

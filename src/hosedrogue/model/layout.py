@@ -1,5 +1,5 @@
 """The slot tables of the compiled core: every float array the kernels exchange, declared once,
-and the codes its slots hold.
+and the codes their slots hold.
 
 The kernels pass their scalars in flat float64 arrays. Each array's slots are declared here, as a
 :class:`Layout`: a sequence of ``(name, width, meaning)`` entries, from which the offsets
@@ -30,14 +30,16 @@ The tables, by the array they lay out:
   array), :data:`CTR`.
 
 Why one module: the tables are shared by modules that import one another. ``env`` is read by
-:mod:`.kernels` and :mod:`.frame`, and :mod:`.kernels` imports :mod:`.frame`, so :mod:`.frame`
-could not continue a table declared in :mod:`.kernels` (it typed its offsets by hand); ``act``
-is read by :mod:`.integrate` (the ideal actuator) and :mod:`.drogue_actuator` (the surfaces), and
-the engagement's output row is as wide as :data:`MAX_SURFACES` servo rates. This module imports
-nothing from ``model`` (only the wake's table from :mod:`hosedrogue.environment`, a layer below),
-so every kernel module can import its names back without a cycle, and a reader finds every
-table in one place. The environment's own tables (the wake's scalars) stay in
-:mod:`hosedrogue.environment`: ``model`` may import from ``environment``, not the reverse.
+:mod:`.chain_loads` and :mod:`.frame`, and :mod:`.chain_loads` imports :mod:`.frame`, so
+:mod:`.frame` could not continue a table declared in :mod:`.chain_loads`; ``act`` is read by
+:mod:`.integrate` (the ideal actuator) and :mod:`.drogue_actuator` (the surfaces); the
+engagement's output row is as wide as :data:`MAX_SURFACES` servo rates; ``ep``, the state's tail
+and ``out`` are read by every module of :mod:`hosedrogue.model.engagement` and packed by
+:mod:`hosedrogue.engagement`. This module imports nothing from ``model`` (only the wake's table
+and the bow wave's shape codes from :mod:`hosedrogue.environment`, a layer below), so every
+kernel module can import its names without a cycle, and a reader finds every table in one
+place. The environment's own tables (the wake's scalars) stay in :mod:`hosedrogue.environment`:
+``model`` may import from ``environment``, not the reverse.
 """
 
 from __future__ import annotations
@@ -99,10 +101,6 @@ class Layout:
         """The offsets of every entry, in declaration order (to unpack into the module's names)."""
         return tuple(s.offset for s in self.slots)
 
-    def offset(self, name: str) -> int:
-        """The first slot of entry ``name``."""
-        return self._by_name[name].offset
-
     def slice(self, name: str) -> slice:
         """The slots of entry ``name`` (for packing arrays in Python)."""
         s = self._by_name[name]
@@ -127,7 +125,7 @@ class Layout:
         return f"Layout({self.name!r}, {len(self.slots)} entries, slots {self.start}..{self.end - 1})"
 
 
-# --- ps: the model's scalars (kernels, elastic) ------------------------------------------------
+# --- ps: the model's scalars (chain_loads, chain_dynamics, elastic) -----------------------------
 PS = Layout("ps", [
     ("PS_G", 1, "gravity [m/s^2]"),
     ("PS_RHO", 1, "air density [kg/m^3]"),
@@ -153,7 +151,7 @@ PS_SIZE = PS.end
 BENDING_OFF, BENDING_PAPER, BENDING_MOMENT = 0, 1, 2
 DRAG_MIDPOINT, DRAG_GAUSS2 = 0, 1
 
-# --- env: the air (kernels) --------------------------------------------------------------------
+# --- env: the air (chain_loads) ----------------------------------------------------------------
 ENV = Layout("env", [
     ("ENV_V", 1, "airspeed [m/s] (manoeuvring: the evaluation's copy holds the airspeed at its time)"),
     ("ENV_FROZEN", 1, "1.0: the frozen gust field (a point -px behind the tow point meets it -px/V later), "
@@ -165,15 +163,13 @@ ENV = Layout("env", [
     ("ENV_WAKE", WAKE_SIZE, "the wake's scalars (hosedrogue.environment.wake.WAKE_LAYOUT; "
                             "manoeuvring: the circulation at the evaluation's load factor and airspeed)"),
     ("ENV_G_CUBIC", 1, "1.0: read the gust record with the cubic interpolant, 0.0: linearly"),
-    ("ENV_G_NOW", 1, "per-evaluation scratch (in the workspace's copy of env, never in the model's): 1.0 when "
-                     "ENV_GU..ENV_GW hold the gust at the evaluation's time (the uniform distribution: one "
-                     "lookup per evaluation instead of one per link; the same arithmetic, so the same bits)"),
+    ("ENV_G_NOW", 1, "scratch of an evaluation's copy of env: 1.0 when ENV_GU..ENV_GW hold the gust at its time "
+                     "(the uniform distribution: one lookup per evaluation, not one per link; the same bits)"),
     ("ENV_GU", 1, "the evaluation's gust, x [m/s]"),
     ("ENV_GV", 1, "the evaluation's gust, y [m/s]"),
     ("ENV_GW", 1, "the evaluation's gust, z [m/s]"),
-    ("ENV_BW", 1, "the receiver's bow wave (hosedrogue.environment.bow_wave.bow_wave_velocity): shape code "
-                  "(0 none, the model's); the engagement writes ENV_BW.. into its evaluation's copy of env, "
-                  "where the probe tip is"),
+    ("ENV_BW", 1, "the receiver's bow wave (hosedrogue.environment.bow_wave): shape code, 0 none (the model's); "
+                  "the engagement writes ENV_BW.. into its evaluations' copies of env, where the probe tip is"),
     ("ENV_BW_X", 1, "the bow wave's source, x in S_p [m]"),
     ("ENV_BW_Y", 1, "the bow wave's source, y in S_p [m]"),
     ("ENV_BW_Z", 1, "the bow wave's source, z in S_p [m]"),
@@ -255,7 +251,7 @@ MODE_FORCE, MODE_DEFLECTION = 0, 1
 #: Most surfaces (the section's range), so the engagement's output row has room for every servo rate.
 MAX_SURFACES = 8
 
-# --- ep: the engagement's scalars (engagement kernels) -----------------------------------------
+# --- ep: the engagement's scalars (hosedrogue.model.engagement) --------------------------------
 EP = Layout("ep", [
     # the hose and the drogue
     ("EP_MU", 1, "hose mass per length [kg/m]"),
@@ -357,8 +353,8 @@ BW_OFF, BW_RANKINE, BW_LINE = SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE
 SCHEME_RK4, SCHEME_SDIRK2 = 0, 1
 
 # --- the engagement's state: z = [hose (4n, or 6n for elastic links), tail, block, controller] ---
-#: the tail, after the hose entries (engagement kernels' tail_start): L, L' and the work states of
-#: the energy balance
+#: the tail, after the hose entries (hosedrogue.model.engagement.chain.tail_start): L, L' and the
+#: work states of the energy balance
 TAIL = Layout("z tail", [
     ("Z_L", 1, "free hose length L [m]"),
     ("Z_LD", 1, "its rate L' [m/s]"),

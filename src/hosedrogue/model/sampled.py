@@ -6,7 +6,7 @@ compiled loop runs with its command held. The drogue's command (its force, or th
 its control surfaces) is held as the state of a "hold" controller of the closed loop
 (:func:`held_command`: ``xc' = 0``, ``u = xc`` through the actuator's limits or to the
 surfaces), so the loops of :mod:`.integrate` and
-:mod:`.engagement_kernels` run unchanged between samples and the command survives remeshes.
+:mod:`hosedrogue.model.engagement` run unchanged between samples and the command survives remeshes.
 
 The measurement
 ---------------
@@ -30,7 +30,8 @@ from numba import njit
 from ..jit import JIT, JIT_NO_ALLOC
 from . import drogue_actuator as DA
 from .integrate import closed_loop_deriv, rk4_step, rk4_step_given_k1, save_state, step_status
-from .kernels import OK, make_workspace_jit
+from .layout import OK
+from .chain_dynamics import make_workspace_jit
 
 from .layout import (  # the raw measurement of a state (one ring row, R_*), the measurement buffer (M_*)
     # and the counters of a stepped run (C_*), declared and documented there
