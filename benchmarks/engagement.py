@@ -35,12 +35,12 @@ import dataclasses  # noqa: E402
 import math  # noqa: E402
 import time  # noqa: E402
 
-import hosedrogue.engagement.driver as driver  # noqa: E402
+from hosedrogue.model.engagement import steps as ES  # noqa: E402
 from hosedrogue.scenarios import load_scenario  # noqa: E402
 from hosedrogue.scenarios.runner import run  # noqa: E402
 from hosedrogue.studies.convergence import with_links  # noqa: E402
 
-_segment_kernel = driver.EK.eng_segment
+_segment_kernel = ES.eng_segment
 _in_segments = [0.0]
 
 
@@ -61,7 +61,7 @@ def timed(scenario, repeats):
     """Best CPU and wall time [s] of ``repeats`` runs, the best CPU time inside the compiled
     segments [s], and the last result."""
     cpu = wall = seg = math.inf
-    driver.EK.eng_segment = _timed_segment
+    ES.eng_segment = _timed_segment
     try:
         for _ in range(repeats):
             _in_segments[0] = 0.0
@@ -71,7 +71,7 @@ def timed(scenario, repeats):
             wall = min(wall, time.perf_counter() - w0)
             seg = min(seg, _in_segments[0])
     finally:
-        driver.EK.eng_segment = _segment_kernel
+        ES.eng_segment = _segment_kernel
     return cpu, wall, seg, r
 
 

@@ -46,7 +46,7 @@ import gymnasium  # noqa: E402
 import numpy as np  # noqa: E402
 
 import hosedrogue.envs as he  # noqa: E402
-from hosedrogue.model import engagement_kernels as EK  # noqa: E402
+from hosedrogue.model.engagement import steps as ES  # noqa: E402
 from hosedrogue.studies.seeds import run_seed  # noqa: E402
 from hosedrogue.studies.statistics import wilson_interval  # noqa: E402
 
@@ -86,7 +86,7 @@ def speed():
               f"target >= 5000, Air Force Arcade Refueling-v0: 140)")
     env = he.DockingEnv()
     policy = he.PDFeedForward(env)
-    original, spent = EK.eng_advance, [0.0]
+    original, spent = ES.eng_advance, [0.0]
 
     def timed(*args):
         t = time.process_time()
@@ -94,13 +94,13 @@ def speed():
         spent[0] += time.process_time() - t
         return out
 
-    EK.eng_advance = timed
+    ES.eng_advance = timed
     try:
         c = time.process_time()
         episodes(env, policy, 40)
         c = time.process_time() - c
     finally:
-        EK.eng_advance = original
+        ES.eng_advance = original
     print(f"  the compiled loop (eng_advance) is {spent[0] / c * 100:.0f} % of a step's CPU time: one compiled "
           f"call for many environments could save at most the other {100 - spent[0] / c * 100:.0f} %")
 

@@ -19,8 +19,7 @@ from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.environment.atmosphere import density
 from hosedrogue.environment.wake import wake_field
 from hosedrogue.errors import ParameterError
-from hosedrogue.model import drogue_actuator as DA
-from hosedrogue.model import kernels as K
+from hosedrogue.model import chain_dynamics as CD, drogue_actuator as DA
 from hosedrogue.model.integrate import LoopArrays, closed_loop_deriv
 from hosedrogue.model.system import HoseModel
 from hosedrogue.params import PAPER, Actuator
@@ -64,7 +63,7 @@ def test_force_at_fixed_deflection_is_q_s_cf_delta():
     delta = np.radians([3.0, -7.0, 11.0, 0.5, -15.0])
     n = model.n
     args = model.kernel_args()
-    ws = K.make_workspace(n)
+    ws = CD.make_workspace(n)
 
     def evaluate(d):
         loop = _fixed_deflection_loop(section, d, eq.drogue_position_m[1:])

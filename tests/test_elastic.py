@@ -13,7 +13,7 @@ from hosedrogue.analysis.continuum import solve_continuum
 from hosedrogue.analysis.equilibrium import solve_equilibrium
 from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.errors import ParameterError
-from hosedrogue.model import kernels as K
+from hosedrogue.model import layout as LY
 from hosedrogue.model.system import HoseModel
 from hosedrogue.params import PAPER
 from hosedrogue.simulation.simulate import simulate
@@ -218,4 +218,4 @@ def test_integrator_and_links_must_match():
 def test_rigid_hose_keeps_its_arrays():
     """EA = inf is the paper's rigid chain: the model's state stays [q, qd] (4n)."""
     model = HoseModel(PAPER)
-    assert not model.elastic and model.state_size == 4 * model.n and math.isinf(model.ps[K.PS_EA])
+    assert not model.elastic and model.state_size == 4 * model.n and math.isinf(model.ps[LY.PS_EA])

@@ -13,9 +13,9 @@ from hosedrogue.sections import BowWave as BowWaveSection, Reel
 from hosedrogue.environment.bow_wave import BowWave
 from hosedrogue.errors import ParameterError
 from hosedrogue.engagement.loop import no_loop
-from hosedrogue.model import engagement_kernels as EK
-from hosedrogue.model import kernels as K
-from hosedrogue.model.kernels import make_workspace
+from hosedrogue.model import chain_loads as CL, layout as LY
+from hosedrogue.model.engagement import evaluation as EV
+from hosedrogue.model.chain_dynamics import make_workspace
 from hosedrogue.params import PAPER
 from hosedrogue.plotting.bow_wave import plot_bow_wave
 
@@ -37,18 +37,18 @@ def test_kernel_drogue_drag_matches_the_field():
     n = chain.n
     tip = eq.drogue_position_m + np.array([-0.7, 0.1, -0.05])
     ep = engagement_parameters(P, Reel(law="locked"), None, chain, eq.drogue_position_m, BW)
-    ep[[EK.EP_P0X, EK.EP_P0Y, EK.EP_P0Z]] = tip
-    ep[EK.EP_VC] = 0.0
-    z = np.concatenate([eq.state, [np.sum(chain.l), 0.0], np.zeros(EK.Z_TAIL - 2)])
+    ep[[LY.EP_P0X, LY.EP_P0Y, LY.EP_P0Z]] = tip
+    ep[LY.EP_VC] = 0.0
+    z = np.concatenate([eq.state, [np.sum(chain.l), 0.0], np.zeros(LY.Z_TAIL - 2)])
     ws, ws2 = make_workspace(n), make_workspace(n)
-    EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
-                    model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), np.empty(EK.O_SIZE))
+    EV.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
+                    model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), np.empty(LY.O_SIZE))
     drogue = ws[4][n]
-    air = np.array(K.air_velocity(*drogue, 0.0, model.env, model.gust_values))
+    air = np.array(CL.air_velocity(*drogue, 0.0, model.env, model.gust_values))
 
     def drag(w):
         vr = ws[5][n] - w
-        return -0.5 * model.ps[K.PS_RHO] * model.ps[K.PS_DROGUE_CDA] * np.linalg.norm(vr) * vr
+        return -0.5 * model.ps[LY.PS_RHO] * model.ps[LY.PS_DROGUE_CDA] * np.linalg.norm(vr) * vr
 
     expected = drag(air + BowWave(150.0).velocity(drogue, tip))  # the field computed directly
     np.testing.assert_allclose(ws[13], expected, rtol=1e-12)  # the same formula: round-off only

@@ -11,8 +11,8 @@ from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.engagement.chain import chain_arrays, chain_equilibrium, chain_for_length, chain_model
 from hosedrogue.engagement.driver import engagement_parameters
 from hosedrogue.engagement.loop import no_loop
-from hosedrogue.model import engagement_kernels as EK
-from hosedrogue.model import kernels as K
+from hosedrogue.model import chain_dynamics as CD, layout as LY
+from hosedrogue.model.engagement import evaluation as EV, outputs as EO
 from hosedrogue.model.system import HoseModel
 from hosedrogue.params import PAPER
 
@@ -154,23 +154,23 @@ def test_engagement_at_rest_length_is_the_hose_model(rng, hose, exit_link):
     qd = rng.uniform(-0.5, 0.5, 2 * chain.n)
     ref = model.outputs(np.concatenate([q, qd]), t=0.0)
     ep = engagement_parameters(p, Reel(law="locked"), None, chain, np.zeros(3))
-    z = np.concatenate([q, qd, [float(np.sum(chain.l)), 0.0], np.zeros(EK.Z_TAIL - 2)])
+    z = np.concatenate([q, qd, [float(np.sum(chain.l)), 0.0], np.zeros(LY.Z_TAIL - 2)])
     args = (chain.n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env, model.gust_values, ep,
             chain.chart, no_loop())
-    ws, ws2 = K.make_workspace(chain.n), K.make_workspace(chain.n)
-    out = np.empty(EK.O_SIZE)
-    EK.eng_evaluate(0.0, z, *args, ws, ws2, np.empty(2), out)
+    ws, ws2 = CD.make_workspace(chain.n), CD.make_workspace(chain.n)
+    out = np.empty(LY.O_SIZE)
+    EV.eng_evaluate(0.0, z, *args, ws, ws2, np.empty(2), out)
     assert np.max(np.abs(ws[15] - ref.qdd)) < 1e-9 * np.max(np.abs(ref.qdd))
     N = 1
     joints, jvel, scal, tow, tdrog, drag = (np.empty((N, chain.n + 1, 3)), np.empty((N, chain.n + 1, 3)),
-                                            np.empty((N, EK.O_SIZE)), np.empty((N, 3)), np.empty(N), np.empty((N, 3)))
-    EK.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag, np.empty((N, chain.n)))
+                                            np.empty((N, LY.O_SIZE)), np.empty((N, 3)), np.empty(N), np.empty((N, 3)))
+    EO.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag, np.empty((N, chain.n)))
     assert np.max(np.abs(tow[0] - ref.tow_force_n)) < 1e-9
-    assert abs(scal[0, EK.O_T0] - ref.exit_tension_n) < 1e-9
+    assert abs(scal[0, LY.O_T0] - ref.exit_tension_n) < 1e-9
     assert np.max(np.abs(drag[0] - ref.drogue_drag_n)) < 1e-9
     kinetic, potential = model.energy(np.concatenate([q, qd]))
-    T, U_bend, T_reel = EK.eng_energy(z, *args[:5], ep, chain.chart)
-    gravity = -float(np.sum(model.M * model.ps[K.PS_G] * model.joint_positions(q)[1:, 2]))
+    T, U_bend, T_reel = EO.eng_energy(z, *args[:5], ep, chain.chart)
+    gravity = -float(np.sum(model.M * model.ps[LY.PS_G] * model.joint_positions(q)[1:, 2]))
     assert abs(T - kinetic) < 1e-9 and T_reel == 0.0
     assert abs(U_bend - (potential - gravity)) < 1e-9
 
@@ -204,19 +204,19 @@ def test_angle_charts_describe_the_same_motion(rng):
     model = chain_model(p, chain)
     q = np.pi / 2 * 0.2 + rng.uniform(-0.3, 0.3, 2 * n)
     qd = rng.uniform(-0.5, 0.5, 2 * n)
-    z = np.concatenate([q, qd, [16.0, 0.7], np.zeros(EK.Z_TAIL - 2)])
+    z = np.concatenate([q, qd, [16.0, 0.7], np.zeros(LY.Z_TAIL - 2)])
     ep = engagement_parameters(p, Reel(law="constant-tension", tension_set_n=900.0), None, chain, np.zeros(3))
 
     def accelerations(z, chart):
-        ws, ws2 = K.make_workspace(n), K.make_workspace(n)
-        out = np.empty(EK.O_SIZE)
-        EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
+        ws, ws2 = CD.make_workspace(n), CD.make_workspace(n)
+        out = np.empty(LY.O_SIZE)
+        EV.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
                         model.gust_values, ep, chart, no_loop(), ws, ws2, np.empty(2), out)
         qdd = ws[15]
         # joint accelerations from the link accelerations (A = L'' e_0 + sum l (a qdd1 + b qdd2) + c)
         A = np.cumsum(chain.l[:, None] * (ws[1] * qdd[0::2, None] + ws[2] * qdd[1::2, None]) + ws[6], axis=0)
-        A += out[EK.O_LDD] * ws[0][0]
-        return A, out[EK.O_T0], ws[4].copy()
+        A += out[LY.O_LDD] * ws[0][0]
+        return A, out[LY.O_T0], ws[4].copy()
 
     A0, T0, r0 = accelerations(z, np.zeros(n))
     chart = np.zeros(n)

@@ -11,6 +11,7 @@ import pytest
 
 from hosedrogue.controllers.design import design_controller
 from hosedrogue.engagement import Reel, simulate_engagement
+from hosedrogue.model import layout as LY
 from hosedrogue.scenarios import runner as engagement_run
 from hosedrogue.scenarios.runner import drogue_controller as engagement_controller, run as run_engagement
 from hosedrogue.params import Actuator, Sensor
@@ -107,9 +108,9 @@ def test_controller_states_are_frozen_once_coupled(moderate, monkeypatch):
     monkeypatch.setattr(driver, "assemble_result", spy)
     r = run_engagement(moderate.with_controller("pid"))
     assert r.outcome["result"] == "captured"
-    coupled = [(chain, zs) for chain, ep, ts, zs in seen if ep[driver.EK.EP_COUPLED] != 0.0]
+    coupled = [(chain, zs) for chain, ep, ts, zs in seen if ep[LY.EP_COUPLED] != 0.0]
     assert coupled
-    ctrl_states = np.concatenate([zs[:, 4 * chain.n + driver.EK.Z_TAIL:] for chain, zs in coupled])
+    ctrl_states = np.concatenate([zs[:, 4 * chain.n + LY.Z_TAIL:] for chain, zs in coupled])
     assert ctrl_states.shape[1] > 0 and np.all(ctrl_states == ctrl_states[0])
 
 

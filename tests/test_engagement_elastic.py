@@ -11,9 +11,8 @@ from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.engagement.chain import chain_arrays
 from hosedrogue.engagement.driver import engagement_parameters
 from hosedrogue.engagement.loop import no_loop
-from hosedrogue.model import elastic as E
-from hosedrogue.model import engagement_kernels as EK
-from hosedrogue.model import kernels as K
+from hosedrogue.model import chain_dynamics as CD, elastic as E, layout as LY
+from hosedrogue.model.engagement import evaluation as EV, outputs as EO
 from hosedrogue.model.system import HoseModel
 from hosedrogue.params import PAPER
 from hosedrogue.simulation.simulate import simulate
@@ -42,26 +41,26 @@ def test_engagement_at_rest_length_is_the_elastic_hose_model(rng, lumping, exit_
     x = np.concatenate([q, qd, lam, lamd])
     ref = model.outputs(x)
     ep = engagement_parameters(p, Reel(law="locked"), None, chain, np.zeros(3))
-    z = np.concatenate([x, [float(np.sum(lengths)), 0.0], np.zeros(EK.Z_TAIL - 2)])
+    z = np.concatenate([x, [float(np.sum(lengths)), 0.0], np.zeros(LY.Z_TAIL - 2)])
     args = (n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env, model.gust_values, ep,
             chain.chart, no_loop())
-    ws, ews = K.make_workspace(n), E.make_elastic_workspace(n)
-    out = np.empty(EK.O_SIZE)
-    EK.eng_evaluate_elastic(0.0, z, *args, ws, ews, np.empty(2), out, 0.0, np.zeros(n))
+    ws, ews = CD.make_workspace(n), E.make_elastic_workspace(n)
+    out = np.empty(LY.O_SIZE)
+    EV.eng_evaluate_elastic(0.0, z, *args, ws, ews, np.empty(2), out, 0.0, np.zeros(n))
     acc = np.concatenate([ws[15], ews[7]])
     assert np.max(np.abs(acc - ref.qdd)) < 1e-9 * np.max(np.abs(ref.qdd))
-    assert abs(out[EK.O_T0] - ref.exit_tension_n) < 1e-9
+    assert abs(out[LY.O_T0] - ref.exit_tension_n) < 1e-9
     N = 1
     joints, jvel, scal, tow, tdrog, drag, links_t = (np.empty((N, n + 1, 3)), np.empty((N, n + 1, 3)),
-                                                     np.empty((N, EK.O_SIZE)), np.empty((N, 3)), np.empty(N),
+                                                     np.empty((N, LY.O_SIZE)), np.empty((N, 3)), np.empty(N),
                                                      np.empty((N, 3)), np.empty((N, n)))
-    EK.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag, links_t)
+    EO.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag, links_t)
     assert np.max(np.abs(tow[0] - ref.tow_force_n)) < 1e-9
     eps = lam / lengths - 1.0
     np.testing.assert_allclose(links_t[0], 2e5 * eps + 400.0 * lamd / lengths, rtol=0, atol=1e-9)
     kinetic, potential = model.energy(x)
-    T, U, T_reel = EK.eng_energy(z, *args[:5], ep, chain.chart)
-    gravity = -float(np.sum(model.M * model.ps[K.PS_G] * model.joint_positions(q, lam)[1:, 2]))
+    T, U, T_reel = EO.eng_energy(z, *args[:5], ep, chain.chart)
+    gravity = -float(np.sum(model.M * model.ps[LY.PS_G] * model.joint_positions(q, lam)[1:, 2]))
     assert abs(T - kinetic) < 1e-9 and T_reel == 0.0
     assert abs(U - (potential - gravity)) < 1e-9
 
@@ -190,10 +189,10 @@ def test_split_of_a_stretched_exit_link_keeps_the_strain():
     chain = initial_chain(p)
     eq = solve_equilibrium(p)
     n = chain.n
-    z = np.concatenate([eq.state, [16.0 + 1.0, 0.8], np.zeros(EK.Z_TAIL - 2)])  # exit link holds 3 m of material
+    z = np.concatenate([eq.state, [16.0 + 1.0, 0.8], np.zeros(LY.Z_TAIL - 2)])  # exit link holds 3 m of material
     z[5 * n] = 0.05
     z2, ch2 = split(z, chain, p)
-    l1 = z[6 * n + EK.Z_L] - np.sum(chain.l[1:])
+    l1 = z[6 * n + LY.Z_L] - np.sum(chain.l[1:])
     lam, lamd = z[4 * n], z[5 * n]
     eps_d = lamd / l1 - lam * 0.8 / l1**2
     m = ch2.n

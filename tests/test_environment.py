@@ -143,18 +143,18 @@ def test_wake_field_matches_kernel():
 def test_wake_has_no_x_component_and_no_x_dependence():
     # Through the model's air-velocity kernel: the x component is the free stream alone, and the
     # wake part is the same at every x.
-    from hosedrogue.model import kernels as K
+    from hosedrogue.model import chain_loads as CL, layout as LY
 
     wk = wake_scalars(Tanker(), Wake(), V, RHO)
-    env = np.zeros(K.ENV_SIZE)
-    env[K.ENV_V] = V
-    env[K.ENV_G_DT] = 1.0  # empty gust window [0, 0): no gusts
-    env[K.ENV_WAKE:K.ENV_WAKE + 6] = wk
+    env = np.zeros(LY.ENV_SIZE)
+    env[LY.ENV_V] = V
+    env[LY.ENV_G_DT] = 1.0  # empty gust window [0, 0): no gusts
+    env[LY.ENV_WAKE:LY.ENV_WAKE + 6] = wk
     gust = np.zeros((2, 3))
     for y, z in ((0.0, 0.0), (-3.0, 7.0)):
         ref = wake_velocity(y, z, wk)
         for x in (0.0, -0.8, -16.0, -250.0):
-            wx, wy, wz = K.air_velocity(x, y, z, 1.0, env, gust)
+            wx, wy, wz = CL.air_velocity(x, y, z, 1.0, env, gust)
             assert wx == -V
             assert (wy, wz) == ref
 

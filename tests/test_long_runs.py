@@ -233,12 +233,12 @@ def test_gauss_drag_sees_the_wake_at_its_points():
     difference's error (step 1e-6 rad) is ~1e-9 of the ~1e3 N m generalized forces (measured
     2e-7 N m), so 1e-6 N m resolves the difference to 1e-7 of itself."""
     from hosedrogue.environment.wake import wake_velocity
-    from hosedrogue.model import kernels as K
+    from hosedrogue.model import layout as LY
 
     n = 3
     p = PAPER.replace(hose={"links": n}, wake={"vertical_offset_m": 0.5})
     mid, gauss = HoseModel(p), HoseModel(p.replace(hose={"drag_quadrature": "gauss2"}))
-    wk = mid.steady_env[K.ENV_WAKE:K.ENV_WAKE + 6]
+    wk = mid.steady_env[LY.ENV_WAKE:LY.ENV_WAKE + 6]
     V, rho, l = p.flight.airspeed_m_s, mid.rho, p.hose.length_m / n
     d, ct, cn = p.hose.outer_diameter_m, p.hose.tangential_drag_coefficient, p.hose.normal_drag_coefficient
     q = np.array([0.35, 0.1, 0.25, -0.15, 0.4, 0.05])

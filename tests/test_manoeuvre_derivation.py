@@ -203,14 +203,14 @@ def test_coordination_gives_the_issues_turn_rate():
     (docs/model.md §9), and the package's Omega is that rate about the inertial vertical."""
     from hosedrogue.model.frame import ENV_M_W
     from hosedrogue.model.system import HoseModel
-    from hosedrogue.model import kernels as K
+    from hosedrogue.model import chain_loads as CL, layout as LY
 
     _, psid_f = derive(2)
     phi, V = math.radians(30.0), 150.0
     assert psid_f([phi, 0, 0, 0, 0, 0, V, 0], [G0]) == pytest.approx(G0 * math.tan(phi) / V, rel=1e-14)
     model = HoseModel(PAPER.replace(tanker_motion={"bank_deg": 30.0}))
-    scratch = np.empty(K.ENV_SIZE)
-    K.fill_env(0.0, model.env, model.gust_values, scratch)
+    scratch = np.empty(LY.ENV_SIZE)
+    CL.fill_env(0.0, model.env, model.gust_values, scratch)
     omega = scratch[ENV_M_W:ENV_M_W + 3]
     vertical = np.array([0.0, math.sin(phi), math.cos(phi)])  # the inertial down direction in B
     np.testing.assert_allclose(omega, G0 * math.tan(phi) / V * vertical, rtol=1e-14, atol=1e-17)

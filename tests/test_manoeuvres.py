@@ -220,26 +220,26 @@ def test_the_wake_carries_the_lift_and_the_gusts_follow_the_path():
     b0); during a speed change it is W / (rho V(t) b0), and the gust record is read at the path
     flown over the record's airspeed, V_0 t + the speed ramp's integral (here by quadrature)."""
     from hosedrogue.environment.wake import circulation
-    from hosedrogue.model import kernels as K
+    from hosedrogue.model import chain_loads as CL, layout as LY
     from hosedrogue.model.frame import ENV_M_T
 
     turn = HoseModel(steady_params(PAPER, bank_deg=30.0))
-    scratch = np.empty(K.ENV_SIZE)
-    K.fill_env(0.0, turn.env, turn.gust_values, scratch)
+    scratch = np.empty(LY.ENV_SIZE)
+    CL.fill_env(0.0, turn.env, turn.gust_values, scratch)
     gamma = circulation(PAPER.tanker, PAPER.wake, 150.0, turn.rho)
-    assert scratch[K.ENV_WAKE + 1] == pytest.approx(gamma / math.cos(math.radians(30.0)), rel=1e-13)
+    assert scratch[LY.ENV_WAKE + 1] == pytest.approx(gamma / math.cos(math.radians(30.0)), rel=1e-13)
     p = PAPER.replace(tanker_motion={"segments": [{"start_s": 1.0, "airspeed_m_s": 170.0, "acceleration_m_s2": 2.0}]})
     model = HoseModel(p)
     t = np.linspace(0.0, 8.0, 80001)
     V = []
     for ti in t:
-        K.fill_env(ti, model.env, model.gust_values, scratch)
-        V.append(scratch[K.ENV_V])
+        CL.fill_env(ti, model.env, model.gust_values, scratch)
+        V.append(scratch[LY.ENV_V])
     V = np.array(V)
     assert V[0] == 150.0 and V[-1] == pytest.approx(150.0 + 2.0 * (8.0 - 1.0 - math.pi / 4.0), rel=1e-12)
     path = np.sum(0.5 * (V[1:] + V[:-1]) * np.diff(t))
     assert scratch[ENV_M_T] == pytest.approx(path / 150.0, rel=1e-10)
-    assert scratch[K.ENV_WAKE + 1] == pytest.approx(circulation(PAPER.tanker, PAPER.wake, V[-1], model.rho), rel=1e-12)
+    assert scratch[LY.ENV_WAKE + 1] == pytest.approx(circulation(PAPER.tanker, PAPER.wake, V[-1], model.rho), rel=1e-12)
 
 
 def test_linearization_about_a_steady_turn_matches_the_nonlinear_model():
@@ -328,14 +328,15 @@ def test_steady_command_in_a_turn_and_a_climb(capsys):
 def test_the_motion_slots_follow_the_kernels_env():
     """The frame's slots of env start right after the bow wave's and end at the kernels' ENV_SIZE,
     where a manoeuvring model's motion table begins (one layout for both modules)."""
-    from hosedrogue.model import frame, kernels as K
+    from hosedrogue.model import frame
+    from hosedrogue.model import layout as LY
 
-    assert frame.ENV_M_ON == K.ENV_BW_LEN + 1 and K.ENV_SIZE == frame.ENV_M_END
+    assert frame.ENV_M_ON == LY.ENV_BW_LEN + 1 and LY.ENV_SIZE == frame.ENV_M_END
     assert frame.ENV_M_D + 3 == frame.ENV_M_END
     level = HoseModel(PAPER)
-    assert level.env.size == K.ENV_SIZE and level.motion_table is None
+    assert level.env.size == LY.ENV_SIZE and level.motion_table is None
     turn = HoseModel(steady_params(PAPER, bank_deg=10.0))
-    assert turn.env.size == K.ENV_SIZE + turn.motion_table.size and turn.env[frame.ENV_M_ON] == 1.0
+    assert turn.env.size == LY.ENV_SIZE + turn.motion_table.size and turn.env[frame.ENV_M_ON] == 1.0
 
 
 @pytest.mark.parametrize("law", ["constant-tension", "response"])

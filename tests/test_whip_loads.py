@@ -14,7 +14,7 @@ from hosedrogue.model.elastic_loop import SCHEME_RK4, elastic_run
 from hosedrogue.model.integrate import loop_arrays
 from hosedrogue.controllers.linear import LinearController
 from hosedrogue.model.system import HoseModel
-from hosedrogue.model import kernels as K
+from hosedrogue.model import layout as LY
 from hosedrogue.params import PAPER, Actuator
 from hosedrogue.studies.whip_loads import axial_damping_n_s, first_axial_mode_rad_s, study_scenario
 
@@ -56,7 +56,7 @@ def test_first_axial_mode_is_the_chains():
     omega = first_axial_mode_rad_s(p)
     assert omega == pytest.approx(33.78, abs=0.01)
     model = HoseModel(p)
-    model.ps[K.PS_G] = 0.0
+    model.ps[LY.PS_G] = 0.0
     x0 = np.zeros(6 * n)
     x0[4 * n: 5 * n] = model.l * (1.0 + 1e-4)
     h, steps = 2e-5, 50000
@@ -66,7 +66,7 @@ def test_first_axial_mode_is_the_chains():
     outs = (np.empty((N, n + 1, 3)), np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 3)), np.empty(N))
     status, saved, _ = elastic_run(x0, 0.0, h, steps, 10, SCHEME_RK4, 2, model.l, model.M, model.J, model.ps,
                                    model.env, model.gust_values, *loop, math.radians(85.0), ts, zs, us, *outs)
-    assert status == K.OK
+    assert status == LY.OK
     x = -outs[0][:saved, -1, 0]  # the drogue's distance aft of the exit
     d = x - np.mean(x)
     crossings = ts[:saved][1:][(d[:-1] < 0) & (d[1:] >= 0)]

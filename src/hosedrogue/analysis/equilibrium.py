@@ -24,8 +24,7 @@ import scipy.optimize
 
 from ..constants import G0
 from ..errors import EquilibriumError
-from ..model import elastic as E
-from ..model import kernels as K
+from ..model import chain_dynamics as CD, elastic as E, layout as LY
 from ..model.system import HoseModel
 from ..params import PAPER, Params
 
@@ -140,7 +139,7 @@ def _residual_fn(model: HoseModel, env: np.ndarray):
     Q = np.empty(2 * model.n)
 
     def fun(q):
-        K.static_residual(np.ascontiguousarray(q), model.l, model.M, model.J, model.ps, env, gust, 0.0, Q)
+        CD.static_residual(np.ascontiguousarray(q), model.l, model.M, model.J, model.ps, env, gust, 0.0, Q)
         return Q.copy()
 
     def jac(q, h=1e-7):
@@ -199,7 +198,7 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) ->
         q_c = q
         for frac in np.linspace(0.0, 1.0, 11):
             env = env_full.copy()
-            env[K.ENV_WAKE + 1] *= frac
+            env[LY.ENV_WAKE + 1] *= frac
             sol, res = _newton(model, env, q_c, scale)
             if not np.all(np.isfinite(sol.x)):
                 break
@@ -264,7 +263,7 @@ def _elastic_newton(model: HoseModel, env: np.ndarray, q_rigid: np.ndarray, scal
         return Jm
 
     tension = fun(np.concatenate([q_rigid, l]))[2 * n:] / l  # at lam = l the residual is l T_rigid
-    y0 = np.concatenate([q_rigid, l * (1.0 + tension / model.ps[K.PS_EA])])
+    y0 = np.concatenate([q_rigid, l * (1.0 + tension / model.ps[LY.PS_EA])])
     sol = scipy.optimize.root(fun, y0, jac=jac, method="hybr", options={"xtol": 1e-14})
     res = float(np.max(np.abs(fun(sol.x)))) / scale
     if not (res < RESIDUAL_TOLERANCE):

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import kernels as K
+from ..model import chain_dynamics as CD
 from ..errors import ParameterError
 from ..model.system import HoseModel
 from ..params import PAPER, Params
@@ -53,7 +53,7 @@ def _steady_derivative(model: HoseModel):
 
     def f(x, u):
         dx = np.empty_like(x)
-        K.rhs(0.0, x, u, *args, dx)
+        CD.rhs(0.0, x, u, *args, dx)
         return dx
 
     return f

@@ -85,7 +85,7 @@ class Measurement:
     Parameters
     ----------
     values : array_like (M_SIZE,), optional
-        The measurement in the layout of :mod:`hosedrogue.model.sampled` (``M_*``), copied;
+        The measurement in the layout ``M_*`` of :mod:`hosedrogue.model.layout`, copied;
         default zeros.
     """
 

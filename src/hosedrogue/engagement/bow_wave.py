@@ -12,8 +12,9 @@ import numpy as np
 import scipy.optimize
 
 from ..errors import ParameterError
-from ..model import engagement_kernels as EK
-from ..model.kernels import make_workspace
+from ..model import layout as LY
+from ..model.engagement import evaluation as EV
+from ..model.chain_dynamics import make_workspace
 from ..params import Params
 from .chain import chain_equilibrium, initial_chain
 from .driver import engagement_parameters, set_bow_wave
@@ -28,8 +29,8 @@ def _accelerations(q, chain, model, ep, z):
     z[: 2 * n] = q
     ws = make_workspace(n)
     ws2 = make_workspace(n)
-    out = np.empty(EK.O_SIZE)
-    EK.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.steady_env,
+    out = np.empty(LY.O_SIZE)
+    EV.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.steady_env,
                     model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), out)
     return ws[15].copy(), ws[4][n].copy()
 
@@ -54,10 +55,10 @@ def _probe_line(params: Params):
     chain = initial_chain(params)
     eq, model = chain_equilibrium(params, chain)
     n = chain.n
-    z = np.concatenate([eq.state, [float(np.sum(chain.l)), 0.0], np.zeros(EK.Z_TAIL - 2)])
+    z = np.concatenate([eq.state, [float(np.sum(chain.l)), 0.0], np.zeros(LY.Z_TAIL - 2)])
     ep = engagement_parameters(params, Reel(law="locked"), None, chain, eq.drogue_position_m)
-    ep[EK.EP_PROBE] = 0.0  # the tip is held: no capture test, no closure
-    ep[EK.EP_VC] = 0.0
+    ep[LY.EP_PROBE] = 0.0  # the tip is held: no capture test, no closure
+    ep[LY.EP_VC] = 0.0
     q0 = eq.state[: 2 * n].copy()
     _, drogue0 = _accelerations(q0, chain, model, ep, z.copy())
     axis = drogue0 - model.joint_positions(q0)[-2]
@@ -127,7 +128,7 @@ def bow_wave_displacement(params: Params, bow_wave: BowWave, distances_m) -> np.
     set_bow_wave(ep, params, _enabled(bow_wave))
     out = np.empty((d.size, 3))
     for i, dist in enumerate(d):
-        ep[[EK.EP_P0X, EK.EP_P0Y, EK.EP_P0Z]] = drogue0 + dist * axis
+        ep[[LY.EP_P0X, LY.EP_P0Y, LY.EP_P0Z]] = drogue0 + dist * axis
         sol = scipy.optimize.root(lambda q: _accelerations(q, chain, model, ep, z)[0], q0, method="hybr",
                                   options={"xtol": 1e-12})
         if not sol.success:

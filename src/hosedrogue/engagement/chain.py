@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
-from ..model import engagement_kernels as EK
+from ..model import layout as LY
 from ..model.system import HoseModel, link_inertias, lumped_masses
 from ..params import Params
 
@@ -36,7 +36,7 @@ class Chain:
     M: np.ndarray  #: (n,) lumped joint masses [kg], joints 1..n (the last includes the drogue)
     J: np.ndarray  #: (n,) transverse link inertias [kg m^2] (the last includes the drogue's)
     l_nom: float  #: nominal link length [m]: hose length over the initial number of links
-    chart: np.ndarray  #: (n,) 0: standard angles, 1: the alternative chart (engagement_kernels.apply_charts)
+    chart: np.ndarray  #: (n,) 0: standard angles, 1: the alternative chart (model.engagement.chain.apply_charts)
 
     @property
     def n(self) -> int:
@@ -48,7 +48,7 @@ def chain_arrays(params: Params, lengths: np.ndarray, l_nom: float, chart: np.nd
     length; it is recomputed from L in the kernels), lumped as ``params.hose.mass_lumping`` says
     by the fixed-length model's own :func:`~hosedrogue.model.system.lumped_masses` (the tow
     point's share of ``split`` is carried by the tanker). The compiled counterpart for the exit
-    link as L changes is ``engagement_kernels.set_variable_link``; ``hose_mass_kg`` of every run
+    link as L changes is ``model.engagement.chain.set_variable_link``; ``hose_mass_kg`` of every run
     checks that the two agree (mu L at every output time).
 
     Parameters
@@ -263,7 +263,7 @@ def split(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
     if not params.hose.elastic:
         return np.concatenate([q2, qd2, z[4 * n:]]), new
     lam, lamd, tail = z[4 * n: 5 * n], z[5 * n: 6 * n], z[6 * n:]
-    L, Ld = tail[EK.Z_L], tail[EK.Z_LD]
+    L, Ld = tail[LY.Z_L], tail[LY.Z_LD]
     l0 = L - float(np.sum(chain.l[1:]))
     rho = (l0 - chain.l_nom) / l0  # the new exit link's share of the old one's material
     # the new joint is the material point rho l0 from the exit: the same strain on both sides, its
@@ -302,7 +302,7 @@ def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
     if params.hose.elastic:
         return _merge_elastic(z, chain, params)
     q, qd, tail = z[: 2 * n], z[2 * n: 4 * n], z[4 * n:].copy()
-    L, Ld = tail[EK.Z_L], tail[EK.Z_LD]
+    L, Ld = tail[LY.Z_L], tail[LY.Z_LD]
     l0 = L - float(np.sum(chain.l[1:]))
     l1 = chain.l[1]
 
@@ -319,8 +319,8 @@ def merge(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndarray, Chai
     q2 = np.concatenate([[th1, th2], q[4:]])
     qd2 = np.concatenate([[d1, d2], qd[4:]])
     delta = l0 + l1 - lam
-    tail[EK.Z_L] = L - delta
-    tail[EK.Z_LD] = Ld_new
+    tail[LY.Z_L] = L - delta
+    tail[LY.Z_LD] = Ld_new
     lengths = np.concatenate([[lam], chain.l[2:]])
     new = chain_arrays(params, lengths, chain.l_nom, np.r_[ch, chain.chart[2:]])
     return np.concatenate([q2, qd2, tail]), new, delta
@@ -334,7 +334,7 @@ def _merge_elastic(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndar
     n = chain.n
     q, qd = z[: 2 * n], z[2 * n: 4 * n]
     lam, lamd, tail = z[4 * n: 5 * n], z[5 * n: 6 * n], z[6 * n:].copy()
-    L = tail[EK.Z_L]
+    L = tail[LY.Z_L]
     l0 = L - float(np.sum(chain.l[1:]))
     l1 = chain.l[1]
     e0, a0, b0 = frame(q[0], q[1], chain.chart[0])
@@ -349,7 +349,7 @@ def _merge_elastic(z: np.ndarray, chain: Chain, params: Params) -> tuple[np.ndar
     th1, th2, d1, d2 = coordinates(e, edot, ch)
     strain = (lam[0] + lam[1]) / (l0 + l1) - 1.0
     delta = l0 + l1 - lam_new / (1.0 + strain)
-    tail[EK.Z_L] = L - delta
+    tail[LY.Z_L] = L - delta
     lengths = np.concatenate([[lam_new / (1.0 + strain)], chain.l[2:]])
     new = chain_arrays(params, lengths, chain.l_nom, np.r_[ch, chain.chart[2:]])
     znew = np.concatenate([[th1, th2], q[4:], [d1, d2], qd[4:], [lam_new], lam[2:], [lamd_new], lamd[2:], tail])

@@ -1,7 +1,7 @@
 """The engagement simulation: a reel, a hose of varying length, a prescribed probe.
 
 :func:`simulate_engagement` integrates the compiled RK4 loop of
-:mod:`hosedrogue.model.engagement_kernels` segment by segment; a segment ends at a change of the
+:mod:`hosedrogue.model.engagement` segment by segment; a segment ends at a change of the
 discretization (split or merge of the exit link, see :mod:`.chain`), at the probe tip crossing
 the coupler plane (the capture test: docs/engagement.md, "Capture"), at a failed state, or at
 the end. The result's class and its assembly from the segments are in :mod:`.result`.
@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 
 from ..environment.bow_wave import BowWaveField
-from ..model import engagement_kernels as EK
-from ..model import kernels as K
+from ..model import layout as LY
+from ..model.engagement import chain as EC, steps as ES
 from ..params import Actuator, ParameterError, Params, Sensor
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, chain_model, initial_chain
 from .events import contact_event, remesh_event, switch_event
@@ -27,19 +27,19 @@ from .result import segment_outputs as _outputs
 from .loop import drogue_history, engagement_loop, extra_states, set_pilot
 from ..sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 
-LAW_CODES = {"locked": EK.LAW_LOCKED, "constant-tension": EK.LAW_CONSTANT_TENSION, "response": EK.LAW_RESPONSE,
-             "python": EK.LAW_COMMANDED}
-_STATUS = {K.NONFINITE: "the state became non-finite (numerical divergence)",
-           K.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is "
-                             "too long for the hose's motion: shorten numerics.step_s)",
-           K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
-           EK.REEL_END: "the free hose length left the reel's range between its end stops (fully reeled in or "
-                        "fully paid out)"}
+LAW_CODES = {"locked": LY.LAW_LOCKED, "constant-tension": LY.LAW_CONSTANT_TENSION, "response": LY.LAW_RESPONSE,
+             "python": LY.LAW_COMMANDED}
+_STATUS = {LY.NONFINITE: "the state became non-finite (numerical divergence)",
+           LY.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is "
+                              "too long for the hose's motion: shorten numerics.step_s)",
+           LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
+           LY.REEL_END: "the free hose length left the reel's range between its end stops (fully reeled in or "
+                         "fully paid out)"}
 
 
 def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain: Chain,
                           drogue_eq: np.ndarray, bow_wave: BowWave | None = None) -> np.ndarray:
-    """The engagement parameter array of the compiled kernels (``engagement_kernels.EP_*``).
+    """The engagement parameter array of the compiled kernels (``model.layout.EP_*``).
 
     Parameters
     ----------
@@ -65,50 +65,50 @@ def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain
     array (EP_SIZE,)
         Not coupled yet (``EP_COUPLED`` 0, capture time ``EP_T_CAP`` infinite).
     """
-    ep = np.zeros(EK.EP_SIZE)
+    ep = np.zeros(LY.EP_SIZE)
     hose = params.hose
-    ep[EK.EP_MU] = hose.mass_per_length_kg_m
-    ep[EK.EP_MD] = params.drogue.mass_kg
-    ep[EK.EP_SPLIT] = 1.0 if hose.mass_lumping == "split" else 0.0
-    ep[EK.EP_JLINK] = -1.0 if hose.link_inertia == "rod" else hose.link_inertia_kg_m2
-    ep[EK.EP_JD] = params.drogue.inertia_kg_m2
-    ep[EK.EP_L0] = chain.l_nom
-    ep[EK.EP_LAW] = LAW_CODES[reel.law]
-    ep[EK.EP_RD] = reel.drum_radius_m
-    ep[EK.EP_JR] = reel.inertia_kg_m2
-    ep[EK.EP_CR] = reel.friction_n_m_s
-    ep[EK.EP_TSET] = reel.tension_set_n
-    ep[EK.EP_TAU_MAX] = reel.max_torque_n_m
-    ep[EK.EP_V_IN_MAX] = reel.max_takeup_speed_m_s
-    ep[EK.EP_V_OUT_MAX] = reel.max_payout_speed_m_s
-    ep[EK.EP_K_GOV] = reel.governor_gain_n_s_m
-    ep[EK.EP_KS] = reel.takeup_gain_1_s
-    ep[EK.EP_DB] = reel.slack_dead_band_m
-    ep[EK.EP_KV] = reel.speed_gain_n_s_m
-    ep[EK.EP_PAY_T0] = reel.payout_start_s
-    ep[EK.EP_PAY_DIST] = reel.payout_m
-    ep[EK.EP_PAY_V] = reel.payout_speed_m_s
-    ep[EK.EP_PAY_A] = reel.payout_acceleration_m_s2
-    ep[EK.EP_L_MIN] = reel.min_length_m
-    ep[EK.EP_L_MAX] = reel.max_length_m
-    ep[EK.EP_REEL_TV] = reel.speed_time_constant_s
+    ep[LY.EP_MU] = hose.mass_per_length_kg_m
+    ep[LY.EP_MD] = params.drogue.mass_kg
+    ep[LY.EP_SPLIT] = 1.0 if hose.mass_lumping == "split" else 0.0
+    ep[LY.EP_JLINK] = -1.0 if hose.link_inertia == "rod" else hose.link_inertia_kg_m2
+    ep[LY.EP_JD] = params.drogue.inertia_kg_m2
+    ep[LY.EP_L0] = chain.l_nom
+    ep[LY.EP_LAW] = LAW_CODES[reel.law]
+    ep[LY.EP_RD] = reel.drum_radius_m
+    ep[LY.EP_JR] = reel.inertia_kg_m2
+    ep[LY.EP_CR] = reel.friction_n_m_s
+    ep[LY.EP_TSET] = reel.tension_set_n
+    ep[LY.EP_TAU_MAX] = reel.max_torque_n_m
+    ep[LY.EP_V_IN_MAX] = reel.max_takeup_speed_m_s
+    ep[LY.EP_V_OUT_MAX] = reel.max_payout_speed_m_s
+    ep[LY.EP_K_GOV] = reel.governor_gain_n_s_m
+    ep[LY.EP_KS] = reel.takeup_gain_1_s
+    ep[LY.EP_DB] = reel.slack_dead_band_m
+    ep[LY.EP_KV] = reel.speed_gain_n_s_m
+    ep[LY.EP_PAY_T0] = reel.payout_start_s
+    ep[LY.EP_PAY_DIST] = reel.payout_m
+    ep[LY.EP_PAY_V] = reel.payout_speed_m_s
+    ep[LY.EP_PAY_A] = reel.payout_acceleration_m_s2
+    ep[LY.EP_L_MIN] = reel.min_length_m
+    ep[LY.EP_L_MAX] = reel.max_length_m
+    ep[LY.EP_REEL_TV] = reel.speed_time_constant_s
     if probe is not None and probe.enabled:
-        ep[EK.EP_PROBE] = 1.0
-        ep[EK.EP_P0X] = drogue_eq[0] - probe.standoff_m
-        ep[EK.EP_P0Y] = drogue_eq[1] + probe.offset_y_m
-        ep[EK.EP_P0Z] = drogue_eq[2] + probe.offset_z_m
-        ep[EK.EP_VC] = probe.closure_speed_m_s
-        ep[EK.EP_PUSH] = probe.push_m
-        ep[EK.EP_T_STOP] = probe.stop_time_s
-        ep[EK.EP_KP] = probe.stiffness_n_m
-        ep[EK.EP_CP] = probe.damping_n_s_m
+        ep[LY.EP_PROBE] = 1.0
+        ep[LY.EP_P0X] = drogue_eq[0] - probe.standoff_m
+        ep[LY.EP_P0Y] = drogue_eq[1] + probe.offset_y_m
+        ep[LY.EP_P0Z] = drogue_eq[2] + probe.offset_z_m
+        ep[LY.EP_VC] = probe.closure_speed_m_s
+        ep[LY.EP_PUSH] = probe.push_m
+        ep[LY.EP_T_STOP] = probe.stop_time_s
+        ep[LY.EP_KP] = probe.stiffness_n_m
+        ep[LY.EP_CP] = probe.damping_n_s_m
     else:
-        ep[EK.EP_VC] = 0.0
-        ep[EK.EP_P0X] = drogue_eq[0] - 1e3  # parked far aft, never used
-    ep[EK.EP_T_CAP] = math.inf
-    ep[EK.EP_ELASTIC] = 1.0 if hose.elastic else 0.0
-    ep[EK.EP_SCHEME] = EK.SCHEME_SDIRK2 if params.numerics.integrator == "sdirk2" else EK.SCHEME_RK4
-    ep[EK.EP_ITER] = params.numerics.sdirk_corrections
+        ep[LY.EP_VC] = 0.0
+        ep[LY.EP_P0X] = drogue_eq[0] - 1e3  # parked far aft, never used
+    ep[LY.EP_T_CAP] = math.inf
+    ep[LY.EP_ELASTIC] = 1.0 if hose.elastic else 0.0
+    ep[LY.EP_SCHEME] = LY.SCHEME_SDIRK2 if params.numerics.integrator == "sdirk2" else LY.SCHEME_RK4
+    ep[LY.EP_ITER] = params.numerics.sdirk_corrections
     set_bow_wave(ep, params, bow_wave)
     return ep
 
@@ -128,13 +128,13 @@ def set_bow_wave(ep: np.ndarray, params: Params, bow_wave: BowWave | None) -> No
         None or disabled: ``EP_BW`` = off.
     """
     if bow_wave is None or not bow_wave.enabled:
-        ep[EK.EP_BW] = EK.BW_OFF
+        ep[LY.EP_BW] = LY.BW_OFF
         return
     bw = BowWaveField.of(bow_wave, params.flight.airspeed_m_s)
-    ep[EK.EP_BW] = EK.BW_RANKINE if bow_wave.shape == "rankine" else EK.BW_LINE
-    ep[[EK.EP_BW_DX, EK.EP_BW_DY, EK.EP_BW_DZ]] = bw.source_position_m(np.zeros(3))
-    ep[EK.EP_BW_Q] = bw.flux_m3_s
-    ep[EK.EP_BW_LEN] = bow_wave.nose_length_m
+    ep[LY.EP_BW] = LY.BW_RANKINE if bow_wave.shape == "rankine" else LY.BW_LINE
+    ep[[LY.EP_BW_DX, LY.EP_BW_DY, LY.EP_BW_DZ]] = bw.source_position_m(np.zeros(3))
+    ep[LY.EP_BW_Q] = bw.flux_m3_s
+    ep[LY.EP_BW_LEN] = bow_wave.nose_length_m
 
 
 def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.ndarray, model) -> float:
@@ -161,14 +161,14 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
         Exit tension T_0 [N].
     """
     e = ep.copy()
-    e[EK.EP_LAW] = EK.LAW_LOCKED
-    e[EK.EP_PAY_DIST] = 0.0
-    e[EK.EP_PROBE] = 0.0
-    e[EK.EP_BW] = EK.BW_OFF
-    e[EK.EP_CTRL] = 0.0  # no control force: the drogue at its balance position needs none
+    e[LY.EP_LAW] = LY.LAW_LOCKED
+    e[LY.EP_PAY_DIST] = 0.0
+    e[LY.EP_PROBE] = 0.0
+    e[LY.EP_BW] = LY.BW_OFF
+    e[LY.EP_CTRL] = 0.0  # no control force: the drogue at its balance position needs none
     steady = SimpleNamespace(ps=model.ps, env=model.steady_env, gust_values=model.gust_values)  # no gusts
     scal = _outputs(np.zeros(1), z[None, :], chain, steady, e)[2]
-    return float(scal[0, EK.O_T0])
+    return float(scal[0, LY.O_T0])
 
 
 def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None = None, probe: Probe | None = None,
@@ -221,7 +221,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     run = start.new_run()
     status, message = _integrate(run, start.params, probe, start.model, duration_s)
     return assemble_result(start.params, run.segments, run.events, run.outcome, start.model, start.drogue_eq, energy,
-                           status == K.OK, message, run.delta_total, start.t_set, start.reel, probe, loop=start.loop,
+                           status == LY.OK, message, run.delta_total, start.t_set, start.reel, probe, loop=start.loop,
                            step_loads=step_record(start.params, run),
                            drogue_actuator=start.drogue_actuator)
 
@@ -312,7 +312,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2,
                                                 duration_s)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
-    L0 = z[EK.tail_start(chain.n, ep) + EK.Z_L]
+    L0 = z[EC.tail_start(chain.n, ep) + LY.Z_L]
     if not reel.min_length_m <= L0 <= reel.max_length_m:
         raise ParameterError(f"hose.length_m = {L0!r}: the free length must lie between the reel's end stops "
                              f"reel.min_length_m = {reel.min_length_m!r} and reel.max_length_m = {reel.max_length_m!r} m")
@@ -327,7 +327,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     t_set = reel.tension_set_n
     if t_set < 0:
         t_set = exit_tension_at_rest(params, chain, z, ep, model)
-        ep[EK.EP_TSET] = t_set
+        ep[LY.EP_TSET] = t_set
     return Start(params, chain, model, drogue_eq, z, ep, loop, t_set, reel, probe,
                  int(round(duration_s / params.numerics.step_s)), drogue_actuator)
 
@@ -376,7 +376,7 @@ def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: floa
     else:
         model = chain_model(params, chain, duration_s)
     if gravity_m_s2 is not None:
-        model.ps[K.PS_G] = float(gravity_m_s2)
+        model.ps[LY.PS_G] = float(gravity_m_s2)
     n = chain.n
     L0 = float(np.sum(chain.l))
     hose0 = equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
@@ -387,7 +387,7 @@ def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: floa
         drogue_eq = model.joint_positions(hose0[: 2 * n], hose0[4 * n: 5 * n] if model.elastic else None)[-1]
     else:
         drogue_eq = equilibrium.drogue_position_m.copy()
-    z = np.concatenate([hose0, [L0, float(length_rate_m_s)], np.zeros(EK.Z_TAIL - 2)])
+    z = np.concatenate([hose0, [L0, float(length_rate_m_s)], np.zeros(LY.Z_TAIL - 2)])
     return chain, model, drogue_eq, z
 
 
@@ -404,7 +404,7 @@ class _Run:
     loop: Any  #: the controller's LoopArrays (empty without a controller)
     hist: np.ndarray  #: the drogue history the pilot's delay reads (loop.drogue_history)
     #: elastic links: the loads after every step (exit and drogue-end tension [N], probe load [N],
-    #: slack [m]; engagement_kernels.state_loads), NaN until written; a (1, 4) placeholder otherwise
+    #: slack [m]; model.engagement.outputs.state_loads), NaN until written; a (1, 4) placeholder otherwise
     loads: np.ndarray = field(default_factory=lambda: np.full((1, 4), math.nan))
     events: list = field(default_factory=list)
     step: int = 0
@@ -422,19 +422,19 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
     max_yaw = math.radians(num.max_yaw_deg)
     while run.step < total_steps:
         code, zprev = _segment(run, model, h, every, total_steps - run.step, max_yaw)
-        if code in (K.NONFINITE, K.YAW_LIMIT, K.STAGE_LIMIT):
+        if code in (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT):
             return code, f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
-        if code == EK.REEL_END:
-            L = run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_L]
+        if code == LY.REEL_END:
+            L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
             return code, (f"stopped at t = {run.t:.4f} s: {_STATUS[code]}: L = {L:.3f} m, range "
-                          f"[{run.ep[EK.EP_L_MIN]:g}, {run.ep[EK.EP_L_MAX]:g}] m")
-        if code == EK.CHART:
+                          f"[{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m")
+        if code == LY.CHART:
             switch_event(run, model)
-        elif code in (EK.SPLIT, EK.MERGE):
+        elif code in (LY.SPLIT, LY.MERGE):
             remesh_event(run, code, params, model)
-        elif code == EK.PLANE and contact_event(run, zprev, h, probe, model):
+        elif code == LY.PLANE and contact_event(run, zprev, h, probe, model):
             break
-    return K.OK, "completed"
+    return LY.OK, "completed"
 
 
 def _segment(run: _Run, model, h: float, every: int, remaining: int, max_yaw: float):
@@ -448,7 +448,7 @@ def _segment(run: _Run, model, h: float, every: int, remaining: int, max_yaw: fl
     lw = chain.l.copy()
     Mw = chain.M.copy()
     Jw = chain.J.copy()
-    code, done, saved = EK.eng_segment(
+    code, done, saved = ES.eng_segment(
         z, run.t, run.step, h, remaining, every, chain.n, lw, Mw, Jw, model.ps, model.env, model.gust_values,
         run.ep, chain.chart, run.loop, run.hist, max_yaw, math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom,
         MERGE_RATIO * chain.l_nom, chain.n >= 2, zprev, ts, zs, run.loads)

@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 
-from ..model import engagement_kernels as EK
+from ..model import layout as LY
+from ..model.engagement import chain as EC
 from ..sections import Probe
 from .chain import SWITCH_YAW_DEG, merge, split, switch_charts
 from .result import segment_energies as _energies
@@ -47,7 +48,7 @@ def _joint_jumps(code: int, before, after) -> tuple[float, float]:
     """Largest jump of a joint's position [m] and velocity [m/s] across a split or merge."""
     jb, ja = before[0][0], after[0][0]
     vb, va = before[1][0], after[1][0]
-    if code == EK.SPLIT:  # the new joint 1 is inserted; old joints k -> k+1
+    if code == LY.SPLIT:  # the new joint 1 is inserted; old joints k -> k+1
         pos_jump = np.max(np.abs(ja[np.r_[0, 2:ja.shape[0]]] - jb))
         vel_jump = np.max(np.abs(va[np.r_[2:va.shape[0]]] - vb[1:]))
     else:  # old joint 1 is removed; old joints k >= 2 -> k-1
@@ -64,7 +65,7 @@ def remesh_event(run, code: int, params, model) -> None:
     run : hosedrogue.engagement.driver._Run
         The run between segments (state, chain, parameters, time [s], events), changed in place.
     code : int
-        ``engagement_kernels.SPLIT`` or ``MERGE``.
+        ``model.layout.SPLIT`` or ``MERGE``.
     params : Params
         For the masses [kg] and inertias [kg m^2] of the new mesh.
     model : hosedrogue.model.system.HoseModel
@@ -72,8 +73,8 @@ def remesh_event(run, code: int, params, model) -> None:
     """
     before, e_before = _at(run, model)
     n_before = run.chain.n
-    Ld_before = run.z[EK.tail_start(n_before, run.ep) + EK.Z_LD]
-    if code == EK.SPLIT:
+    Ld_before = run.z[EC.tail_start(n_before, run.ep) + LY.Z_LD]
+    if code == LY.SPLIT:
         run.z, run.chain = split(run.z, run.chain, params)
         delta = 0.0
     else:
@@ -82,10 +83,10 @@ def remesh_event(run, code: int, params, model) -> None:
     after, e_after = _at(run, model)
     pos_jump, vel_jump = _joint_jumps(code, before, after)
     run.events.append({
-        "kind": "split" if code == EK.SPLIT else "merge", "t_s": run.t, "links_before": n_before,
+        "kind": "split" if code == LY.SPLIT else "merge", "t_s": run.t, "links_before": n_before,
         "links_after": run.chain.n, "position_jump_m": pos_jump, "velocity_jump_m_s": vel_jump,
         "length_lost_m": float(delta),
-        "reel_speed_jump_m_s": 0.0 if code == EK.SPLIT else float(-(run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_LD] - Ld_before)),
+        "reel_speed_jump_m_s": 0.0 if code == LY.SPLIT else float(-(run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_LD] - Ld_before)),
         "energy_jump_j": float(np.sum(e_after) - np.sum(e_before)),
     })
 
@@ -101,8 +102,8 @@ def _plane_crossing(run, zprev: np.ndarray, h: float, model) -> tuple[float, flo
     for i in range(2):
         e_last = joints[i][-1] - joints[i][-2]
         e_last /= np.linalg.norm(e_last)
-        p = scal[i, [EK.O_PX, EK.O_PY, EK.O_PZ]]
-        vp = scal[i, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]]
+        p = scal[i, [LY.O_PX, LY.O_PY, LY.O_PZ]]
+        vp = scal[i, [LY.O_VPX, LY.O_VPY, LY.O_VPZ]]
         rel = p - joints[i][-1]
         d[i] = rel @ e_last
         radial[i] = rel - d[i] * e_last
@@ -156,9 +157,9 @@ def contact_event(run, zprev: np.ndarray, h: float, probe: Probe, model) -> bool
     outcome["contact_time_s"] = t_cap
     outcome["result"], captured = _capture_verdict(probe, miss, vc)
     if captured:
-        run.ep[EK.EP_COUPLED] = 1.0
-        run.ep[EK.EP_T_CAP] = t_cap
-        run.ep[EK.EP_S_CAP] = run.ep[EK.EP_VC] * t_cap
+        run.ep[LY.EP_COUPLED] = 1.0
+        run.ep[LY.EP_T_CAP] = t_cap
+        run.ep[LY.EP_S_CAP] = run.ep[LY.EP_VC] * t_cap
     run.events.append({"kind": "contact", "t_s": t_cap, "miss_distance_m": miss, "closure_speed_m_s": vc,
                        "result": outcome["result"]})
     return not captured

@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from ..controllers.linear import LinearController
-from ..model import engagement_kernels as EK
+from ..model import layout as LY
 from ..model.integrate import LoopArrays, loop_arrays, loop_states, sensor_noise
 from ..params import Actuator, ParameterError, Sensor
 from ..sections import DrogueActuator, Pilot, Receiver, Reel
@@ -97,24 +97,24 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
         The states after the 7 tail entries.
     """
     parts = []
-    ep[EK.EP_NPIL] = 0.0
-    ep[EK.EP_PIL] = 0.0
-    ep[EK.EP_RCV] = 0.0
-    ep[EK.EP_REEL_SLOT] = 0.0
+    ep[LY.EP_NPIL] = 0.0
+    ep[LY.EP_PIL] = 0.0
+    ep[LY.EP_RCV] = 0.0
+    ep[LY.EP_REEL_SLOT] = 0.0
     if pilot is not None and pilot.enabled:
-        ep[EK.EP_PIL] = 1.0
-        ep[EK.EP_NPIL] = EK.PIL_STATES
-        parts.append([ep[EK.EP_P0Y], ep[EK.EP_P0Z], 0.0, 0.0])
+        ep[LY.EP_PIL] = 1.0
+        ep[LY.EP_NPIL] = LY.PIL_STATES
+        parts.append([ep[LY.EP_P0Y], ep[LY.EP_P0Z], 0.0, 0.0])
     elif receiver is not None:
         set_receiver(ep, receiver)
-        ep[EK.EP_NPIL] = EK.RCV_STATES
-        vc = ep[EK.EP_VC]
-        parts.append([ep[EK.EP_P0X], ep[EK.EP_P0Y], ep[EK.EP_P0Z], vc, 0.0, 0.0, vc, 0.0, 0.0])
+        ep[LY.EP_NPIL] = LY.RCV_STATES
+        vc = ep[LY.EP_VC]
+        parts.append([ep[LY.EP_P0X], ep[LY.EP_P0Y], ep[LY.EP_P0Z], vc, 0.0, 0.0, vc, 0.0, 0.0])
     if reel is not None and reel.law == "python":
-        ep[EK.EP_NPIL] += 1.0
-        ep[EK.EP_REEL_SLOT] = ep[EK.EP_NPIL]
+        ep[LY.EP_NPIL] += 1.0
+        ep[LY.EP_REEL_SLOT] = ep[LY.EP_NPIL]
         parts.append([0.0])
-    ep[EK.EP_CTRL] = 0.0 if control is None and drogue_actuator is None else 1.0
+    ep[LY.EP_CTRL] = 0.0 if control is None and drogue_actuator is None else 1.0
     if control is not None or drogue_actuator is not None:
         ctrl = control if control is not None else LinearController.static_zero()
         parts.append(loop_states(ctrl, actuator, drogue_actuator))
@@ -140,17 +140,17 @@ def set_pilot(ep: np.ndarray, pilot: Pilot | None, step_s: float) -> None:
         A reaction time shorter than one step (the delayed drogue would be read ahead of the
         history written so far).
     """
-    ep[EK.EP_H] = step_s
+    ep[LY.EP_H] = step_s
     if pilot is None or not pilot.enabled:
         return
     if pilot.reaction_time_s < step_s:
         raise ParameterError(f"pilot.reaction_time_s = {pilot.reaction_time_s!r}: must be at least the RK4 step "
                              f"numerics.step_s = {step_s!r} s")
-    ep[EK.EP_PIL_DELAY] = pilot.reaction_time_s
-    ep[EK.EP_PIL_LAG] = pilot.lag_s
-    ep[EK.EP_PIL_TV] = pilot.velocity_time_constant_s
-    ep[EK.EP_PIL_VMAX] = pilot.max_speed_m_s
-    ep[EK.EP_PIL_AMAX] = pilot.max_acceleration_m_s2
+    ep[LY.EP_PIL_DELAY] = pilot.reaction_time_s
+    ep[LY.EP_PIL_LAG] = pilot.lag_s
+    ep[LY.EP_PIL_TV] = pilot.velocity_time_constant_s
+    ep[LY.EP_PIL_VMAX] = pilot.max_speed_m_s
+    ep[LY.EP_PIL_AMAX] = pilot.max_acceleration_m_s2
 
 
 def set_receiver(ep: np.ndarray, receiver: Receiver) -> None:
@@ -164,10 +164,10 @@ def set_receiver(ep: np.ndarray, receiver: Receiver) -> None:
     receiver : Receiver
         Velocity time constant [s], per-axis speed [m/s] and acceleration [m/s^2] bounds.
     """
-    ep[EK.EP_RCV] = 1.0
-    ep[EK.EP_RCV_TV] = receiver.velocity_time_constant_s
-    ep[EK.EP_RCV_VMAX:EK.EP_RCV_VMAX + 3] = receiver.max_speed_m_s
-    ep[EK.EP_RCV_AMAX:EK.EP_RCV_AMAX + 3] = receiver.max_acceleration_m_s2
+    ep[LY.EP_RCV] = 1.0
+    ep[LY.EP_RCV_TV] = receiver.velocity_time_constant_s
+    ep[LY.EP_RCV_VMAX:LY.EP_RCV_VMAX + 3] = receiver.max_speed_m_s
+    ep[LY.EP_RCV_AMAX:LY.EP_RCV_AMAX + 3] = receiver.max_acceleration_m_s2
 
 
 def drogue_history(ep: np.ndarray, total_steps: int) -> np.ndarray:
@@ -185,5 +185,5 @@ def drogue_history(ep: np.ndarray, total_steps: int) -> np.ndarray:
     -------
     array (total_steps + 1, 4) or (1, 4)
     """
-    rows = total_steps + 1 if ep[EK.EP_PIL] != 0.0 else 1
+    rows = total_steps + 1 if ep[LY.EP_PIL] != 0.0 else 1
     return np.full((rows, 4), math.nan)

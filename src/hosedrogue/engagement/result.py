@@ -2,7 +2,7 @@
 
 :func:`~hosedrogue.engagement.driver.simulate_engagement` integrates segment by segment (one
 discretization each); :func:`assemble_result` evaluates the compiled output and energy kernels
-of :mod:`hosedrogue.model.engagement_kernels` on every segment's saved states, concatenates
+of :mod:`hosedrogue.model.engagement` on every segment's saved states, concatenates
 them and adds the run's peaks to its outcome (what is reported per engagement:
 docs/engagement.md, "What a run reports").
 """
@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..metrics import turbulence_window
-from ..model import drogue_actuator as DA
-from ..model import engagement_kernels as EK
+from ..model import drogue_actuator as DA, layout as LY
+from ..model.engagement import chain as EC, outputs as EO
 from ..params import Params
 from ..results import EngagementResult
 from .chain import Chain, hose_mass_in_air
@@ -46,7 +46,7 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     joints, jvel : array (N, n+1, 3)
         Joint positions [m] and velocities [m/s].
     scal : array (N, O_SIZE)
-        Scalar outputs (``engagement_kernels.O_*``: tensions [N], probe [m, m/s, N], slack [m],
+        Scalar outputs (``model.layout.O_*``: tensions [N], probe [m, m/s, N], slack [m],
         torque [N m]).
     tow : array (N, 3)
         Force of the hose on the exit [N].
@@ -61,7 +61,7 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     N = ts.size
     joints = np.empty((N, n + 1, 3))
     jvel = np.empty((N, n + 1, 3))
-    scal = np.empty((N, EK.O_SIZE))
+    scal = np.empty((N, LY.O_SIZE))
     tow = np.empty((N, 3))
     tdrog = np.empty(N)
     drag = np.empty((N, 3))
@@ -70,7 +70,7 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
         from .loop import no_loop
 
         loop = no_loop()
-    EK.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
+    EO.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
                    chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, loop, joints, jvel, scal, tow, tdrog,
                    drag, links_t)
     return joints, jvel, scal, tow, tdrog, drag, links_t
@@ -97,7 +97,7 @@ def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray) -> np.
     """
     out = np.empty((zs.shape[0], 3))
     for i, z in enumerate(zs):
-        out[i] = EK.eng_energy(np.ascontiguousarray(z), chain.n, chain.l.copy(), chain.M.copy(),
+        out[i] = EO.eng_energy(np.ascontiguousarray(z), chain.n, chain.l.copy(), chain.M.copy(),
                                chain.J.copy(), model.ps, ep, chain.chart)
     return out
 
@@ -124,10 +124,10 @@ def coupler_geometry(joints, jvel, scal):
     """
     e_last = joints[:, -1, :] - joints[:, -2, :]
     e_last /= np.linalg.norm(e_last, axis=1)[:, None]
-    rel = scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]] - joints[:, -1, :]
+    rel = scal[:, [LY.O_PX, LY.O_PY, LY.O_PZ]] - joints[:, -1, :]
     dpl = np.einsum("ij,ij->i", rel, e_last)
     miss = np.linalg.norm(rel - dpl[:, None] * e_last, axis=1)
-    vp = scal[:, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]]
+    vp = scal[:, [LY.O_VPX, LY.O_VPY, LY.O_VPZ]]
     return dpl, miss, -np.einsum("ij,ij->i", vp - jvel[:, -1, :], e_last)
 
 
@@ -137,7 +137,7 @@ def _hose_masses(zs, chain: Chain, ep, params: Params) -> np.ndarray:
     masses = []
     lw, Mw, Jw = chain.l.copy(), chain.M.copy(), chain.J.copy()
     for z in zs:
-        EK.set_variable_link(z[EK.tail_start(n, ep) + EK.Z_L], n, lw, Mw, Jw, ep)
+        EC.set_variable_link(z[EC.tail_start(n, ep) + LY.Z_L], n, lw, Mw, Jw, ep)
         masses.append(hose_mass_in_air(Chain(lw, Mw, Jw, chain.l_nom, chain.chart), params))
     return np.array(masses)
 
@@ -148,23 +148,23 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
     n = chain.n
     joints, jvel, scal, tow, tdrog, drag, links_t = segment_outputs(ts, zs, chain, model, ep, loop)
     dpl, miss, vclose = coupler_geometry(joints, jvel, scal)
-    b = EK.tail_start(n, ep)
-    cols = {"t": ts, "L": zs[:, b + EK.Z_L], "Ld": zs[:, b + EK.Z_LD], "T0": scal[:, EK.O_T0],
-            "Td": tdrog, "fp": scal[:, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "pp": scal[:, [EK.O_PX, EK.O_PY, EK.O_PZ]],
-            "cp": np.full(ts.size, ep[EK.EP_COUPLED] != 0.0), "slack": scal[:, EK.O_SLACK],
-            "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, EK.O_TAU],
+    b = EC.tail_start(n, ep)
+    cols = {"t": ts, "L": zs[:, b + LY.Z_L], "Ld": zs[:, b + LY.Z_LD], "T0": scal[:, LY.O_T0],
+            "Td": tdrog, "fp": scal[:, [LY.O_FPX, LY.O_FPY, LY.O_FPZ]], "pp": scal[:, [LY.O_PX, LY.O_PY, LY.O_PZ]],
+            "cp": np.full(ts.size, ep[LY.EP_COUPLED] != 0.0), "slack": scal[:, LY.O_SLACK],
+            "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, LY.O_TAU],
             "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
-            "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [EK.O_UY, EK.O_UZ]], "drag": drag,
+            "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [LY.O_UY, LY.O_UZ]], "drag": drag,
             "links_t": list(links_t)}
-    if loop is not None and ep[EK.EP_CTRL] != 0.0 and DA.is_actuated(loop.act):
+    if loop is not None and ep[LY.EP_CTRL] != 0.0 and DA.is_actuated(loop.act):
         ns = int(loop.act[DA.DA_NS])
-        na = b + EK.Z_TAIL + int(ep[EK.EP_NPIL]) + loop.Ac.shape[0]
+        na = b + LY.Z_TAIL + int(ep[LY.EP_NPIL]) + loop.Ac.shape[0]
         cols["defl"] = zs[:, na:na + ns]
-        cols["rate"] = scal[:, EK.O_SERVO:EK.O_SERVO + ns]
-        cols["q"] = scal[:, EK.O_Q]
+        cols["rate"] = scal[:, LY.O_SERVO:LY.O_SERVO + ns]
+        cols["q"] = scal[:, LY.O_Q]
     if energy:
         en = segment_energies(zs, chain, model, ep)
-        cols["E"] = np.column_stack([en, zs[:, b + EK.Z_WM:b + EK.Z_WAX + 1]])
+        cols["E"] = np.column_stack([en, zs[:, b + LY.Z_WM:b + LY.Z_WAX + 1]])
     return cols, joints, jvel
 
 
@@ -241,7 +241,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         The drogue controller's arrays (see :func:`segment_outputs`).
     step_loads : array (steps + 1, 4), optional
         Elastic links: exit and drogue-end tension [N], probe load [N] and slack [m] after every
-        integration step (``engagement_kernels.state_loads``); the run's peaks are taken from it.
+        integration step (``model.engagement.outputs.state_loads``); the run's peaks are taken from it.
     drogue_actuator : hosedrogue.sections.DrogueActuator, optional
         The drogue's control surfaces (their deflections, rates and q become result fields).
 

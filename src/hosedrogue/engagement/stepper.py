@@ -11,7 +11,7 @@ velocity, the reel's take-up speed, the drogue's force - returning the measureme
         m = stepper.step(receiver=(1.0, -0.5 * m.relative_position_m[1], 0.0))
     result = stepper.result()          # the usual EngagementResult
 
-A control step integrates with :func:`hosedrogue.model.engagement_kernels.eng_advance`; the
+A control step integrates with :func:`hosedrogue.model.engagement.steps.eng_advance`; the
 events that end a compiled segment (a remesh, a chart switch, the coupler plane) are handled in
 between as :func:`~hosedrogue.engagement.driver.simulate_engagement` does
 (:mod:`hosedrogue.engagement.events`), so a stepped run and a run of the same commands through
@@ -26,8 +26,8 @@ import numpy as np
 
 from ..controllers.linear import LinearController
 from ..errors import ParameterError
-from ..model import engagement_kernels as EK
-from ..model import kernels as K
+from ..model import chain_dynamics as CD, layout as LY
+from ..model.engagement import chain as EC, outputs as EO, probe as EPR, steps as ES
 from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, held_command
 from ..params import Actuator, Params, Sensor
 from ..sections import BowWave, Pilot, Probe, Receiver, Reel
@@ -136,10 +136,10 @@ class EngagementStepper(StepperBase):
         # written into the state's slots before every control step
         self._commands = np.zeros(nd + 4)
         self._slots = {"drogue": tuple(range(nd)), "reel": (nd,), "receiver": (nd + 1, nd + 2, nd + 3)}
-        self._dM, self._out = np.empty(2), np.empty(EK.O_SIZE)  # the last evaluation's outputs (probe_force_n)
+        self._dM, self._out = np.empty(2), np.empty(LY.O_SIZE)  # the last evaluation's outputs (probe_force_n)
         self._slots = {role: self._slots[role] for role in self.roles}
         if receiver is not None:
-            self._commands[nd + 1] = st.ep[EK.EP_VC]
+            self._commands[nd + 1] = st.ep[LY.EP_VC]
         self.balance = st.drogue_eq.copy()
         self.seed = st.params.turbulence.seed
         self._model_seed = self.seed
@@ -155,7 +155,7 @@ class EngagementStepper(StepperBase):
             self.params = st.params.replace(turbulence={"seed": self.seed})
             model = chain_model(self.params, st.chain, self.duration_s)
             if self.gravity_m_s2 is not None:
-                model.ps[K.PS_G] = float(self.gravity_m_s2)
+                model.ps[LY.PS_G] = float(self.gravity_m_s2)
             self.model = model
             self._model_seed = self.seed
         self.noise3 = sensor_noise3(self.sensor, self.duration_s, self.seed)
@@ -164,7 +164,7 @@ class EngagementStepper(StepperBase):
         self._closed = []
         self._commands[:] = 0.0
         if "receiver" in self.roles:
-            self._commands[self._slots["receiver"][0]] = st.ep[EK.EP_VC]
+            self._commands[self._slots["receiver"][0]] = st.ep[LY.EP_VC]
         self.ctr[C_TOTAL] = self.total_steps
         self.ctr[C_SPC] = self.spc
         self._on_chain()
@@ -172,7 +172,7 @@ class EngagementStepper(StepperBase):
             self._ts[0] = 0.0
             self._zs[0] = self.run.z
             self.ctr[C_SAVED] = 1
-        EK.eng_raw(0.0, self.run.z, *self._model_args, self._ws, self._ws2, self._dM, self._out, self.ring[0])
+        EO.eng_raw(0.0, self.run.z, *self._model_args, self._ws, self._ws2, self._dM, self._out, self.ring[0])
         deliver(self.ring, 0, self.delay, self.control_step_s, self.noise3, self.sensor.sample_time_s,
                 self.balance, self.mbuf)
 
@@ -181,7 +181,7 @@ class EngagementStepper(StepperBase):
         recording buffer, the command's places in the state and the kernel's argument tuple."""
         run, model = self.run, self.model
         chain, n, nz = run.chain, run.chain.n, run.z.size
-        self._ws, self._ws2 = K.make_workspace(n), K.make_workspace(n)
+        self._ws, self._ws2 = CD.make_workspace(n), CD.make_workspace(n)
         self._work = np.empty((8, nz))
         self._zprev = np.empty(nz)
         rows = (self.total_steps - int(self.ctr[C_STEP])) // self.every + 2 if self.record else 1
@@ -202,25 +202,25 @@ class EngagementStepper(StepperBase):
         path (``EP_FEED``): from the start point at the start velocity in a straight line until
         :meth:`move_receiver` says otherwise."""
         st = self.start
-        b = EK.tail_start(st.chain.n, st.ep) + EK.Z_TAIL  # after the 4n rigid or the 6n elastic hose entries
+        b = EC.tail_start(st.chain.n, st.ep) + LY.Z_TAIL  # after the 4n rigid or the 6n elastic hose entries
         if probe_start_m is not None:
             p = np.asarray(probe_start_m, dtype=np.float64)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
                 raise ParameterError(f"probe_start_m = {probe_start_m!r}: must be 3 finite numbers [m]")
-            st.z[b + EK.RCV_X:b + EK.RCV_X + 3] = p
-            st.ep[[EK.EP_P0X, EK.EP_P0Y, EK.EP_P0Z]] = p
+            st.z[b + LY.RCV_X:b + LY.RCV_X + 3] = p
+            st.ep[[LY.EP_P0X, LY.EP_P0Y, LY.EP_P0Z]] = p
         if probe_start_velocity_m_s is not None:
             v = np.asarray(probe_start_velocity_m_s, dtype=np.float64)
             if v.shape != (3,) or not np.all(np.isfinite(v)):
                 raise ParameterError(f"probe_start_velocity_m_s = {probe_start_velocity_m_s!r}: must be 3 finite "
                                      "numbers [m/s]")
-            st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = v
+            st.z[b + LY.RCV_VX:b + LY.RCV_VX + 3] = v
         if self.pass_through:
-            st.ep[EK.EP_FEED] = 1.0
-            st.ep[EK.EP_FEED_T0] = 0.0
-            st.ep[EK.EP_FEED_P:EK.EP_FEED_P + 3] = st.z[b + EK.RCV_X:b + EK.RCV_X + 3]
-            st.ep[EK.EP_FEED_V:EK.EP_FEED_V + 3] = st.z[b + EK.RCV_VX:b + EK.RCV_VX + 3]
-            st.ep[EK.EP_FEED_A:EK.EP_FEED_J + 3] = 0.0
+            st.ep[LY.EP_FEED] = 1.0
+            st.ep[LY.EP_FEED_T0] = 0.0
+            st.ep[LY.EP_FEED_P:LY.EP_FEED_P + 3] = st.z[b + LY.RCV_X:b + LY.RCV_X + 3]
+            st.ep[LY.EP_FEED_V:LY.EP_FEED_V + 3] = st.z[b + LY.RCV_VX:b + LY.RCV_VX + 3]
+            st.ep[LY.EP_FEED_A:LY.EP_FEED_J + 3] = 0.0
 
     def move_receiver(self, velocity_m_s, acceleration_m_s2, jerk_m_s3=(0.0, 0.0, 0.0)) -> None:
         """Passing through (``receiver_pass_through``): from now on, until the next call, the
@@ -228,7 +228,7 @@ class EngagementStepper(StepperBase):
         and jerk.
 
         The tip is that cubic as a function of time (``EP_FEED``,
-        :func:`hosedrogue.model.engagement_kernels.fed_tip`), evaluated at each integrator
+        :func:`hosedrogue.model.engagement.probe.fed_tip`), evaluated at each integrator
         stage's time as a prescribed path is, so a path fed from outside meets the hose as the
         same path prescribed in the run does; the receiver's states follow it.
 
@@ -245,28 +245,28 @@ class EngagementStepper(StepperBase):
             raise ParameterError("move_receiver: only with receiver_pass_through (else the receiver's response "
                                  "follows the command of step(receiver=...))")
         run = self.run
-        ep, b = run.ep, EK.tail_start(run.chain.n, run.ep) + EK.Z_TAIL
-        p0 = EK.fed_tip(self.t_s, ep)[0]  # where the path fed so far has the tip now
-        ep[EK.EP_FEED_T0] = self.t_s
-        ep[EK.EP_FEED_P:EK.EP_FEED_P + 3] = p0
-        ep[EK.EP_FEED_V:EK.EP_FEED_V + 3] = velocity_m_s
-        ep[EK.EP_FEED_A:EK.EP_FEED_A + 3] = acceleration_m_s2
-        ep[EK.EP_FEED_J:EK.EP_FEED_J + 3] = jerk_m_s3
-        run.z[b + EK.RCV_X:b + EK.RCV_X + 3] = p0
-        run.z[b + EK.RCV_VX:b + EK.RCV_VX + 3] = velocity_m_s
+        ep, b = run.ep, EC.tail_start(run.chain.n, run.ep) + LY.Z_TAIL
+        p0 = EPR.fed_tip(self.t_s, ep)[0]  # where the path fed so far has the tip now
+        ep[LY.EP_FEED_T0] = self.t_s
+        ep[LY.EP_FEED_P:LY.EP_FEED_P + 3] = p0
+        ep[LY.EP_FEED_V:LY.EP_FEED_V + 3] = velocity_m_s
+        ep[LY.EP_FEED_A:LY.EP_FEED_A + 3] = acceleration_m_s2
+        ep[LY.EP_FEED_J:LY.EP_FEED_J + 3] = jerk_m_s3
+        run.z[b + LY.RCV_X:b + LY.RCV_X + 3] = p0
+        run.z[b + LY.RCV_VX:b + LY.RCV_VX + 3] = velocity_m_s
 
     def _command_places(self, run) -> list:
         """(index in the held commands, index in the state) of every commanded number."""
-        b = EK.tail_start(run.chain.n, run.ep) + EK.Z_TAIL
+        b = EC.tail_start(run.chain.n, run.ep) + LY.Z_TAIL
         places = []
         slots = self._slots
         if "drogue" in self.roles:
-            nx = b + int(run.ep[EK.EP_NPIL])
+            nx = b + int(run.ep[LY.EP_NPIL])
             places += [(i, nx + i) for i in slots["drogue"]]
         if "reel" in self.roles:
-            places.append((slots["reel"][0], b + int(run.ep[EK.EP_REEL_SLOT]) - 1))
+            places.append((slots["reel"][0], b + int(run.ep[LY.EP_REEL_SLOT]) - 1))
         if "receiver" in self.roles:
-            places += [(j, b + EK.RCV_CX + i) for i, j in enumerate(slots["receiver"])]
+            places += [(j, b + LY.RCV_CX + i) for i, j in enumerate(slots["receiver"])]
         return places
 
     def _close_record(self) -> None:
@@ -292,10 +292,10 @@ class EngagementStepper(StepperBase):
         target = min(int(self.ctr[C_STEP]) + self.spc, self.total_steps)
         self.ctr[C_TARGET] = target
         while True:
-            code = EK.eng_advance(*self._call)
+            code = ES.eng_advance(*self._call)
             run.step = int(self.ctr[C_STEP])
             run.t = run.step * self.h
-            if code == K.OK:
+            if code == LY.OK:
                 break
             if self._event(code):
                 return
@@ -307,20 +307,20 @@ class EngagementStepper(StepperBase):
     def _event(self, code: int) -> bool:
         """Handle what ended a compiled segment before the control step's end; True if the run ends."""
         run = self.run
-        if code in (K.NONFINITE, K.YAW_LIMIT, K.STAGE_LIMIT, EK.REEL_END):
+        if code in (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT, LY.REEL_END):
             message = f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
-            if code == EK.REEL_END:
-                L = run.z[EK.tail_start(run.chain.n, run.ep) + EK.Z_L]
-                message += f": L = {L:.3f} m, range [{run.ep[EK.EP_L_MIN]:g}, {run.ep[EK.EP_L_MAX]:g}] m"
+            if code == LY.REEL_END:
+                L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
+                message += f": L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m"
             self._finish(False, message, state_valid=False)
             return True
         self._close_record()
         self.ctr[C_ORIGIN] = self.ctr[C_STEP]  # the next compiled segment counts its times from here, as the driver's
-        if code == EK.CHART:
+        if code == LY.CHART:
             switch_event(run, self.model)
-        elif code in (EK.SPLIT, EK.MERGE):
+        elif code in (LY.SPLIT, LY.MERGE):
             remesh_event(run, code, self.params, self.model)
-        elif code == EK.PLANE and contact_event(run, self._zprev, self.h, self.probe, self.model):
+        elif code == LY.PLANE and contact_event(run, self._zprev, self.h, self.probe, self.model):
             self._finish(True, "completed", state_valid=False)  # a miss or a failed latch ends the run
             return True
         self._on_chain()
@@ -334,7 +334,7 @@ class EngagementStepper(StepperBase):
     def probe_force_n(self) -> np.ndarray:
         """The probe's force on the drogue [N] (tanker frame; zero until coupled) at the time of
         the last measurement, without the sensor (the receiver feels its opposite)."""
-        return self._out[EK.O_FPX:EK.O_FPZ + 1].copy()
+        return self._out[LY.O_FPX:LY.O_FPZ + 1].copy()
 
     @property
     def outcome(self) -> dict:
@@ -396,9 +396,9 @@ class EngagementStepper(StepperBase):
                                              run.loop)[:3]
         dpl, miss, vclose = coupler_geometry(joints, jvel, scal)
         return {"t_s": self.t_s, "joints_m": joints[0], "drogue_velocity_m_s": jvel[0, -1].copy(),
-                "probe_position_m": scal[0, [EK.O_PX, EK.O_PY, EK.O_PZ]],
-                "probe_velocity_m_s": scal[0, [EK.O_VPX, EK.O_VPY, EK.O_VPZ]],
-                "probe_force_n": scal[0, [EK.O_FPX, EK.O_FPY, EK.O_FPZ]], "exit_tension_n": float(scal[0, EK.O_T0]),
-                "hose_length_m": float(run.z[EK.tail_start(n, run.ep) + EK.Z_L]), "links": n, "coupled": bool(run.ep[EK.EP_COUPLED]),
+                "probe_position_m": scal[0, [LY.O_PX, LY.O_PY, LY.O_PZ]],
+                "probe_velocity_m_s": scal[0, [LY.O_VPX, LY.O_VPY, LY.O_VPZ]],
+                "probe_force_n": scal[0, [LY.O_FPX, LY.O_FPY, LY.O_FPZ]], "exit_tension_n": float(scal[0, LY.O_T0]),
+                "hose_length_m": float(run.z[EC.tail_start(n, run.ep) + LY.Z_L]), "links": n, "coupled": bool(run.ep[LY.EP_COUPLED]),
                 "plane_distance_m": float(dpl[0]), "miss_distance_m": float(miss[0]),
                 "closure_speed_m_s": float(vclose[0])}

@@ -1,9 +1,10 @@
 """The drogue's control surfaces in the compiled loop (numba): the one definition of their force,
 drag, mixing and servo dynamics, which the fixed-length loop (:mod:`.integrate`) and the
-engagement (:mod:`.engagement_kernels`) both call (docs/model.md, "Actuated drogue").
+engagement (:mod:`hosedrogue.model.engagement`) both call (docs/model.md, "Actuated drogue").
 
 The surfaces' parameters follow the ideal actuator's :data:`ACT_IDEAL` entries in the loop's
-``act`` array (:func:`actuator_array`); an ``act`` longer than that means an actuated drogue.
+``act`` array (:func:`actuator_array`; the slots ``DA_*`` of :mod:`hosedrogue.model.layout`); an
+``act`` longer than that means an actuated drogue.
 Their states follow the controller's: ``n_s`` deflections delta_k [rad] and, for the
 second-order servo, ``n_s`` servo rates r_k [rad/s].
 
@@ -11,7 +12,7 @@ One evaluation (:func:`drogue_actuator_law`), after the caller has measured the 
 evaluated the controller (:func:`hosedrogue.model.integrate.control_law`):
 
 1. ``q = 1/2 rho |v_drogue - w|^2``, w the air at the drogue
-   (:func:`~hosedrogue.model.kernels.air_velocity`: free stream, wake, gusts, bow wave);
+   (:func:`~hosedrogue.model.chain_loads.air_velocity`: free stream, wake, gusts, bow wave);
 2. the commands: in ``force`` mode the minimum-norm mixing of the commanded force F_c at the
    measured q, ``delta_c,k = t_k . F_c / ((n_s / 2) q S C_F)`` (t_k the direction surface k
    pushes, ``sum_k t_k t_k^T = (n_s / 2) I``); in ``deflection`` mode the controller's own n_s
@@ -34,22 +35,13 @@ import numpy as np
 from numba import njit
 
 from ..jit import JIT_NO_ALLOC
-from .kernels import air_velocity
+from .chain_loads import air_velocity
+# the ideal actuator's entries at the head of ``act`` (ACT_IDEAL of them) and the surfaces' after
+# them (DA_*, to DA_HEAD), declared and documented there; MAX_SURFACES the most surfaces
+from .layout import (ACT_IDEAL, DA_DMAX, DA_HEAD, DA_MODE, DA_NC, DA_NS, DA_OMEGA, DA_ORDER, DA_QMIN, DA_RMAX,
+                     DA_SCF, DA_SKD, DA_ZETA, MAX_SURFACES, MODE_DEFLECTION, MODE_FORCE)
 
-#: Entries of the ideal actuator at the head of ``act`` (:meth:`hosedrogue.sections.Actuator.as_array`).
-ACT_IDEAL = 4
-# the surfaces' entries of act after those: number of surfaces, servo order, servo frequency
-# [rad/s], damping [-], deflection limit [rad], rate limit [rad/s], S C_F [m^2/rad], S k_D
-# [m^2/rad^2], command mode, the smallest q of the inversion [Pa], controller states nc; then the
-# surfaces' directions (t_y, t_z per surface) and the anti-windup gain (nc x 2, row-major)
-(DA_NS, DA_ORDER, DA_OMEGA, DA_ZETA, DA_DMAX, DA_RMAX, DA_SCF, DA_SKD, DA_MODE, DA_QMIN, DA_NC) = range(4, 15)
-DA_HEAD = 15
-#: Command modes: the controller commands a force [N] (mixed to the surfaces), or the surfaces'
-#: deflections [rad] directly (its outputs, one per surface).
-MODE_FORCE, MODE_DEFLECTION = 0, 1
 COMMAND_MODES = {"force": MODE_FORCE, "deflection": MODE_DEFLECTION}
-#: Most surfaces (the section's range), so the engagement's output row has room for every servo rate.
-MAX_SURFACES = 8
 #: Below this dynamic pressure [Pa] the inversion divides by it instead (no air: the commands saturate).
 Q_MIN_PA = 1.0
 

@@ -1,19 +1,19 @@
 """The elastic link chain (numba): each link's length is a coordinate, with an axial spring-damper.
 
 Shared by the fixed-length chain (:mod:`hosedrogue.model.elastic_loop`) and the engagement's
-chain of varying length (:mod:`hosedrogue.model.engagement_kernels`); docs/model.md §11.
+chain of varying length (:mod:`hosedrogue.model.engagement`); docs/model.md §11.
 
-Link k (0-based) has its pitch and yaw ``q[2k], q[2k+1]`` as in :mod:`hosedrogue.model.kernels`
+Link k (0-based) has its pitch and yaw ``q[2k], q[2k+1]`` as in :mod:`hosedrogue.model.chain_loads`
 and its actual length ``lam[k]`` [m]; its material (unstretched) length is ``l[k]``. Joint
 positions ``r_k+1 = r_k + lam_k e_k``, velocities ``V_k+1 = V_k + lam_k de_k/dt + lamd_k e_k``.
 The link is a Kelvin-Voigt spring-damper along itself: strain ``eps = lam / l - 1``, tension
 ``T = EA eps + c_a deps/dt`` (``ps[PS_EA]``, ``ps[PS_CA]``), elastic energy ``EA l eps^2 / 2``,
 dissipation ``c_a l (deps/dt)^2``. Masses are lumped from the material lengths, and the drag and
-bending act per material length (:func:`~hosedrogue.model.kernels.joint_forces_stretched`), so at
+bending act per material length (:func:`~hosedrogue.model.chain_loads.joint_forces_stretched`), so at
 rest the tension along the material coordinate is that of the inextensible hose.
 
 Every joint is then a three-degree-of-freedom joint (two angles and the length): the
-articulated-body recursion of :func:`~hosedrogue.model.kernels.chain_forward_dynamics` with 3x3
+articulated-body recursion of :func:`~hosedrogue.model.chain_dynamics.chain_forward_dynamics` with 3x3
 joint blocks, :func:`elastic_forward_dynamics`, still O(n). Its argument ``aug`` adds a
 diagonal term to each link's length block: an implicit integrator's stiffness ``h g c_a / l +
 (h g)^2 EA / l`` (docs/model.md §11, "Time integration"), which makes the axial spring-damper
@@ -34,9 +34,11 @@ from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
 from .frame import frame_loads
-from .kernels import (BENDING_MOMENT, PS_BENDING, PS_CA, PS_EA, PS_EI, PS_G, PS_M_TOW, drogue_from_frames,
-                      env_at, joint_forces_stretched, joint_kinematics, kink, link_frames, make_workspace_jit,
-                      rotational_terms, chain_energy)
+from .layout import BENDING_MOMENT, PS_BENDING, PS_CA, PS_EA, PS_EI, PS_G, PS_M_TOW
+from .chain_dynamics import chain_energy, make_workspace_jit
+from .chain_loads import (
+    drogue_from_frames, env_at, joint_forces_stretched, joint_kinematics, kink, link_frames, rotational_terms,
+)
 
 
 def is_elastic(ps) -> bool:
@@ -80,7 +82,7 @@ make_elastic_workspace_jit = njit(**JIT)(make_elastic_workspace)
 def add_axial_rates(n, e, a, b, qd, lamd, v, c):
     """Add the links' stretching rates to the joint velocities v (n+1, 3) (``v_k+1 += sum_{j<=k}
     lamd_j e_j``) and to the velocity-product accelerations c (n, 3) (``c_k += 2 lamd_k de_k/dt``),
-    after :func:`~hosedrogue.model.kernels.joint_kinematics` ran with the actual lengths."""
+    after :func:`~hosedrogue.model.chain_loads.joint_kinematics` ran with the actual lengths."""
     sx = sy = sz = 0.0
     for k in range(n):
         ld = lamd[k]
@@ -204,11 +206,11 @@ def elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, U,
                              augq):
     """Solve ``(H + diag(aug)) [qdd, lamdd] = Q`` in O(n) for the elastic chain.
 
-    The articulated-body recursion of :func:`~hosedrogue.model.kernels.chain_forward_dynamics`
+    The articulated-body recursion of :func:`~hosedrogue.model.chain_dynamics.chain_forward_dynamics`
     with three joint coordinates per link (pitch, yaw, length): the joint's motion matrix is
     ``G = [lam a, lam b, e]`` and its block ``D = G^T IA G + diag(J c2^2 + augq_0, J + augq_1, aug)``
     (``augq`` (n, 2): :func:`angle_stiff_terms`). ``tau`` (n, 2)
-    are the angles' generalized forces (:func:`~hosedrogue.model.kernels.rotational_terms`),
+    are the angles' generalized forces (:func:`~hosedrogue.model.chain_loads.rotational_terms`),
     ``taul`` (n,) the lengths' (minus the tension, :func:`stiff_terms`). Returns the force of the
     hose on the tow point (exit) into ``tow_force``.
     """
@@ -309,7 +311,7 @@ def elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, U,
 @njit(**JIT_NO_ALLOC)
 def elastic_loads(t, q, qd, lam, lamd, u, l, M, J, ps, env, gust, ws):
     """Kinematics and loads of the fixed-length elastic chain into the workspace (the slots of
-    :func:`~hosedrogue.model.kernels.loads`): frames, joint positions and velocities with the
+    :func:`~hosedrogue.model.chain_dynamics.loads`): frames, joint positions and velocities with the
     actual lengths and their rates, forces, moments, the angles' generalized forces."""
     n = l.shape[0]
     e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
@@ -326,7 +328,7 @@ def elastic_loads(t, q, qd, lam, lamd, u, l, M, J, ps, env, gust, ws):
 def elastic_evaluate_ws(t, x, u, l, M, J, ps, env, gust, ws, ews, hg, guess):
     """Accelerations of the fixed-length elastic chain at x = [q, qd, lam, lamd] (6n): qdd into
     ws[15], the length accelerations into ews[7]; the outputs of
-    :func:`~hosedrogue.model.kernels.evaluate_ws` (joints ws[4], velocities ws[5], drogue drag
+    :func:`~hosedrogue.model.chain_dynamics.evaluate_ws` (joints ws[4], velocities ws[5], drogue drag
     ws[13], tow-point force ws[14], exit tension ws[17]) and the tensions ews[3]. ``hg`` and
     ``guess`` (the stage's slope guess, the rates of the state's 6n entries first): an implicit
     stage's (:func:`stiff_terms`, :func:`angle_stiff_terms`; hg = 0 explicit, guess unused).
@@ -371,7 +373,7 @@ def elastic_static_residual(y, l, M, J, ps, env, gust, t, Q):
     """Generalized forces at rest of y = [q (2n), lam (n)] into Q (3n) [N m], zero exactly at the
     elastic chain's balance position.
 
-    The angles' entries are :func:`~hosedrogue.model.kernels.static_residual`'s; link k's length
+    The angles' entries are :func:`~hosedrogue.model.chain_dynamics.static_residual`'s; link k's length
     entry is the load aft of the link along ``e_k`` minus its tension ``T_k``, times ``l_k`` (so
     every entry is a virtual work per unit of its coordinate's natural scale, N m)."""
     n = l.shape[0]
@@ -399,7 +401,7 @@ def elastic_static_residual(y, l, M, J, ps, env, gust, t, Q):
 @njit(**JIT)
 def elastic_outputs_series(ts, xs, us, l, M, J, ps, env, gust, joints, drogue_vel, drogue_drag, tow, tension):
     """Derived outputs at saved states of the fixed-length elastic chain (as
-    :func:`~hosedrogue.model.kernels.outputs_series`)."""
+    :func:`~hosedrogue.model.chain_dynamics.outputs_series`)."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
     ews = make_elastic_workspace_jit(n)

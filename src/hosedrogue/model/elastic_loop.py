@@ -21,9 +21,9 @@ from .implicit import (SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, 
                        correction_size, stage_point)
 from .integrate import (actuator_rates, applied_force_at, controller_rates, is_open_loop, rk4_combine, rk4_stage,
                         step_status)
-from .kernels import OK, STAGE_LIMIT, make_workspace_jit
-
-SCHEME_RK4, SCHEME_SDIRK2 = 0, 1
+from .layout import OK, STAGE_LIMIT
+from .chain_dynamics import make_workspace_jit
+from .layout import SCHEME_RK4, SCHEME_SDIRK2  # the integrators' codes (the engagement's EP_SCHEME holds them too)
 
 
 @njit(**JIT_NO_ALLOC)

@@ -18,13 +18,14 @@ rate and the rate seen in B; and the air, at rest far from the tanker, moves rel
 * :func:`flight_state` - bank, flight-path angle, airspeed, their rates and the path flown at t;
 * :func:`frame_terms` - b_g, a_0, Omega, alpha, the air's speed, the path time and the wake's
   circulation factor at t, into the evaluation's copy of ``env`` (called by
-  :func:`hosedrogue.model.kernels.fill_env`, so both chains see the one evaluation);
+  :func:`hosedrogue.model.chain_loads.fill_env`, so both chains see the one evaluation);
 * :func:`frame_loads` - the apparent forces and moments (both chains call it after their
   ``joint_forces``); :func:`frame_wind` - the air's rotation seen at a point.
 
-The motion table sits in the model's ``env`` after the ``ENV_SIZE`` scalars of
-:mod:`hosedrogue.model.kernels`: ``[ramps, phi_0, gamma_0, g]`` then per ramp
-``[quantity, start_s, rate, ramp_s, cruise_s]`` (:class:`hosedrogue.manoeuvres.Ramp`).
+The motion table sits in the model's ``env`` after the ``ENV_SIZE`` scalars:
+``[ramps, phi_0, gamma_0, g]`` then per ramp ``[quantity, start_s, rate, ramp_s, cruise_s]``
+(:class:`hosedrogue.manoeuvres.Ramp`); env's slots of the motion (``ENV_M_*``) and the table's
+(``MT_*``, ``MR_*``) are declared in :mod:`hosedrogue.model.layout`.
 """
 
 from __future__ import annotations
@@ -39,15 +40,10 @@ from ..constants import G0
 from ..jit import JIT_NO_ALLOC
 from ..manoeuvres import AIRSPEED, BANK, TankerMotion
 
-# slots of env (kernels.ENV_SIZE is ENV_M_END): ENV_M_ON, ENV_M_V0 are the model's (1.0 when the
-# tanker manoeuvres; the airspeed the gust record and the wake's scalars were made for [m/s]);
-# the others are written per evaluation by frame_terms: the path flown over V0 [s], the direction
-# of gravity in B [-], a_0 [m/s^2], Omega [rad/s], alpha [rad/s^2]
-ENV_M_ON, ENV_M_V0, ENV_M_T = 23, 24, 25
-ENV_M_G, ENV_M_A0, ENV_M_W, ENV_M_D = 26, 29, 32, 35
-ENV_M_END = 38
-#: the motion table's header (ramps, phi_0 [rad], gamma_0 [rad], g [m/s^2]) and row lengths
-TABLE_HEAD, TABLE_ROW = 4, 5
+from .layout import (  # the env slots of the tanker's motion and the motion table's, declared there
+    ENV_M_A0, ENV_M_D, ENV_M_END, ENV_M_G, ENV_M_ON, ENV_M_T, ENV_M_V0, ENV_M_W, MR_CRUISE, MR_QUANTITY, MR_RAMP,
+    MR_RATE, MR_START, MT_G, MT_GAMMA0, MT_PHI0, MT_RAMPS, TABLE_HEAD, TABLE_ROW,
+)
 
 
 @njit(**JIT_NO_ALLOC)
@@ -85,20 +81,21 @@ def flight_state(t, env, at):
     """The tanker's flight at t [s] from the motion table at ``env[at:]``: bank phi, phi', phi''
     [rad, rad/s, rad/s^2], flight path gamma, gamma', gamma'' (the same units), airspeed V, V'
     [m/s, m/s^2] and the path flown since t = 0 [m]."""
-    phi = env[at + 1]
-    gam = env[at + 2]
+    phi = env[at + MT_PHI0]
+    gam = env[at + MT_GAMMA0]
     V0 = env[ENV_M_V0]
     V = V0
     s = V0 * t
     phid = phidd = gamd = gamdd = Vd = 0.0
-    for i in range(int(env[at])):
+    for i in range(int(env[at + MT_RAMPS])):
         b = at + TABLE_HEAD + TABLE_ROW * i
-        integral, change, rate, acc = ramp_profile(t - env[b + 1], env[b + 2], env[b + 3], env[b + 4])
-        if env[b] == BANK:
+        integral, change, rate, acc = ramp_profile(t - env[b + MR_START], env[b + MR_RATE], env[b + MR_RAMP],
+                                                   env[b + MR_CRUISE])
+        if env[b + MR_QUANTITY] == BANK:
             phi += change
             phid += rate
             phidd += acc
-        elif env[b] == AIRSPEED:
+        elif env[b + MR_QUANTITY] == AIRSPEED:
             V += change
             Vd += rate
             s += integral
@@ -121,7 +118,7 @@ def frame_terms(t, env, at, scratch):
     (psi, gamma, phi) of B, ``Omega = [phi' - psi' s_gamma, gamma' c_phi + psi' c_gamma s_phi,
     -gamma' s_phi + psi' c_gamma c_phi]``, ``a_0 = [V', V r, -V q]``."""
     phi, phid, phidd, gam, gamd, gamdd, V, Vd, s = flight_state(t, env, at)
-    g = env[at + 3]
+    g = env[at + MT_G]
     cf = math.cos(phi)
     sf = math.sin(phi)
     cg = math.cos(gam)

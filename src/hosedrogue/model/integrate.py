@@ -5,7 +5,8 @@ The closed-loop state is ``z = [x, xc, ua]``: the hose state ``x = [q, qd]`` (4n
 controller state ``xc``, and - only when the actuator is rate-limited - the applied force ``ua``
 (2). The controller reads the drogue's lateral and vertical offset from ``y_ref`` (plus sensor
 noise) and commands ``u = Cc xc + Dc y`` [N], clipped to ``+-act[0:2]`` per axis. ``act`` is
-``[max_hor_n, max_ver_n, max_rate_n_s, time_constant_s]``; with a finite rate the applied force
+``[max_hor_n, max_ver_n, max_rate_n_s, time_constant_s]`` (``ACT_*`` of
+:mod:`hosedrogue.model.layout`); with a finite rate the applied force
 follows the command as ``ua' = clip((u - ua) / time_constant, -rate, rate)``.
 
 A drogue that steers itself with control surfaces (``act`` longer than the ideal actuator's
@@ -23,19 +24,11 @@ from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
 
-from .kernels import (
-    NONFINITE,
-    OK,
-    PS_RHO,
-    YAW_LIMIT,
-    drogue_from_frames,
-    env_at,
-    forward_dynamics_ws,
-    link_frames,
-    loads_given_frames,
-    make_workspace_jit,
-)
+from .layout import NONFINITE, OK, PS_RHO, YAW_LIMIT
+from .chain_dynamics import forward_dynamics_ws, loads_given_frames, make_workspace_jit
+from .chain_loads import drogue_from_frames, env_at, link_frames
 from . import drogue_actuator as DA
+from .layout import ACT_RATE, ACT_TAU, ACT_U_MAX
 
 
 #: compilation options of the loop's functions that allocate nothing (:mod:`hosedrogue.jit`)
@@ -85,10 +78,10 @@ def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
         acc = Dc[i, 0] * m0 + Dc[i, 1] * m1
         for j in range(nc):
             acc += Cc[i, j] * z[nx + j]
-        if acc > u_max[i]:
-            acc = u_max[i]
-        elif acc < -u_max[i]:
-            acc = -u_max[i]
+        if acc > u_max[ACT_U_MAX + i]:
+            acc = u_max[ACT_U_MAX + i]
+        elif acc < -u_max[ACT_U_MAX + i]:
+            acc = -u_max[ACT_U_MAX + i]
         u[i] = acc
     return m0, m1
 
@@ -96,7 +89,7 @@ def control_law(t, z, nx, y, zz, Cc, Dc, y_ref, u_max, noise, noise_dt, u):
 @njit(**LOOP_JIT)
 def drogue_yz(z, l, ws):
     """Drogue lateral and vertical position [m] of the hose state at the start of z, through the
-    link frames in the workspace ws (overwritten) and :func:`kernels.drogue_from_frames`."""
+    link frames in the workspace ws (overwritten) and :func:`chain_loads.drogue_from_frames`."""
     n = l.shape[0]
     link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
     return drogue_from_frames(l, ws[0])
@@ -196,9 +189,9 @@ def actuator_rates(c0, c1, z, na, act, dz):
     state ends at ``na``): ``ua' = clip((u_cmd - ua) / time_constant, -rate, rate)`` for the
     commanded force (c0, c1) [N]. Also used by the engagement kernels."""
     if z.shape[0] > na:
-        rate = act[2]
+        rate = act[ACT_RATE]
         for i in range(2):
-            r = ((c0 if i == 0 else c1) - z[na + i]) / act[3]
+            r = ((c0 if i == 0 else c1) - z[na + i]) / act[ACT_TAU]
             dz[na + i] = min(max(r, -rate), rate)
 
 
@@ -386,7 +379,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
     in ts, zs, us (the force applied at that state) and its derived outputs in joints (N, n+1, 3)
     [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] and tension (N,) [N] (as
-    :func:`~hosedrogue.model.kernels.outputs_series` gives them). Returns (status, saved count,
+    :func:`~hosedrogue.model.chain_dynamics.outputs_series` gives them). Returns (status, saved count,
     stop time).
 
     The outputs of a saved state come from the first stage of the step that starts there (one

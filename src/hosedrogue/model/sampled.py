@@ -6,11 +6,11 @@ compiled loop runs with its command held. The drogue's command (its force, or th
 its control surfaces) is held as the state of a "hold" controller of the closed loop
 (:func:`held_command`: ``xc' = 0``, ``u = xc`` through the actuator's limits or to the
 surfaces), so the loops of :mod:`.integrate` and
-:mod:`.engagement_kernels` run unchanged between samples and the command survives remeshes.
+:mod:`hosedrogue.model.engagement` run unchanged between samples and the command survives remeshes.
 
 The measurement
 ---------------
-At each sample the kernels write the *raw* quantities of the state (``R_*`` layout: drogue
+At each sample the kernels write the *raw* quantities of the state (``R_*``, :mod:`hosedrogue.model.layout`: drogue
 position and velocity, probe tip position and velocity, free hose length and reel speed, exit
 tension, coupled flag, an actuated drogue's dynamic pressure) into a ring of ``D + 1`` rows, D the sensor delay in samples;
 :func:`deliver` turns the row of D samples ago (of sample 0 before then) into the measurement
@@ -30,23 +30,15 @@ from numba import njit
 from ..jit import JIT, JIT_NO_ALLOC
 from . import drogue_actuator as DA
 from .integrate import closed_loop_deriv, rk4_step, rk4_step_given_k1, save_state, step_status
-from .kernels import OK, make_workspace_jit
+from .layout import OK
+from .chain_dynamics import make_workspace_jit
 
-# --- raw measurement of a state (one ring row) ------------------------------------------------------
-R_DROGUE, R_DROGUE_V, R_PROBE, R_PROBE_V = 0, 3, 6, 9  # 3 each [m, m/s]
-R_L, R_REEL_V, R_T0, R_COUPLED = 12, 13, 14, 15  # [m], [m/s] (positive reeling in), [N], 0/1
-R_Q = 16  # dynamic pressure at an actuated drogue [Pa] (NaN without control surfaces)
-RAW_SIZE = 17
-
-# --- the measurement buffer --------------------------------------------------------------------------
-M_T = 0  # time the quantities are of [s] (the call's time minus the delay)
-M_DROGUE, M_DROGUE_V = 1, 4  # drogue position (with the sensor noise) [m] and velocity [m/s]
-M_PROBE, M_PROBE_V = 7, 10  # probe tip position [m] and velocity [m/s] (NaN without a probe)
-M_REL, M_REL_V = 13, 16  # drogue minus probe tip [m, m/s]
-M_L, M_REEL_V, M_T0, M_COUPLED = 19, 20, 21, 22  # hose length [m], reel speed [m/s], exit tension [N], 0/1
-M_BALANCE = 23  # the drogue's balance position at the start [m] (the built-in controllers' reference)
-M_Q = 26  # dynamic pressure the drogue's control surfaces see [Pa] (NaN without them)
-M_SIZE = 27
+from .layout import (  # the raw measurement of a state (one ring row, R_*), the measurement buffer (M_*)
+    # and the counters of a stepped run (C_*), declared and documented there
+    C_ORIGIN, C_SAMPLE, C_SAVED, C_SIZE, C_SPC, C_STATUS, C_STEP, C_TARGET, C_TOTAL, M_BALANCE, M_COUPLED,
+    M_DROGUE, M_DROGUE_V, M_L, M_PROBE, M_PROBE_V, M_Q, M_REEL_V, M_REL, M_REL_V, M_SIZE, M_T, M_T0, R_COUPLED,
+    R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V, R_Q, R_REEL_V, R_T0, RAW_SIZE,
+)
 
 
 @njit(**JIT_NO_ALLOC)
@@ -141,13 +133,6 @@ def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, n
     raw[R_COUPLED] = 0.0
     raw[R_Q] = u[2] if u.shape[0] > 2 else math.nan
 
-
-#: The counters of a stepped run (an int64 array the advance kernels update in place): global RK4
-#: step, saved rows, sample index, total steps, RK4 steps per control step, the last status, and
-#: the engagement's step a control step integrates to and step of the last event (the origin of
-#: the times of its compiled segment, as the driver counts them).
-C_STEP, C_SAVED, C_SAMPLE, C_TOTAL, C_SPC, C_STATUS, C_TARGET, C_ORIGIN = range(8)
-C_SIZE = 8
 
 
 @njit(**JIT)

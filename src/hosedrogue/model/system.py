@@ -20,7 +20,7 @@ from ..environment.wake import wake_scalars
 from ..params import PAPER, ParameterError, Params
 from . import elastic as E
 from . import frame
-from . import kernels as K
+from . import chain_dynamics as CD, chain_loads as CL, layout as LY
 
 
 @dataclass(frozen=True)
@@ -146,22 +146,22 @@ class HoseModel:
         self.S = np.cumsum(self.M[::-1])[::-1].copy()
         self.J = link_inertias(params, self.l)
         inertia_area = math.pi * (hose.outer_diameter_m**4 - hose.inner_diameter_m**4) / 64.0
-        bending = {"off": K.BENDING_OFF, "paper": K.BENDING_PAPER, "moment": K.BENDING_MOMENT}
-        ps = np.zeros(K.PS_SIZE)
-        ps[K.PS_G] = G0
-        ps[K.PS_RHO] = self.rho
-        ps[K.PS_V] = flight.airspeed_m_s
-        ps[K.PS_DO] = hose.outer_diameter_m
-        ps[K.PS_CT] = hose.tangential_drag_coefficient
-        ps[K.PS_CN] = hose.normal_drag_coefficient
-        ps[K.PS_DROGUE_CDA] = math.pi * drogue.diameter_m**2 / 4.0 * drogue.drag_coefficient
-        ps[K.PS_EI] = hose.elastic_modulus_pa * inertia_area
-        ps[K.PS_BENDING] = bending[hose.bending]
-        ps[K.PS_DRAG_QUAD] = {"midpoint": K.DRAG_MIDPOINT, "gauss2": K.DRAG_GAUSS2}[hose.drag_quadrature]
-        ps[K.PS_BEND_DAMP] = hose.bending_damping_n_m2_s
-        ps[K.PS_M_TOW] = self.M_tow
-        ps[K.PS_EA] = hose.axial_stiffness_n
-        ps[K.PS_CA] = hose.axial_damping_n_s
+        bending = {"off": LY.BENDING_OFF, "paper": LY.BENDING_PAPER, "moment": LY.BENDING_MOMENT}
+        ps = np.zeros(LY.PS_SIZE)
+        ps[LY.PS_G] = G0
+        ps[LY.PS_RHO] = self.rho
+        ps[LY.PS_V] = flight.airspeed_m_s
+        ps[LY.PS_DO] = hose.outer_diameter_m
+        ps[LY.PS_CT] = hose.tangential_drag_coefficient
+        ps[LY.PS_CN] = hose.normal_drag_coefficient
+        ps[LY.PS_DROGUE_CDA] = math.pi * drogue.diameter_m**2 / 4.0 * drogue.drag_coefficient
+        ps[LY.PS_EI] = hose.elastic_modulus_pa * inertia_area
+        ps[LY.PS_BENDING] = bending[hose.bending]
+        ps[LY.PS_DRAG_QUAD] = {"midpoint": LY.DRAG_MIDPOINT, "gauss2": LY.DRAG_GAUSS2}[hose.drag_quadrature]
+        ps[LY.PS_BEND_DAMP] = hose.bending_damping_n_m2_s
+        ps[LY.PS_M_TOW] = self.M_tow
+        ps[LY.PS_EA] = hose.axial_stiffness_n
+        ps[LY.PS_CA] = hose.axial_damping_n_s
         self.ps = ps
         #: elastic links (finite axial stiffness): the hose state is [q, qd, lam, lamd] (6n), lam
         #: the links' actual lengths [m] (:mod:`hosedrogue.model.elastic`)
@@ -186,21 +186,21 @@ class HoseModel:
     def _environment(self, gusts: GustRecord | None) -> np.ndarray:
         """The env array without the tanker's motion; ``gusts=None`` gives steady air (no turbulence)."""
         p = self.params
-        env = np.zeros(K.ENV_SIZE)
-        env[K.ENV_V] = p.flight.airspeed_m_s
+        env = np.zeros(LY.ENV_SIZE)
+        env[LY.ENV_V] = p.flight.airspeed_m_s
         if self.rho > 0.0:  # without air there are no air forces, and the wake's circulation W/(rho V b0) is undefined
-            env[K.ENV_WAKE:K.ENV_WAKE + 6] = wake_scalars(p.tanker, p.wake, p.flight.airspeed_m_s, self.rho)
+            env[LY.ENV_WAKE:LY.ENV_WAKE + 6] = wake_scalars(p.tanker, p.wake, p.flight.airspeed_m_s, self.rho)
         if gusts is None or not p.turbulence.enabled:
-            env[K.ENV_T_ON] = math.inf
-            env[K.ENV_T_OFF] = math.inf
-            env[K.ENV_G_DT] = 1.0
+            env[LY.ENV_T_ON] = math.inf
+            env[LY.ENV_T_OFF] = math.inf
+            env[LY.ENV_G_DT] = 1.0
         else:
-            env[K.ENV_FROZEN] = 1.0 if p.turbulence.distribution == "frozen" else 0.0
-            env[K.ENV_T_ON] = gusts.t_on_s
-            env[K.ENV_T_OFF] = gusts.t_off_s
-            env[K.ENV_G_T0] = gusts.t0_s
-            env[K.ENV_G_DT] = gusts.dt_s
-            env[K.ENV_G_CUBIC] = 1.0 if gusts.interpolation == "cubic" else 0.0
+            env[LY.ENV_FROZEN] = 1.0 if p.turbulence.distribution == "frozen" else 0.0
+            env[LY.ENV_T_ON] = gusts.t_on_s
+            env[LY.ENV_T_OFF] = gusts.t_off_s
+            env[LY.ENV_G_T0] = gusts.t0_s
+            env[LY.ENV_G_DT] = gusts.dt_s
+            env[LY.ENV_G_CUBIC] = 1.0 if gusts.interpolation == "cubic" else 0.0
         return env
 
     def gusts_cover(self, duration_s: float) -> bool:
@@ -239,7 +239,7 @@ class HoseModel:
         tuple
             Link lengths ``l`` [m], joint masses ``M`` [kg], suffix masses ``S`` [kg], link
             inertias ``J`` [kg m^2], the ``ps`` and ``env`` scalar arrays and the gust record
-            values [m/s]; e.g. ``kernels.rhs(t, x, u, *model.kernel_args(), dx)``.
+            values [m/s]; e.g. ``chain_dynamics.rhs(t, x, u, *model.kernel_args(), dx)``.
         """
         env = self.steady_env if steady else self.env
         return (self.l, self.M, self.S, self.J, self.ps, env, self.gust_values)
@@ -285,7 +285,7 @@ class HoseModel:
         lamd], and ``qdd`` then holds the angles' and the lengths' accelerations, 3n), time t [s],
         force u [N]."""
         x = self._check_state(x)
-        ws = K.make_workspace(self.n)
+        ws = CD.make_workspace(self.n)
         env = self.steady_env if steady else self.env
         if self.elastic:
             ews = E.make_elastic_workspace(self.n)
@@ -293,7 +293,7 @@ class HoseModel:
                                   env, self.gust_values, ws, ews, 0.0, x)
             qdd = np.concatenate([ws[15], ews[7]])
         else:
-            K.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
+            CD.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
                           self.ps, env, self.gust_values, ws)
             qdd = ws[15]
         r, v, dd, tf = ws[4], ws[5], ws[13], ws[14]
@@ -311,19 +311,19 @@ class HoseModel:
             acc = self.outputs(x, t, u).qdd
             return np.concatenate([x[2 * n: 4 * n], acc[: 2 * n], x[5 * n:], acc[2 * n:]])
         dx = np.empty_like(x)
-        K.rhs(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
+        CD.rhs(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
               self.ps, self.env, self.gust_values, dx)
         return dx
 
     def accelerations_dense(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
         """qdd from the dense mass matrix (O(n^3) reference for the O(n) recursion)."""
         x = self._check_state(np.concatenate([q, qd]))
-        return K.accelerations_dense(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M,
+        return CD.accelerations_dense(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M,
                                      self.S, self.J, self.ps, self.env, self.gust_values)
 
     def mass_matrix(self, q) -> np.ndarray:
         """H(q) (2n, 2n) [kg m^2]."""
-        return K.mass_matrix_at(np.ascontiguousarray(q, dtype=np.float64), self.l, self.S, self.J, self.ps)
+        return CD.mass_matrix_at(np.ascontiguousarray(q, dtype=np.float64), self.l, self.S, self.J, self.ps)
 
     def energy(self, x) -> tuple[float, float]:
         """(kinetic, potential) energy [J]; potential includes the ``moment`` bending energy
@@ -331,26 +331,26 @@ class HoseModel:
         x = self._check_state(x)
         if self.elastic:
             return E.elastic_energy(x, self.l, self.M, self.J, self.ps)
-        return K.energy(x, self.l, self.M, self.J, self.ps)
+        return CD.energy(x, self.l, self.M, self.J, self.ps)
 
     def static_residual(self, q, steady: bool = True) -> np.ndarray:
         """Generalized forces at rest [N m] (2n,); zero at an equilibrium."""
         Q = np.empty(2 * self.n)
         env = self.steady_env if steady else self.env
-        K.static_residual(np.ascontiguousarray(q, dtype=np.float64), self.l, self.M, self.J,
+        CD.static_residual(np.ascontiguousarray(q, dtype=np.float64), self.l, self.M, self.J,
                           self.ps, env, self.gust_values, 0.0, Q)
         return Q
 
     def joint_positions(self, q, lengths=None) -> np.ndarray:
         """Joint positions (n+1, 3) [m] in S_p; row 0 is the tow point (the compiled kernels'
-        definition: :func:`kernels.link_frames` then :func:`kernels.chain_positions`).
+        definition: :func:`chain_loads.link_frames` then :func:`chain_loads.chain_positions`).
 
         ``lengths`` (n,) [m]: the links' actual lengths (an elastic chain's); default the model's
         link lengths."""
         q = np.ascontiguousarray(q, dtype=np.float64)
-        ws = K.make_workspace(self.n)
-        K.link_frames(q, self.n, ws[0], ws[1], ws[2], ws[3])
+        ws = CD.make_workspace(self.n)
+        CL.link_frames(q, self.n, ws[0], ws[1], ws[2], ws[3])
         r = np.empty((self.n + 1, 3))
         lengths = self.l if lengths is None else np.ascontiguousarray(lengths, dtype=np.float64)
-        K.chain_positions(lengths, ws[0], r)
+        CL.chain_positions(lengths, ws[0], r)
         return r

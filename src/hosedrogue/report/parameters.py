@@ -99,13 +99,13 @@ def parameter_sources(p: Params = PAPER) -> dict[str, str]:
 def _hose_properties(p: Params) -> ParametersResult:
     """Link length and mass, bending stiffness E I as the model uses it (Eqs. 20-21) and the area
     moment I it implies."""
-    from ..model import kernels
+    from ..model import layout as LY
     from ..model.system import HoseModel
 
     hose = p.hose
     l = hose.link_length_m
     model = HoseModel(p.replace(turbulence={"enabled": False}))  # no gust record needed
-    bending_stiffness = float(model.ps[kernels.PS_EI])
+    bending_stiffness = float(model.ps[LY.PS_EI])
     return ParametersResult(link_length_m=l, link_mass_kg=hose.mass_per_length_kg_m * l,
                             area_moment_m4=bending_stiffness / hose.elastic_modulus_pa,
                             bending_stiffness_n_m2=bending_stiffness)

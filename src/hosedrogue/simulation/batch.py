@@ -23,7 +23,8 @@ from ..controllers.linear import LinearController
 from ..environment.turbulence import generate_gusts
 from ..metrics import SUMMARY_COLUMNS, capture_column
 from ..model.integrate import applied_force_at, drogue_yz, loop_arrays, rk4_steps
-from ..model.kernels import OK, make_workspace_jit
+from ..model.layout import OK
+from ..model.chain_dynamics import make_workspace_jit
 from ..model.system import HoseModel
 from ..params import Actuator, ParameterError, Params
 from .simulate import closed_loop_state, fixed_steps

@@ -19,7 +19,7 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..model import drogue_actuator as DA
 from ..controllers.sampled import SampledController
-from ..model import kernels as K
+from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
                                sensor_noise)
 from ..model.system import HoseModel
@@ -31,10 +31,10 @@ from ..results import SimulationResult
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
 
 _STATUS_TEXT = {
-    K.NONFINITE: "the state became non-finite (numerical divergence)",
-    K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular (likely the paper's almost undamped zigzag modes growing in turbulence; for long runs use the model preset: --config converged or [model] preset = \"converged\", docs/long-runs.md)",
-    K.STEP_LIMIT: "the adaptive integrator could not meet its tolerance (step size limit)",
-    K.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is too "
+    LY.NONFINITE: "the state became non-finite (numerical divergence)",
+    LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular (likely the paper's almost undamped zigzag modes growing in turbulence; for long runs use the model preset: --config converged or [model] preset = \"converged\", docs/long-runs.md)",
+    LY.STEP_LIMIT: "the adaptive integrator could not meet its tolerance (step size limit)",
+    LY.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is too "
                    "long for the hose's motion: shorten numerics.step_s)",
 }
 
@@ -140,7 +140,7 @@ def simulate(
 
     if outs is None:
         outs = _derived_outputs(model, ts, xs, us)
-    completed = status == K.OK
+    completed = status == LY.OK
     message = "completed" if completed else f"stopped at t = {t_stop:.4f} s: {_STATUS_TEXT[status]}"
     return SimulationResult(
         t_s=ts,
@@ -369,7 +369,7 @@ def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
     t_eval = np.arange(0.0, duration_s + 0.5 * h_out, h_out)
     t_eval = t_eval[t_eval <= duration_s + 1e-12]
     u = np.empty(2)
-    args = (*model.kernel_args(), *loop, K.make_workspace(model.n))
+    args = (*model.kernel_args(), *loop, CD.make_workspace(model.n))
     max_yaw = math.radians(num.max_yaw_deg)
     n = model.n
 
@@ -387,7 +387,7 @@ def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
     zs = sol.y.T.copy()
     ts = sol.t.copy()
     us = np.empty((ts.size, output_width(loop.act)))
-    ws = K.make_workspace(model.n)
+    ws = CD.make_workspace(model.n)
     for i in range(ts.size):
         if DA.is_actuated(loop.act):  # the surfaces' force needs the drogue's air: a whole evaluation
             closed_loop_deriv(ts[i], zs[i], *args, np.empty_like(zs[i]), us[i])
@@ -396,12 +396,12 @@ def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
                       loop.noise_dt, ws, u)
         us[i] = u
     if sol.status == 1:
-        return ts, zs, us, K.YAW_LIMIT, float(sol.t_events[0][0])
+        return ts, zs, us, LY.YAW_LIMIT, float(sol.t_events[0][0])
     if sol.status < 0:
-        return ts, zs, us, K.STEP_LIMIT, float(ts[-1] if ts.size else 0.0)
+        return ts, zs, us, LY.STEP_LIMIT, float(ts[-1] if ts.size else 0.0)
     if not np.all(np.isfinite(zs)):
-        return ts, zs, us, K.NONFINITE, float(ts[-1])
-    return ts, zs, us, K.OK, duration_s
+        return ts, zs, us, LY.NONFINITE, float(ts[-1])
+    return ts, zs, us, LY.OK, duration_s
 
 
 def rk4_step_python(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float) -> np.ndarray:
@@ -453,14 +453,14 @@ def _run_python_control(model, params, x0, duration_s, control):
         x = rk4_step_python(f, (step - 1) * h, x, h)
         t = step * h
         if not np.all(np.isfinite(x)):
-            return np.array(ts), np.array(xs), np.array(us), K.NONFINITE, t
+            return np.array(ts), np.array(xs), np.array(us), LY.NONFINITE, t
         if np.max(np.abs(x[1 : 2 * n : 2])) > max_yaw:
-            return np.array(ts), np.array(xs), np.array(us), K.YAW_LIMIT, t
+            return np.array(ts), np.array(xs), np.array(us), LY.YAW_LIMIT, t
         if step % every == 0:
             ts.append(t)
             xs.append(x.copy())
             us.append(u_of(t, x))
-    return np.array(ts), np.array(xs), np.array(us), K.OK, duration_s
+    return np.array(ts), np.array(xs), np.array(us), LY.OK, duration_s
 
 
 def _derived_outputs(model: HoseModel, ts, xs, us):
@@ -471,6 +471,6 @@ def _derived_outputs(model: HoseModel, ts, xs, us):
         elastic_outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
                                model.l, model.M, model.J, model.ps, model.env, model.gust_values, *outs)
         return outs
-    K.outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
+    CD.outputs_series(np.ascontiguousarray(ts), np.ascontiguousarray(xs), np.ascontiguousarray(us),
                      *model.kernel_args(), *outs)
     return outs

@@ -26,7 +26,7 @@ from ..controllers.linear import LinearController
 from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
 from ..metrics import turbulence_window
-from ..model import kernels as K
+from ..model import chain_dynamics as CD, layout as LY
 from ..model import drogue_actuator as DA
 from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
@@ -39,8 +39,8 @@ from ..results import SimulationResult
 MULTIPLE_RTOL = 1e-9
 
 _STATUS_TEXT = {
-    K.NONFINITE: "the state became non-finite (numerical divergence)",
-    K.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
+    LY.NONFINITE: "the state became non-finite (numerical divergence)",
+    LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
 }
 
 
@@ -403,7 +403,7 @@ class FixedLengthStepper(StepperBase):
         self._rec = (np.empty(nsave), np.empty((nsave, self.z0.size)), np.empty((nsave, width)),
                      np.empty((nsave, n + 1, 3)), np.empty((nsave, 3)), np.empty((nsave, 3)), np.empty((nsave, 3)),
                      np.empty(nsave))
-        self.ws = K.make_workspace(n)
+        self.ws = CD.make_workspace(n)
         self.work = np.empty((5, self.z0.size))
         self.u = np.empty(width)
         self.max_yaw = math.radians(params.numerics.max_yaw_deg)
@@ -432,7 +432,7 @@ class FixedLengthStepper(StepperBase):
 
     def _advance(self) -> None:
         status = fl_advance(*self._call)
-        if status != K.OK:
+        if status != LY.OK:
             self._finish(False, f"stopped at t = {self.t_s:.4f} s: {_STATUS_TEXT[status]}", state_valid=False)
         elif self.ctr[C_STEP] >= self.total_steps:
             self._finish(True, "completed")
@@ -470,7 +470,7 @@ class FixedLengthStepper(StepperBase):
             self.ring, self.delay, self.noise3, self.sensor.sample_time_s, self.balance, Ad, Bd, Cd, Dd, Bw, self.nx)
         self.ctr[C_STEP] = done
         self.ctr[C_SAVED] = saved
-        if status == K.OK:
+        if status == LY.OK:
             self._finish(True, "completed", state_valid=False)  # the kernel saved the last row
         else:
             self._finish(False, f"stopped at t = {self.t_s:.4f} s: {_STATUS_TEXT[status]}", state_valid=False)

@@ -1,0 +1,367 @@
+"""The link chain's dynamics (numba): Kane's equations, the articulated-body solve, the statics,
+the energy and the derived outputs of the fixed-length chain, and the workspace every kernel
+writes into.
+
+Everything here is a pure function of float64 arrays (notation: :mod:`hosedrogue.model.chain_loads`,
+whose kinematics and loads these functions call, and ``docs/model.md``). Kane's equations give
+``H(q) qdd = Q(q, qd, t, u)``. With masses lumped at joints and ``dV_i/dqd_{j}`` zero for
+``j > i`` every generalized force is a dot product of a link's partial velocity with a *suffix
+sum* of joint forces, so ``Q`` costs O(n). ``H`` is dense (its entry for links i, j is
+``S_max(i,j) l_i l_j g_i . g_j`` with ``S_k`` the mass at and aft of joint k+1), but the time
+integrators never form it: :func:`chain_forward_dynamics` solves for ``qdd`` in O(n) by an
+articulated-body recursion. The dense path (:func:`accelerations_dense`) stays as the reference
+the recursion is tested against. The drogue's rotational inertia is the last link's transverse
+inertia (in ``J[n-1]``, docs/model.md §2).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..jit import JIT, JIT_NO_ALLOC
+from .chain_loads import env_at, joint_forces, joint_kinematics, kink, link_frames, rotational_terms
+from .frame import frame_loads
+from .layout import BENDING_MOMENT, ENV_SIZE, PS_BENDING, PS_EI, PS_G, PS_M_TOW
+
+
+@njit(**JIT)
+def generalized_forces(l, M, n, a, b, c, F, tau, G, Q):
+    """Q (2n): generalized active forces minus velocity-product inertia terms (dense path).
+
+    G (n+1,3) receives the suffix sums G_k = sum_{m>=k} (F_m - M_m xi_m) over joints 1..n, with
+    xi_m = sum_{i<m} c_i the velocity-product part of joint m's acceleration.
+    """
+    xi = np.zeros((n + 1, 3))
+    for k in range(n):
+        for i in range(3):
+            xi[k + 1, i] = xi[k, i] + c[k, i]
+    for i in range(3):
+        G[n, i] = 0.0
+    for k in range(n - 1, -1, -1):
+        for i in range(3):
+            G[k, i] = G[k + 1, i] + F[k + 1, i] - M[k] * xi[k + 1, i]
+    for k in range(n):
+        lk = l[k]
+        Q[2 * k] = lk * (a[k, 0] * G[k, 0] + a[k, 1] * G[k, 1] + a[k, 2] * G[k, 2]) + tau[k, 0]
+        Q[2 * k + 1] = lk * (b[k, 0] * G[k, 0] + b[k, 1] * G[k, 1] + b[k, 2] * G[k, 2]) + tau[k, 1]
+
+
+@njit(**JIT_NO_ALLOC)
+def mass_matrix(l, S, J, ps, n, a, b, cs, H):
+    """H (2n,2n): S_max(i,j) l_i l_j g_i . g_j plus the links' rotational inertia (the drogue's is
+    the last link's, ``J[n-1]``)."""
+    for j in range(n):
+        for i in range(j, n):
+            s = S[i] * l[i] * l[j]
+            aa = a[j, 0] * a[i, 0] + a[j, 1] * a[i, 1] + a[j, 2] * a[i, 2]
+            ab = a[j, 0] * b[i, 0] + a[j, 1] * b[i, 1] + a[j, 2] * b[i, 2]
+            ba = b[j, 0] * a[i, 0] + b[j, 1] * a[i, 1] + b[j, 2] * a[i, 2]
+            bb = b[j, 0] * b[i, 0] + b[j, 1] * b[i, 1] + b[j, 2] * b[i, 2]
+            H[2 * j, 2 * i] = s * aa
+            H[2 * j, 2 * i + 1] = s * ab
+            H[2 * j + 1, 2 * i] = s * ba
+            H[2 * j + 1, 2 * i + 1] = s * bb
+            H[2 * i, 2 * j] = s * aa
+            H[2 * i + 1, 2 * j] = s * ab
+            H[2 * i, 2 * j + 1] = s * ba
+            H[2 * i + 1, 2 * j + 1] = s * bb
+    for k in range(n):
+        c2 = cs[k, 2]
+        H[2 * k, 2 * k] += J[k] * c2 * c2
+        H[2 * k + 1, 2 * k + 1] += J[k]
+
+
+def make_workspace(n):
+    """Scratch arrays for one chain of n links, allocated once per run (not per evaluation).
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The workspace; the comment on each slot names what it holds (frames, joint positions [m]
+        and velocities [m/s], forces [N], accelerations, ...).
+    """
+    return (
+        np.empty((n, 3)),  # 0 e
+        np.empty((n, 3)),  # 1 a
+        np.empty((n, 3)),  # 2 b
+        np.empty((n, 4)),  # 3 cs
+        np.empty((n + 1, 3)),  # 4 r
+        np.empty((n + 1, 3)),  # 5 v
+        np.empty((n, 3)),  # 6 c
+        np.empty((n + 1, 3)),  # 7 F
+        np.empty((n, 3)),  # 8 Mom
+        np.empty((n, 2)),  # 9 tau
+        np.empty((n, 6)),  # 10 U (3x2, row-major)
+        np.empty((n, 4)),  # 11 Dinv (2x2, row-major)
+        np.empty((n, 2)),  # 12 right-hand sides of the joint equations
+        np.empty(3),  # 13 drogue drag
+        np.empty(3),  # 14 tow force
+        np.empty(2 * n),  # 15 qdd
+        np.empty(ENV_SIZE),  # 16 this evaluation's copy of env (with the gust at its time)
+        np.empty(1),  # 17 exit tension [N] (exit_tension)
+    )
+
+
+make_workspace_jit = njit(**JIT)(make_workspace)
+
+
+@njit(**JIT_NO_ALLOC)
+def chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, tow_force):
+    """Solve H qdd = Q in O(n) by an articulated-body recursion for this chain.
+
+    The part of the chain aft of joint k, cut through link k, resists the acceleration A of
+    joint k with the force ``IA_k A + beta_k``. Backward pass: from the drogue, fold each
+    link's two joint equations into (IA, beta) of the joint ahead of it. Forward pass: from the
+    tow point (A_0 = 0), solve each link's 2x2 joint equations. Returns the force the hose
+    exerts on the tow point, ``F_0 - (IA_1 A_0 + beta_1)`` with A_0 = 0.
+    """
+    # IA (symmetric 3x3, stored full) and beta of the subsystem aft of the current joint
+    IA00 = IA01 = IA02 = IA11 = IA12 = IA22 = 0.0
+    be0 = be1 = be2 = 0.0
+    for k in range(n - 1, -1, -1):
+        # add the lumped mass and external force of joint k+1
+        IA00 += M[k]
+        IA11 += M[k]
+        IA22 += M[k]
+        be0 -= F[k + 1, 0]
+        be1 -= F[k + 1, 1]
+        be2 -= F[k + 1, 2]
+        lk = l[k]
+        g0x, g0y, g0z = lk * a[k, 0], lk * a[k, 1], lk * a[k, 2]
+        g1x, g1y, g1z = lk * b[k, 0], lk * b[k, 1], lk * b[k, 2]
+        # U = IA G (3x2)
+        u00 = IA00 * g0x + IA01 * g0y + IA02 * g0z
+        u10 = IA01 * g0x + IA11 * g0y + IA12 * g0z
+        u20 = IA02 * g0x + IA12 * g0y + IA22 * g0z
+        u01 = IA00 * g1x + IA01 * g1y + IA02 * g1z
+        u11 = IA01 * g1x + IA11 * g1y + IA12 * g1z
+        u21 = IA02 * g1x + IA12 * g1y + IA22 * g1z
+        # D = G^T IA G + R (R: the link's rotational inertia; the last link's includes the drogue's)
+        c2 = cs[k, 2]
+        r0 = J[k] * c2 * c2
+        r1 = J[k]
+        d00 = g0x * u00 + g0y * u10 + g0z * u20 + r0
+        d01 = g0x * u01 + g0y * u11 + g0z * u21
+        d11 = g1x * u01 + g1y * u11 + g1z * u21 + r1
+        det = d00 * d11 - d01 * d01
+        i00 = d11 / det
+        i01 = -d01 / det
+        i11 = d00 / det
+        # right-hand side of the joint equations without the fore joint's acceleration
+        h0 = tau[k, 0] - (g0x * be0 + g0y * be1 + g0z * be2)
+        h1 = tau[k, 1] - (g1x * be0 + g1y * be1 + g1z * be2)
+        U[k, 0], U[k, 1], U[k, 2], U[k, 3], U[k, 4], U[k, 5] = u00, u01, u10, u11, u20, u21
+        Dinv[k, 0], Dinv[k, 1], Dinv[k, 2], Dinv[k, 3] = i00, i01, i01, i11
+        rv[k, 0] = h0
+        rv[k, 1] = h1
+        # W = U Dinv (3x2)
+        w00 = u00 * i00 + u01 * i01
+        w01 = u00 * i01 + u01 * i11
+        w10 = u10 * i00 + u11 * i01
+        w11 = u10 * i01 + u11 * i11
+        w20 = u20 * i00 + u21 * i01
+        w21 = u20 * i01 + u21 * i11
+        # articulated inertia seen through the link: IA - U Dinv U^T
+        IA00 -= w00 * u00 + w01 * u01
+        IA01 -= w00 * u10 + w01 * u11
+        IA02 -= w00 * u20 + w01 * u21
+        IA11 -= w10 * u10 + w11 * u11
+        IA12 -= w10 * u20 + w11 * u21
+        IA22 -= w20 * u20 + w21 * u21
+        # bias seen through the link: IA~ c + U Dinv h + beta
+        cx, cy, cz = c[k, 0], c[k, 1], c[k, 2]
+        be0 += IA00 * cx + IA01 * cy + IA02 * cz + w00 * h0 + w01 * h1
+        be1 += IA01 * cx + IA11 * cy + IA12 * cz + w10 * h0 + w11 * h1
+        be2 += IA02 * cx + IA12 * cy + IA22 * cz + w20 * h0 + w21 * h1
+    tow_force[0] = F[0, 0] - be0
+    tow_force[1] = F[0, 1] - be1
+    tow_force[2] = F[0, 2] - be2
+    Ax = Ay = Az = 0.0
+    for k in range(n):
+        px = Ax + c[k, 0]
+        py = Ay + c[k, 1]
+        pz = Az + c[k, 2]
+        h0 = rv[k, 0] - (U[k, 0] * px + U[k, 2] * py + U[k, 4] * pz)
+        h1 = rv[k, 1] - (U[k, 1] * px + U[k, 3] * py + U[k, 5] * pz)
+        q1 = Dinv[k, 0] * h0 + Dinv[k, 1] * h1
+        q2 = Dinv[k, 2] * h0 + Dinv[k, 3] * h1
+        qdd[2 * k] = q1
+        qdd[2 * k + 1] = q2
+        lk = l[k]
+        Ax = px + lk * (a[k, 0] * q1 + b[k, 0] * q2)
+        Ay = py + lk * (a[k, 1] * q1 + b[k, 1] * q2)
+        Az = pz + lk * (a[k, 2] * q1 + b[k, 2] * q2)
+
+
+@njit(**JIT_NO_ALLOC)
+def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
+    """Kinematics and loads of a state into the workspace: link frames ws[0:4], joint positions
+    ws[4] and velocities ws[5], velocity-product accelerations ws[6], joint forces ws[7], link
+    moments ws[8], rotational generalized forces ws[9], drogue drag ws[13]."""
+    link_frames(q, l.shape[0], ws[0], ws[1], ws[2], ws[3])
+    loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws)
+
+
+@njit(**JIT_NO_ALLOC)
+def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
+    """:func:`loads` when the link frames ws[0:4] already hold those of q."""
+    n = l.shape[0]
+    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    joint_forces(t, u, l, M, ps, env_at(t, env, gust, ws[16]), gust, n, e, r, v, F, Mom, ws[13])
+    frame_loads(ps[PS_G], ps[PS_M_TOW], l, M, J, n, e, r, v, ws[16], F, Mom)
+    rotational_terms(qd, J, n, cs, Mom, tau)
+
+
+@njit(**JIT_NO_ALLOC)
+def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
+    """Accelerations (ws[15]) and outputs in the workspace: joint positions ws[4], velocities
+    ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
+    n = l.shape[0]
+    loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
+    forward_dynamics_ws(l, M, J, ps, ws)
+
+
+@njit(**JIT_NO_ALLOC)
+def forward_dynamics_ws(l, M, J, ps, ws):
+    """qdd (ws[15]), tow-point force (ws[14]) and exit tension (ws[17]) from the loads in the workspace."""
+    n = l.shape[0]
+    chain_forward_dynamics(l, M, J, n, ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
+                           ws[10], ws[11], ws[12], ws[15], ws[14])
+    ws[17][0] = exit_tension(l, ps, ws[0], ws[7], ws[14], n)
+    # the mass lumped at the (fixed) tow point adds only its weight to the tow-point force
+    ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
+
+
+@njit(**JIT_NO_ALLOC)
+def exit_tension(l, ps, e, F, pull, n):
+    """The exit tension T_0 [N]: the hose's pull on the exit (the recursion's tow-point force
+    ``pull``, before the tow-point mass's weight) less the exit joint's own external load ``F[0]``,
+    along the exit link e_0 - the generalized force of the hose on its free length L, so the
+    force a hose drum holds. With the ``moment`` bending it includes the bending energy's
+    dependence on L through lbar_0 = (l_0 + l_1) / 2 (``-dU/dL``, which keeps the varying-length
+    model conservative); the one definition for the fixed-length and the engagement chains."""
+    T = 0.0
+    for i in range(3):
+        T += (pull[i] - F[0, i]) * e[0, i]
+    if ps[PS_BENDING] == BENDING_MOMENT and n > 1:
+        lbar = 0.5 * (l[0] + l[1])
+        gamma = kink(e, 0)[4]
+        T += 0.25 * ps[PS_EI] * gamma * gamma / (lbar * lbar)
+    return T
+
+
+@njit(**JIT_NO_ALLOC)
+def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
+    """State derivative dx (4n) of x = [q, qd], using the workspace ws (no allocation)."""
+    n = l.shape[0]
+    evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws)
+    qdd = ws[15]
+    for i in range(2 * n):
+        dx[i] = x[2 * n + i]
+        dx[2 * n + i] = qdd[i]
+
+
+@njit(**JIT)
+def rhs(t, x, u, l, M, S, J, ps, env, gust, dx):
+    """State derivative dx (4n) of x = [q, qd] (allocates its own workspace)."""
+    ws = make_workspace_jit(l.shape[0])
+    rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx)
+
+
+@njit(**JIT)
+def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
+    """qdd by forming the dense mass matrix and solving it (O(n^3)); the reference the
+    recursion is tested against."""
+    n = l.shape[0]
+    ws = make_workspace_jit(n)
+    loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
+    G = np.empty((n + 1, 3))
+    Q = np.empty(2 * n)
+    generalized_forces(l, M, n, ws[1], ws[2], ws[6], ws[7], ws[9], G, Q)
+    H = np.empty((2 * n, 2 * n))
+    mass_matrix(l, S, J, ps, n, ws[1], ws[2], ws[3], H)
+    return np.linalg.solve(H, Q)
+
+
+@njit(**JIT)
+def static_residual(q, l, M, J, ps, env, gust, t, Q):
+    """Generalized forces at rest (qd = 0, u = 0) into Q (2n): zero exactly at an equilibrium."""
+    n = l.shape[0]
+    ws = make_workspace_jit(n)
+    loads(t, q, np.zeros(2 * n), np.zeros(2), l, M, J, ps, env, gust, ws)
+    G = np.empty((n + 1, 3))
+    generalized_forces(l, M, n, ws[1], ws[2], ws[6], ws[7], ws[9], G, Q)
+
+
+@njit(**JIT)
+def energy(x, l, M, J, ps):
+    """(kinetic, potential) energy [J]; potential = gravity (z down) + bending-moment elastic
+    energy (the ``moment`` option is the conservative one)."""
+    n = l.shape[0]
+    ws = make_workspace_jit(n)
+    q = x[: 2 * n]
+    qd = x[2 * n:]
+    e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
+    link_frames(q, n, e, a, b, cs)
+    joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
+    T, Ug, Ub = chain_energy(n, l, M, J, ps, e, cs, r, v, qd)
+    return T, Ug + Ub
+
+
+@njit(**JIT_NO_ALLOC)
+def chain_energy(n, l, M, J, ps, e, cs, r, v, qd):
+    """(kinetic, gravity, bending) energy [J] of a chain whose frames, joint positions r and
+    velocities v are given: the joint masses' translation, the links' transverse rotation
+    ``J_k (c2^2 thd1^2 + thd2^2) / 2`` (the drogue's in the last link's), ``-sum M_k g z_k``
+    and, for the ``moment`` bending, ``sum (E I / lbar) gamma^2 / 2``. The one energy of both
+    chains (the engagement's velocities include the reel's L' e_0)."""
+    g = ps[PS_G]
+    T = 0.0
+    Ug = 0.0
+    for k in range(n):
+        T += 0.5 * M[k] * (v[k + 1, 0] ** 2 + v[k + 1, 1] ** 2 + v[k + 1, 2] ** 2)
+        c2 = cs[k, 2]
+        T += 0.5 * J[k] * (c2 * c2 * qd[2 * k] ** 2 + qd[2 * k + 1] ** 2)
+        Ug -= M[k] * g * r[k + 1, 2]
+    Ub = 0.0
+    if ps[PS_BENDING] == BENDING_MOMENT:
+        for k in range(n - 1):
+            gamma = kink(e, k)[4]
+            Ub += 0.5 * ps[PS_EI] / (0.5 * (l[k] + l[k + 1])) * gamma * gamma
+    return T, Ug, Ub
+
+
+@njit(**JIT)
+def mass_matrix_at(q, l, S, J, ps):
+    """Dense H(q) for tests and linear analysis."""
+    n = l.shape[0]
+    e = np.empty((n, 3))
+    a = np.empty((n, 3))
+    b = np.empty((n, 3))
+    cs = np.empty((n, 4))
+    H = np.empty((2 * n, 2 * n))
+    link_frames(q, n, e, a, b, cs)
+    mass_matrix(l, S, J, ps, n, a, b, cs, H)
+    return H
+
+
+@njit(**JIT)
+def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, drogue_drag, tow, tension):
+    """Derived outputs at every saved state: joints (N, n+1, 3), drogue velocity, drogue drag
+    and tow-point force (N, 3), exit tension (N,)."""
+    n = l.shape[0]
+    ws = make_workspace_jit(n)
+    for i in range(ts.shape[0]):
+        evaluate_ws(ts[i], xs[i], us[i], l, M, S, J, ps, env, gust, ws)
+        joints[i] = ws[4]
+        drogue_vel[i] = ws[5][n]
+        drogue_drag[i] = ws[13]
+        tow[i] = ws[14]
+        tension[i] = ws[17][0]

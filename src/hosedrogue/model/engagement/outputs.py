@@ -1,0 +1,171 @@
+"""The engagement's outputs (numba): the derived outputs at saved states (joints, the ``out``
+scalars, the tow-point force, the tensions), the energies, the per-step loads of the elastic
+chain, the raw measurement of a state for the sampled-data controllers, and the probe tip's
+distance to the coupler plane (the capture test).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ...jit import JIT
+from .. import drogue_actuator as DA
+from ..chain_dynamics import chain_energy, make_workspace_jit
+from ..elastic import axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy
+from ..layout import (
+    EP_COUPLED, EP_CTRL, EP_ELASTIC, EP_JR, EP_LAW, EP_MU, EP_RD, EP_SPLIT, LAW_LOCKED, O_LDD, O_PAXIAL, O_PX, O_Q,
+    O_SIZE, O_T0, O_VPX, PS_G, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V, R_Q, R_REEL_V, R_T0, Z_L,
+    Z_LD,
+)
+from .chain import chain_kinematics, tail_start
+from .evaluation import eng_evaluate, eng_evaluate_elastic
+from .probe import probe_force, probe_tip
+
+
+@njit(**JIT)
+def plane_distance(z, n, l, ws, t, ep):
+    """Signed distance [m] of the probe tip aft of the coupler plane (through joint n, normal to
+    the last link, e_{n-1} pointing aft); positive before contact. Uses ws[0], ws[4] as filled by
+    :func:`~.evaluation.eng_evaluate` for z."""
+    px, py, pz, _, _, _ = probe_tip(t, z, n, ep)
+    e = ws[0]
+    r = ws[4]
+    k = n - 1
+    return (px - r[n, 0]) * e[k, 0] + (py - r[n, 1]) * e[k, 1] + (pz - r[n, 2]) * e[k, 2]
+
+
+@njit(**JIT)
+def eng_energy(z, n, l, M, J, ps, ep, chart):
+    """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z
+    (:func:`~hosedrogue.model.chain_dynamics.chain_energy`; gravity's work is in the balance's terms);
+    with elastic links the elastic energy includes their strain energy."""
+    ws = make_workspace_jit(n)
+    chain_kinematics(z, n, l, M, J, ep, chart, ws)
+    T, _, U = chain_energy(n, l, M, J, ps, ws[0], ws[3], ws[4], ws[5], z[2 * n: 4 * n])
+    nh = tail_start(n, ep)
+    if ep[EP_ELASTIC] != 0.0:
+        U += strain_energy(n, l, z[4 * n: 5 * n], ps)
+    Tr = 0.0
+    if ep[EP_LAW] != LAW_LOCKED:
+        Tr = 0.5 * ep[EP_JR] * (z[nh + Z_LD] / ep[EP_RD]) ** 2
+    return T, U, Tr
+
+
+@njit(**JIT)
+def state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, row):
+    """The loads of an elastic state z from its kinematics alone (no solve): exit tension
+    (:func:`~hosedrogue.model.elastic.elastic_exit_tension`) and drogue-end tension [N], probe
+    load [N] and slack [m] into ``row`` (4,): the per-step record the run's peaks are taken from
+    (docs/engagement.md, "What a run reports")."""
+    nh = tail_start(n, ep)
+    chain_kinematics(z, n, l, M, J, ep, chart, ws)
+    lam = z[4 * n: 5 * n]
+    T, epsd = ews[3], ews[4]
+    axial_tensions(n, l, lam, z[5 * n: 6 * n], z[nh + Z_LD], ps, T, epsd)
+    row[0] = elastic_exit_tension(n, l, lam, ps, ws[0], epsd)
+    row[1] = T[n - 1]
+    r, v = ws[4], ws[5]
+    f = 0.0
+    if ep[EP_COUPLED] != 0.0:
+        px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
+        fx, fy, fz = probe_force(ep, n, r, v, px, py, pz, vpx, vpy, vpz)
+        f = math.sqrt(fx * fx + fy * fy + fz * fz)
+    row[2] = f
+    arc = 0.0
+    for k in range(n):
+        arc += lam[k]
+    row[3] = arc - math.sqrt(r[n, 0] ** 2 + r[n, 1] ** 2 + r[n, 2] ** 2)
+
+
+@njit(**JIT)
+def evaluate_state(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ews, dM, out):
+    """The true accelerations and outputs of state z, rigid (:func:`~.evaluation.eng_evaluate`) or
+    elastic (:func:`~.evaluation.eng_evaluate_elastic`)."""
+    if ep[EP_ELASTIC] != 0.0:
+        eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0, z)
+    else:
+        eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+
+
+@njit(**JIT)
+def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
+    """The raw measurement (``hosedrogue.model.sampled.R_*``) of state z at time t [s]: drogue and
+    probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
+    evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
+    (NaN without control surfaces)."""
+    if ep[EP_ELASTIC] != 0.0:
+        eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n), dM,
+                             out, 0.0, z)
+    else:
+        eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+    r, v = ws[4], ws[5]
+    for i in range(3):
+        raw[R_DROGUE + i] = r[n, i]
+        raw[R_DROGUE_V + i] = v[n, i]
+        raw[R_PROBE + i] = out[O_PX + i]
+        raw[R_PROBE_V + i] = out[O_VPX + i]
+    raw[R_L] = z[tail_start(n, ep) + Z_L]
+    raw[R_REEL_V] = -z[tail_start(n, ep) + Z_LD]
+    raw[R_T0] = out[O_T0]
+    raw[R_COUPLED] = ep[EP_COUPLED]
+    raw[R_Q] = out[O_Q] if ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act) else math.nan
+
+
+@njit(**JIT)
+def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
+                drogue_drag, link_tension):
+    """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
+    (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
+    drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
+    untouched for rigid links). The tow-point force includes the weight of the hose mass lumped
+    at the exit (half the exit link's with ``split`` lumping, as the fixed-length chain's)."""
+    ws = make_workspace_jit(n)
+    ws2 = make_workspace_jit(n)
+    ews = make_elastic_workspace_jit(n)
+    dM = np.empty(2)
+    out = np.zeros(O_SIZE)
+    for i in range(ts.shape[0]):
+        if ep[EP_ELASTIC] != 0.0:
+            eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
+                                 zs[i])
+            joints[i] = ws[4]
+            jvel[i] = ws[5]
+            scal[i] = out
+            for j in range(3):
+                tow[i, j] = ws[14][j]
+                drogue_drag[i, j] = ws[13][j]
+            if ep[EP_SPLIT] != 0.0:
+                tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
+            tension_drogue[i] = ews[3][n - 1]  # the last link's tension EA eps + c_a deps/dt
+            link_tension[i] = ews[3]
+            continue
+        eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+        out[O_PAXIAL] = 0.0
+        joints[i] = ws[4]
+        jvel[i] = ws[5]
+        scal[i] = out
+        Ldd = out[O_LDD]
+        # total force of the hose on the exit: F_0 + sum (F_k - M_k A_k)
+        for j in range(3):
+            tow[i, j] = ws[14][j] + Ldd * ws2[14][j]
+            drogue_drag[i, j] = ws[13][j]
+        if ep[EP_SPLIT] != 0.0:
+            tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
+        # last link's tension: the drogue joint's load minus its inertia, along the link
+        # (joint n's acceleration from the recursion: A_n = L'' e_0 + sum of link terms)
+        e = ws[0]
+        qdd = ws[15]
+        Ax = Ldd * e[0, 0]
+        Ay = Ldd * e[0, 1]
+        Az = Ldd * e[0, 2]
+        for k in range(n):
+            Ax += l[k] * (ws[1][k, 0] * qdd[2 * k] + ws[2][k, 0] * qdd[2 * k + 1]) + ws[6][k, 0]
+            Ay += l[k] * (ws[1][k, 1] * qdd[2 * k] + ws[2][k, 1] * qdd[2 * k + 1]) + ws[6][k, 1]
+            Az += l[k] * (ws[1][k, 2] * qdd[2 * k] + ws[2][k, 2] * qdd[2 * k + 1]) + ws[6][k, 2]
+        F = ws[7]
+        m = M[n - 1]
+        tension_drogue[i] = ((F[n, 0] - m * Ax) * e[n - 1, 0] + (F[n, 1] - m * Ay) * e[n - 1, 1]
+                             + (F[n, 2] - m * Az) * e[n - 1, 2])
