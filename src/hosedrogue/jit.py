@@ -16,6 +16,7 @@ order does not matter.
 * ``no_cfunc_wrapper``: numba builds, beside each function's Python entry, a C-callable wrapper
   for ``cfunc`` and first-class function values; the package uses neither, and the wrapper costs
   compile time for every one of its 160-odd compiled signatures (docs/develop.md, "Compile time");
+* :data:`JIT_INLINE` is :data:`JIT` inlined into its compiled callers;
 * :data:`JIT_NO_ALLOC` is :data:`JIT` without numba's runtime (``_nrt=False``) for the kernels of
   the time loop, which allocate nothing: taking an array out of the workspace tuple or slicing
   the state then costs no atomic reference-count update (those were ~1.5 us of a 3 us
@@ -48,6 +49,11 @@ from numba.core import caching
 JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"}, no_cfunc_wrapper=True)
 #: :data:`JIT` for functions that allocate nothing (no reference counting).
 JIT_NO_ALLOC = dict(JIT, _nrt=False)
+#: :data:`JIT` for a function whose code numba puts into each compiled caller (numba's
+#: ``inline="always"``) instead of compiling it as a function of its own: the time steps of
+#: :mod:`hosedrogue.model.steppers` (docs/develop.md, "Compile time"). Called from Python it
+#: compiles as any other.
+JIT_INLINE = dict(JIT, inline="always")
 
 #: The package's folder: the functions defined under it take :func:`source_stamp`.
 PACKAGE_DIR = Path(__file__).resolve().parent

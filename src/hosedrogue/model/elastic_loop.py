@@ -3,27 +3,22 @@
 The state is ``z = [x, xc, (ua)]`` with the elastic hose state ``x = [q, qd, lam, lamd]`` (6n:
 angles [rad], their rates [rad/s], the links' actual lengths [m] and their rates [m/s]), then the
 controller's and the rate-limited actuator's states as in :mod:`hosedrogue.model.integrate`,
-whose control, actuator and controller laws it uses. ``scheme`` 0 is the classical RK4 (the
-formula of :func:`~hosedrogue.model.integrate.rk4_stage` and
-:func:`~hosedrogue.model.integrate.rk4_combine`), 1 the SDIRK of :mod:`hosedrogue.model.implicit`.
+whose control, actuator and controller laws it uses. ``scheme`` 0 is the classical RK4, 1 the
+SDIRK of :mod:`hosedrogue.model.implicit`, both the steps of :mod:`hosedrogue.model.steppers`.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
-from ..jit import JIT, JIT_NO_ALLOC
+from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 from .elastic import elastic_drogue_yz, elastic_evaluate_ws, make_elastic_workspace_jit
-from .implicit import (SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, SDIRK_TOLERANCE_M_S, after_stage1,
-                       correction_size, stage_point)
-from .integrate import (actuator_rates, applied_force_at, controller_rates, is_open_loop, rk4_combine, rk4_stage,
-                        step_status)
+from .integrate import actuator_rates, applied_force_at, controller_rates, is_open_loop, step_status
 from .layout import OK, STAGE_LIMIT
 from .chain_dynamics import make_workspace_jit
 from .layout import SCHEME_RK4, SCHEME_SDIRK2  # the integrators' codes (the engagement's EP_SCHEME holds them too)
+from .steppers import rk4, sdirk2
 
 
 @njit(**JIT_NO_ALLOC)
@@ -55,102 +50,34 @@ def elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
     return p
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_INLINE)
+def elastic_rate(t, z, model, hg, guess, dz):
+    """:func:`elastic_loop_deriv` as the steppers' derivative (:mod:`hosedrogue.model.steppers`):
+    ``model`` is ``(l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
+    u)``."""
+    l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, u = model
+    elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, hg, guess,
+                       dz, u)
+
+
+_rk4_step, _ = rk4(elastic_rate)
+_sdirk2_step = sdirk2(elastic_rate)
+
+
+@njit(**JIT_INLINE)
 def elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                  ews, pairs, work, u):
-    """One step of size h [s] from (t, z), in place (``iters``: the SDIRK's least corrections per
-    stage, :mod:`hosedrogue.model.implicit`). ``work`` (8, len(z)): RK4's stages, or the SDIRK's
-    (rows 0-3, the step's start in rows 4-5); ``work[7]`` must hold the slope guess of the SDIRK's
-    first stage (the previous step's last stage slope, or dz/dt at z) and receives the next one.
-    Returns OK, or STAGE_LIMIT if the SDIRK's stages did not converge even on 16 substeps (z then
-    back at the step's start)."""
+    """One step of size h [s] from (t, z), in place: RK4 or the SDIRK (``scheme``; ``iters`` the
+    SDIRK's least corrections per stage) of :mod:`hosedrogue.model.steppers`. ``work`` (8,
+    len(z)): the stages; ``work[7]`` must hold the slope guess of the SDIRK's first stage (the
+    previous step's last stage slope, or dz/dt at z) and receives the next one. Returns OK, or
+    STAGE_LIMIT if the SDIRK's stages did not converge even on 16 substeps (z then back at the
+    step's start)."""
+    model = (l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, u)
     if scheme == SCHEME_RK4:
-        k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
-        g = work[5]  # unused guess
-        elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
-                           0.0, g, k1, u)
-        rk4_stage(z, 0.5 * h, k1, tmp)
-        elastic_loop_deriv(t + 0.5 * h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
-                           ws, ews, 0.0, g, k2, u)
-        rk4_stage(z, 0.5 * h, k2, tmp)
-        elastic_loop_deriv(t + 0.5 * h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
-                           ws, ews, 0.0, g, k3, u)
-        rk4_stage(z, h, k3, tmp)
-        elastic_loop_deriv(t + h, tmp, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-                           ews, 0.0, g, k4, u)
-        rk4_combine(z, h, k1, k2, k3, k4)
+        _rk4_step(t, z, h, model, work)
         return OK
-    # the SDIRK (hosedrogue.model.implicit): the step, or where a stage's corrections do not
-    # converge 2, 4, 8, 16 substeps
-    z0, g0 = work[4], work[5]
-    nz = z.shape[0]
-    for i in range(nz):
-        z0[i] = z[i]
-        g0[i] = work[7][i]
-    m = 1
-    while m <= SDIRK_MAX_SUBSTEPS:
-        hs = h / m
-        ok = True
-        for j in range(m):
-            if not sdirk_step(t + j * hs, z, hs, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                              noise_dt, ws, ews, pairs, work, u):
-                ok = False
-                break
-        if ok:
-            return OK
-        for i in range(nz):
-            z[i] = z0[i]
-            work[7][i] = g0[i]
-        m *= 2
-    return STAGE_LIMIT
-
-
-@njit(**JIT_NO_ALLOC)
-def sdirk_stage(t, zbase, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, pairs,
-                hg, Kg, K, Y, u):
-    """One implicit stage from ``zbase``, the slope guess in Kg: corrections until the last moves no
-    stage velocity by more than SDIRK_TOLERANCE_M_S (at least ``iters``, at most
-    SDIRK_MAX_CORRECTIONS); the stage's slope into K (and Kg). Returns whether they converged."""
-    n = l.shape[0]
-    nz = zbase.shape[0]
-    for it in range(max(SDIRK_MAX_CORRECTIONS, iters)):
-        stage_point(zbase, Kg, hg, pairs, Y)
-        elastic_loop_deriv(t, Y, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, hg,
-                           Kg, K, u)
-        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
-        for i in range(nz):
-            Kg[i] = K[i]
-        if not math.isfinite(d):
-            return False
-        if it + 1 >= iters and d <= SDIRK_TOLERANCE_M_S:
-            return True
-    return False
-
-
-@njit(**JIT_NO_ALLOC)
-def sdirk_step(t, z, h, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, pairs,
-               work, u):
-    """One SDIRK step of size h [s] from (t, z), in place; False (z then undefined) if a stage's
-    corrections did not converge."""
-    hg = h * SDIRK2_GAMMA
-    Kg, K1, zhat, Y, K2 = work[0], work[1], work[2], work[3], work[7]
-    nz = z.shape[0]
-    for i in range(nz):
-        Kg[i] = K2[i]
-    if not sdirk_stage(t + hg, z, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
-                       pairs, hg, Kg, K1, Y, u):
-        return False
-    stage_point(z, K1, hg, pairs, Y)
-    after_stage1(z, h, K1, zhat)
-    for i in range(nz):
-        Kg[i] = K1[i]  # the second stage's guess: the first stage's slope
-    if not sdirk_stage(t + h, zhat, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-                       ews, pairs, hg, Kg, K2, Y, u):
-        return False
-    stage_point(zhat, K2, hg, pairs, Y)
-    for i in range(nz):
-        z[i] = Y[i]
-    return True
+    return _sdirk2_step(t, z, h, model, l.shape[0], iters, ws[3], pairs, work)  # ws[3]: the frames
 
 
 def hose_pairs(n):

@@ -22,11 +22,12 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..jit import JIT, JIT_NO_ALLOC
+from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 
 from .layout import NONFINITE, OK, PS_RHO, YAW_LIMIT
 from .chain_dynamics import forward_dynamics_ws, loads_given_frames, make_workspace_jit
 from .chain_loads import drogue_from_frames, env_at, link_frames
+from .steppers import rk4
 from . import drogue_actuator as DA
 from .layout import ACT_RATE, ACT_TAU, ACT_U_MAX
 
@@ -294,49 +295,48 @@ def sensor_noise(sensor, duration_s: float, seed: int) -> np.ndarray:
     return sensor.noise_std_m * rng.standard_normal((count, 2))
 
 
-@njit(**LOOP_JIT)
-def rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-             work, u):
-    """One classical RK4 step of the closed loop from (t, z), in place; ``work`` (5, len(z)) is
-    scratch (the stages k1..k4 and the trial state); the formula is :func:`rk4_stage` and
-    :func:`rk4_combine`."""
-    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-                      work[0], u)
-    rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                      noise_dt, ws, work, u)
+def loop_model(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u):
+    """The closed loop's arrays as one tuple, the ``model`` of :func:`closed_loop_rate` (and of
+    :func:`rk4_step`, :func:`rk4_step_given_k1`).
+
+    Parameters
+    ----------
+    l, M, S, J, ps, env, gust : numpy.ndarray
+        The hose's (:meth:`hosedrogue.model.system.HoseModel.kernel_args`).
+    Ac, Bc, Cc, Dc, y_ref, act, noise : numpy.ndarray
+        The loop's (:class:`LoopArrays`).
+    noise_dt : float
+        Time each noise sample is held [s].
+    ws : tuple
+        The workspace (:func:`~hosedrogue.model.chain_dynamics.make_workspace`).
+    u : numpy.ndarray
+        Receives the force applied to the drogue [N].
+
+    Returns
+    -------
+    tuple
+        ``(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)``.
+    """
+    return (l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
 
 
-@njit(**LOOP_JIT)
-def rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                      noise_dt, ws, work, u):
-    """:func:`rk4_step` when ``work[0]`` already holds k1 = dz/dt at (t, z)."""
-    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
-    rk4_stage(z, 0.5 * h, k1, tmp)
-    closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                      noise_dt, ws, k2, u)
-    rk4_stage(z, 0.5 * h, k2, tmp)
-    closed_loop_deriv(t + 0.5 * h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                      noise_dt, ws, k3, u)
-    rk4_stage(z, h, k3, tmp)
-    closed_loop_deriv(t + h, tmp, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                      noise_dt, ws, k4, u)
-    rk4_combine(z, h, k1, k2, k3, k4)
+loop_model_jit = njit(**JIT_INLINE)(loop_model)
 
 
-@njit(**LOOP_JIT)
-def rk4_stage(z, c, k, out):
-    """A classical RK4 stage's trial state ``out = z + c k`` (c = h/2 or h [s], k a slope).
-    With :func:`rk4_combine` the one compiled RK4 formula, of the fixed-length and the
-    engagement loops."""
-    for i in range(z.shape[0]):
-        out[i] = z[i] + c * k[i]
+@njit(**JIT_INLINE)
+def closed_loop_rate(t, z, model, hg, guess, dz):
+    """:func:`closed_loop_deriv` as the steppers' derivative (:mod:`hosedrogue.model.steppers`;
+    ``model`` :func:`loop_model`'s tuple; the rigid chain has no implicit stage: hg and guess are
+    not read)."""
+    l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u = model
+    closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, dz, u)
 
 
-@njit(**LOOP_JIT)
-def rk4_combine(z, h, k1, k2, k3, k4):
-    """The classical RK4 update of z in place: ``z += h/6 (k1 + 2 k2 + 2 k3 + k4)`` (h [s])."""
-    for i in range(z.shape[0]):
-        z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+#: One classical RK4 step of the closed loop, ``rk4_step(t, z, h, model, work)``: from (t, z),
+#: in place (``model`` :func:`loop_model`'s tuple, ``work`` (5, len(z)) scratch), and the same
+#: step when ``work[0]`` already holds k1 = dz/dt at (t, z), ``rk4_step_given_k1`` (the
+#: steppers' :func:`~hosedrogue.model.steppers.rk4` over :func:`closed_loop_rate`).
+rk4_step, rk4_step_given_k1 = rk4(closed_loop_rate)
 
 
 @njit(**LOOP_JIT)
@@ -351,9 +351,9 @@ def rk4_steps(t0, first, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, 
     """
     n = l.shape[0]
     t = t0 + (first - 1) * h
+    model = loop_model_jit(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
     for step in range(first, last + 1):
-        rk4_step(t0 + (step - 1) * h, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
-                 noise, noise_dt, ws, work, u)
+        rk4_step(t0 + (step - 1) * h, z, h, model, work)
         t = t0 + step * h
         status = step_status(z, n, max_yaw)
         if status != OK:
@@ -391,6 +391,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     work = np.empty((5, z0.shape[0]))
     u = np.empty(us.shape[1])
     ws = make_workspace_jit(n)
+    model = loop_model_jit(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
     save_state(0, t0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
     saved = 1
@@ -398,8 +399,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     while done < nsteps:
         last = min(done + save_every, nsteps)
         # the first step of the interval reuses k1 of the saved state (work[0])
-        rk4_step_given_k1(t0 + done * h, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
-                          noise, noise_dt, ws, work, u)
+        rk4_step_given_k1(t0 + done * h, z, h, model, work)
         t = t0 + (done + 1) * h
         status = step_status(z, n, max_yaw)
         if status == OK and last > done + 1:

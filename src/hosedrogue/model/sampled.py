@@ -29,7 +29,7 @@ from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
 from . import drogue_actuator as DA
-from .integrate import closed_loop_deriv, rk4_step, rk4_step_given_k1, save_state, step_status
+from .integrate import closed_loop_deriv, loop_model_jit, rk4_step, rk4_step_given_k1, save_state, step_status
 from .layout import OK
 from .chain_dynamics import make_workspace_jit
 
@@ -93,6 +93,7 @@ def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, C
     (status, saved count, steps done): a non-finite state or a yaw beyond ``max_yaw`` [rad] stops
     after its step."""
     n = l.shape[0]
+    model = loop_model_jit(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
     for s in range(nsteps):
         j = step0 + s
         t = j * h
@@ -100,10 +101,9 @@ def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, C
             save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                        work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
             saved += 1
-            rk4_step_given_k1(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
-                              ws, work, u)
+            rk4_step_given_k1(t, z, h, model, work)
         else:
-            rk4_step(t, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u)
+            rk4_step(t, z, h, model, work)
         status = step_status(z, n, max_yaw)
         if status != OK:
             return status, saved, s + 1

@@ -1,132 +1,59 @@
-"""The engagement's time loop (numba): the rigid chain's RK4 step, the elastic chain's RK4 or
-SDIRK step (:mod:`hosedrogue.model.implicit`) with its stages and substeps, and the segments of
-steps the driver runs between events (a remesh, a chart switch, the coupler plane, a failure),
-by themselves or a control step at a time for the sampled-data controllers.
+"""The engagement's time loop (numba): the segments of steps the driver runs between events (a remesh, a chart switch, the coupler plane, a failure),
+by themselves or a control step at a time for the sampled-data controllers. The steps are those
+of :mod:`hosedrogue.model.steppers` over the chain's derivative: RK4 for rigid links, RK4 or the
+SDIRK (:mod:`hosedrogue.model.implicit`) for elastic links.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
-from ...jit import JIT
+from ...jit import JIT, JIT_INLINE
 from ..chain_dynamics import make_workspace_jit
 from ..elastic import make_elastic_workspace_jit
-from ..implicit import (
-    SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, SDIRK_TOLERANCE_M_S, after_stage1, correction_size,
-    stage_point,
-)
-from ..integrate import rk4_combine, rk4_stage, step_status
+from ..integrate import step_status
 from ..layout import (
     CHART, C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, EP_COUPLED, EP_ELASTIC, EP_ITER, EP_L_MAX,
     EP_L_MIN, EP_PIL, EP_PROBE, EP_RCV, EP_SCHEME, MERGE, NONFINITE, OK, O_SIZE, PLANE, REEL_END, SCHEME_RK4, SPLIT,
     STAGE_LIMIT, YAW_LIMIT, Z_L,
 )
 from ..sampled import deliver
+from ..steppers import rk4, sdirk2
 from .chain import chain_kinematics, drogue_motion, elastic_pairs_jit, set_variable_link, tail_start
 from .evaluation import eng_deriv, eng_deriv_elastic
 from .outputs import eng_raw, plane_distance, state_loads
 
 
-@njit(**JIT)
-def eng_elastic_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, work):
-    """One step of size h [s] of the elastic engagement from (t, z), in place: RK4 or the SDIRK of
-    :mod:`hosedrogue.model.implicit` (``ep[EP_SCHEME]``). ``work`` (8, len(z)): the stages (the
-    SDIRK's in rows 0-3, the step's start in rows 4-5); ``work[7]`` holds the SDIRK's first slope
-    guess (the last stage slope of the previous step, or dz/dt at z) and receives the next one.
-    Returns OK, or STAGE_LIMIT if the SDIRK's stages did not converge even on 16 substeps (z
-    then back at the step's start)."""
-    if ep[EP_SCHEME] == SCHEME_RK4:
-        k1, k2, k3, k4, tmp, g = work[0], work[1], work[2], work[3], work[4], work[5]
-        eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, g, k1)
-        rk4_stage(z, 0.5 * h, k1, tmp)
-        eng_deriv_elastic(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
-                          0.0, g, k2)
-        rk4_stage(z, 0.5 * h, k2, tmp)
-        eng_deriv_elastic(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
-                          0.0, g, k3)
-        rk4_stage(z, h, k3, tmp)
-        eng_deriv_elastic(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, g, k4)
-        rk4_combine(z, h, k1, k2, k3, k4)
-        return OK
-    # the SDIRK: the step, or where a stage's corrections do not converge 2, 4, 8, 16 substeps
-    z0, g0 = work[4], work[5]
-    nz = z.shape[0]
-    for i in range(nz):
-        z0[i] = z[i]
-        g0[i] = work[7][i]
-    m = 1
-    while m <= SDIRK_MAX_SUBSTEPS:
-        hs = h / m
-        ok = True
-        for j in range(m):
-            if not sdirk_step(t + j * hs, z, hs, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
-                              pairs, work):
-                ok = False
-                break
-        if ok:
-            return OK
-        for i in range(nz):
-            z[i] = z0[i]
-            work[7][i] = g0[i]
-        m *= 2
-    return STAGE_LIMIT
+@njit(**JIT_INLINE)
+def eng_rate(t, z, model, hg, guess, dz):
+    """:func:`~.evaluation.eng_deriv` as the steppers' derivative (:mod:`hosedrogue.model.steppers`):
+    ``model`` is ``(n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out)``; the rigid
+    chain has no implicit stage (hg and guess are not read)."""
+    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
+    eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
 
 
-@njit(**JIT)
-def sdirk_stage(t, zbase, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, hg, Kg, K, Y):
-    """One implicit stage from ``zbase`` (:mod:`hosedrogue.model.implicit`), the slope guess in Kg:
-    corrections until the last moves no stage velocity by more than SDIRK_TOLERANCE_M_S, at least
-    ``ep[EP_ITER]``, at most SDIRK_MAX_CORRECTIONS. The stage's slope into K (and Kg). Returns
-    whether they converged."""
-    nz = zbase.shape[0]
-    least = int(ep[EP_ITER])
-    for it in range(max(SDIRK_MAX_CORRECTIONS, least)):
-        stage_point(zbase, Kg, hg, pairs, Y)
-        eng_deriv_elastic(t, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg, K)
-        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
-        for i in range(nz):
-            Kg[i] = K[i]
-        if not math.isfinite(d):
-            return False
-        if it + 1 >= least and d <= SDIRK_TOLERANCE_M_S:
-            return True
-    return False
+@njit(**JIT_INLINE)
+def eng_rate_elastic(t, z, model, hg, guess, dz):
+    """:func:`~.evaluation.eng_deriv_elastic` as the steppers' derivative: ``model`` is ``(n, l, M,
+    J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)``."""
+    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out = model
+    eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
 
 
-@njit(**JIT)
-def sdirk_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, work):
-    """One SDIRK step of size h [s] from (t, z), in place, the first stage's guess in ``work[7]``
-    (which receives the next one). Returns False (z then undefined) if a stage's corrections did
-    not converge."""
-    hg = h * SDIRK2_GAMMA
-    Kg, K1, zhat, Y, K2 = work[0], work[1], work[2], work[3], work[7]
-    nz = z.shape[0]
-    for i in range(nz):
-        Kg[i] = K2[i]
-    if not sdirk_stage(t + hg, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, hg, Kg,
-                       K1, Y):
-        return False
-    stage_point(z, K1, hg, pairs, Y)
-    after_stage1(z, h, K1, zhat)
-    for i in range(nz):
-        Kg[i] = K1[i]  # the second stage's guess: the first stage's slope
-    if not sdirk_stage(t + h, zhat, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs, hg,
-                       Kg, K2, Y):
-        return False
-    stage_point(zhat, K2, hg, pairs, Y)
-    for i in range(nz):
-        z[i] = Y[i]
-    return True
+# the steps of the rigid chain (RK4) and of the elastic chain (RK4 or the SDIRK, ep[EP_SCHEME])
+_rigid_rk4, _ = rk4(eng_rate)
+_elastic_rk4, _ = rk4(eng_rate_elastic)
+_elastic_sdirk2 = sdirk2(eng_rate_elastic)
 
 
 @njit(**JIT)
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
                 max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads):
     """Steps of size h from (t0, z) (global step index step0) for at most ``nsteps`` steps, in
-    place: RK4, or for elastic links the integrator ``ep[EP_SCHEME]`` (:func:`eng_elastic_step`).
+    place: RK4, or for elastic links the integrator ``ep[EP_SCHEME]`` (RK4 or the SDIRK of
+    :mod:`hosedrogue.model.steppers`).
 
     Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
     the step at which the exit link's length leaves [merge_at, split_at] (SPLIT / MERGE), the probe
@@ -146,27 +73,35 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     dM = np.empty(2)
     out = np.zeros(O_SIZE)
     return eng_steps(z, t0, 0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                     max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, True, 0, work, ws, ws2,
-                     dM, out, loads)
+                     (max_yaw, switch_yaw, split_at, merge_at, allow_merge), zprev, ts, zs, True, 0,
+                     (work, ws, ws2, dM, out), loads)
 
 
-@njit(**JIT)
-def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-              max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, saved0, work, ws, ws2,
-              dM, out, loads):
-    """:func:`eng_segment` with its scratch given (``work`` (8, nz): the RK4 stages and the trial
-    state, or the SDIRK's stages with its slope guess in ``work[7]``, carried from call to call;
-    the workspaces ``ws``, ``ws2``, ``dM``, ``out`` of :func:`~.evaluation.eng_evaluate`), the saved
+@njit(**JIT_INLINE)
+def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits,
+              zprev, ts, zs, record, saved0, scratch, loads):
+    """:func:`eng_segment` with its limits in one tuple (``limits``: max_yaw, switch_yaw, split_at,
+    merge_at, allow_merge) and its scratch given (``scratch``: ``work`` (8, nz), the RK4 stages and
+    the trial state, or the SDIRK's stages with its slope guess in ``work[7]``, carried from call to
+    call, and the workspaces ``ws``, ``ws2``, ``dM``, ``out`` of :func:`~.evaluation.eng_evaluate`), the saved
     rows written from row ``saved0`` on and only if ``record``, the state ``s0`` steps after the
     time origin ``t0`` of its segment (step k after it is at ``t0 + k h``, as one uninterrupted
     segment counts: a segment continued in several calls takes the same times, and with elastic
-    links the same SDIRK guesses). Returns (status, steps done, saved count)."""
+    links the same SDIRK guesses). Returns (status, steps done, saved count).
+
+    Inlined into its two callers (:data:`hosedrogue.jit.JIT_INLINE`): at most 30 arguments, since
+    CPython passes a call of more as one tuple, which numba cannot inline."""
+    max_yaw, switch_yaw, split_at, merge_at, allow_merge = limits
+    work, ws, ws2, dM, out = scratch
     nz = z.shape[0]
     saved = saved0
     elastic = ep[EP_ELASTIC] != 0.0
     nh = tail_start(n, ep)
     ews = make_elastic_workspace_jit(n)
     pairs = elastic_pairs_jit(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0)
+    rigid = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out)
+    flexible = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)
+    least = int(ep[EP_ITER])  # the SDIRK's least corrections per stage
     if elastic and s0 == 0:  # a segment's start: the SDIRK's first slope guess is dz/dt there
         eng_deriv_elastic(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, work[6],
                           work[7])
@@ -185,11 +120,12 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
         for i in range(nz):
             zprev[i] = z[i]
         if elastic:
-            if eng_elastic_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, pairs,
-                                work) != OK:
+            if ep[EP_SCHEME] == SCHEME_RK4:
+                _elastic_rk4(t, z, h, flexible, work)
+            elif _elastic_sdirk2(t, z, h, flexible, n, least, ws[3], pairs, work) != OK:  # ws[3]: the frames
                 return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
         else:
-            eng_rigid_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, work)
+            _rigid_rk4(t, z, h, rigid, work)
         t = t0 + (s0 + s) * h
         status = step_status(z, n, max_yaw)
         if status != OK:
@@ -228,21 +164,6 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
 
 
 @njit(**JIT)
-def eng_rigid_step(t, z, h, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, work):
-    """One RK4 step of size h [s] of the rigid engagement from (t, z), in place (``work`` (8,
-    len(z)): the stages in rows 0-4)."""
-    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
-    eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k1)
-    rk4_stage(z, 0.5 * h, k1, tmp)
-    eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k2)
-    rk4_stage(z, 0.5 * h, k2, tmp)
-    eng_deriv(t + 0.5 * h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k3)
-    rk4_stage(z, h, k3, tmp)
-    eng_deriv(t + h, tmp, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, k4)
-    rk4_combine(z, h, k1, k2, k3, k4)
-
-
-@njit(**JIT)
 def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
                 switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring,
                 delay, sample_h, noise3, noise3_dt, balance, mbuf, loads):
@@ -257,8 +178,9 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
     target = ctr[C_TARGET]
     origin = ctr[C_ORIGIN]
     status, done, saved = eng_steps(z, origin * h, step0 - origin, step0, h, target - step0, save_every, n, l, M, J,
-                                    ps, env, gust, ep, chart, loop, hist, max_yaw, switch_yaw, split_at, merge_at,
-                                    allow_merge, zprev, ts, zs, record, ctr[C_SAVED], work, ws, ws2, dM, out, loads)
+                                    ps, env, gust, ep, chart, loop, hist,
+                                    (max_yaw, switch_yaw, split_at, merge_at, allow_merge), zprev, ts, zs, record,
+                                    ctr[C_SAVED], (work, ws, ws2, dM, out), loads)
     ctr[C_STEP] = step0 + done
     ctr[C_SAVED] = saved
     ctr[C_STATUS] = status

@@ -1,0 +1,166 @@
+"""The time steps of the compiled core, each written once: the classical RK4 and the stiff SDIRK.
+
+Each chain (the fixed-length and the engagement, rigid or elastic links) gives its derivative,
+``deriv(t, z, model, hg, guess, dz)``: dz/dt [units of z per s] of the state z at time t [s]
+into dz, ``model`` the chain's arrays in one tuple (what the derivative unpacks: numba passes a
+tuple as its members), ``hg`` and ``guess`` an implicit stage's (:mod:`hosedrogue.model.implicit`:
+h g [s] and the stage's slope guess; for the true derivative 0 and an array of len(z) whose
+values it does not read). :func:`rk4` and :func:`sdirk2` make each scheme's step for one derivative, as a
+compiled closure over it: the scheme is written here once and compiled once per chain, its
+derivative inlined (a derivative passed as an argument would make numba's cache of every caller
+unusable: a compiled function cannot be cached when it passes a function value).
+
+The steps are compiled with ``inline="always"`` (:data:`hosedrogue.jit.JIT_INLINE`): numba puts
+their code into the loop that calls them instead of compiling each as a function of its own,
+which would optimize and generate the machine code of the whole derivative once more for each
+(docs/develop.md, "Compile time").
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ..jit import JIT_INLINE, JIT_NO_ALLOC
+from .implicit import (SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, SDIRK_TOLERANCE_M_S, after_stage1,
+                       correction_size, stage_point)
+from .layout import OK, STAGE_LIMIT
+
+
+@njit(**JIT_NO_ALLOC)
+def rk4_stage(z, c, k, out):
+    """A classical RK4 stage's trial state ``out = z + c k`` (c = h/2 or h [s], k a slope)."""
+    for i in range(z.shape[0]):
+        out[i] = z[i] + c * k[i]
+
+
+@njit(**JIT_NO_ALLOC)
+def rk4_combine(z, h, k1, k2, k3, k4):
+    """The classical RK4 update of z in place: ``z += h/6 (k1 + 2 k2 + 2 k3 + k4)`` (h [s])."""
+    for i in range(z.shape[0]):
+        z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+def rk4(deriv):
+    """The classical RK4 step of ``deriv``: ``(step, step_given_k1)``.
+
+    Parameters
+    ----------
+    deriv : numba dispatcher
+        ``deriv(t, z, model, hg, guess, dz)`` (module docstring), called here with hg = 0.
+
+    Returns
+    -------
+    step : numba dispatcher
+        ``step(t, z, h, model, work)``: one step of size h [s] from (t, z), in place; ``work``
+        (at least 5 rows of len(z)): the slopes k1..k4 in rows 0-3, the trial state in row 4 (the
+        explicit evaluations' guess, which they do not read, is the state evaluated).
+    step_given_k1 : numba dispatcher
+        ``step_given_k1(t, z, h, model, work)``: the same step when ``work[0]`` holds k1 = dz/dt
+        at (t, z) already (a saved state's evaluation serves both).
+    """
+
+    @njit(**JIT_INLINE)
+    def step_given_k1(t, z, h, model, work):
+        k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
+        rk4_stage(z, 0.5 * h, k1, tmp)
+        deriv(t + 0.5 * h, tmp, model, 0.0, tmp, k2)
+        rk4_stage(z, 0.5 * h, k2, tmp)
+        deriv(t + 0.5 * h, tmp, model, 0.0, tmp, k3)
+        rk4_stage(z, h, k3, tmp)
+        deriv(t + h, tmp, model, 0.0, tmp, k4)
+        rk4_combine(z, h, k1, k2, k3, k4)
+
+    @njit(**JIT_INLINE)
+    def step(t, z, h, model, work):
+        deriv(t, z, model, 0.0, z, work[0])
+        step_given_k1(t, z, h, model, work)
+
+    return step, step_given_k1
+
+
+def sdirk2(deriv):
+    """The SDIRK step of ``deriv`` (:mod:`hosedrogue.model.implicit`), with its substeps.
+
+    Parameters
+    ----------
+    deriv : numba dispatcher
+        ``deriv(t, z, model, hg, guess, dz)`` (module docstring).
+
+    Returns
+    -------
+    numba dispatcher
+        ``step(t, z, h, model, n, iters, frames, pairs, work)``: one step of size h [s] from
+        (t, z), in place, for a hose of n links; ``iters`` the least corrections per stage;
+        ``frames`` the array into which each evaluation writes the link frames (the correction's
+        size reads their yaw cosines); ``pairs`` the second-order pairs of the state
+        (:func:`~hosedrogue.model.implicit.stage_point`); ``work`` (8, len(z)): the stages in rows
+        0-3, the step's start in rows 4-5, the first stage's slope guess in row 7 (the last stage
+        slope of the previous step, or dz/dt at z), which receives the next one. Where a stage's
+        corrections do not converge, the step is redone as 2, 4, 8 and 16 substeps. Returns OK,
+        or STAGE_LIMIT if they did not converge even then (z back at the step's start).
+    """
+
+    @njit(**JIT_INLINE)
+    def stage(t, zbase, model, n, iters, frames, pairs, hg, Kg, K, Y):
+        # corrections until the last moves no stage velocity by more than SDIRK_TOLERANCE_M_S
+        # (at least iters, at most SDIRK_MAX_CORRECTIONS); the stage's slope into K (and Kg)
+        nz = zbase.shape[0]
+        for it in range(max(SDIRK_MAX_CORRECTIONS, iters)):
+            stage_point(zbase, Kg, hg, pairs, Y)
+            deriv(t, Y, model, hg, Kg, K)
+            d = correction_size(n, hg, Kg, K, Y, frames)
+            for i in range(nz):
+                Kg[i] = K[i]
+            if not math.isfinite(d):
+                return False
+            if it + 1 >= iters and d <= SDIRK_TOLERANCE_M_S:
+                return True
+        return False
+
+    @njit(**JIT_INLINE)
+    def one_step(t, z, h, model, n, iters, frames, pairs, work):
+        # one step; False (z then undefined) if a stage's corrections did not converge
+        hg = h * SDIRK2_GAMMA
+        Kg, K1, zhat, Y, K2 = work[0], work[1], work[2], work[3], work[7]
+        nz = z.shape[0]
+        for i in range(nz):
+            Kg[i] = K2[i]
+        if not stage(t + hg, z, model, n, iters, frames, pairs, hg, Kg, K1, Y):
+            return False
+        stage_point(z, K1, hg, pairs, Y)
+        after_stage1(z, h, K1, zhat)
+        for i in range(nz):
+            Kg[i] = K1[i]  # the second stage's guess: the first stage's slope
+        if not stage(t + h, zhat, model, n, iters, frames, pairs, hg, Kg, K2, Y):
+            return False
+        stage_point(zhat, K2, hg, pairs, Y)
+        for i in range(nz):
+            z[i] = Y[i]
+        return True
+
+    @njit(**JIT_INLINE)
+    def step(t, z, h, model, n, iters, frames, pairs, work):
+        z0, g0 = work[4], work[5]
+        nz = z.shape[0]
+        for i in range(nz):
+            z0[i] = z[i]
+            g0[i] = work[7][i]
+        m = 1
+        while m <= SDIRK_MAX_SUBSTEPS:
+            hs = h / m
+            ok = True
+            for j in range(m):
+                if not one_step(t + j * hs, z, hs, model, n, iters, frames, pairs, work):
+                    ok = False
+                    break
+            if ok:
+                return OK
+            for i in range(nz):
+                z[i] = z0[i]
+                work[7][i] = g0[i]
+            m *= 2
+        return STAGE_LIMIT
+
+    return step
