@@ -415,11 +415,12 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     return OK, saved, t0 + nsteps * h
 
 
-@njit(**JIT)
+@njit(**JIT_INLINE)
 def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
     """Row i of the saved series: time, state, applied force, and the outputs of the evaluation
-    of dz/dt at (t, z), which leaves k1 in ``work[0]`` for the step that starts there."""
+    of dz/dt at (t, z), which leaves k1 in ``work[0]`` for the step that starts there. Inlined
+    into its compiled callers (:data:`hosedrogue.jit.JIT_INLINE`)."""
     n = l.shape[0]
     ts[i] = t
     zs[i, :] = z
