@@ -16,13 +16,13 @@ import numpy as np
 from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
-from .elastic import elastic_drogue_yz, elastic_evaluate_ws, make_elastic_workspace_jit
+from .elastic import EWS_LAMDD, elastic_drogue_yz, elastic_evaluate_ws, make_elastic_workspace_jit
 from .implicit import (SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, SDIRK_TOLERANCE_M_S, after_stage1,
                        correction_size, stage_point)
 from .integrate import (actuator_rates, applied_force_at, controller_rates, is_open_loop, rk4_combine, rk4_stage,
                         step_status)
 from .layout import OK, STAGE_LIMIT
-from .chain_dynamics import make_workspace_jit
+from .chain_dynamics import WS_CS, WS_DRAG, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, make_workspace_jit
 from .layout import SCHEME_RK4, SCHEME_SDIRK2  # the integrators' codes (the engagement's EP_SCHEME holds them too)
 
 
@@ -42,8 +42,8 @@ def elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
         y, zz = elastic_drogue_yz(z[: 2 * n], z[4 * n: 5 * n], n, ws)
         m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
     p = elastic_evaluate_ws(t, z[:nx], u, l, M, J, ps, env, gust, ws, ews, hg, guess)
-    qdd = ws[15]
-    lamdd = ews[7]
+    qdd = ws[WS_QDD]
+    lamdd = ews[EWS_LAMDD]
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
         dz[2 * n + i] = qdd[i]
@@ -117,7 +117,7 @@ def sdirk_stage(t, zbase, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, 
         stage_point(zbase, Kg, hg, pairs, Y)
         elastic_loop_deriv(t, Y, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, hg,
                            Kg, K, u)
-        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
+        d = correction_size(n, hg, Kg, K, Y, ws[WS_CS])  # ws[WS_CS]: the frames of Y's evaluation
         for i in range(nz):
             Kg[i] = K[i]
         if not math.isfinite(d):
@@ -202,11 +202,11 @@ def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, 
             zs[saved, :] = z
             us[saved, 0] = u[0]
             us[saved, 1] = u[1]
-            joints[saved] = ws[4]
-            drogue_vel[saved] = ws[5][n]
-            drogue_drag[saved] = ws[13]
-            tow[saved] = ws[14]
-            tension[saved] = ws[17][0]
+            joints[saved] = ws[WS_R]
+            drogue_vel[saved] = ws[WS_V][n]
+            drogue_drag[saved] = ws[WS_DRAG]
+            tow[saved] = ws[WS_TOW]
+            tension[saved] = ws[WS_T0][0]
             saved += 1
         if step == nsteps:
             break

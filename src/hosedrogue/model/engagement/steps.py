@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from ...jit import JIT
-from ..chain_dynamics import make_workspace_jit
+from ..chain_dynamics import WS_CS, make_workspace_jit
 from ..elastic import make_elastic_workspace_jit
 from ..implicit import (
     SDIRK2_GAMMA, SDIRK_MAX_CORRECTIONS, SDIRK_MAX_SUBSTEPS, SDIRK_TOLERANCE_M_S, after_stage1, correction_size,
@@ -86,7 +86,7 @@ def sdirk_stage(t, zbase, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, 
     for it in range(max(SDIRK_MAX_CORRECTIONS, least)):
         stage_point(zbase, Kg, hg, pairs, Y)
         eng_deriv_elastic(t, Y, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, Kg, K)
-        d = correction_size(n, hg, Kg, K, Y, ws[3])  # ws[3]: the frames of Y's evaluation
+        d = correction_size(n, hg, Kg, K, Y, ws[WS_CS])  # ws[WS_CS]: the frames of Y's evaluation
         for i in range(nz):
             Kg[i] = K[i]
         if not math.isfinite(d):
