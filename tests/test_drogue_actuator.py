@@ -71,7 +71,7 @@ def test_force_at_fixed_deflection_is_q_s_cf_delta():
         dz = np.empty_like(z)
         u = np.empty(3 + section.surfaces)
         closed_loop_deriv(0.0, z, *args, *loop, ws, dz, u)
-        return u, dz, ws[13].copy()
+        return u, dz, ws[CD.WS_DRAG].copy()
 
     u, dz, drag = evaluate(delta)
     _, _, drag0 = evaluate(np.zeros(section.surfaces))

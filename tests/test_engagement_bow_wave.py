@@ -15,7 +15,7 @@ from hosedrogue.errors import ParameterError
 from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import chain_loads as CL, layout as LY
 from hosedrogue.model.engagement import evaluation as EV
-from hosedrogue.model.chain_dynamics import make_workspace
+from hosedrogue.model.chain_dynamics import WS_DRAG, WS_R, WS_V, make_workspace
 from hosedrogue.params import PAPER
 from hosedrogue.plotting.bow_wave import plot_bow_wave
 
@@ -43,15 +43,15 @@ def test_kernel_drogue_drag_matches_the_field():
     ws, ws2 = make_workspace(n), make_workspace(n)
     EV.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
                     model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), np.empty(LY.O_SIZE))
-    drogue = ws[4][n]
+    drogue = ws[WS_R][n]
     air = np.array(CL.air_velocity(*drogue, 0.0, model.env, model.gust_values))
 
     def drag(w):
-        vr = ws[5][n] - w
+        vr = ws[WS_V][n] - w
         return -0.5 * model.ps[LY.PS_RHO] * model.ps[LY.PS_DROGUE_CDA] * np.linalg.norm(vr) * vr
 
     expected = drag(air + BowWave(150.0).velocity(drogue, tip))  # the field computed directly
-    np.testing.assert_allclose(ws[13], expected, rtol=1e-12)  # the same formula: round-off only
+    np.testing.assert_allclose(ws[WS_DRAG], expected, rtol=1e-12)  # the same formula: round-off only
     # the bow wave 0.7 m ahead of the tip (~1.8 m/s of 150 m/s) changes the drag by 2 u / V ~ 2.4 %
     assert abs(expected[0] - drag(air)[0]) > 0.01 * abs(drag(air)[0])
 

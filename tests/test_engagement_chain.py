@@ -160,7 +160,7 @@ def test_engagement_at_rest_length_is_the_hose_model(rng, hose, exit_link):
     ws, ws2 = CD.make_workspace(chain.n), CD.make_workspace(chain.n)
     out = np.empty(LY.O_SIZE)
     EV.eng_evaluate(0.0, z, *args, ws, ws2, np.empty(2), out)
-    assert np.max(np.abs(ws[15] - ref.qdd)) < 1e-9 * np.max(np.abs(ref.qdd))
+    assert np.max(np.abs(ws[CD.WS_QDD] - ref.qdd)) < 1e-9 * np.max(np.abs(ref.qdd))
     N = 1
     joints, jvel, scal, tow, tdrog, drag = (np.empty((N, chain.n + 1, 3)), np.empty((N, chain.n + 1, 3)),
                                             np.empty((N, LY.O_SIZE)), np.empty((N, 3)), np.empty(N), np.empty((N, 3)))
@@ -212,11 +212,12 @@ def test_angle_charts_describe_the_same_motion(rng):
         out = np.empty(LY.O_SIZE)
         EV.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env,
                         model.gust_values, ep, chart, no_loop(), ws, ws2, np.empty(2), out)
-        qdd = ws[15]
+        qdd = ws[CD.WS_QDD]
         # joint accelerations from the link accelerations (A = L'' e_0 + sum l (a qdd1 + b qdd2) + c)
-        A = np.cumsum(chain.l[:, None] * (ws[1] * qdd[0::2, None] + ws[2] * qdd[1::2, None]) + ws[6], axis=0)
-        A += out[LY.O_LDD] * ws[0][0]
-        return A, out[LY.O_T0], ws[4].copy()
+        A = np.cumsum(chain.l[:, None] * (ws[CD.WS_A] * qdd[0::2, None] + ws[CD.WS_B] * qdd[1::2, None]) + ws[CD.WS_C],
+                      axis=0)
+        A += out[LY.O_LDD] * ws[CD.WS_E][0]
+        return A, out[LY.O_T0], ws[CD.WS_R].copy()
 
     A0, T0, r0 = accelerations(z, np.zeros(n))
     chart = np.zeros(n)

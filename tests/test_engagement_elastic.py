@@ -47,7 +47,7 @@ def test_engagement_at_rest_length_is_the_elastic_hose_model(rng, lumping, exit_
     ws, ews = CD.make_workspace(n), E.make_elastic_workspace(n)
     out = np.empty(LY.O_SIZE)
     EV.eng_evaluate_elastic(0.0, z, *args, ws, ews, np.empty(2), out, 0.0, np.zeros(n))
-    acc = np.concatenate([ws[15], ews[7]])
+    acc = np.concatenate([ws[CD.WS_QDD], ews[E.EWS_LAMDD]])
     assert np.max(np.abs(acc - ref.qdd)) < 1e-9 * np.max(np.abs(ref.qdd))
     assert abs(out[LY.O_T0] - ref.exit_tension_n) < 1e-9
     N = 1

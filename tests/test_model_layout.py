@@ -252,3 +252,30 @@ def test_codes_are_distinct():
     assert sorted(n for g in groups for n in g) == sorted(CODES)
     for group in groups:
         assert len({getattr(LY, name) for name in group}) == len(group), group
+
+
+def test_the_workspaces_rows_are_named():
+    """The rows of the workspace tuples (:data:`hosedrogue.model.chain_dynamics.WS`,
+    :data:`hosedrogue.model.elastic.EWS`) are what make_workspace and make_elastic_workspace build,
+    and no kernel indexes a workspace by a number typed by hand."""
+    from hosedrogue.model import chain_dynamics as CD, elastic as E
+
+    n = 5
+    ws, ews = CD.make_workspace(n), E.make_elastic_workspace(n)
+    assert len(ws) == CD.WS.end == CD.WS.size and len(ews) == E.EWS.end == E.EWS.size
+    for table, module in ((CD.WS, CD), (E.EWS, E)):
+        for slot in table:
+            assert slot.width == 1 and getattr(module, slot.name) == slot.offset
+    shapes = {CD.WS_E: (n, 3), CD.WS_CS: (n, 4), CD.WS_R: (n + 1, 3), CD.WS_F: (n + 1, 3), CD.WS_TAU: (n, 2),
+              CD.WS_U: (n, 6), CD.WS_DINV: (n, 4), CD.WS_DRAG: (3,), CD.WS_TOW: (3,), CD.WS_QDD: (2 * n,),
+              CD.WS_ENV: (LY.ENV_SIZE,), CD.WS_T0: (1,)}
+    assert all(ws[i].shape == shape for i, shape in shapes.items())
+    assert ews[E.EWS_U].shape == (n, 9) and ews[E.EWS_T].shape == (n,) and ews[E.EWS_ANG_AUG].shape == (n, 2)
+    root = Path(hosedrogue.__file__).parent
+    bare = []
+    for path in sorted(root.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name) \
+                    and node.value.id in ("ws", "ws2", "ews") and isinstance(node.slice, ast.Constant):
+                bare.append(f"{path.relative_to(root)}:{node.lineno}")
+    assert not bare, bare

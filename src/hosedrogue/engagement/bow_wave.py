@@ -14,7 +14,7 @@ import scipy.optimize
 from ..errors import ParameterError
 from ..model import layout as LY
 from ..model.engagement import evaluation as EV
-from ..model.chain_dynamics import make_workspace
+from ..model.chain_dynamics import WS_QDD, WS_R, make_workspace
 from ..params import Params
 from .chain import chain_equilibrium, initial_chain
 from .driver import engagement_parameters, set_bow_wave
@@ -32,7 +32,7 @@ def _accelerations(q, chain, model, ep, z):
     out = np.empty(LY.O_SIZE)
     EV.eng_evaluate(0.0, z, n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.steady_env,
                     model.gust_values, ep, chain.chart, no_loop(), ws, ws2, np.empty(2), out)
-    return ws[15].copy(), ws[4][n].copy()
+    return ws[WS_QDD].copy(), ws[WS_R][n].copy()
 
 
 def _distances(distances_m) -> np.ndarray:

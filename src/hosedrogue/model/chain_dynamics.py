@@ -22,7 +22,7 @@ from numba import njit
 from ..jit import JIT, JIT_NO_ALLOC
 from .chain_loads import env_at, joint_forces, joint_kinematics, kink, link_frames, rotational_terms
 from .frame import frame_loads
-from .layout import BENDING_MOMENT, ENV_SIZE, PS_BENDING, PS_EI, PS_G, PS_M_TOW
+from .layout import BENDING_MOMENT, ENV_SIZE, PS_BENDING, PS_EI, PS_G, PS_M_TOW, Layout
 
 
 @njit(**JIT)
@@ -72,6 +72,33 @@ def mass_matrix(l, S, J, ps, n, a, b, cs, H):
         H[2 * k + 1, 2 * k + 1] += J[k]
 
 
+#: the rows of the workspace tuple (:func:`make_workspace`; ``ws[WS_QDD]``, ...): a tuple of scratch
+#: arrays, indexed by these module-level ints, which numba freezes as the constant indices a tuple
+#: of arrays of different shapes needs
+WS = Layout("ws", [
+    ("WS_E", 1, "e (n, 3): each link's direction, pointing aft"),
+    ("WS_A", 1, "a (n, 3): de/dth1"),
+    ("WS_B", 1, "b (n, 3): de/dth2"),
+    ("WS_CS", 1, "cs (n, 4): [c1, s1, c2, s2] of each link"),
+    ("WS_R", 1, "r (n+1, 3): joint positions [m]"),
+    ("WS_V", 1, "v (n+1, 3): joint velocities [m/s]"),
+    ("WS_C", 1, "c (n, 3): the links' velocity-product accelerations [m/s^2]"),
+    ("WS_F", 1, "F (n+1, 3): the joints' external forces [N]"),
+    ("WS_MOM", 1, "Mom (n, 3): the links' external moments [N m]"),
+    ("WS_TAU", 1, "tau (n, 2): the rotational generalized forces [N m]"),
+    ("WS_U", 1, "U (n, 6): the recursion's 3x2 blocks, row-major"),
+    ("WS_DINV", 1, "Dinv (n, 4): the recursion's inverse 2x2 blocks, row-major"),
+    ("WS_RHS", 1, "(n, 2): the right-hand sides of the joint equations"),
+    ("WS_DRAG", 1, "(3,): the drogue's drag [N]"),
+    ("WS_TOW", 1, "(3,): the tow-point force [N]"),
+    ("WS_QDD", 1, "qdd (2n,): the angles' accelerations [rad/s^2]"),
+    ("WS_ENV", 1, "(ENV_SIZE,): this evaluation's copy of env (with the gust at its time)"),
+    ("WS_T0", 1, "(1,): the exit tension [N] (exit_tension)"),
+])
+(WS_E, WS_A, WS_B, WS_CS, WS_R, WS_V, WS_C, WS_F, WS_MOM, WS_TAU, WS_U, WS_DINV, WS_RHS, WS_DRAG, WS_TOW, WS_QDD,
+ WS_ENV, WS_T0) = WS.offsets()
+
+
 def make_workspace(n):
     """Scratch arrays for one chain of n links, allocated once per run (not per evaluation).
 
@@ -83,28 +110,28 @@ def make_workspace(n):
     Returns
     -------
     tuple of numpy.ndarray
-        The workspace; the comment on each slot names what it holds (frames, joint positions [m]
-        and velocities [m/s], forces [N], accelerations, ...).
+        The workspace, its rows :data:`WS` (frames, joint positions [m] and velocities [m/s],
+        forces [N], accelerations, ...).
     """
     return (
-        np.empty((n, 3)),  # 0 e
-        np.empty((n, 3)),  # 1 a
-        np.empty((n, 3)),  # 2 b
-        np.empty((n, 4)),  # 3 cs
-        np.empty((n + 1, 3)),  # 4 r
-        np.empty((n + 1, 3)),  # 5 v
-        np.empty((n, 3)),  # 6 c
-        np.empty((n + 1, 3)),  # 7 F
-        np.empty((n, 3)),  # 8 Mom
-        np.empty((n, 2)),  # 9 tau
-        np.empty((n, 6)),  # 10 U (3x2, row-major)
-        np.empty((n, 4)),  # 11 Dinv (2x2, row-major)
-        np.empty((n, 2)),  # 12 right-hand sides of the joint equations
-        np.empty(3),  # 13 drogue drag
-        np.empty(3),  # 14 tow force
-        np.empty(2 * n),  # 15 qdd
-        np.empty(ENV_SIZE),  # 16 this evaluation's copy of env (with the gust at its time)
-        np.empty(1),  # 17 exit tension [N] (exit_tension)
+        np.empty((n, 3)),  # WS_E
+        np.empty((n, 3)),  # WS_A
+        np.empty((n, 3)),  # WS_B
+        np.empty((n, 4)),  # WS_CS
+        np.empty((n + 1, 3)),  # WS_R
+        np.empty((n + 1, 3)),  # WS_V
+        np.empty((n, 3)),  # WS_C
+        np.empty((n + 1, 3)),  # WS_F
+        np.empty((n, 3)),  # WS_MOM
+        np.empty((n, 2)),  # WS_TAU
+        np.empty((n, 6)),  # WS_U
+        np.empty((n, 4)),  # WS_DINV
+        np.empty((n, 2)),  # WS_RHS
+        np.empty(3),  # WS_DRAG
+        np.empty(3),  # WS_TOW
+        np.empty(2 * n),  # WS_QDD
+        np.empty(ENV_SIZE),  # WS_ENV
+        np.empty(1),  # WS_T0
     )
 
 
@@ -202,9 +229,10 @@ def chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, to
 @njit(**JIT_NO_ALLOC)
 def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """Kinematics and loads of a state into the workspace: link frames ws[0:4], joint positions
-    ws[4] and velocities ws[5], velocity-product accelerations ws[6], joint forces ws[7], link
-    moments ws[8], rotational generalized forces ws[9], drogue drag ws[13]."""
-    link_frames(q, l.shape[0], ws[0], ws[1], ws[2], ws[3])
+    ws[WS_R] and velocities ws[WS_V], velocity-product accelerations ws[WS_C], joint forces
+    ws[WS_F], link moments ws[WS_MOM], rotational generalized forces ws[WS_TAU], drogue drag
+    ws[WS_DRAG]."""
+    link_frames(q, l.shape[0], ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS])
     loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws)
 
 
@@ -212,17 +240,18 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
 def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """:func:`loads` when the link frames ws[0:4] already hold those of q."""
     n = l.shape[0]
-    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    e, a, b, cs, r, v, c, F, Mom, tau = (ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C],
+                                         ws[WS_F], ws[WS_MOM], ws[WS_TAU])
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
-    joint_forces(t, u, l, M, ps, env_at(t, env, gust, ws[16]), gust, n, e, r, v, F, Mom, ws[13])
-    frame_loads(ps[PS_G], ps[PS_M_TOW], l, M, J, n, e, r, v, ws[16], F, Mom)
+    joint_forces(t, u, l, M, ps, env_at(t, env, gust, ws[WS_ENV]), gust, n, e, r, v, F, Mom, ws[WS_DRAG])
+    frame_loads(ps[PS_G], ps[PS_M_TOW], l, M, J, n, e, r, v, ws[WS_ENV], F, Mom)
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 
 @njit(**JIT_NO_ALLOC)
 def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
-    """Accelerations (ws[15]) and outputs in the workspace: joint positions ws[4], velocities
-    ws[5], drogue drag ws[13], tow-point force ws[14]. O(n)."""
+    """Accelerations (ws[WS_QDD]) and outputs in the workspace: joint positions ws[WS_R], velocities
+    ws[WS_V], drogue drag ws[WS_DRAG], tow-point force ws[WS_TOW]. O(n)."""
     n = l.shape[0]
     loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
     forward_dynamics_ws(l, M, J, ps, ws)
@@ -230,13 +259,14 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
 
 @njit(**JIT_NO_ALLOC)
 def forward_dynamics_ws(l, M, J, ps, ws):
-    """qdd (ws[15]), tow-point force (ws[14]) and exit tension (ws[17]) from the loads in the workspace."""
+    """qdd (ws[WS_QDD]), tow-point force (ws[WS_TOW]) and exit tension (ws[WS_T0]) from the loads
+    in the workspace."""
     n = l.shape[0]
-    chain_forward_dynamics(l, M, J, n, ws[1], ws[2], ws[3], ws[6], ws[7], ws[9],
-                           ws[10], ws[11], ws[12], ws[15], ws[14])
-    ws[17][0] = exit_tension(l, ps, ws[0], ws[7], ws[14], n)
+    chain_forward_dynamics(l, M, J, n, ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_C], ws[WS_F], ws[WS_TAU],
+                           ws[WS_U], ws[WS_DINV], ws[WS_RHS], ws[WS_QDD], ws[WS_TOW])
+    ws[WS_T0][0] = exit_tension(l, ps, ws[WS_E], ws[WS_F], ws[WS_TOW], n)
     # the mass lumped at the (fixed) tow point adds only its weight to the tow-point force
-    ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
+    ws[WS_TOW][2] += ps[PS_M_TOW] * ps[PS_G]
 
 
 @njit(**JIT_NO_ALLOC)
@@ -262,7 +292,7 @@ def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
     """State derivative dx (4n) of x = [q, qd], using the workspace ws (no allocation)."""
     n = l.shape[0]
     evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws)
-    qdd = ws[15]
+    qdd = ws[WS_QDD]
     for i in range(2 * n):
         dx[i] = x[2 * n + i]
         dx[2 * n + i] = qdd[i]
@@ -284,9 +314,9 @@ def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
     loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
     G = np.empty((n + 1, 3))
     Q = np.empty(2 * n)
-    generalized_forces(l, M, n, ws[1], ws[2], ws[6], ws[7], ws[9], G, Q)
+    generalized_forces(l, M, n, ws[WS_A], ws[WS_B], ws[WS_C], ws[WS_F], ws[WS_TAU], G, Q)
     H = np.empty((2 * n, 2 * n))
-    mass_matrix(l, S, J, ps, n, ws[1], ws[2], ws[3], H)
+    mass_matrix(l, S, J, ps, n, ws[WS_A], ws[WS_B], ws[WS_CS], H)
     return np.linalg.solve(H, Q)
 
 
@@ -297,7 +327,7 @@ def static_residual(q, l, M, J, ps, env, gust, t, Q):
     ws = make_workspace_jit(n)
     loads(t, q, np.zeros(2 * n), np.zeros(2), l, M, J, ps, env, gust, ws)
     G = np.empty((n + 1, 3))
-    generalized_forces(l, M, n, ws[1], ws[2], ws[6], ws[7], ws[9], G, Q)
+    generalized_forces(l, M, n, ws[WS_A], ws[WS_B], ws[WS_C], ws[WS_F], ws[WS_TAU], G, Q)
 
 
 @njit(**JIT)
@@ -308,7 +338,7 @@ def energy(x, l, M, J, ps):
     ws = make_workspace_jit(n)
     q = x[: 2 * n]
     qd = x[2 * n:]
-    e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
+    e, a, b, cs, r, v, c = ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C]
     link_frames(q, n, e, a, b, cs)
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
     T, Ug, Ub = chain_energy(n, l, M, J, ps, e, cs, r, v, qd)
@@ -360,8 +390,8 @@ def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, dr
     ws = make_workspace_jit(n)
     for i in range(ts.shape[0]):
         evaluate_ws(ts[i], xs[i], us[i], l, M, S, J, ps, env, gust, ws)
-        joints[i] = ws[4]
-        drogue_vel[i] = ws[5][n]
-        drogue_drag[i] = ws[13]
-        tow[i] = ws[14]
-        tension[i] = ws[17][0]
+        joints[i] = ws[WS_R]
+        drogue_vel[i] = ws[WS_V][n]
+        drogue_drag[i] = ws[WS_DRAG]
+        tow[i] = ws[WS_TOW]
+        tension[i] = ws[WS_T0][0]

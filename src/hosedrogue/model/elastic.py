@@ -19,10 +19,10 @@ diagonal term to each link's length block: an implicit integrator's stiffness ``
 (h g)^2 EA / l`` (docs/model.md §11, "Time integration"), which makes the axial spring-damper
 implicit inside the O(n) solve at no extra cost.
 
-Elastic workspace ``ews`` (:func:`make_elastic_workspace`): 0 U (n, 9), 1 D^-1 (n, 6), 2 joint
-right-hand sides (n, 3), 3 tensions T [N] (n,), 4 strain rates [1/s] (n,), 5 the length blocks'
-augmentation (n,), 6 generalized forces on the lengths [N] (n,), 7 length accelerations
-[m/s^2] (n,).
+Elastic workspace ``ews`` (:func:`make_elastic_workspace`), its rows :data:`EWS`: U (n, 9), D^-1
+(n, 6), joint right-hand sides (n, 3), tensions T [N] (n,), strain rates [1/s] (n,), the length
+blocks' augmentation (n,), generalized forces on the lengths [N] (n,), length accelerations
+[m/s^2] (n,), the angles' augmentation (n, 2).
 """
 
 from __future__ import annotations
@@ -34,8 +34,11 @@ from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
 from .frame import frame_loads
-from .layout import BENDING_MOMENT, PS_BENDING, PS_CA, PS_EA, PS_EI, PS_G, PS_M_TOW
-from .chain_dynamics import chain_energy, make_workspace_jit
+from .layout import BENDING_MOMENT, PS_BENDING, PS_CA, PS_EA, PS_EI, PS_G, PS_M_TOW, Layout
+from .chain_dynamics import (
+    WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_ENV, WS_F, WS_MOM, WS_QDD, WS_R, WS_T0, WS_TAU, WS_TOW, WS_V,
+    chain_energy, make_workspace_jit,
+)
 from .chain_loads import (
     drogue_from_frames, env_at, joint_forces_stretched, joint_kinematics, kink, link_frames, rotational_terms,
 )
@@ -56,8 +59,23 @@ def is_elastic(ps) -> bool:
     return bool(math.isfinite(ps[PS_EA]))
 
 
+#: the rows of the elastic workspace tuple (:func:`make_elastic_workspace`; ``ews[EWS_T]``, ...)
+EWS = Layout("ews", [
+    ("EWS_U", 1, "U (n, 9): the recursion's 3x3 blocks"),
+    ("EWS_DINV", 1, "D^-1 (n, 6): the recursion's inverse blocks"),
+    ("EWS_RHS", 1, "(n, 3): the joints' right-hand sides"),
+    ("EWS_T", 1, "T (n,): the links' tensions [N]"),
+    ("EWS_EPSD", 1, "(n,): the strain rates [1/s]"),
+    ("EWS_AUG", 1, "aug (n,): the length blocks' augmentation [kg]"),
+    ("EWS_TAUL", 1, "(n,): the generalized forces on the lengths [N]"),
+    ("EWS_LAMDD", 1, "(n,): the length accelerations [m/s^2]"),
+    ("EWS_ANG_AUG", 1, "(n, 2): the angles' augmentation [kg m^2]"),
+])
+EWS_U, EWS_DINV, EWS_RHS, EWS_T, EWS_EPSD, EWS_AUG, EWS_TAUL, EWS_LAMDD, EWS_ANG_AUG = EWS.offsets()
+
+
 def make_elastic_workspace(n):
-    """Scratch arrays of the elastic chain of n links (see the module docstring for the slots).
+    """Scratch arrays of the elastic chain of n links (its rows: :data:`EWS`).
 
     Parameters
     ----------
@@ -314,24 +332,26 @@ def elastic_loads(t, q, qd, lam, lamd, u, l, M, J, ps, env, gust, ws):
     :func:`~hosedrogue.model.chain_dynamics.loads`): frames, joint positions and velocities with the
     actual lengths and their rates, forces, moments, the angles' generalized forces."""
     n = l.shape[0]
-    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    e, a, b, cs, r, v, c, F, Mom, tau = (ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C],
+                                         ws[WS_F], ws[WS_MOM], ws[WS_TAU])
     link_frames(q, n, e, a, b, cs)
     joint_kinematics(q, qd, lam, n, e, a, b, cs, r, v, c)
     add_axial_rates(n, e, a, b, qd, lamd, v, c)
-    joint_forces_stretched(t, u, l, lam, M, ps, env_at(t, env, gust, ws[16]), gust, n, e, r, v, F, Mom, ws[13])
+    joint_forces_stretched(t, u, l, lam, M, ps, env_at(t, env, gust, ws[WS_ENV]), gust, n, e, r, v, F, Mom, ws[WS_DRAG])
     # the tanker's motion (nothing in level flight); the links' rates from their actual lengths
-    frame_loads(ps[PS_G], ps[PS_M_TOW], lam, M, J, n, e, r, v, ws[16], F, Mom)
+    frame_loads(ps[PS_G], ps[PS_M_TOW], lam, M, J, n, e, r, v, ws[WS_ENV], F, Mom)
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 
 @njit(**JIT_NO_ALLOC)
 def elastic_evaluate_ws(t, x, u, l, M, J, ps, env, gust, ws, ews, hg, guess):
     """Accelerations of the fixed-length elastic chain at x = [q, qd, lam, lamd] (6n): qdd into
-    ws[15], the length accelerations into ews[7]; the outputs of
-    :func:`~hosedrogue.model.chain_dynamics.evaluate_ws` (joints ws[4], velocities ws[5], drogue drag
-    ws[13], tow-point force ws[14], exit tension ws[17]) and the tensions ews[3]. ``hg`` and
-    ``guess`` (the stage's slope guess, the rates of the state's 6n entries first): an implicit
-    stage's (:func:`stiff_terms`, :func:`angle_stiff_terms`; hg = 0 explicit, guess unused).
+    ws[WS_QDD], the length accelerations into ews[EWS_LAMDD]; the outputs of
+    :func:`~hosedrogue.model.chain_dynamics.evaluate_ws` (joints ws[WS_R], velocities ws[WS_V],
+    drogue drag ws[WS_DRAG], tow-point force ws[WS_TOW], exit tension ws[WS_T0]) and the tensions
+    ews[EWS_T]. ``hg`` and ``guess`` (the stage's slope guess, the rates of the state's 6n entries
+    first): an implicit stage's (:func:`stiff_terms`, :func:`angle_stiff_terms`; hg = 0 explicit,
+    guess unused).
     Returns the axial dissipation [W]."""
     n = l.shape[0]
     q = x[: 2 * n]
@@ -339,14 +359,15 @@ def elastic_evaluate_ws(t, x, u, l, M, J, ps, env, gust, ws, ews, hg, guess):
     lam = x[4 * n: 5 * n]
     lamd = x[5 * n: 6 * n]
     elastic_loads(t, q, qd, lam, lamd, u, l, M, J, ps, env, gust, ws)
-    T, epsd, aug, taul = ews[3], ews[4], ews[5], ews[6]
+    T, epsd, aug, taul = ews[EWS_T], ews[EWS_EPSD], ews[EWS_AUG], ews[EWS_TAUL]
     p_axial = axial_tensions(n, l, lam, lamd, 0.0, ps, T, epsd)
     stiff_terms(n, l, hg, ps, guess[5 * n: 6 * n], T, aug, taul)
-    angle_stiff_terms(n, l, lam, hg, ps, ws[3], T, guess[2 * n: 4 * n], ws[9], ews[8])
-    elastic_forward_dynamics(lam, M, J, n, ws[1], ws[2], ws[0], ws[3], ws[6], ws[7], ws[9], taul, aug,
-                             ews[0], ews[1], ews[2], ws[15], ews[7], ws[14], ews[8])
-    ws[17][0] = elastic_exit_tension(n, l, lam, ps, ws[0], epsd)
-    ws[14][2] += ps[PS_M_TOW] * ps[PS_G]
+    angle_stiff_terms(n, l, lam, hg, ps, ws[WS_CS], T, guess[2 * n: 4 * n], ws[WS_TAU], ews[EWS_ANG_AUG])
+    elastic_forward_dynamics(lam, M, J, n, ws[WS_A], ws[WS_B], ws[WS_E], ws[WS_CS], ws[WS_C], ws[WS_F], ws[WS_TAU],
+                             taul, aug, ews[EWS_U], ews[EWS_DINV], ews[EWS_RHS], ws[WS_QDD], ews[EWS_LAMDD],
+                             ws[WS_TOW], ews[EWS_ANG_AUG])
+    ws[WS_T0][0] = elastic_exit_tension(n, l, lam, ps, ws[WS_E], epsd)
+    ws[WS_TOW][2] += ps[PS_M_TOW] * ps[PS_G]
     return p_axial
 
 
@@ -360,7 +381,7 @@ def elastic_energy(x, l, M, J, ps):
     qd = x[2 * n: 4 * n]
     lam = x[4 * n: 5 * n]
     lamd = x[5 * n: 6 * n]
-    e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
+    e, a, b, cs, r, v, c = ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C]
     link_frames(q, n, e, a, b, cs)
     joint_kinematics(q, qd, lam, n, e, a, b, cs, r, v, c)
     add_axial_rates(n, e, a, b, qd, lamd, v, c)
@@ -384,17 +405,17 @@ def elastic_static_residual(y, l, M, J, ps, env, gust, t, Q):
     x[4 * n: 5 * n] = y[2 * n: 3 * n]
     elastic_evaluate_ws(t, x, np.zeros(2), l, M, J, ps, env, gust, ws, ews, 0.0, x)
     # at rest the joint equations are H a = Q: the residual is Q itself, i.e. H a
-    F, a, b, e = ws[7], ws[1], ws[2], ws[0]
+    F, a, b, e = ws[WS_F], ws[WS_A], ws[WS_B], ws[WS_E]
     lam = y[2 * n: 3 * n]
-    T = ews[3]
+    T = ews[EWS_T]
     Gx = Gy = Gz = 0.0
     for k in range(n - 1, -1, -1):
         Gx += F[k + 1, 0]
         Gy += F[k + 1, 1]
         Gz += F[k + 1, 2]
         lk = lam[k]
-        Q[2 * k] = lk * (a[k, 0] * Gx + a[k, 1] * Gy + a[k, 2] * Gz) + ws[9][k, 0]
-        Q[2 * k + 1] = lk * (b[k, 0] * Gx + b[k, 1] * Gy + b[k, 2] * Gz) + ws[9][k, 1]
+        Q[2 * k] = lk * (a[k, 0] * Gx + a[k, 1] * Gy + a[k, 2] * Gz) + ws[WS_TAU][k, 0]
+        Q[2 * k + 1] = lk * (b[k, 0] * Gx + b[k, 1] * Gy + b[k, 2] * Gz) + ws[WS_TAU][k, 1]
         Q[2 * n + k] = l[k] * (e[k, 0] * Gx + e[k, 1] * Gy + e[k, 2] * Gz - T[k])
 
 
@@ -407,16 +428,16 @@ def elastic_outputs_series(ts, xs, us, l, M, J, ps, env, gust, joints, drogue_ve
     ews = make_elastic_workspace_jit(n)
     for i in range(ts.shape[0]):
         elastic_evaluate_ws(ts[i], xs[i], us[i], l, M, J, ps, env, gust, ws, ews, 0.0, xs[i])
-        joints[i] = ws[4]
-        drogue_vel[i] = ws[5][n]
-        drogue_drag[i] = ws[13]
-        tow[i] = ws[14]
-        tension[i] = ws[17][0]
+        joints[i] = ws[WS_R]
+        drogue_vel[i] = ws[WS_V][n]
+        drogue_drag[i] = ws[WS_DRAG]
+        tow[i] = ws[WS_TOW]
+        tension[i] = ws[WS_T0][0]
 
 
 @njit(**JIT_NO_ALLOC)
 def elastic_drogue_yz(q, lam, n, ws):
     """Drogue lateral and vertical position [m] of the elastic chain with angles q and actual
     lengths lam (the link frames go to ws[0:4])."""
-    link_frames(q, n, ws[0], ws[1], ws[2], ws[3])
-    return drogue_from_frames(lam, ws[0])
+    link_frames(q, n, ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS])
+    return drogue_from_frames(lam, ws[WS_E])

@@ -13,10 +13,10 @@ import numpy as np
 from numba import njit
 
 from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
-from .elastic import elastic_drogue_yz, elastic_evaluate_ws, make_elastic_workspace_jit
+from .elastic import EWS_LAMDD, elastic_drogue_yz, elastic_evaluate_ws, make_elastic_workspace_jit
 from .integrate import actuator_rates, applied_force_at, controller_rates, is_open_loop, step_status
 from .layout import OK, STAGE_LIMIT
-from .chain_dynamics import make_workspace_jit
+from .chain_dynamics import WS_CS, WS_DRAG, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, make_workspace_jit
 from .layout import SCHEME_RK4, SCHEME_SDIRK2  # the integrators' codes (the engagement's EP_SCHEME holds them too)
 from .steppers import rk4, sdirk2
 
@@ -37,8 +37,8 @@ def elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
         y, zz = elastic_drogue_yz(z[: 2 * n], z[4 * n: 5 * n], n, ws)
         m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
     p = elastic_evaluate_ws(t, z[:nx], u, l, M, J, ps, env, gust, ws, ews, hg, guess)
-    qdd = ws[15]
-    lamdd = ews[7]
+    qdd = ws[WS_QDD]
+    lamdd = ews[EWS_LAMDD]
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
         dz[2 * n + i] = qdd[i]
@@ -77,7 +77,7 @@ def elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc,
     if scheme == SCHEME_RK4:
         _rk4_step(t, z, h, model, work)
         return OK
-    return _sdirk2_step(t, z, h, model, l.shape[0], iters, ws[3], pairs, work)  # ws[3]: the frames
+    return _sdirk2_step(t, z, h, model, l.shape[0], iters, ws[WS_CS], pairs, work)  # ws[WS_CS]: the frames
 
 
 def hose_pairs(n):
@@ -129,11 +129,11 @@ def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, 
             zs[saved, :] = z
             us[saved, 0] = u[0]
             us[saved, 1] = u[1]
-            joints[saved] = ws[4]
-            drogue_vel[saved] = ws[5][n]
-            drogue_drag[saved] = ws[13]
-            tow[saved] = ws[14]
-            tension[saved] = ws[17][0]
+            joints[saved] = ws[WS_R]
+            drogue_vel[saved] = ws[WS_V][n]
+            drogue_drag[saved] = ws[WS_DRAG]
+            tow[saved] = ws[WS_TOW]
+            tension[saved] = ws[WS_T0][0]
             saved += 1
         if step == nsteps:
             break

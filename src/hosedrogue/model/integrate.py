@@ -25,7 +25,10 @@ from numba import njit
 from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 
 from .layout import NONFINITE, OK, PS_RHO, YAW_LIMIT
-from .chain_dynamics import forward_dynamics_ws, loads_given_frames, make_workspace_jit
+from .chain_dynamics import (
+    WS_A, WS_B, WS_CS, WS_DRAG, WS_E, WS_ENV, WS_F, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, forward_dynamics_ws,
+    loads_given_frames, make_workspace_jit,
+)
 from .chain_loads import drogue_from_frames, env_at, link_frames
 from .steppers import rk4
 from . import drogue_actuator as DA
@@ -92,8 +95,8 @@ def drogue_yz(z, l, ws):
     """Drogue lateral and vertical position [m] of the hose state at the start of z, through the
     link frames in the workspace ws (overwritten) and :func:`chain_loads.drogue_from_frames`."""
     n = l.shape[0]
-    link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
-    return drogue_from_frames(l, ws[0])
+    link_frames(z[: 2 * n], n, ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS])
+    return drogue_from_frames(l, ws[WS_E])
 
 
 @njit(**LOOP_JIT)
@@ -132,7 +135,7 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
     n = l.shape[0]
     nx = 4 * n
     # link frames first: the controller measures the drogue from them, the loads reuse them
-    link_frames(z[: 2 * n], n, ws[0], ws[1], ws[2], ws[3])
+    link_frames(z[: 2 * n], n, ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS])
     if DA.is_actuated(act):
         actuated_loop_deriv(t, z, nx, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, dz, u)
         return
@@ -142,11 +145,11 @@ def closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, ac
         u[1] = 0.0
         m0 = m1 = c0 = c1 = 0.0
     else:
-        y, zz = drogue_from_frames(l, ws[0])
+        y, zz = drogue_from_frames(l, ws[WS_E])
         m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
     loads_given_frames(t, z[: 2 * n], z[2 * n: nx], u, l, M, J, ps, env, gust, ws)
     forward_dynamics_ws(l, M, J, ps, ws)
-    qdd = ws[15]
+    qdd = ws[WS_QDD]
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
         dz[2 * n + i] = qdd[i]
@@ -164,15 +167,15 @@ def actuated_loop_deriv(t, z, nx, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
     n = l.shape[0]
     nc = Ac.shape[0]
     na = nx + nc
-    px, py, pz, vx, vy, vz = DA.drogue_motion_from_frames(l, ws[0], ws[1], ws[2], z[2 * n: nx])
+    px, py, pz, vx, vy, vz = DA.drogue_motion_from_frames(l, ws[WS_E], ws[WS_A], ws[WS_B], z[2 * n: nx])
     m0, m1 = control_law(t, z, nx, py, pz, Cc, Dc, y_ref, act, noise, noise_dt, u)
     q, e0, e1, ddx, ddy, ddz = DA.drogue_actuator_law(True, m0, m1, u[0], u[1], z, nx, na, px, py, pz, vx, vy, vz,
-                                                      ps[PS_RHO], t, env_at(t, env, gust, ws[16]), gust, Cc, Dc, act,
-                                                      u, dz, na)
+                                                      ps[PS_RHO], t, env_at(t, env, gust, ws[WS_ENV]), gust, Cc, Dc,
+                                                      act, u, dz, na)
     loads_given_frames(t, z[: 2 * n], z[2 * n: nx], u, l, M, J, ps, env, gust, ws)
-    DA.add_drogue_load(ws[7], ws[13], n, ddx, ddy, ddz)
+    DA.add_drogue_load(ws[WS_F], ws[WS_DRAG], n, ddx, ddy, ddz)
     forward_dynamics_ws(l, M, J, ps, ws)
-    qdd = ws[15]
+    qdd = ws[WS_QDD]
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
         dz[2 * n + i] = qdd[i]
@@ -426,11 +429,11 @@ def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, n
     zs[i, :] = z
     closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
                       ws, work[0], u)
-    joints[i] = ws[4]
-    drogue_vel[i] = ws[5][n]
-    drogue_drag[i] = ws[13]
-    tow[i] = ws[14]
-    tension[i] = ws[17][0]
+    joints[i] = ws[WS_R]
+    drogue_vel[i] = ws[WS_V][n]
+    drogue_drag[i] = ws[WS_DRAG]
+    tow[i] = ws[WS_TOW]
+    tension[i] = ws[WS_T0][0]
     # u is the force applied at (t, z): closed_loop_deriv measured the drogue and set it
     us[i, 0] = u[0]
     us[i, 1] = u[1]

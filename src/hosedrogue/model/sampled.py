@@ -31,7 +31,7 @@ from ..jit import JIT, JIT_NO_ALLOC
 from . import drogue_actuator as DA
 from .integrate import closed_loop_deriv, loop_model_jit, rk4_step, rk4_step_given_k1, save_state, step_status
 from .layout import OK
-from .chain_dynamics import make_workspace_jit
+from .chain_dynamics import WS_R, WS_T0, WS_V, make_workspace_jit
 
 from .layout import (  # the raw measurement of a state (one ring row, R_*), the measurement buffer (M_*)
     # and the counters of a stepped run (C_*), declared and documented there
@@ -118,7 +118,7 @@ def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, n
     NaN); no probe (NaN), reel speed 0, not coupled."""
     n = l.shape[0]
     closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work[4], u)
-    r, v = ws[4], ws[5]
+    r, v = ws[WS_R], ws[WS_V]
     length = 0.0
     for k in range(n):
         length += l[k]
@@ -129,7 +129,7 @@ def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, n
         raw[R_PROBE_V + i] = math.nan
     raw[R_L] = length
     raw[R_REEL_V] = 0.0
-    raw[R_T0] = ws[17][0]
+    raw[R_T0] = ws[WS_T0][0]
     raw[R_COUPLED] = 0.0
     raw[R_Q] = u[2] if u.shape[0] > 2 else math.nan
 

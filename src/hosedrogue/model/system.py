@@ -291,13 +291,13 @@ class HoseModel:
             ews = E.make_elastic_workspace(self.n)
             E.elastic_evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.J, self.ps,
                                   env, self.gust_values, ws, ews, 0.0, x)
-            qdd = np.concatenate([ws[15], ews[7]])
+            qdd = np.concatenate([ws[CD.WS_QDD], ews[E.EWS_LAMDD]])
         else:
             CD.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
                           self.ps, env, self.gust_values, ws)
-            qdd = ws[15]
-        r, v, dd, tf = ws[4], ws[5], ws[13], ws[14]
-        return StateOutputs(qdd, r, v, dd, tf, float(ws[17][0]))
+            qdd = ws[CD.WS_QDD]
+        r, v, dd, tf = ws[CD.WS_R], ws[CD.WS_V], ws[CD.WS_DRAG], ws[CD.WS_TOW]
+        return StateOutputs(qdd, r, v, dd, tf, float(ws[CD.WS_T0][0]))
 
     def accelerations(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
         """Generalized accelerations [rad/s^2] (2n,)."""
@@ -349,8 +349,8 @@ class HoseModel:
         link lengths."""
         q = np.ascontiguousarray(q, dtype=np.float64)
         ws = CD.make_workspace(self.n)
-        CL.link_frames(q, self.n, ws[0], ws[1], ws[2], ws[3])
+        CL.link_frames(q, self.n, ws[CD.WS_E], ws[CD.WS_A], ws[CD.WS_B], ws[CD.WS_CS])
         r = np.empty((self.n + 1, 3))
         lengths = self.l if lengths is None else np.ascontiguousarray(lengths, dtype=np.float64)
-        CL.chain_positions(lengths, ws[0], r)
+        CL.chain_positions(lengths, ws[CD.WS_E], r)
         return r

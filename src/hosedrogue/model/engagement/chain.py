@@ -9,6 +9,7 @@ import numpy as np
 from numba import njit
 
 from ...jit import JIT
+from ..chain_dynamics import WS_A, WS_B, WS_C, WS_CS, WS_E, WS_R, WS_V
 from ..chain_loads import joint_kinematics, link_frames
 from ..elastic import add_axial_rates
 from ..layout import (
@@ -92,15 +93,15 @@ def patch_kinematics(Ld, n, e, a, b, qd, v, c):
 
 @njit(**JIT)
 def chain_kinematics(z, n, l, M, J, ep, chart, ws):
-    """Set the exit link's length from L and write the frames (ws[0:4]), joint positions (ws[4]),
-    velocities (ws[5]) and velocity-product accelerations (ws[6]) of state z, the reel's L' terms
+    """Set the exit link's length from L and write the frames (ws[0:4]), joint positions (ws[WS_R]),
+    velocities (ws[WS_V]) and velocity-product accelerations (ws[WS_C]) of state z, the reel's L' terms
     included (the accelerations in the standard chart: no ``rotate_rows``). Elastic links: with
     their actual lengths and stretching rates, the exit's hose material at ``L' lam_0 / l_0``."""
     nh = tail_start(n, ep)
     set_variable_link(z[nh + Z_L], n, l, M, J, ep)
     q = z[: 2 * n]
     qd = z[2 * n: 4 * n]
-    e, a, b, cs, r, v, c = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
+    e, a, b, cs, r, v, c = ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C]
     link_frames(q, n, e, a, b, cs)
     apply_charts(n, chart, e, a, b)
     if ep[EP_ELASTIC] != 0.0:
@@ -127,7 +128,7 @@ def exit_material_velocity(Ld, lam, l, e, v):
 def drogue_motion(z, n, l, M, J, ep, chart, ws):
     """Drogue (joint n) y, z [m] and y', z' [m/s] of state z (kinematics only, into ws)."""
     chain_kinematics(z, n, l, M, J, ep, chart, ws)
-    r, v = ws[4], ws[5]
+    r, v = ws[WS_R], ws[WS_V]
     return r[n, 1], r[n, 2], v[n, 1], v[n, 2]
 
 

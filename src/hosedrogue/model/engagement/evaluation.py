@@ -14,10 +14,14 @@ from numba import njit
 
 from ...jit import JIT
 from .. import drogue_actuator as DA
-from ..chain_dynamics import chain_forward_dynamics, exit_tension
+from ..chain_dynamics import (
+    WS_A, WS_B, WS_C, WS_CS, WS_DINV, WS_DRAG, WS_E, WS_ENV, WS_F, WS_MOM, WS_QDD, WS_R, WS_RHS, WS_TAU, WS_TOW,
+    WS_U, WS_V, chain_forward_dynamics, exit_tension,
+)
 from ..chain_loads import joint_forces, joint_forces_stretched, joint_kinematics, link_frames, rotational_terms
 from ..elastic import (
-    add_axial_rates, angle_stiff_terms, axial_tensions, elastic_exit_tension, elastic_forward_dynamics, stiff_terms,
+    EWS_ANG_AUG, EWS_AUG, EWS_DINV, EWS_EPSD, EWS_LAMDD, EWS_RHS, EWS_T, EWS_TAUL, EWS_U, add_axial_rates,
+    angle_stiff_terms, axial_tensions, elastic_exit_tension, elastic_forward_dynamics, stiff_terms,
 )
 from ..frame import frame_loads
 from ..integrate import actuator_rates, applied_force_at, control_law, controller_rates
@@ -35,7 +39,7 @@ from .reel import commanded_reel, motor_torque, reel_outputs, schedule_accelerat
 
 @njit(**JIT)
 def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out):
-    """Accelerations (ws[15] holds qdd, out[O_LDD] holds L'') and the outputs of state z; chart
+    """Accelerations (ws[WS_QDD] holds qdd, out[O_LDD] holds L'') and the outputs of state z; chart
     (n,) selects each link's angle chart (:func:`~.chain.apply_charts`); ``loop`` the drogue controller's
     :class:`~hosedrogue.model.integrate.LoopArrays` (used if ``ep[EP_CTRL]``; its force acts at
     the drogue as in the fixed-length model until the probe couples, then it is off)."""
@@ -44,7 +48,8 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     set_variable_link(L, n, l, M, J, ep)
     q = z[: 2 * n]
     qd = z[2 * n: 4 * n]
-    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    e, a, b, cs, r, v, c, F, Mom, tau = (ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C],
+                                         ws[WS_F], ws[WS_MOM], ws[WS_TAU])
     link_frames(q, n, e, a, b, cs)
     apply_charts(n, chart, e, a, b)
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
@@ -52,15 +57,15 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     patch_kinematics(Ld, n, e, a, b, qd, v, c)
     # the probe, and its forebody's bow wave in the air the drag (and a steering drogue) sees
     px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
-    air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[16])
-    u0 = ws2[13][:2]  # the control force at the drogue (ws2[13] is free: the unit-L'' solve has no drag)
+    air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[WS_ENV])
+    u0 = ws2[WS_DRAG][:2]  # the control force at the drogue (ws2[WS_DRAG] is free: the unit-L'' solve has no drag)
     u0[0] = 0.0
     u0[1] = 0.0
     m0 = m1 = c0 = c1 = 0.0
     actuated = ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act)
     ddx = ddy = ddz = 0.0
     if actuated:
-        ddx, ddy, ddz = drogue_surfaces(t, z, n, r, v, ps, ws[16], gust, ep, loop, u0, out)
+        ddx, ddy, ddz = drogue_surfaces(t, z, n, r, v, ps, ws[WS_ENV], gust, ep, loop, u0, out)
         m0, m1, c0, c1 = out[O_MY], out[O_MZ], out[O_CY], out[O_CZ]
     elif ep[EP_CTRL] != 0.0 and ep[EP_COUPLED] == 0.0:
         nx = 4 * n + Z_TAIL + int(ep[EP_NPIL])
@@ -72,12 +77,13 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     out[O_MZ] = m1
     out[O_CY] = c0
     out[O_CZ] = c1
-    joint_forces(t, u0, l, M, ps, ws[16], gust, n, e, r, v, F, Mom, ws[13])
+    joint_forces(t, u0, l, M, ps, ws[WS_ENV], gust, n, e, r, v, F, Mom, ws[WS_DRAG])
     if actuated:
-        DA.add_drogue_load(F, ws[13], n, ddx, ddy, ddz)
+        DA.add_drogue_load(F, ws[WS_DRAG], n, ddx, ddy, ddz)
     # the tanker's motion (nothing in level flight); the exit's share of the hose mass, carried by
     # the tanker, feels its acceleration too (its weight is added with the tow force)
-    frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, l, M, J, n, e, r, v, ws[16], F, Mom)
+    frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, l, M, J, n, e, r, v, ws[WS_ENV], F,
+                Mom)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
         fx, fy, fz = probe_force(ep, n, r, v, px, py, pz, vpx, vpy, vpz)
@@ -86,10 +92,10 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
         F[n, 2] += fz
     rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
     rotational_terms(qd, J, n, cs, Mom, tau)
-    qdd = ws[15]
-    chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, ws[10], ws[11], ws[12], qdd, ws[14])
+    qdd = ws[WS_QDD]
+    chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, ws[WS_U], ws[WS_DINV], ws[WS_RHS], qdd, ws[WS_TOW])
     # response to a unit L'': d'Alembert force -M_k e_0 on joints 1..n, nothing else
-    F2, c2, tau2, qdde = ws2[7], ws2[6], ws2[9], ws2[15]
+    F2, c2, tau2, qdde = ws2[WS_F], ws2[WS_C], ws2[WS_TAU], ws2[WS_QDD]
     for i in range(3):
         F2[0, i] = 0.0
     for k in range(n):
@@ -98,12 +104,12 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
             c2[k, i] = 0.0
         tau2[k, 0] = 0.0
         tau2[k, 1] = 0.0
-    chain_forward_dynamics(l, M, J, n, a, b, cs, c2, F2, tau2, ws2[10], ws2[11], ws2[12], qdde, ws2[14])
+    chain_forward_dynamics(l, M, J, n, a, b, cs, c2, F2, tau2, ws2[WS_U], ws2[WS_DINV], ws2[WS_RHS], qdde, ws2[WS_TOW])
     # exit tension at L'' = 0 and the effective mass the hose adds to the reel
-    T00 = exit_tension(l, ps, e, F, ws[14], n)
+    T00 = exit_tension(l, ps, e, F, ws[WS_TOW], n)
     me = 0.0
     for i in range(3):
-        me -= ws2[14][i] * e[0, i]
+        me -= ws2[WS_TOW][i] * e[0, i]
     slack = L - math.sqrt(r[n, 0] ** 2 + r[n, 1] ** 2 + r[n, 2] ** 2)
     law = ep[EP_LAW]
     rd = ep[EP_RD]
@@ -160,7 +166,7 @@ def drogue_surfaces(t, z, n, r, v, ps, env, gust, ep, loop, u, out):
 def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz):
     """dz/dt of the engagement state z (``hist``: the drogue history the pilot's delay reads)."""
     eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
-    qdd = ws[15]
+    qdd = ws[WS_QDD]
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
         dz[2 * n + i] = qdd[i]
@@ -220,12 +226,12 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
     ``lam_0 / l_0 - 1`` (l_0 from L) carries the reel's pull, the hose's force on L is
     :func:`~hosedrogue.model.elastic.elastic_exit_tension` and the reel equation gives L''
     explicitly - one O(n) solve (:func:`~hosedrogue.model.elastic.elastic_forward_dynamics`; qdd in
-    ws[15], the length accelerations in ews[7], the tensions in ews[3]). ``hg`` and ``guess`` (the
-    stage's slope guess, len(z)): an implicit stage's (:func:`~hosedrogue.model.elastic.stiff_terms`;
-    hg = 0 for the true derivative, guess then unused). In a stage the exit link's spring-damper
-    is implicit in its length and in L together: the reel's equation is eliminated into the exit
-    link's joint block (its augmentation in series with the reel's mass), so a stiff hose on a free
-    reel costs no extra solve."""
+    ws[WS_QDD], the length accelerations in ews[EWS_LAMDD], the tensions in ews[EWS_T]). ``hg`` and
+    ``guess`` (the stage's slope guess, len(z)): an implicit stage's
+    (:func:`~hosedrogue.model.elastic.stiff_terms`; hg = 0 for the true derivative, guess then
+    unused). In a stage the exit link's spring-damper is implicit in its length and in L together:
+    the reel's equation is eliminated into the exit link's joint block (its augmentation in series
+    with the reel's mass), so a stiff hose on a free reel costs no extra solve."""
     nh = 6 * n
     L = z[nh + Z_L]
     Ld = z[nh + Z_LD]
@@ -234,14 +240,15 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
     qd = z[2 * n: 4 * n]
     lam = z[4 * n: 5 * n]
     lamd = z[5 * n: 6 * n]
-    e, a, b, cs, r, v, c, F, Mom, tau = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    e, a, b, cs, r, v, c, F, Mom, tau = (ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C],
+                                         ws[WS_F], ws[WS_MOM], ws[WS_TAU])
     link_frames(q, n, e, a, b, cs)
     apply_charts(n, chart, e, a, b)
     joint_kinematics(q, qd, lam, n, e, a, b, cs, r, v, c)
     rotate_rows(n, chart, c, False)  # joint_kinematics writes lam d2e/dt2 in the standard chart
     add_axial_rates(n, e, a, b, qd, lamd, v, c)
     exit_material_velocity(Ld, lam, l, e, v)
-    u0 = ws[12][0]  # the control force at the drogue (ws[12] is the rigid recursion's scratch)
+    u0 = ws[WS_RHS][0]  # the control force at the drogue (ws[WS_RHS] is the rigid recursion's scratch)
     u0[0] = 0.0
     u0[1] = 0.0
     m0 = m1 = c0 = c1 = 0.0
@@ -256,10 +263,10 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
     out[O_CY] = c0
     out[O_CZ] = c1
     px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
-    air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[16])
-    joint_forces_stretched(t, u0, l, lam, M, ps, ws[16], gust, n, e, r, v, F, Mom, ws[13])
+    air_with_bow_wave(t, env, gust, ep, px, py, pz, ws[WS_ENV])
+    joint_forces_stretched(t, u0, l, lam, M, ps, ws[WS_ENV], gust, n, e, r, v, F, Mom, ws[WS_DRAG])
     # the tanker's motion (as the rigid chain's; the links' rates from their actual lengths)
-    frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, lam, M, J, n, e, r, v, ws[16], F,
+    frame_loads(ps[PS_G], 0.5 * ep[EP_MU] * l[0] if ep[EP_SPLIT] != 0.0 else 0.0, lam, M, J, n, e, r, v, ws[WS_ENV], F,
                 Mom)
     fx = fy = fz = 0.0
     if ep[EP_COUPLED] != 0.0:
@@ -269,10 +276,10 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
         F[n, 2] += fz
     rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
     rotational_terms(qd, J, n, cs, Mom, tau)
-    T, epsd, aug, taul = ews[3], ews[4], ews[5], ews[6]
+    T, epsd, aug, taul = ews[EWS_T], ews[EWS_EPSD], ews[EWS_AUG], ews[EWS_TAUL]
     p_axial = axial_tensions(n, l, lam, lamd, Ld, ps, T, epsd)
     stiff_terms(n, l, hg, ps, guess[5 * n: 6 * n], T, aug, taul)
-    angle_stiff_terms(n, l, lam, hg, ps, cs, T, guess[2 * n: 4 * n], tau, ews[8])
+    angle_stiff_terms(n, l, lam, hg, ps, cs, T, guess[2 * n: 4 * n], tau, ews[EWS_ANG_AUG])
     T0 = elastic_exit_tension(n, l, lam, ps, e, epsd)
     chord = math.sqrt(r[n, 0] ** 2 + r[n, 1] ** 2 + r[n, 2] ** 2)
     arc = 0.0
@@ -313,11 +320,11 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
             s_r = d0 / (mr + d0)
             taul[0] = -T[0] + (1.0 - s_r) * d0 * guess[5 * n] + s_r * (T0 + rest - mr * aLg)
             aug[0] = (1.0 - s_r) * d0
-    elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, ews[0], ews[1], ews[2], ws[15],
-                             ews[7], ws[14], ews[8])
+    elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, ews[EWS_U], ews[EWS_DINV],
+                             ews[EWS_RHS], ws[WS_QDD], ews[EWS_LAMDD], ws[WS_TOW], ews[EWS_ANG_AUG])
     if not prescribed:
         if hg != 0.0:
-            Ldd = (T0 + d0 * (ews[7][0] - guess[5 * n] + aLg) + rest) / (mr + d0)
+            Ldd = (T0 + d0 * (ews[EWS_LAMDD][0] - guess[5 * n] + aLg) + rest) / (mr + d0)
         else:
             Ldd = (T0 + rest) / mr
     reel_outputs(Ld, n, l, ep, dM, v, cs, qd, T0, Ldd, taum, slack, px, py, pz, fx, fy, fz, vpx, vpy, vpz, pm, pf,
@@ -329,8 +336,8 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
 def eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz):
     """:func:`eng_deriv` of the elastic chain (``hg``, ``guess`` (len(z)): see :func:`eng_evaluate_elastic`)."""
     eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
-    qdd = ws[15]
-    lamdd = ews[7]
+    qdd = ws[WS_QDD]
+    lamdd = ews[EWS_LAMDD]
     for i in range(2 * n):
         dz[i] = z[2 * n + i]
         dz[2 * n + i] = qdd[i]

@@ -13,8 +13,10 @@ from numba import njit
 
 from ...jit import JIT
 from .. import drogue_actuator as DA
-from ..chain_dynamics import chain_energy, make_workspace_jit
-from ..elastic import axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy
+from ..chain_dynamics import (
+    WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_F, WS_QDD, WS_R, WS_TOW, WS_V, chain_energy, make_workspace_jit,
+)
+from ..elastic import EWS_EPSD, EWS_T, axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy
 from ..layout import (
     EP_COUPLED, EP_CTRL, EP_ELASTIC, EP_JR, EP_LAW, EP_MU, EP_RD, EP_SPLIT, LAW_LOCKED, O_LDD, O_PAXIAL, O_PX, O_Q,
     O_SIZE, O_T0, O_VPX, PS_G, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V, R_Q, R_REEL_V, R_T0, Z_L,
@@ -28,11 +30,11 @@ from .probe import probe_force, probe_tip
 @njit(**JIT)
 def plane_distance(z, n, l, ws, t, ep):
     """Signed distance [m] of the probe tip aft of the coupler plane (through joint n, normal to
-    the last link, e_{n-1} pointing aft); positive before contact. Uses ws[0], ws[4] as filled by
+    the last link, e_{n-1} pointing aft); positive before contact. Uses ws[WS_E], ws[WS_R] as filled by
     :func:`~.evaluation.eng_evaluate` for z."""
     px, py, pz, _, _, _ = probe_tip(t, z, n, ep)
-    e = ws[0]
-    r = ws[4]
+    e = ws[WS_E]
+    r = ws[WS_R]
     k = n - 1
     return (px - r[n, 0]) * e[k, 0] + (py - r[n, 1]) * e[k, 1] + (pz - r[n, 2]) * e[k, 2]
 
@@ -44,7 +46,7 @@ def eng_energy(z, n, l, M, J, ps, ep, chart):
     with elastic links the elastic energy includes their strain energy."""
     ws = make_workspace_jit(n)
     chain_kinematics(z, n, l, M, J, ep, chart, ws)
-    T, _, U = chain_energy(n, l, M, J, ps, ws[0], ws[3], ws[4], ws[5], z[2 * n: 4 * n])
+    T, _, U = chain_energy(n, l, M, J, ps, ws[WS_E], ws[WS_CS], ws[WS_R], ws[WS_V], z[2 * n: 4 * n])
     nh = tail_start(n, ep)
     if ep[EP_ELASTIC] != 0.0:
         U += strain_energy(n, l, z[4 * n: 5 * n], ps)
@@ -63,11 +65,11 @@ def state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, row):
     nh = tail_start(n, ep)
     chain_kinematics(z, n, l, M, J, ep, chart, ws)
     lam = z[4 * n: 5 * n]
-    T, epsd = ews[3], ews[4]
+    T, epsd = ews[EWS_T], ews[EWS_EPSD]
     axial_tensions(n, l, lam, z[5 * n: 6 * n], z[nh + Z_LD], ps, T, epsd)
-    row[0] = elastic_exit_tension(n, l, lam, ps, ws[0], epsd)
+    row[0] = elastic_exit_tension(n, l, lam, ps, ws[WS_E], epsd)
     row[1] = T[n - 1]
-    r, v = ws[4], ws[5]
+    r, v = ws[WS_R], ws[WS_V]
     f = 0.0
     if ep[EP_COUPLED] != 0.0:
         px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
@@ -101,7 +103,7 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
                              out, 0.0, z)
     else:
         eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
-    r, v = ws[4], ws[5]
+    r, v = ws[WS_R], ws[WS_V]
     for i in range(3):
         raw[R_DROGUE + i] = r[n, i]
         raw[R_DROGUE_V + i] = v[n, i]
@@ -131,41 +133,41 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
         if ep[EP_ELASTIC] != 0.0:
             eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
                                  zs[i])
-            joints[i] = ws[4]
-            jvel[i] = ws[5]
+            joints[i] = ws[WS_R]
+            jvel[i] = ws[WS_V]
             scal[i] = out
             for j in range(3):
-                tow[i, j] = ws[14][j]
-                drogue_drag[i, j] = ws[13][j]
+                tow[i, j] = ws[WS_TOW][j]
+                drogue_drag[i, j] = ws[WS_DRAG][j]
             if ep[EP_SPLIT] != 0.0:
                 tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
-            tension_drogue[i] = ews[3][n - 1]  # the last link's tension EA eps + c_a deps/dt
-            link_tension[i] = ews[3]
+            tension_drogue[i] = ews[EWS_T][n - 1]  # the last link's tension EA eps + c_a deps/dt
+            link_tension[i] = ews[EWS_T]
             continue
         eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         out[O_PAXIAL] = 0.0
-        joints[i] = ws[4]
-        jvel[i] = ws[5]
+        joints[i] = ws[WS_R]
+        jvel[i] = ws[WS_V]
         scal[i] = out
         Ldd = out[O_LDD]
         # total force of the hose on the exit: F_0 + sum (F_k - M_k A_k)
         for j in range(3):
-            tow[i, j] = ws[14][j] + Ldd * ws2[14][j]
-            drogue_drag[i, j] = ws[13][j]
+            tow[i, j] = ws[WS_TOW][j] + Ldd * ws2[WS_TOW][j]
+            drogue_drag[i, j] = ws[WS_DRAG][j]
         if ep[EP_SPLIT] != 0.0:
             tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
         # last link's tension: the drogue joint's load minus its inertia, along the link
         # (joint n's acceleration from the recursion: A_n = L'' e_0 + sum of link terms)
-        e = ws[0]
-        qdd = ws[15]
+        e = ws[WS_E]
+        qdd = ws[WS_QDD]
         Ax = Ldd * e[0, 0]
         Ay = Ldd * e[0, 1]
         Az = Ldd * e[0, 2]
         for k in range(n):
-            Ax += l[k] * (ws[1][k, 0] * qdd[2 * k] + ws[2][k, 0] * qdd[2 * k + 1]) + ws[6][k, 0]
-            Ay += l[k] * (ws[1][k, 1] * qdd[2 * k] + ws[2][k, 1] * qdd[2 * k + 1]) + ws[6][k, 1]
-            Az += l[k] * (ws[1][k, 2] * qdd[2 * k] + ws[2][k, 2] * qdd[2 * k + 1]) + ws[6][k, 2]
-        F = ws[7]
+            Ax += l[k] * (ws[WS_A][k, 0] * qdd[2 * k] + ws[WS_B][k, 0] * qdd[2 * k + 1]) + ws[WS_C][k, 0]
+            Ay += l[k] * (ws[WS_A][k, 1] * qdd[2 * k] + ws[WS_B][k, 1] * qdd[2 * k + 1]) + ws[WS_C][k, 1]
+            Az += l[k] * (ws[WS_A][k, 2] * qdd[2 * k] + ws[WS_B][k, 2] * qdd[2 * k + 1]) + ws[WS_C][k, 2]
+        F = ws[WS_F]
         m = M[n - 1]
         tension_drogue[i] = ((F[n, 0] - m * Ax) * e[n - 1, 0] + (F[n, 1] - m * Ay) * e[n - 1, 1]
                              + (F[n, 2] - m * Az) * e[n - 1, 2])

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 
 from ...jit import JIT, JIT_INLINE
-from ..chain_dynamics import make_workspace_jit
+from ..chain_dynamics import WS_CS, make_workspace_jit
 from ..elastic import make_elastic_workspace_jit
 from ..integrate import step_status
 from ..layout import (
@@ -122,7 +122,7 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
         if elastic:
             if ep[EP_SCHEME] == SCHEME_RK4:
                 _elastic_rk4(t, z, h, flexible, work)
-            elif _elastic_sdirk2(t, z, h, flexible, n, least, ws[3], pairs, work) != OK:  # ws[3]: the frames
+            elif _elastic_sdirk2(t, z, h, flexible, n, least, ws[WS_CS], pairs, work) != OK:  # ws[WS_CS]: the frames
                 return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
         else:
             _rigid_rk4(t, z, h, rigid, work)
