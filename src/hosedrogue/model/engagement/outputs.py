@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ...jit import JIT
+from ...jit import JIT, JIT_INLINE
 from .. import drogue_actuator as DA
 from ..chain_dynamics import (
     WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_F, WS_QDD, WS_R, WS_TOW, WS_V, chain_energy, make_workspace_jit,
@@ -92,13 +92,15 @@ def evaluate_state(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ew
         eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
 
 
-@njit(**JIT)
-def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
+@njit(**JIT_INLINE)
+def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic):
     """The raw measurement (``hosedrogue.model.sampled.R_*``) of state z at time t [s]: drogue and
     probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
     evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
-    (NaN without control surfaces)."""
-    if ep[EP_ELASTIC] != 0.0:
+    (NaN without control surfaces). ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant
+    of the compiled caller (:func:`eng_raw`, the control step), which then holds that kind's
+    evaluation only."""
+    if elastic:
         eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n), dM,
                              out, 0.0, z)
     else:
@@ -116,21 +118,59 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw[R_Q] = out[O_Q] if ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act) else math.nan
 
 
-@njit(**JIT)
-def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                drogue_drag, link_tension):
+def _raw(elastic):
+    """:func:`raw_measurement` as a compiled function of its own, for one kind of link."""
+
+    @njit(**JIT)
+    def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
+        """:func:`raw_measurement` of rigid or elastic links (the kind this function is for)."""
+        raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic)
+
+    return eng_raw
+
+
+eng_raw_rigid, eng_raw_elastic = _raw(False), _raw(True)
+
+
+def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
+    """The raw measurement of state z at time t [s] into ``raw`` (:func:`raw_measurement`),
+    compiled for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_raw_rigid` or
+    :data:`eng_raw_elastic`).
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    z : numpy.ndarray
+        The engagement's state.
+    n, l, M, J, ps, env, gust, ep, chart, loop : int, numpy.ndarray or LoopArrays
+        The chain (links, lengths [m], masses [kg], inertias), the model's scalars, air and gusts,
+        the engagement's scalars, the charts and the loop's arrays.
+    ws, ws2, dM, out : tuple or numpy.ndarray
+        The evaluation's scratch.
+    raw : numpy.ndarray
+        Receives the measurement (``hosedrogue.model.layout.R_*``).
+    """
+    kernel = eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
+    kernel(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
+
+
+@njit(**JIT_INLINE)
+def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
+                    drogue_drag, link_tension, elastic):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
     (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
     drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
     untouched for rigid links). The tow-point force includes the weight of the hose mass lumped
-    at the exit (half the exit link's with ``split`` lumping, as the fixed-length chain's)."""
+    at the exit (half the exit link's with ``split`` lumping, as the fixed-length chain's).
+    ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller."""
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
     ews = make_elastic_workspace_jit(n)
     dM = np.empty(2)
     out = np.zeros(O_SIZE)
     for i in range(ts.shape[0]):
-        if ep[EP_ELASTIC] != 0.0:
+        if elastic:
             eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
                                  zs[i])
             joints[i] = ws[WS_R]
@@ -171,3 +211,39 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
         m = M[n - 1]
         tension_drogue[i] = ((F[n, 0] - m * Ax) * e[n - 1, 0] + (F[n, 1] - m * Ay) * e[n - 1, 1]
                              + (F[n, 2] - m * Az) * e[n - 1, 2])
+
+
+def _outputs(elastic):
+    """:func:`derived_outputs` as a compiled function of its own, for one kind of link."""
+
+    @njit(**JIT)
+    def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
+                    drogue_drag, link_tension):
+        """:func:`derived_outputs` of rigid or elastic links (the kind this function is for)."""
+        derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
+                        drogue_drag, link_tension, elastic)
+
+    return eng_outputs
+
+
+eng_outputs_rigid, eng_outputs_elastic = _outputs(False), _outputs(True)
+
+
+def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
+                drogue_drag, link_tension):
+    """Derived outputs at saved states into the given arrays (:func:`derived_outputs`), compiled
+    for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_outputs_rigid` or
+    :data:`eng_outputs_elastic`).
+
+    Parameters
+    ----------
+    ts, zs : numpy.ndarray
+        Saved times [s] (N,) and states (N, len(z)).
+    n, l, M, J, ps, env, gust, ep, chart, loop : int, numpy.ndarray or LoopArrays
+        The chain and the model, as :func:`eng_raw`'s.
+    joints, jvel, scal, tow, tension_drogue, drogue_drag, link_tension : numpy.ndarray
+        Receive the outputs (:func:`derived_outputs`).
+    """
+    kernel = eng_outputs_elastic if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid
+    kernel(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue, drogue_drag,
+           link_tension)

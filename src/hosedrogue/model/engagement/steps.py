@@ -22,7 +22,7 @@ from ..sampled import deliver
 from ..steppers import rk4, sdirk2
 from .chain import chain_kinematics, drogue_motion, elastic_pairs_jit, set_variable_link, tail_start
 from .evaluation import eng_deriv, eng_deriv_elastic
-from .outputs import eng_raw, plane_distance, state_loads
+from .outputs import plane_distance, raw_measurement, state_loads
 
 
 @njit(**JIT_INLINE)
@@ -48,38 +48,79 @@ _elastic_rk4, _ = rk4(eng_rate_elastic)
 _elastic_sdirk2 = sdirk2(eng_rate_elastic)
 
 
-@njit(**JIT)
+def _segment(elastic):
+    """:func:`eng_segment` compiled for one kind of link (``elastic``: a constant of the compiled
+    function, so that numba compiles the code of that kind only)."""
+
+    @njit(**JIT)
+    def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
+                    max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads):
+        """Steps of size h from (t0, z) (global step index step0) for at most ``nsteps`` steps, in
+        place: RK4, or for elastic links the integrator ``ep[EP_SCHEME]`` (RK4 or the SDIRK of
+        :mod:`hosedrogue.model.steppers`).
+
+        Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
+        the step at which the exit link's length leaves [merge_at, split_at] (SPLIT / MERGE), the probe
+        tip crosses the coupler plane before coupling (PLANE; zprev then holds the state before the
+        step), or the state fails (NONFINITE / YAW_LIMIT, or REEL_END: the free length left the reel's
+        range). Returns (status, steps done, saved count).
+        With a pilot (``ep[EP_PIL]``) the drogue's y, z, y', z' after every global step k go to
+        ``hist[k]`` (row 0 at the start), for the pilot's delayed view of the drogue. With elastic
+        links the loads of the state after every global step k go to ``loads[k]``
+        (:func:`~.outputs.state_loads`; ``loads`` has one row per step of the run, or is a (1, 4)
+        placeholder for rigid links).
+        """
+        nz = z.shape[0]
+        work = np.empty((8, nz))
+        ws = make_workspace_jit(n)
+        ws2 = make_workspace_jit(n)
+        dM = np.empty(2)
+        out = np.zeros(O_SIZE)
+        return eng_steps(z, t0, 0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
+                         (max_yaw, switch_yaw, split_at, merge_at, allow_merge), zprev, ts, zs, True, 0,
+                         (work, ws, ws2, dM, out), loads, elastic)
+
+    return eng_segment
+
+
+#: The compiled segment of rigid links and of elastic links (:func:`eng_segment` picks one).
+eng_segment_rigid, eng_segment_elastic = _segment(False), _segment(True)
+
+
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
                 max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads):
     """Steps of size h from (t0, z) (global step index step0) for at most ``nsteps`` steps, in
-    place: RK4, or for elastic links the integrator ``ep[EP_SCHEME]`` (RK4 or the SDIRK of
-    :mod:`hosedrogue.model.steppers`).
+    place, compiled for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_segment_rigid`
+    or :data:`eng_segment_elastic`, whose docstring says the rest).
 
-    Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
-    the step at which the exit link's length leaves [merge_at, split_at] (SPLIT / MERGE), the probe
-    tip crosses the coupler plane before coupling (PLANE; zprev then holds the state before the
-    step), or the state fails (NONFINITE / YAW_LIMIT, or REEL_END: the free length left the reel's
-    range). Returns (status, steps done, saved count).
-    With a pilot (``ep[EP_PIL]``) the drogue's y, z, y', z' after every global step k go to
-    ``hist[k]`` (row 0 at the start), for the pilot's delayed view of the drogue. With elastic
-    links the loads of the state after every global step k go to ``loads[k]``
-    (:func:`~.outputs.state_loads`; ``loads`` has one row per step of the run, or is a (1, 4)
-    placeholder for rigid links).
+    Parameters
+    ----------
+    z : numpy.ndarray
+        The engagement's state, advanced in place.
+    t0, step0, h, nsteps, save_every : float or int
+        Start time [s], its global step, the step [s], the most steps, the saving interval [steps].
+    n, l, M, J, ps, env, gust, ep, chart, loop, hist : int, numpy.ndarray or LoopArrays
+        The chain and the model (as :func:`~.outputs.eng_raw`'s) and the pilot's drogue history.
+    max_yaw, switch_yaw, split_at, merge_at, allow_merge : float or bool
+        The events' limits: yaw [rad] that fails, yaw [rad] that switches charts, exit-link
+        lengths [m] that split and merge it, whether it may merge.
+    zprev, ts, zs, loads : numpy.ndarray
+        Receive the state before the last step, the saved times and states, the elastic links'
+        per-step loads.
+
+    Returns
+    -------
+    (int, int, int)
+        Status, steps done, saved count.
     """
-    nz = z.shape[0]
-    work = np.empty((8, nz))
-    ws = make_workspace_jit(n)
-    ws2 = make_workspace_jit(n)
-    dM = np.empty(2)
-    out = np.zeros(O_SIZE)
-    return eng_steps(z, t0, 0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                     (max_yaw, switch_yaw, split_at, merge_at, allow_merge), zprev, ts, zs, True, 0,
-                     (work, ws, ws2, dM, out), loads)
+    kernel = eng_segment_elastic if ep[EP_ELASTIC] != 0.0 else eng_segment_rigid
+    return kernel(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
+                  max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads)
 
 
 @njit(**JIT_INLINE)
 def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits,
-              zprev, ts, zs, record, saved0, scratch, loads):
+              zprev, ts, zs, record, saved0, scratch, loads, elastic):
     """:func:`eng_segment` with its limits in one tuple (``limits``: max_yaw, switch_yaw, split_at,
     merge_at, allow_merge) and its scratch given (``scratch``: ``work`` (8, nz), the RK4 stages and
     the trial state, or the SDIRK's stages with its slope guess in ``work[7]``, carried from call to
@@ -87,7 +128,9 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
     rows written from row ``saved0`` on and only if ``record``, the state ``s0`` steps after the
     time origin ``t0`` of its segment (step k after it is at ``t0 + k h``, as one uninterrupted
     segment counts: a segment continued in several calls takes the same times, and with elastic
-    links the same SDIRK guesses). Returns (status, steps done, saved count).
+    links the same SDIRK guesses), for rigid or ``elastic`` links (``ep[EP_ELASTIC]``; a constant
+    of the compiled caller, which then holds the steps of that kind only). Returns (status, steps
+    done, saved count).
 
     Inlined into its two callers (:data:`hosedrogue.jit.JIT_INLINE`): at most 30 arguments, since
     CPython passes a call of more as one tuple, which numba cannot inline."""
@@ -95,7 +138,6 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
     work, ws, ws2, dM, out = scratch
     nz = z.shape[0]
     saved = saved0
-    elastic = ep[EP_ELASTIC] != 0.0
     nh = tail_start(n, ep)
     ews = make_elastic_workspace_jit(n)
     pairs = elastic_pairs_jit(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0)
@@ -163,31 +205,80 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
     return OK, nsteps, saved
 
 
-@njit(**JIT)
+def _advance(elastic):
+    """:func:`eng_advance` compiled for one kind of link (``elastic``, as :func:`_segment`)."""
+
+    @njit(**JIT)
+    def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
+                    switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring,
+                    delay, sample_h, noise3, noise3_dt, balance, mbuf, loads):
+        """Integrate from the counters ``ctr`` (``hosedrogue.model.sampled.C_*``: global step,
+        saved rows, the segment's origin ``C_ORIGIN``; updated in place) toward global step
+        ``ctr[C_TARGET]`` (:func:`eng_steps`); when it is
+        reached, the raw measurement of the next sample (``ctr[C_SAMPLE] + 1``) into the ring and
+        its measurement (delayed by ``delay`` samples) into ``mbuf``, and the sample counter moves on
+        (``loads``: the elastic links' per-step record, :func:`eng_segment`).
+        Returns the status of the segment (an event - a remesh, the coupler plane - stops it early)."""
+        step0 = ctr[C_STEP]
+        target = ctr[C_TARGET]
+        origin = ctr[C_ORIGIN]
+        status, done, saved = eng_steps(z, origin * h, step0 - origin, step0, h, target - step0, save_every, n, l, M, J,
+                                        ps, env, gust, ep, chart, loop, hist,
+                                        (max_yaw, switch_yaw, split_at, merge_at, allow_merge), zprev, ts, zs, record,
+                                        ctr[C_SAVED], (work, ws, ws2, dM, out), loads, elastic)
+        ctr[C_STEP] = step0 + done
+        ctr[C_SAVED] = saved
+        ctr[C_STATUS] = status
+        failed = status == NONFINITE or status == YAW_LIMIT or status == REEL_END or status == STAGE_LIMIT
+        if ctr[C_STEP] == target and not failed:
+            k = ctr[C_SAMPLE] + 1
+            raw_measurement(target * h, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out,
+                            ring[k % ring.shape[0]], elastic)
+            deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
+            ctr[C_SAMPLE] = k
+        return status
+
+    return eng_advance
+
+
+#: The compiled control step of rigid links and of elastic links (:func:`eng_advance` picks one).
+eng_advance_rigid, eng_advance_elastic = _advance(False), _advance(True)
+
+
 def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
                 switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring,
                 delay, sample_h, noise3, noise3_dt, balance, mbuf, loads):
-    """Integrate from the counters ``ctr`` (``hosedrogue.model.sampled.C_*``: global step,
-    saved rows, the segment's origin ``C_ORIGIN``; updated in place) toward global step
-    ``ctr[C_TARGET]`` (:func:`eng_steps`); when it is
-    reached, the raw measurement of the next sample (``ctr[C_SAMPLE] + 1``) into the ring and
-    its measurement (delayed by ``delay`` samples) into ``mbuf``, and the sample counter moves on
-    (``loads``: the elastic links' per-step record, :func:`eng_segment`).
-    Returns the status of the segment (an event - a remesh, the coupler plane - stops it early)."""
-    step0 = ctr[C_STEP]
-    target = ctr[C_TARGET]
-    origin = ctr[C_ORIGIN]
-    status, done, saved = eng_steps(z, origin * h, step0 - origin, step0, h, target - step0, save_every, n, l, M, J,
-                                    ps, env, gust, ep, chart, loop, hist,
-                                    (max_yaw, switch_yaw, split_at, merge_at, allow_merge), zprev, ts, zs, record,
-                                    ctr[C_SAVED], (work, ws, ws2, dM, out), loads)
-    ctr[C_STEP] = step0 + done
-    ctr[C_SAVED] = saved
-    ctr[C_STATUS] = status
-    failed = status == NONFINITE or status == YAW_LIMIT or status == REEL_END or status == STAGE_LIMIT
-    if ctr[C_STEP] == target and not failed:
-        k = ctr[C_SAMPLE] + 1
-        eng_raw(target * h, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, ring[k % ring.shape[0]])
-        deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
-        ctr[C_SAMPLE] = k
-    return status
+    """Integrate from the counters ``ctr`` toward global step ``ctr[C_TARGET]`` and deliver the
+    next sample's measurement, compiled for the chain's kind of link (``ep[EP_ELASTIC]``:
+    :data:`eng_advance_rigid` or :data:`eng_advance_elastic`, whose docstring says the rest).
+
+    Parameters
+    ----------
+    ctr : numpy.ndarray of int64
+        The counters (``hosedrogue.model.layout.C_*``), updated in place.
+    z, h, save_every : numpy.ndarray, float, int
+        The state (advanced in place), the step [s], the saving interval [steps].
+    n, l, M, J, ps, env, gust, ep, chart, loop, hist : int, numpy.ndarray or LoopArrays
+        The chain and the model, as :func:`eng_segment`'s.
+    max_yaw, switch_yaw, split_at, merge_at, allow_merge : float or bool
+        The events' limits, as :func:`eng_segment`'s.
+    zprev, ts, zs, record : numpy.ndarray or bool
+        The state before the last step, the saved rows, whether to save.
+    work, ws, ws2, dM, out : numpy.ndarray or tuple
+        The steps' and the evaluation's scratch.
+    ring, delay, sample_h, noise3, noise3_dt, balance, mbuf : numpy.ndarray, int or float
+        The sampled-data measurement: the ring of raw samples, the delay [samples], the sample
+        time [s], the sensor's noise [m] and its sample time [s], the balance position, the
+        measurement delivered.
+    loads : numpy.ndarray
+        The elastic links' per-step loads.
+
+    Returns
+    -------
+    int
+        The status of the segment (an event stops it early).
+    """
+    kernel = eng_advance_elastic if ep[EP_ELASTIC] != 0.0 else eng_advance_rigid
+    return kernel(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw, switch_yaw,
+                  split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring, delay, sample_h,
+                  noise3, noise3_dt, balance, mbuf, loads)
