@@ -344,19 +344,26 @@ rk4_step, rk4_step_given_k1 = rk4(closed_loop_rate)
 
 @njit(**LOOP_JIT)
 def rk4_steps(t0, first, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-              noise_dt, max_yaw, ws, work, u):
-    """Steps number ``first`` to ``last`` (counted from 1 at t0) of size h [s], in place.
+              noise_dt, max_yaw, ws, work, u, given_k1):
+    """Steps number ``first`` to ``last`` (counted from 1 at t0) of size h [s], in place; with
+    ``given_k1`` the first of them takes k1 from ``work[0]`` (:func:`rk4_step_given_k1`).
 
     Step ``k`` goes from ``t0 + (k - 1) h`` to ``t0 + k h``. Returns ``(status, t)``: OK and the
     time after step ``last``, or at the first step whose state is non-finite (NONFINITE) or has
     a link yaw beyond ``max_yaw`` [rad] (YAW_LIMIT) that status and the time after that step.
-    The one integration loop: :func:`rk4_run` and the batch call it.
+    The one integration loop: :func:`rk4_run`, the batch and the sampled-data loop call it. It is
+    compiled without numba's runtime (:data:`LOOP_JIT`): the steps inlined into it then take no
+    reference counts of the arrays they unpack from ``model`` (inlined into a function that
+    allocates, they would, at every evaluation).
     """
     n = l.shape[0]
     t = t0 + (first - 1) * h
     model = loop_model_jit(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
     for step in range(first, last + 1):
-        rk4_step(t0 + (step - 1) * h, z, h, model, work)
+        if given_k1 and step == first:
+            rk4_step_given_k1(t0 + (step - 1) * h, z, h, model, work)
+        else:
+            rk4_step(t0 + (step - 1) * h, z, h, model, work)
         t = t0 + step * h
         status = step_status(z, n, max_yaw)
         if status != OK:
@@ -394,7 +401,6 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     work = np.empty((5, z0.shape[0]))
     u = np.empty(us.shape[1])
     ws = make_workspace_jit(n)
-    model = loop_model_jit(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
     save_state(0, t0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
     saved = 1
@@ -402,12 +408,8 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     while done < nsteps:
         last = min(done + save_every, nsteps)
         # the first step of the interval reuses k1 of the saved state (work[0])
-        rk4_step_given_k1(t0 + done * h, z, h, model, work)
-        t = t0 + (done + 1) * h
-        status = step_status(z, n, max_yaw)
-        if status == OK and last > done + 1:
-            status, t = rk4_steps(t0, done + 2, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc,
-                                  Dc, y_ref, act, noise, noise_dt, max_yaw, ws, work, u)
+        status, t = rk4_steps(t0, done + 1, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
+                              noise, noise_dt, max_yaw, ws, work, u, True)
         if status != OK:
             return status, saved, t
         done = last

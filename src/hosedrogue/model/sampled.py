@@ -29,7 +29,7 @@ from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
 from . import drogue_actuator as DA
-from .integrate import closed_loop_deriv, loop_model_jit, rk4_step, rk4_step_given_k1, save_state, step_status
+from .integrate import closed_loop_deriv, rk4_steps, save_state
 from .layout import OK
 from .chain_dynamics import WS_R, WS_T0, WS_V, make_workspace_jit
 
@@ -92,19 +92,17 @@ def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, C
     evaluation serves as the step's first stage, as in :func:`~.integrate.rk4_run`). Returns
     (status, saved count, steps done): a non-finite state or a yaw beyond ``max_yaw`` [rad] stops
     after its step."""
-    n = l.shape[0]
-    model = loop_model_jit(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
     for s in range(nsteps):
         j = step0 + s
         t = j * h
-        if record and j % every == 0:
+        given_k1 = record and j % every == 0
+        if given_k1:
             save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                        work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
             saved += 1
-            rk4_step_given_k1(t, z, h, model, work)
-        else:
-            rk4_step(t, z, h, model, work)
-        status = step_status(z, n, max_yaw)
+        # step j from t = 0 + (j + 1 - 1) h (rk4_steps' times), k1 from save_state's evaluation
+        status, _ = rk4_steps(0.0, j + 1, j + 1, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
+                              noise, noise_dt, max_yaw, ws, work, u, given_k1)
         if status != OK:
             return status, saved, s + 1
     return OK, saved, nsteps
