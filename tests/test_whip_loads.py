@@ -10,7 +10,8 @@ import pytest
 from hosedrogue.cli import main
 from hosedrogue.load_convergence import (COARSE_NOTE, FLAIL_NOTE, SNAP_NOTE, converged_peaks, flailing,
                                          went_slack)
-from hosedrogue.model.elastic_loop import SCHEME_RK4, elastic_run
+from hosedrogue.model.elastic_loop import elastic_run
+from hosedrogue.model.layout import SCHEME_RK4
 from hosedrogue.model.integrate import loop_arrays
 from hosedrogue.controllers.linear import LinearController
 from hosedrogue.model.system import HoseModel

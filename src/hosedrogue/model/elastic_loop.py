@@ -13,11 +13,10 @@ import numpy as np
 from numba import njit
 
 from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
-from .elastic import EWS_LAMDD, elastic_drogue_yz, elastic_evaluate_ws, make_elastic_workspace_jit
+from .elastic import elastic_drogue_yz, elastic_evaluate_ws, hose_rates, make_elastic_workspace_jit
 from .integrate import actuator_rates, applied_force_at, controller_rates, is_open_loop, step_status
-from .layout import OK, STAGE_LIMIT
 from .chain_dynamics import WS_CS, WS_DRAG, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, make_workspace_jit
-from .layout import SCHEME_RK4, SCHEME_SDIRK2  # the integrators' codes (the engagement's EP_SCHEME holds them too)
+from .layout import OK, SCHEME_RK4, STAGE_LIMIT
 from .steppers import rk4, sdirk2
 
 
@@ -37,14 +36,7 @@ def elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
         y, zz = elastic_drogue_yz(z[: 2 * n], z[4 * n: 5 * n], n, ws)
         m0, m1, c0, c1 = applied_force_at(t, z, nx, y, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
     p = elastic_evaluate_ws(t, z[:nx], u, l, M, J, ps, env, gust, ws, ews, hg, guess)
-    qdd = ws[WS_QDD]
-    lamdd = ews[EWS_LAMDD]
-    for i in range(2 * n):
-        dz[i] = z[2 * n + i]
-        dz[2 * n + i] = qdd[i]
-    for k in range(n):
-        dz[4 * n + k] = z[5 * n + k]
-        dz[5 * n + k] = lamdd[k]
+    hose_rates(z, n, ws, ews, dz)
     actuator_rates(c0, c1, z, nx + Ac.shape[0], act, dz)
     controller_rates(m0, m1, z, nx, Ac, Bc, dz)
     return p
@@ -64,7 +56,7 @@ _rk4_step, _ = rk4(elastic_rate)
 _sdirk2_step = sdirk2(elastic_rate)
 
 
-@njit(**JIT_INLINE)
+@njit(**JIT_NO_ALLOC)
 def elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
                  ews, pairs, work, u):
     """One step of size h [s] from (t, z), in place: RK4 or the SDIRK (``scheme``; ``iters`` the
@@ -72,7 +64,9 @@ def elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc,
     len(z)): the stages; ``work[7]`` must hold the slope guess of the SDIRK's first stage (the
     previous step's last stage slope, or dz/dt at z) and receives the next one. Returns OK, or
     STAGE_LIMIT if the SDIRK's stages did not converge even on 16 substeps (z then back at the
-    step's start)."""
+    step's start). A function of its own without numba's runtime (as ``rk4_steps``): the steps
+    inlined into it then take no reference counts of the arrays they unpack from ``model``, which
+    they would inlined into :func:`elastic_run` (it allocates)."""
     model = (l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, u)
     if scheme == SCHEME_RK4:
         _rk4_step(t, z, h, model, work)

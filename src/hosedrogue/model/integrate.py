@@ -298,45 +298,18 @@ def sensor_noise(sensor, duration_s: float, seed: int) -> np.ndarray:
     return sensor.noise_std_m * rng.standard_normal((count, 2))
 
 
-def loop_model(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u):
-    """The closed loop's arrays as one tuple, the ``model`` of :func:`closed_loop_rate` (and of
-    :func:`rk4_step`, :func:`rk4_step_given_k1`).
-
-    Parameters
-    ----------
-    l, M, S, J, ps, env, gust : numpy.ndarray
-        The hose's (:meth:`hosedrogue.model.system.HoseModel.kernel_args`).
-    Ac, Bc, Cc, Dc, y_ref, act, noise : numpy.ndarray
-        The loop's (:class:`LoopArrays`).
-    noise_dt : float
-        Time each noise sample is held [s].
-    ws : tuple
-        The workspace (:func:`~hosedrogue.model.chain_dynamics.make_workspace`).
-    u : numpy.ndarray
-        Receives the force applied to the drogue [N].
-
-    Returns
-    -------
-    tuple
-        ``(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)``.
-    """
-    return (l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
-
-
-loop_model_jit = njit(**JIT_INLINE)(loop_model)
-
-
 @njit(**JIT_INLINE)
 def closed_loop_rate(t, z, model, hg, guess, dz):
-    """:func:`closed_loop_deriv` as the steppers' derivative (:mod:`hosedrogue.model.steppers`;
-    ``model`` :func:`loop_model`'s tuple; the rigid chain has no implicit stage: hg and guess are
-    not read)."""
+    """:func:`closed_loop_deriv` as the steppers' derivative (:mod:`hosedrogue.model.steppers`):
+    ``model`` is ``(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+    u)`` (u receives the force applied to the drogue); the rigid chain has no implicit stage: hg
+    and guess are not read."""
     l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u = model
     closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, dz, u)
 
 
 #: One classical RK4 step of the closed loop, ``rk4_step(t, z, h, model, work)``: from (t, z),
-#: in place (``model`` :func:`loop_model`'s tuple, ``work`` (5, len(z)) scratch), and the same
+#: in place (``model`` :func:`closed_loop_rate`'s tuple, ``work`` (5, len(z)) scratch), and the same
 #: step when ``work[0]`` already holds k1 = dz/dt at (t, z), ``rk4_step_given_k1`` (the
 #: steppers' :func:`~hosedrogue.model.steppers.rk4` over :func:`closed_loop_rate`).
 rk4_step, rk4_step_given_k1 = rk4(closed_loop_rate)
@@ -358,7 +331,7 @@ def rk4_steps(t0, first, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, 
     """
     n = l.shape[0]
     t = t0 + (first - 1) * h
-    model = loop_model_jit(l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
+    model = (l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
     for step in range(first, last + 1):
         if given_k1 and step == first:
             rk4_step_given_k1(t0 + (step - 1) * h, z, h, model, work)

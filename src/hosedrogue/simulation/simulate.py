@@ -310,7 +310,8 @@ def _check_integrator(model: HoseModel) -> None:
 
 def _run_elastic(model: HoseModel, z0, duration_s, loop: LoopArrays):
     """The fixed-length elastic chain, compiled: RK4 or the SDIRK (``numerics.integrator``)."""
-    from ..model.elastic_loop import SCHEME_RK4, SCHEME_SDIRK2, elastic_run
+    from ..model.elastic_loop import elastic_run
+    from ..model.layout import SCHEME_RK4, SCHEME_SDIRK2
 
     h, nsteps = fixed_steps(model.params, duration_s)
     every = model.params.numerics.output_every
