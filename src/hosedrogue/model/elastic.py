@@ -32,7 +32,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..jit import JIT, JIT_NO_ALLOC
+from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 from .frame import frame_loads
 from .layout import BENDING_MOMENT, PS_BENDING, PS_CA, PS_EA, PS_EI, PS_G, PS_M_TOW, Layout
 from .chain_dynamics import (
@@ -441,3 +441,18 @@ def elastic_drogue_yz(q, lam, n, ws):
     lengths lam (the link frames go to ws[0:4])."""
     link_frames(q, n, ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS])
     return drogue_from_frames(lam, ws[WS_E])
+
+
+@njit(**JIT_INLINE)
+def hose_rates(z, n, ws, ews, dz):
+    """The elastic hose's rates ``dz[:6n]`` of the state ``z = [q, qd, lam, lamd, ...]`` (n links)
+    after an evaluation: the angles' and the lengths' rates from z, their accelerations from the
+    evaluation (``ws[WS_QDD]`` [rad/s^2], ``ews[EWS_LAMDD]`` [m/s^2]); both elastic chains' derivative."""
+    qdd = ws[WS_QDD]
+    lamdd = ews[EWS_LAMDD]
+    for i in range(2 * n):
+        dz[i] = z[2 * n + i]
+        dz[2 * n + i] = qdd[i]
+    for k in range(n):
+        dz[4 * n + k] = z[5 * n + k]
+        dz[5 * n + k] = lamdd[k]

@@ -21,7 +21,7 @@ from ..chain_dynamics import (
 from ..chain_loads import joint_forces, joint_forces_stretched, joint_kinematics, link_frames, rotational_terms
 from ..elastic import (
     EWS_ANG_AUG, EWS_AUG, EWS_DINV, EWS_EPSD, EWS_LAMDD, EWS_RHS, EWS_T, EWS_TAUL, EWS_U, add_axial_rates,
-    angle_stiff_terms, axial_tensions, elastic_exit_tension, elastic_forward_dynamics, stiff_terms,
+    angle_stiff_terms, axial_tensions, elastic_exit_tension, elastic_forward_dynamics, hose_rates, stiff_terms,
 )
 from ..frame import frame_loads
 from ..integrate import actuator_rates, applied_force_at, control_law, controller_rates
@@ -336,14 +336,7 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
 def eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz):
     """:func:`eng_deriv` of the elastic chain (``hg``, ``guess`` (len(z)): see :func:`eng_evaluate_elastic`)."""
     eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
-    qdd = ws[WS_QDD]
-    lamdd = ews[EWS_LAMDD]
-    for i in range(2 * n):
-        dz[i] = z[2 * n + i]
-        dz[2 * n + i] = qdd[i]
-    for k in range(n):
-        dz[4 * n + k] = z[5 * n + k]
-        dz[5 * n + k] = lamdd[k]
+    hose_rates(z, n, ws, ews, dz)
     b = 6 * n
     tail_rates(z, b, out, dz)
     dz[b + Z_WAX] = out[O_PAXIAL]
