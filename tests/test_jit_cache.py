@@ -107,9 +107,23 @@ def _defines_compiled_functions(path):
 
 def test_the_stamp_covers_every_module_that_compiles():
     """Every module with a jitted function is in the stamp (read from the syntax, not the rule
-    the stamp uses), and the stamp is a content hash of them."""
+    the stamp uses)."""
     compiling = {p for p in PACKAGE_DIR.rglob("*.py") if "__pycache__" not in p.parts
                  and _defines_compiled_functions(p)}
     assert compiling, "no compiled module found: the syntax check is broken"
     assert compiling <= set(compiled_modules())
-    assert len(source_stamp()) == 64 and source_stamp() == source_stamp(PACKAGE_DIR)
+
+
+def test_the_stamp_is_the_compiled_sources_content(tmp_path):
+    """The stamp of a copy of the package is the package's (content, not place); an edit of a
+    compiled module changes it, an edit of a module that compiles nothing does not."""
+    src, pkg = _copy(tmp_path)
+    for extra in ("_stamp_callee.py", "_stamp_caller.py"):
+        (pkg / "model" / extra).unlink()
+    assert source_stamp(pkg) == source_stamp()
+    cli = pkg / "cli" / "steady.py"
+    cli.write_text(cli.read_text() + "\n# an edit outside the compiled code\n")
+    assert source_stamp.__wrapped__(pkg) == source_stamp()
+    wake = pkg / "environment" / "wake.py"
+    wake.write_text(wake.read_text() + "\n# an edit of a compiled module\n")
+    assert source_stamp.__wrapped__(pkg) != source_stamp()
