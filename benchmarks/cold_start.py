@@ -75,6 +75,9 @@ def main(argv=None):
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args(argv)
     cases = [c for c in CASES if not args.only or any(c[0].startswith(o) for o in args.only)]
+    if not cases:
+        parser.error(f"--only {' '.join(args.only)}: no case starts with that; the cases: "
+                     + ", ".join(repr(c[0]) for c in CASES))
     rows = []
     for name, command, target in cases:
         cache = Path(tempfile.mkdtemp(prefix="hosedrogue-cold-cache-"))

@@ -34,13 +34,22 @@ def main(argv):
     from hosedrogue.scenarios import load_scenario
     from hosedrogue.scenarios.runner import run, write
 
+    if not argv:
+        print("usage: output_digests.py OUT [NAME ...]", file=sys.stderr)
+        raise SystemExit(2)
     out = Path(argv[0])
     names = argv[1:] or sorted(p.name[:-5] for p in files("hosedrogue").joinpath("scenarios").iterdir()
                                if p.name.endswith(".toml"))
-    for name in names:
+    from hosedrogue.errors import ParameterError
+
+    try:
+        scenarios = [load_scenario(name) for name in names]  # every name checked before a run
+    except ParameterError as exc:
+        print(f"output_digests.py: {exc}", file=sys.stderr)
+        raise SystemExit(2) from None
+    for name, scenario in zip(names, scenarios):
         folder = out / name
         folder.mkdir(parents=True, exist_ok=True)
-        scenario = load_scenario(name)
         write(run(scenario), folder, plot=False)
         csv = hashlib.sha256((folder / "timeseries.csv").read_bytes()).hexdigest()
         hose = folder / "hose.npz"
