@@ -50,7 +50,7 @@ wheel-check: $(STAMP)
 	cd $(WHEEL_DIR) && venv/bin/hosedrogue steady
 	cd $(WHEEL_DIR) && venv/bin/hosedrogue simulate swing-release --out simulate
 	cd $(WHEEL_DIR) && venv/bin/python -c "from importlib.resources import files; \
-	    names = sorted(p.name for d in ('scenarios', 'presets') if files('hosedrogue').joinpath(d).is_dir() \
+	    names = sorted(p.name for d in ('scenarios', 'spec/presets') if files('hosedrogue').joinpath(d).is_dir() \
 	                   for p in files('hosedrogue').joinpath(d).iterdir() if p.name.endswith('.toml')); \
 	    print('package data:', ', '.join(names))"
 	@echo "wheel-check passed"

@@ -36,10 +36,10 @@ from hosedrogue.controllers.design import design_controller  # noqa: E402
 from hosedrogue.analysis.equilibrium import solve_equilibrium  # noqa: E402
 from hosedrogue.model.integrate import loop_arrays, rk4_run  # noqa: E402
 from hosedrogue.model.system import HoseModel  # noqa: E402
-from hosedrogue.params import Actuator  # noqa: E402
+from hosedrogue.spec.params import Actuator  # noqa: E402
 from hosedrogue.scenarios import load_scenario  # noqa: E402
 from hosedrogue.scenarios.runner import run  # noqa: E402
-from hosedrogue.sections import DrogueActuator  # noqa: E402
+from hosedrogue.spec.sections import DrogueActuator  # noqa: E402
 from hosedrogue.simulation.simulate import closed_loop_state, output_arrays, output_width  # noqa: E402
 
 REPEATS = 5
@@ -91,7 +91,7 @@ def sampled_cost(repeats=REPEATS):
     """CPU time [s] of ``hosedrogue.run`` of paper-turbulence-pid with the user's discretized
     PID (``discrete_pid``, Python, called every 5 ms through the stepper), RK4 at 2.5 ms, ideal
     force against the ``[drogue_actuator]`` defaults (fastest and median of each)."""
-    from hosedrogue.sections import Controller, Loop
+    from hosedrogue.spec.sections import Controller, Loop
 
     base = load_scenario("paper-turbulence-pid")
     base = dataclasses.replace(base, params=base.params.replace(numerics={"step_s": STEP_S, "output_every": 2}))

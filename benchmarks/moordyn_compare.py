@@ -127,7 +127,7 @@ from hosedrogue.controllers.linear import LinearController  # noqa: E402
 from hosedrogue.environment.atmosphere import density  # noqa: E402
 from hosedrogue.model.integrate import rk4_run  # noqa: E402
 from hosedrogue.model.system import HoseModel  # noqa: E402
-from hosedrogue.params import PAPER, Actuator  # noqa: E402
+from hosedrogue.spec.params import PAPER, Actuator  # noqa: E402
 from hosedrogue.simulation.simulate import loop_arrays, output_arrays  # noqa: E402
 
 #: The compared case: the paper's hose without bending, wake and turbulence.

@@ -35,7 +35,7 @@ from hosedrogue.analysis.equilibrium import solve_equilibrium  # noqa: E402
 from hosedrogue.controllers.linear import LinearController  # noqa: E402
 from hosedrogue.model.integrate import rk4_run  # noqa: E402
 from hosedrogue.model.system import HoseModel  # noqa: E402
-from hosedrogue.params import PAPER, Actuator  # noqa: E402
+from hosedrogue.spec.params import PAPER, Actuator  # noqa: E402
 from hosedrogue.simulation.simulate import loop_arrays, output_arrays  # noqa: E402
 
 TURBULENCE = {"enabled": True, "start_s": 0.0, "duration_s": 100.0}

@@ -42,7 +42,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from hosedrogue import load_scenario, run  # noqa: E402
-from hosedrogue.sections import Controller, Receiver, Reel  # noqa: E402
+from hosedrogue.spec.sections import Controller, Receiver, Reel  # noqa: E402
 
 
 def best_of(fn, repeats=3):

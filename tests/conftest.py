@@ -4,7 +4,7 @@ states its physical reason where it is used."""
 import numpy as np
 import pytest
 
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 
 
 @pytest.fixture

@@ -14,7 +14,7 @@ import pytest
 
 from hosedrogue.analysis.continuum import solve_continuum
 from hosedrogue.analysis.equilibrium import solve_equilibrium
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.studies.accuracy import (
     STUDY_BASE,
     difference_orders,
@@ -89,14 +89,14 @@ def test_split_frequencies_converge_at_second_order():
 
 
 def _converged_preset():
-    """The shipped ``converged`` preset (``hosedrogue/presets/converged.toml``, added by another
+    """The shipped ``converged`` preset (``hosedrogue/spec/presets/converged.toml``, added by another
     change) as Params, or None while it is missing."""
     from importlib.resources import files
 
-    from hosedrogue.config import load_params
+    from hosedrogue.spec.config import load_params
 
-    path = files("hosedrogue").joinpath("presets", "converged.toml")
-    assert path.is_file(), "the 'converged' preset must be shipped (hosedrogue/presets/converged.toml)"
+    path = files("hosedrogue").joinpath("spec", "presets", "converged.toml")
+    assert path.is_file(), "the 'converged' preset must be shipped (hosedrogue/spec/presets/converged.toml)"
     return load_params(str(path))
 
 

@@ -4,7 +4,7 @@ import numpy as np
 
 from hosedrogue.controllers.design import paper_pid
 from hosedrogue.metrics import in_window
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.simulation import simulate, simulate_batch
 
 

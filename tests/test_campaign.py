@@ -27,7 +27,7 @@ from hosedrogue import metrics
 from hosedrogue.studies import executor, store
 from hosedrogue.studies.campaign import run_campaign
 from hosedrogue.studies.seeds import run_seed
-from hosedrogue.params import ParameterError
+from hosedrogue.spec.params import ParameterError
 
 #: 6 links, 3 s, turbulence on from 0.5 s for 2 s: a run takes ~25 ms once compiled.
 TINY = """\

@@ -76,7 +76,7 @@ def test_actuator_limits_and_sensor_noise():
     import dataclasses
 
     sc = load_scenario("paper-turbulence-pid").with_overrides(duration_s=16.0)
-    from hosedrogue.sections import Actuator, Sensor
+    from hosedrogue.spec.sections import Actuator, Sensor
 
     limited = dataclasses.replace(sc, loop=dataclasses.replace(sc.loop, actuator=Actuator(max_force_n=20.0,
                                                                                         max_rate_n_s=200.0)))
@@ -100,7 +100,7 @@ def test_paper_lqr_with_actuator_limits_and_sensor_noise(runs):
     import dataclasses
 
     sc = load_scenario("paper-turbulence-lqr")
-    from hosedrogue.sections import Actuator, Sensor
+    from hosedrogue.spec.sections import Actuator, Sensor
 
     loop = dataclasses.replace(sc.loop, actuator=Actuator(max_force_n=40.0, max_rate_n_s=500.0),
                                sensor=Sensor(noise_std_m=0.002))

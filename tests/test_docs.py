@@ -18,9 +18,9 @@ import pytest
 
 import hosedrogue
 from hosedrogue import reference
-from hosedrogue.params import SECTIONS
+from hosedrogue.spec.params import SECTIONS
 from hosedrogue.scenarios import SCENARIO_KEYS, TABLES, shipped_scenarios
-from hosedrogue.sections import CONTROLLER_OPTIONS, ENGAGEMENT_SECTIONS, LOOP_SECTIONS
+from hosedrogue.spec.sections import CONTROLLER_OPTIONS, ENGAGEMENT_SECTIONS, LOOP_SECTIONS
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 
@@ -98,7 +98,7 @@ def test_every_field_has_a_unit_a_range_and_a_meaning():
 
 
 def test_problems_sees_a_field_without_a_comment_or_a_unit():
-    from hosedrogue.fields import Section, real
+    from hosedrogue.spec.fields import Section, real
 
     @dataclasses.dataclass(frozen=True)
     class Spring(Section):

@@ -22,10 +22,10 @@ from hosedrogue.errors import ParameterError
 from hosedrogue.model import chain_dynamics as CD, drogue_actuator as DA
 from hosedrogue.model.integrate import LoopArrays, closed_loop_deriv
 from hosedrogue.model.system import HoseModel
-from hosedrogue.params import PAPER, Actuator
+from hosedrogue.spec.params import PAPER, Actuator
 from hosedrogue.scenarios import load_scenario
 from hosedrogue.scenarios.runner import run, write
-from hosedrogue.sections import DrogueActuator, Loop
+from hosedrogue.spec.sections import DrogueActuator, Loop
 from hosedrogue.simulation import simulate
 
 

@@ -17,10 +17,10 @@ from hosedrogue.environment.atmosphere import density
 from hosedrogue.environment.wake import wake_field
 from hosedrogue.errors import ParameterError
 from hosedrogue.examples.controllers import FixedDeflection
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.scenarios import load_scenario
 from hosedrogue.scenarios.runner import drogue_controller, run, write
-from hosedrogue.sections import Controller, DrogueActuator, Loop
+from hosedrogue.spec.sections import Controller, DrogueActuator, Loop
 from hosedrogue.simulation import simulate
 
 PID_ENTRY = "hosedrogue.examples.controllers:discrete_pid"

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hosedrogue.model.system import HoseModel
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.simulation import simulate
 
 from conftest import free_stream

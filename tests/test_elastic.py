@@ -15,7 +15,7 @@ from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.errors import ParameterError
 from hosedrogue.model import layout as LY
 from hosedrogue.model.system import HoseModel
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.simulation.simulate import simulate
 
 MU = PAPER.hose.mass_per_length_kg_m

@@ -15,7 +15,7 @@ from hosedrogue.engagement import Probe, Reel, simulate_engagement
 from hosedrogue.results import SUMMARY_KEYS
 from hosedrogue.scenarios.runner import run as run_engagement
 from hosedrogue.errors import ParameterError
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.scenarios import load_scenario
 
 LAWS = ("locked", "constant-tension", "response")

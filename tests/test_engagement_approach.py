@@ -10,7 +10,7 @@ import pytest
 from hosedrogue.engagement.bow_wave import bow_wave_displacement
 from hosedrogue.scenarios.runner import run as run_engagement
 from hosedrogue.scenarios import load_scenario
-from hosedrogue.standards import standard_intensity
+from hosedrogue.spec.standards import standard_intensity
 
 LEVELS = ("light", "moderate", "severe")
 

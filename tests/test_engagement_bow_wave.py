@@ -9,14 +9,14 @@ from matplotlib.figure import Figure
 from hosedrogue.engagement.bow_wave import bow_wave_displacement
 from hosedrogue.engagement.chain import chain_equilibrium, initial_chain
 from hosedrogue.engagement.driver import engagement_parameters
-from hosedrogue.sections import BowWave as BowWaveSection, Reel
+from hosedrogue.spec.sections import BowWave as BowWaveSection, Reel
 from hosedrogue.environment.bow_wave import BowWave
 from hosedrogue.errors import ParameterError
 from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import chain_loads as CL, layout as LY
 from hosedrogue.model.engagement import evaluation as EV
 from hosedrogue.model.chain_dynamics import WS_DRAG, WS_R, WS_V, make_workspace
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.plotting.bow_wave import plot_bow_wave
 
 # the paper's flight condition (150 m/s, 8000 m, wake on); 20 links: the displacements below

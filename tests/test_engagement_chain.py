@@ -14,7 +14,7 @@ from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import chain_dynamics as CD, layout as LY
 from hosedrogue.model.engagement import evaluation as EV, outputs as EO
 from hosedrogue.model.system import HoseModel
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 
 MU = PAPER.hose.mass_per_length_kg_m
 

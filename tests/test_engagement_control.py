@@ -14,7 +14,7 @@ from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.model import layout as LY
 from hosedrogue.scenarios import runner as engagement_run
 from hosedrogue.scenarios.runner import drogue_controller as engagement_controller, run as run_engagement
-from hosedrogue.params import Actuator, Sensor
+from hosedrogue.spec.params import Actuator, Sensor
 from hosedrogue.scenarios import load_scenario
 from hosedrogue.simulation import simulate
 

@@ -14,7 +14,7 @@ from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import chain_dynamics as CD, elastic as E, layout as LY
 from hosedrogue.model.engagement import evaluation as EV, outputs as EO
 from hosedrogue.model.system import HoseModel
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.simulation.simulate import simulate
 
 MU = PAPER.hose.mass_per_length_kg_m
@@ -257,7 +257,7 @@ def test_drogue_surfaces_refuse_an_elastic_hose(tmp_path, capsys):
     an elastic hose with them is refused in one line naming hose.axial_stiffness_n - in a scenario
     file (exit 2, nothing written), in simulate and in simulate_engagement."""
     from hosedrogue.cli import main
-    from hosedrogue.drogue_surfaces import DrogueActuator
+    from hosedrogue.spec.drogue_surfaces import DrogueActuator
     from hosedrogue.errors import ParameterError
 
     f = tmp_path / "elastic-surfaces.toml"

@@ -4,7 +4,7 @@ import pytest
 from matplotlib.figure import Figure
 
 from hosedrogue.engagement import Probe, Reel, simulate_engagement
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.plotting.engagement import (animate_engagement, plot_drogue_region, plot_engagement_history,
                                             plot_hose_snapshots)
 

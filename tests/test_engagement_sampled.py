@@ -15,9 +15,9 @@ from hosedrogue import load_scenario, run
 from hosedrogue.controllers.sampled import SampledController
 from hosedrogue.engagement import EngagementStepper, Probe, Receiver, Reel, simulate_engagement
 from hosedrogue.errors import ParameterError
-from hosedrogue.params import PAPER, Sensor
+from hosedrogue.spec.params import PAPER, Sensor
 from hosedrogue.results import EngagementResult
-from hosedrogue.sections import Controller, Pilot
+from hosedrogue.spec.sections import Controller, Pilot
 from hosedrogue.studies.convergence import with_links
 
 PD = "hosedrogue.examples.controllers:pd_docking"

@@ -22,7 +22,7 @@ from hosedrogue.environment.turbulence import (
     standard_intensity,
 )
 from hosedrogue.environment.wake import wake_field, wake_scalars, wake_velocity
-from hosedrogue.params import ParameterError, Tanker, Turbulence, Wake, params_from_dict
+from hosedrogue.spec.params import ParameterError, Tanker, Turbulence, Wake, params_from_dict
 
 # Paper case (Table 1, Sec. 2.3.3). The density is a round literal, not the ICAO value, so the
 # wake checks do not depend on the atmosphere module.

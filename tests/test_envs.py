@@ -19,7 +19,7 @@ from gymnasium.utils.env_checker import check_env  # noqa: E402
 from hosedrogue import load_scenario, run  # noqa: E402
 from hosedrogue.envs import DOCKING_ID, OBSERVATION, DockingEnv, DockingReward, PDFeedForward, StraightLine  # noqa: E402
 from hosedrogue.errors import ParameterError  # noqa: E402
-from hosedrogue.standards import standard_intensity  # noqa: E402
+from hosedrogue.spec.standards import standard_intensity  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from hosedrogue.cli import main
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.units import NO_UNIT, UNITS, unit_of
 
 fmpy = pytest.importorskip("fmpy")

@@ -366,7 +366,7 @@ def test_the_reel_command_sets_the_take_up(rigid_case, tmp_path, take_up_m_s):
 def test_the_stepper_pass_through_is_refused_where_it_means_nothing(case):
     from hosedrogue.engagement.stepper import EngagementStepper
     from hosedrogue.errors import ParameterError
-    from hosedrogue.sections import Receiver
+    from hosedrogue.spec.sections import Receiver
 
     scenario, _, _ = case
     e = scenario.engagement
@@ -428,7 +428,7 @@ def test_surfaces_commanded_by_deflection_are_refused(tmp_path):
     from hosedrogue import load_scenario
     from hosedrogue.errors import ParameterError
     from hosedrogue.interop.fmu import export_fmu
-    from hosedrogue.sections import Controller
+    from hosedrogue.spec.sections import Controller
 
     scenario = load_scenario("approach-moderate-pid-actuated")
     loop = dataclasses.replace(scenario.loop, controller=Controller(

@@ -41,7 +41,7 @@ import sympy as sm
 from sympy.physics import mechanics as me
 
 from hosedrogue.constants import G0
-from hosedrogue.params import PAPER, Params
+from hosedrogue.spec.params import PAPER, Params
 
 # Parameters shared by all links, in the order the lambdified functions take them.
 SCALAR_PARAMS = ("g", "rho", "V", "d_o", "c_t", "c_n", "CdA_d", "EI", "J_d", "s_paper", "s_moment",

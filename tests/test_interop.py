@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hosedrogue.cli import main
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 
 fmpy = pytest.importorskip("fmpy")
 pytest.importorskip("pythonfmu")

@@ -7,7 +7,7 @@ from hosedrogue.analysis.equilibrium import solve_equilibrium
 from hosedrogue.analysis.linearize import linearize
 from hosedrogue.analysis.reduction import balanced_truncation, hankel_singular_values, truncation_error_bound
 from hosedrogue.controllers.design import reduced_channels
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.simulation import simulate
 
 

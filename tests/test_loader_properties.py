@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 from hosedrogue.errors import ParameterError  # noqa: E402
-from hosedrogue.config import load_params  # noqa: E402
+from hosedrogue.spec.config import load_params  # noqa: E402
 from hosedrogue.scenarios import load_scenario  # noqa: E402
 
 #: A valid scenario touching every section and kind of field (choices, vectors, lists, booleans).

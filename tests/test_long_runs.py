@@ -12,10 +12,10 @@ import scipy.integrate
 
 from hosedrogue.analysis.linearize import linearize
 from hosedrogue.simulation import simulate_batch
-from hosedrogue.config import load_preset, preset_names, resolve_config
+from hosedrogue.spec.config import load_preset, preset_names, resolve_config
 from hosedrogue.controllers.pid import PAPER_PID, pid_controller
 from hosedrogue.model.system import HoseModel
-from hosedrogue.params import PAPER, ParameterError
+from hosedrogue.spec.params import PAPER, ParameterError
 from hosedrogue.scenarios.runner import run_scenario
 from hosedrogue.scenarios import load_scenario
 from hosedrogue.simulation import simulate

@@ -26,7 +26,7 @@ import sympy as sm
 from sympy.physics import mechanics as me
 
 from hosedrogue.constants import G0
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 
 # Relative tolerance on qdd: both sides solve H qdd = f in double precision with cond(H) ~ 10-35
 # at these states (tests/test_independent_derivation.py), so rounding is ~1e-14. The smallest frame

@@ -28,7 +28,7 @@ from hosedrogue.analysis.steady_flight import TURN_TERMS, steady_params, turn_br
 from hosedrogue.constants import G0
 from hosedrogue.model.frame import SteadyFrame, ramp_profile
 from hosedrogue.model.system import HoseModel
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 from hosedrogue.scenarios import scenario_from_dict
 
 #: The link model that converges to the continuous hose: split lumping, no bending (the continuum

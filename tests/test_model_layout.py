@@ -163,7 +163,7 @@ def test_the_model_packs_ps_and_env():
     from hosedrogue.environment.wake import WAKE_SIZE, wake_scalars
     from hosedrogue.model import frame
     from hosedrogue.model.system import HoseModel
-    from hosedrogue.params import PAPER
+    from hosedrogue.spec.params import PAPER
     from hosedrogue.scenarios import load_scenario
 
     level = HoseModel(PAPER)
@@ -188,9 +188,9 @@ def test_the_model_packs_ps_and_env():
 
 
 def test_the_actuator_packs_act():
-    from hosedrogue.drogue_surfaces import DrogueActuator
+    from hosedrogue.spec.drogue_surfaces import DrogueActuator
     from hosedrogue.model import drogue_actuator as DA
-    from hosedrogue.sections import Actuator
+    from hosedrogue.spec.sections import Actuator
 
     head = Actuator(max_force_n=300.0, max_rate_n_s=900.0, time_constant_s=0.05).as_array()
     assert head.size == LY.ACT_IDEAL
@@ -210,8 +210,8 @@ def test_the_engagement_packs_ep_and_the_block_after_the_tail():
     from hosedrogue.engagement.chain import initial_chain
     from hosedrogue.engagement.driver import engagement_parameters
     from hosedrogue.engagement.loop import extra_states
-    from hosedrogue.params import PAPER, Actuator
-    from hosedrogue.sections import Pilot, Probe, Receiver, Reel
+    from hosedrogue.spec.params import PAPER, Actuator
+    from hosedrogue.spec.sections import Pilot, Probe, Receiver, Reel
 
     chain = initial_chain(PAPER)
     probe = Probe(stiffness_n_m=12345.0, damping_n_s_m=67.0)

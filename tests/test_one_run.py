@@ -136,7 +136,7 @@ def test_config_files_apply_in_order_and_may_name_a_preset(tmp_path, capsys):
     code2, out2, _ = _main(capsys, "steady", "--config", "converged", "--config", str(slow), "--config", str(mine),
                            "--json")
     assert code == code2 == 0 and json.loads(out2) == one  # the last one wins, from the same preset
-    from hosedrogue.config import load_preset
+    from hosedrogue.spec.config import load_preset
 
     ref = hd.solve_equilibrium(load_preset("converged").replace(flight={"airspeed_m_s": 180.0}))
     assert one["drogue_position_m"] == ref.drogue_position_m.tolist()

@@ -56,7 +56,8 @@ def test_wheel_holds_the_shipped_scenarios_and_presets(wheel):
 
     scenarios = {f"hosedrogue/scenarios/{name}.toml" for name in shipped_scenarios()}
     assert "hosedrogue/scenarios/swing-release.toml" in scenarios
-    presets = {str(Path("hosedrogue") / p.relative_to(PACKAGE)) for p in PACKAGE.glob("presets/*.toml")}
+    presets = {str(Path("hosedrogue") / p.relative_to(PACKAGE)) for p in PACKAGE.glob("spec/presets/*.toml")}
+    assert "hosedrogue/spec/presets/converged.toml" in presets
     assert scenarios | presets <= wheel["names"]
 
 

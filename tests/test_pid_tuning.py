@@ -220,7 +220,7 @@ def test_run_json_records_the_controller(tmp_path):
     rec = json.loads((tmp_path / "l" / "run.json").read_text())["controller_design"]
     from hosedrogue.analysis.linearize import linearize
     from hosedrogue.controllers.design import paper_lqr_design_for
-    from hosedrogue.params import PAPER
+    from hosedrogue.spec.params import PAPER
 
     design = paper_lqr_design_for(linearize(PAPER))
     assert rec["type"] == "lqr" and rec["design"] == "balanced"

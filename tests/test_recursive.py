@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from hosedrogue.model.system import HoseModel
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 
 
 @pytest.mark.parametrize("n", [1, 2, 5, 20, 200])

@@ -365,7 +365,7 @@ def test_plot_manoeuvres():
 def table3(tmp_path_factory):
     """The Table 3 section alone, on the linear-model section's models of the paper's balance position."""
     from hosedrogue.analysis.equilibrium import solve_equilibrium
-    from hosedrogue.params import PAPER
+    from hosedrogue.spec.params import PAPER
     from hosedrogue.report import controllers, linear
     from hosedrogue.report.settings import FAST
     from hosedrogue.report.sweep import SteadyResult

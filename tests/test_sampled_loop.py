@@ -14,9 +14,9 @@ from hosedrogue.controllers.sampled import (ControllerError, DiscreteLinearContr
                                             command_problem, linear_controller_factory)
 from hosedrogue.errors import ParameterError
 from hosedrogue.examples.controllers import DiscretePID
-from hosedrogue.params import PAPER, Actuator, Sensor
+from hosedrogue.spec.params import PAPER, Actuator, Sensor
 from hosedrogue.scenarios.runner import drogue_controller
-from hosedrogue.sections import Controller
+from hosedrogue.spec.sections import Controller
 from hosedrogue.simulation import simulate
 from hosedrogue.simulation.stepper import FixedLengthStepper, sensor_noise3
 

@@ -71,7 +71,7 @@ def test_sweep_trends_match_paper_fig3():
 def test_equilibrium_found_across_the_envelope(altitude, airspeed, links):
     """The brief's envelope (0-15 km, 60-250 m/s, 1-200 links), no hand-tuned guesses: the
     solver must converge and the drogue must trail behind and below the tow point."""
-    from hosedrogue.params import PAPER
+    from hosedrogue.spec.params import PAPER
 
     eq = solve_equilibrium(PAPER.replace(flight={"altitude_m": altitude, "airspeed_m_s": airspeed},
                                          hose={"links": links}))

@@ -17,7 +17,7 @@ import scipy.optimize
 from hosedrogue.analysis.equilibrium import solve_equilibrium
 from hosedrogue.constants import G0
 from hosedrogue.environment.atmosphere import density
-from hosedrogue.params import PAPER
+from hosedrogue.spec.params import PAPER
 
 
 def unit_along(th1, th2):

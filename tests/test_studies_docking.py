@@ -46,7 +46,7 @@ def test_a_grid_cell_is_the_shipped_scenario_with_its_controller_and_bow_wave():
 
 
 def test_the_pilot_cell_enables_the_pilot_models_defaults_and_nothing_else():
-    from hosedrogue.sections import Pilot
+    from hosedrogue.spec.sections import Pilot
 
     sc, ref = cell_scenario(CellSpec("light", "none", True, pilot=True)), load_scenario("approach-light")
     assert sc.engagement.pilot == Pilot(enabled=True)

@@ -16,7 +16,7 @@ from hosedrogue.model.integrate import loop_arrays
 from hosedrogue.controllers.linear import LinearController
 from hosedrogue.model.system import HoseModel
 from hosedrogue.model import layout as LY
-from hosedrogue.params import PAPER, Actuator
+from hosedrogue.spec.params import PAPER, Actuator
 from hosedrogue.studies.whip_loads import axial_damping_n_s, first_axial_mode_rad_s, study_scenario
 
 T = np.linspace(0.0, 10.0, 1001)

@@ -13,10 +13,10 @@ Quick start::
 """
 
 from .version import __version__
-from .config import load_params, resolve_config
-from .manoeuvres import Manoeuvre, TankerMotion
-from .params import PAPER, Params, ParameterError
-from .sections import Actuator, BowWave, Controller, DrogueActuator, Engagement, Loop, Pilot, Probe, Receiver, Reel, Sensor
+from .spec.config import load_params, resolve_config
+from .spec.manoeuvres import Manoeuvre, TankerMotion
+from .spec.params import PAPER, Params, ParameterError
+from .spec.sections import Actuator, BowWave, Controller, DrogueActuator, Engagement, Loop, Pilot, Probe, Receiver, Reel, Sensor
 
 __all__ = ["PAPER", "Params", "ParameterError", "load_params", "resolve_config", "TankerMotion", "Manoeuvre",
            "Actuator", "BowWave", "Controller", "DrogueActuator",

@@ -123,7 +123,7 @@ def turbulence_window(turbulence) -> tuple[float, float]:
     ----------
     turbulence : object
         Has ``enabled`` (bool), ``start_s`` [s] and ``duration_s`` [s], e.g.
-        :class:`hosedrogue.params.Turbulence`.
+        :class:`hosedrogue.spec.params.Turbulence`.
 
     Returns
     -------

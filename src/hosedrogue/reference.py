@@ -6,9 +6,9 @@ from the code (the documentation's "Scenario reference" page is this module's ou
 * :func:`problems` - what the metadata lacks (a field without a unit, a range or a ``#:`` comment);
 * :func:`scenario_reference_markdown` - the page's body (Markdown).
 
-The rows of the model's sections (:data:`hosedrogue.params.SECTIONS`) and the run's sections
-(:data:`hosedrogue.sections.LOOP_SECTIONS`, :data:`hosedrogue.sections.ENGAGEMENT_SECTIONS`)
-come from :func:`hosedrogue.fields.field_table`; ``[scenario]``, ``[model]``, ``[controller]``
+The rows of the model's sections (:data:`hosedrogue.spec.params.SECTIONS`) and the run's sections
+(:data:`hosedrogue.spec.sections.LOOP_SECTIONS`, :data:`hosedrogue.spec.sections.ENGAGEMENT_SECTIONS`)
+come from :func:`hosedrogue.spec.fields.field_table`; ``[scenario]``, ``[model]``, ``[controller]``
 and the pseudo-key ``turbulence.intensity`` are not sections of fields, so their rows are built
 here from the constants that validate them.
 """
@@ -23,20 +23,20 @@ import re
 import textwrap
 from typing import Any
 
-from .config import preset_names
+from .spec.config import preset_names
 from .constants import FT_TO_M
-from .fields import field_table
-from .params import SECTIONS, TURBULENCE_PRESET_KEY
+from .spec.fields import field_table
+from .spec.params import SECTIONS, TURBULENCE_PRESET_KEY
 from .scenarios import MAX_DURATION_S, MAX_OFFSET_DEG, SCENARIO_KEYS, Scenario
-from .sections import (CONTROLLER_KEYS, CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS,
+from .spec.sections import (CONTROLLER_KEYS, CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS,
                        LQR_DESIGNS, MAX_SAMPLE_TIME_S, Controller)
-from .standards import INTENSITY_ALTITUDE_FT, INTENSITY_FT_S, PROBABILITY_OF_EXCEEDANCE
+from .spec.standards import INTENSITY_ALTITUDE_FT, INTENSITY_FT_S, PROBABILITY_OF_EXCEEDANCE
 
 #: The unit shown for a dimensionless number (its ``#:`` comment says ``[-]``) or a non-numeric key.
 NO_UNIT = "-"
 
 #: What each ``[controller]`` option is: (type, option) -> (unit, meaning). A new option in
-#: :data:`hosedrogue.sections.CONTROLLER_OPTIONS` needs a line here (:func:`problems` says so).
+#: :data:`hosedrogue.spec.sections.CONTROLLER_OPTIONS` needs a line here (:func:`problems` says so).
 CONTROLLER_OPTION_DOCS = {
     ("pid", "lateral"): ("N/m, N/(m s), N s/m, rad/s",
                          "[K_P, K_I, K_D, N] of the lateral channel (force u_y on the drogue's lateral offset), "
@@ -54,7 +54,7 @@ CONTROLLER_OPTION_DOCS = {
 }
 
 #: What each ``[controller]`` key besides ``type`` and the design options is: key -> (unit,
-#: allowed, default, meaning). A new key of :data:`hosedrogue.sections.CONTROLLER_KEYS` needs a line here.
+#: allowed, default, meaning). A new key of :data:`hosedrogue.spec.sections.CONTROLLER_KEYS` needs a line here.
 CONTROLLER_KEY_DOCS = {
     "sample_time_s": ("s", f"a finite number in [0, {MAX_SAMPLE_TIME_S:g}] s ('python': > 0)", "0.0",
                       "time between the controller's calls; the command is held in between. 'pid', 'lqr': 0 runs "
@@ -178,7 +178,7 @@ def section_rows(cls: type) -> list[dict]:
     Parameters
     ----------
     cls : type
-        A :class:`hosedrogue.fields.Section` dataclass.
+        A :class:`hosedrogue.spec.fields.Section` dataclass.
 
     Returns
     -------

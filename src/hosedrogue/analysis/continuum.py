@@ -46,7 +46,7 @@ from ..environment.atmosphere import density
 from ..environment.wake import wake_field
 from ..errors import EquilibriumError
 from ..model.frame import SteadyFrame, steady_frame
-from ..params import PAPER, Params
+from ..spec.params import PAPER, Params
 
 #: Position tolerance of the shooting solution [m]: the tow point must be reproduced this well.
 POSITION_TOLERANCE_M = 1e-9

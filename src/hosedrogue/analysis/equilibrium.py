@@ -26,7 +26,7 @@ from ..constants import G0
 from ..errors import EquilibriumError
 from ..model import chain_dynamics as CD, elastic as E, layout as LY
 from ..model.system import HoseModel
-from ..params import PAPER, Params
+from ..spec.params import PAPER, Params
 
 #: Converged when every generalized force is below this fraction of the hose's weight moment
 #: S_1 g l_1: 1e-10 of it moves the drogue by far less than a micrometre.

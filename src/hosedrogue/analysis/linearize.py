@@ -17,7 +17,7 @@ import numpy as np
 from ..model import chain_dynamics as CD
 from ..errors import ParameterError
 from ..model.system import HoseModel
-from ..params import PAPER, Params
+from ..spec.params import PAPER, Params
 from .equilibrium import Equilibrium, solve_equilibrium
 
 #: Central-difference perturbation for states [rad, rad/s] and inputs [N].

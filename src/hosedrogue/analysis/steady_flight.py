@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.frame import SteadyFrame, steady_frame
-from ..params import Params
+from ..spec.params import Params
 from .continuum import solve_continuum
 from .equilibrium import Equilibrium, solve_equilibrium
 

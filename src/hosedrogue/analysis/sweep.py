@@ -11,7 +11,7 @@ from typing import Iterable
 
 import numpy as np
 
-from ..params import PAPER, ParameterError, Params
+from ..spec.params import PAPER, ParameterError, Params
 from .equilibrium import EquilibriumError, solve_equilibrium
 
 #: Default grid: the paper's Fig. 3 spans these altitudes [m] and airspeeds [m/s].

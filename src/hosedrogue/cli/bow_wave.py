@@ -47,7 +47,7 @@ def add_parser(sub) -> None:
 
 def _forebody(scenario, args):
     """The scenario's [bow_wave] section with the command line's overrides, enabled."""
-    from ..sections import BowWave
+    from ..spec.sections import BowWave
 
     e = scenario.engagement
     base = (e.bow_wave if e is not None else None) or BowWave()

@@ -8,9 +8,9 @@ import math
 from pathlib import Path
 
 from ..errors import ParameterError
-from ..config import resolve_configs
-from ..manoeuvres import MAX_BANK_DEG, MAX_FLIGHT_PATH_DEG
-from ..params import Params
+from ..spec.config import resolve_configs
+from ..spec.manoeuvres import MAX_BANK_DEG, MAX_FLIGHT_PATH_DEG
+from ..spec.params import Params
 
 #: Exit status of bad input (one line on stderr, nothing written).
 EXIT_BAD_INPUT = 2
@@ -131,7 +131,7 @@ def flight_overrides(args) -> dict:
     Returns
     -------
     dict
-        ``{section: {field: value}}`` for :meth:`hosedrogue.params.Params.replace`.
+        ``{section: {field: value}}`` for :meth:`hosedrogue.spec.params.Params.replace`.
     """
     over: dict = {}
     if getattr(args, "altitude", None) is not None:

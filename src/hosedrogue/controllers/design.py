@@ -32,7 +32,7 @@ from .linear import LinearController
 from .lqr import PAPER_LQR_Q, PAPER_LQR_R, LQRDesign, lqr_integral_design, two_channel_plant
 from .lqr_balanced import BalancedLQRDesign, lqr_balanced_design
 from .pid import PAPER_PID, PIDGains, pid_controller
-from ..sections import LQR_DESIGNS  # noqa: F401 - the LQR readings, defined with the [controller] section
+from ..spec.sections import LQR_DESIGNS  # noqa: F401 - the LQR readings, defined with the [controller] section
 
 #: Order of the design model (paper Sec. 3.2: "the 2nd order reduced model is chosen").
 DESIGN_ORDER = 2

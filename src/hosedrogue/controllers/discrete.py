@@ -87,7 +87,7 @@ class DiscreteLinearController:
         The continuous design.
     sample_time_s : float
         T [s].
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (their mixing and deflection limit give the anti-windup error).
     """
 
@@ -143,7 +143,7 @@ def linear_controller_factory(controller: LinearController, sample_time_s: float
         The continuous design.
     sample_time_s : float
         T [s].
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (the anti-windup's error).
 
     Returns

@@ -31,7 +31,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import ParameterError
-from ..fields import check_entry, entry_name
+from ..spec.fields import check_entry, entry_name
 from ..model.sampled import (M_BALANCE, M_COUPLED, M_DROGUE, M_DROGUE_V, M_L, M_PROBE, M_PROBE_V, M_REEL_V, M_REL,
                              M_Q, M_REL_V, M_SIZE, M_T, M_T0)
 from .discrete import (DiscreteLinearController, discretize, discretize_anti_windup,  # noqa: F401 (re-exported)

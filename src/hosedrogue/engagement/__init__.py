@@ -4,7 +4,7 @@ model or by your docking controller), capture and the coupled phase; the steppin
 (:class:`EngagementStepper`, docs/controllers.md)."""
 
 from ..results import EngagementResult
-from ..sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
+from ..spec.sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 from .simulate import simulate_engagement
 from .stepper import EngagementStepper
 

@@ -15,11 +15,11 @@ from ..errors import ParameterError
 from ..model import layout as LY
 from ..model.engagement import evaluation as EV
 from ..model.chain_dynamics import WS_QDD, WS_R, make_workspace
-from ..params import Params
+from ..spec.params import Params
 from .chain import chain_equilibrium, initial_chain
 from .driver import engagement_parameters, set_bow_wave
 from .loop import no_loop
-from ..sections import BowWave, Reel
+from ..spec.sections import BowWave, Reel
 
 
 def _accelerations(q, chain, model, ep, z):

@@ -22,7 +22,7 @@ import numpy as np
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..model import layout as LY
 from ..model.system import HoseModel, link_inertias, lumped_masses
-from ..params import Params
+from ..spec.params import Params
 
 SPLIT_RATIO = 1.5
 MERGE_RATIO = 0.5

@@ -19,13 +19,13 @@ import numpy as np
 from ..environment.bow_wave import BowWaveField
 from ..model import layout as LY
 from ..model.engagement import chain as EC, steps as ES
-from ..params import Actuator, ParameterError, Params, Sensor
+from ..spec.params import Actuator, ParameterError, Params, Sensor
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, chain_model, initial_chain
 from .events import contact_event, remesh_event, switch_event
 from .result import EngagementResult, assemble_result
 from .result import segment_outputs as _outputs
 from .loop import drogue_history, engagement_loop, extra_states, set_pilot
-from ..sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
+from ..spec.sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 
 LAW_CODES = {"locked": LY.LAW_LOCKED, "constant-tension": LY.LAW_CONSTANT_TENSION, "response": LY.LAW_RESPONSE,
              "python": LY.LAW_COMMANDED}
@@ -208,7 +208,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
         Also evaluate the energy terms [J].
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces.
 
     Returns
@@ -292,7 +292,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
         Initial L' [m/s].
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue steers itself with these control surfaces (the fixed-length loop's model,
         docs/model.md §10); once coupled their command is zero (they return to neutral).
         ``actuator`` must then have no limits.

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..model import layout as LY
 from ..model.engagement import chain as EC
-from ..sections import Probe
+from ..spec.sections import Probe
 from .chain import SWITCH_YAW_DEG, merge, split, switch_charts
 from .result import segment_energies as _energies
 from .result import segment_outputs as _outputs

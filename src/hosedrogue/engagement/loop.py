@@ -18,8 +18,8 @@ import numpy as np
 from ..controllers.linear import LinearController
 from ..model import layout as LY
 from ..model.integrate import LoopArrays, loop_arrays, loop_states, sensor_noise
-from ..params import Actuator, ParameterError, Sensor
-from ..sections import DrogueActuator, Pilot, Receiver, Reel
+from ..spec.params import Actuator, ParameterError, Sensor
+from ..spec.sections import DrogueActuator, Pilot, Receiver, Reel
 
 
 def engagement_loop(control: LinearController | None, y_ref: np.ndarray, actuator: Actuator, sensor: Sensor,

@@ -14,7 +14,7 @@ import numpy as np
 from ..metrics import turbulence_window
 from ..model import drogue_actuator as DA, layout as LY
 from ..model.engagement import chain as EC, outputs as EO
-from ..params import Params
+from ..spec.params import Params
 from ..results import EngagementResult
 from .chain import Chain, hose_mass_in_air
 
@@ -242,7 +242,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     step_loads : array (steps + 1, 4), optional
         Elastic links: exit and drogue-end tension [N], probe load [N] and slack [m] after every
         integration step (``model.engagement.outputs.state_loads``); the run's peaks are taken from it.
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (their deflections, rates and q become result fields).
 
     Returns

@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..controllers.sampled import SampledController, linear_controller_factory
-from ..params import Actuator, ParameterError, Params, Sensor
-from ..sections import BowWave, Pilot, Probe, Receiver, Reel
+from ..spec.params import Actuator, ParameterError, Params, Sensor
+from ..spec.sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.drive import control_step, drive
 from ..simulation.simulate import sampled_controller
 from . import driver
@@ -74,7 +74,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     sample_time_s : float
         With a :class:`LinearController` ``control``: 0 (continuous, the default) or the sample
         time [s] of its zero-order-hold discretization.
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue steers itself with these control surfaces (docs/model.md §10): the
         controller's force command (continuous or sampled) is mixed to them, or with ``command =
         "deflection"`` a user's controller commands their deflections [rad]; once coupled they
@@ -162,7 +162,7 @@ def sampled_controllers(reel: Reel | None, receiver: Receiver | None, control, s
         The drogue controller.
     sample_time_s : float
         The built-in drogue controller's sample time [s] (0: continuous, not sampled).
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (the sampled built-in controller's anti-windup).
 
     Returns

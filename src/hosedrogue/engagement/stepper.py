@@ -29,8 +29,8 @@ from ..errors import ParameterError
 from ..model import chain_dynamics as CD, layout as LY
 from ..model.engagement import chain as EC, outputs as EO, probe as EPR, steps as ES
 from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, held_command
-from ..params import Actuator, Params, Sensor
-from ..sections import BowWave, Pilot, Probe, Receiver, Reel
+from ..spec.params import Actuator, Params, Sensor
+from ..spec.sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.stepper import StepperBase, sensor_noise3
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, chain_model
 from .driver import _STATUS, prepare, step_record
@@ -82,7 +82,7 @@ class EngagementStepper(StepperBase):
         :meth:`result` also evaluates the energy terms [J].
     gravity_m_s2 : float, optional
         Overrides g [m/s^2].
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (docs/model.md §10): the built-in ``control`` or the held
         drogue command (a force, or with ``command = "deflection"`` one deflection [rad] per
         surface) commands them.

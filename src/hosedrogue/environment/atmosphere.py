@@ -17,7 +17,7 @@ from ..constants import (
     R_AIR,
     T0_SEA_LEVEL,
 )
-from ..params import ParameterError
+from ..spec.params import ParameterError
 
 
 def temperature_pressure(altitude_m: float) -> tuple[float, float]:

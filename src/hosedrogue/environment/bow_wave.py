@@ -23,7 +23,7 @@ stagnation point of the chosen field.
 
 The functions :func:`source_velocity` and :func:`line_source_velocity` are compiled (numba) so the
 hose kernels can add the bow wave at every hose point; :class:`BowWaveField` is the Python-facing
-object (its geometry is the ``[bow_wave]`` section, :class:`hosedrogue.sections.BowWave`).
+object (its geometry is the ``[bow_wave]`` section, :class:`hosedrogue.spec.sections.BowWave`).
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ from numba import njit
 from ..jit import JIT
 
 from ..errors import ParameterError
-from ..sections import BOW_WAVE_SHAPES as SHAPES  # noqa: F401 - the one list of shapes
-from ..sections import BowWave as _Geometry
+from ..spec.sections import BOW_WAVE_SHAPES as SHAPES  # noqa: F401 - the one list of shapes
+from ..spec.sections import BowWave as _Geometry
 
 
 @njit(**JIT)
@@ -86,7 +86,7 @@ class BowWaveField:
         Free-stream speed V [m/s] (the tanker's true airspeed), > 0.
     forebody_radius_m, probe_offset_m, shape, nose_length_m
         The forebody's geometry, validated as the ``[bow_wave]`` section
-        (:class:`hosedrogue.sections.BowWave`): fuselage radius R far aft of the nose [m]; probe
+        (:class:`hosedrogue.spec.sections.BowWave`): fuselage radius R far aft of the nose [m]; probe
         tip relative to the nose (forward, right, down) [m]; ``"rankine"`` or ``"source-line"``
         (see the module docstring); length of the source line [m].
     """
@@ -106,7 +106,7 @@ class BowWaveField:
 
         Parameters
         ----------
-        section : hosedrogue.sections.BowWave
+        section : hosedrogue.spec.sections.BowWave
             The forebody's geometry.
         airspeed_m_s : float
             Free-stream speed [m/s].

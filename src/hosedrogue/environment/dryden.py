@@ -46,7 +46,7 @@ import math
 import numpy as np
 import scipy.linalg
 
-from ..params import ParameterError
+from ..spec.params import ParameterError
 
 __all__ = ["AXES", "MODELS", "discretize_filter", "dryden_psd", "forming_filter"]
 

@@ -8,7 +8,7 @@ stationary record from them (:func:`generate_gusts`), reads it in the inner loop
 
 Standard intensities
 --------------------
-:func:`standard_intensity` (defined in :mod:`hosedrogue.standards`, re-exported here) gives the
+:func:`standard_intensity` (defined in :mod:`hosedrogue.spec.standards`, re-exported here) gives the
 MIL-F-8785C Fig. 7 high-altitude rms intensity for light, moderate and severe turbulence.
 """
 
@@ -24,8 +24,8 @@ from numba import njit
 
 from ..jit import JIT
 
-from ..params import ParameterError, Turbulence
-from ..standards import (  # noqa: F401 - part of this module's public interface
+from ..spec.params import ParameterError, Turbulence
+from ..spec.standards import (  # noqa: F401 - part of this module's public interface
     INTENSITY_ALTITUDE_FT,
     INTENSITY_FT_S,
     PROBABILITY_OF_EXCEEDANCE,

@@ -36,7 +36,7 @@ from numba import njit
 from ..jit import JIT
 
 from ..constants import G0
-from ..params import ParameterError, Tanker, Wake
+from ..spec.params import ParameterError, Tanker, Wake
 
 #: Meaning of the entries of the array returned by :func:`wake_scalars`.
 WAKE_LAYOUT = ("enabled", "gamma_m2_s", "y_right_m", "y_left_m", "z_vortex_m", "core_radius_m")

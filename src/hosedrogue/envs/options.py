@@ -16,11 +16,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..config import preset_names
+from ..spec.config import preset_names
 from ..errors import ParameterError
-from ..fields import Section, real
+from ..spec.fields import Section, real
 from ..scenarios import Scenario, scenario_from_dict, scenario_tables
-from ..standards import INTENSITY_FT_S
+from ..spec.standards import INTENSITY_FT_S
 
 #: Turbulence options besides a number [m/s]: off, or a MIL-F-8785C intensity at the altitude.
 TURBULENCE_CHOICES = ("none", *INTENSITY_FT_S)
@@ -233,9 +233,9 @@ def episode_receiver(scenario: Scenario):
 
     Returns
     -------
-    hosedrogue.sections.Receiver
+    hosedrogue.spec.sections.Receiver
     """
-    from ..sections import Receiver
+    from ..spec.sections import Receiver
 
     rcv = scenario.engagement.receiver
     return Receiver() if rcv is None else dataclasses.replace(rcv, entry="", options={})

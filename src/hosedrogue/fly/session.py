@@ -26,7 +26,7 @@ from ..engagement.simulate import sampled_controllers, sampled_stepper
 from ..errors import ParameterError
 from ..scenarios import Scenario
 from ..scenarios.runner import engagement_arguments
-from ..sections import Receiver
+from ..spec.sections import Receiver
 from ..simulation.drive import drive
 from ..simulation.simulate import sampled_controller
 from .clock import RealTimeClock

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
-from ..params import PAPER, Params, params_from_dict
+from ..spec.params import PAPER, Params, params_from_dict
 from ..units import NO_UNIT, unit_of
 from ..version import __version__
 from .fmu_core import INTERFACES, PARAMS_RESOURCE, HoseDrogueCore, fmu_params, parameter_starts
@@ -126,7 +126,7 @@ def _write_sources(folder: Path, interface, files: dict, starts: dict, details: 
 
 def export_fmu(out: str | Path, params=PAPER, kind: str | None = None) -> Path:
     """Write an FMI 2.0 co-simulation FMU of the hose-drogue model: the hose of fixed length (of
-    a :class:`~hosedrogue.params.Params`) or the engagement (of a scenario).
+    a :class:`~hosedrogue.spec.params.Params`) or the engagement (of a scenario).
 
     Parameters
     ----------
@@ -194,7 +194,7 @@ def prepare_python_host(links: int = 2) -> None:
     """
     from ..scenarios import Scenario
     from ..scenarios.runner import drogue_controller
-    from ..sections import Controller, Engagement, Loop, Probe, Reel
+    from ..spec.sections import Controller, Engagement, Loop, Probe, Reel
     from . import fmu_slave  # noqa: F401  the slave classes and pythonfmu
 
     params = PAPER.replace(hose={"links": links})

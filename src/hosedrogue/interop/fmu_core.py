@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..params import PAPER, Params, params_from_dict
+from ..spec.params import PAPER, Params, params_from_dict
 from .fmu_engagement import ENGAGEMENT_FMU
 from .fmu_interface import (  # noqa: F401  (the interface's names, where the FMU modules have found them)
     INTERFACE_RESOURCE,

@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from ..errors import ParameterError
-from ..sections import Sensor
+from ..spec.sections import Sensor
 from .fmu_interface import FmuInterface, FmuVariable, StepFailure
 
 #: Relative tolerance of a master's communication time against the FMU's own [-]: round-off of

@@ -11,7 +11,7 @@ import json
 from pathlib import Path
 
 from ..errors import ParameterError
-from ..sections import Controller, Receiver
+from ..spec.sections import Controller, Receiver
 
 #: File in the FMU's ``resources`` folder holding the frozen scenario's tables and the start
 #: values of the FMU's parameters and inputs (JSON, :func:`scenario_record`).

@@ -43,7 +43,7 @@ class FmuVariable:
     causality: str  #: ``"parameter"``, ``"input"`` or ``"output"``
     description: str  #: what it is (frame, sign), without the unit
     kind: str = "Real"  #: FMI type, ``"Real"`` or ``"Boolean"``
-    #: parameters: the ``section.name`` of :class:`~hosedrogue.params.Params` it sets (None: the
+    #: parameters: the ``section.name`` of :class:`~hosedrogue.spec.params.Params` it sets (None: the
     #: FMU's own setting, its start from the exported case)
     field: str | None = None
     start: float = 0.0  #: inputs: value until the importer sets one [unit of the name] (unless the FMU's starts say)

@@ -251,8 +251,8 @@ def actuator_array(head: np.ndarray, section, anti_windup: np.ndarray | None, n_
     Parameters
     ----------
     head : array (ACT_IDEAL,)
-        The ideal actuator's entries (:meth:`hosedrogue.sections.Actuator.as_array`; no limits).
-    section : hosedrogue.sections.DrogueActuator
+        The ideal actuator's entries (:meth:`hosedrogue.spec.sections.Actuator.as_array`; no limits).
+    section : hosedrogue.spec.sections.DrogueActuator
         Surfaces [-], roll angle [deg], deflection [deg] and rate [deg/s] limits, servo order [-],
         bandwidth [Hz], damping [-], force slope [1/rad], reference area [m^2], drag slope [1/rad^2].
     anti_windup : array (nc, 2) or None
@@ -289,7 +289,7 @@ def surface_directions(section) -> np.ndarray:
 
     Parameters
     ----------
-    section : hosedrogue.sections.DrogueActuator
+    section : hosedrogue.spec.sections.DrogueActuator
         Its surfaces and roll angle.
 
     Returns
@@ -311,7 +311,7 @@ def result_fields(deflection_rad: np.ndarray, rate_rad_s: np.ndarray, q_pa: np.n
         Each surface's deflection [rad] and deflection rate [rad/s] at the output times.
     q_pa : array (N,)
         Dynamic pressure at the drogue [Pa].
-    section : hosedrogue.sections.DrogueActuator
+    section : hosedrogue.spec.sections.DrogueActuator
         The surfaces (their deflection [deg] and rate [deg/s] limits).
 
     Returns

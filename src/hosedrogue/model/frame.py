@@ -24,7 +24,7 @@ rate and the rate seen in B; and the air, at rest far from the tanker, moves rel
 
 The motion table sits in the model's ``env`` after the ``ENV_SIZE`` scalars:
 ``[ramps, phi_0, gamma_0, g]`` then per ramp ``[quantity, start_s, rate, ramp_s, cruise_s]``
-(:class:`hosedrogue.manoeuvres.Ramp`); env's slots of the motion (``ENV_M_*``) and the table's
+(:class:`hosedrogue.spec.manoeuvres.Ramp`); env's slots of the motion (``ENV_M_*``) and the table's
 (``MT_*``, ``MR_*``) are declared in :mod:`hosedrogue.model.layout`.
 """
 
@@ -38,7 +38,7 @@ from numba import njit
 
 from ..constants import G0
 from ..jit import JIT_NO_ALLOC
-from ..manoeuvres import AIRSPEED, BANK, TankerMotion
+from ..spec.manoeuvres import AIRSPEED, BANK, TankerMotion
 
 from .layout import (  # the env slots of the tanker's motion and the motion table's, declared there
     ENV_M_A0, ENV_M_D, ENV_M_END, ENV_M_G, ENV_M_ON, ENV_M_T, ENV_M_V0, ENV_M_W, MR_CRUISE, MR_QUANTITY, MR_RAMP,

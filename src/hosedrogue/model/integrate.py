@@ -222,13 +222,13 @@ def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float, drogue_actuator
         ``LinearController.static_zero()`` for none).
     y_ref : array (2,)
         Drogue balance position [y, z] [m].
-    actuator : hosedrogue.params.Actuator
+    actuator : hosedrogue.spec.params.Actuator
         Force [N] and rate [N/s] limits.
     noise : array (k, 2)
         Sensor noise samples [m] (``(1, 2)`` zeros for none; :func:`sensor_noise`).
     noise_dt_s : float
         Time each noise sample is held [s].
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (the controller's force command is mixed to them; its
         ``anti_windup`` gain acts when they saturate; with ``command = "deflection"`` the
         controller's n_s outputs are the deflection commands [rad]); None: the force acts as commanded.
@@ -259,9 +259,9 @@ def loop_states(ctrl, actuator, drogue_actuator=None) -> np.ndarray:
     ----------
     ctrl : hosedrogue.controllers.linear.LinearController
         Controller (its ``n_states``).
-    actuator : hosedrogue.params.Actuator
+    actuator : hosedrogue.spec.params.Actuator
         Its ``rate_limited``.
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (their ``surfaces`` and ``servo_order``).
 
     Returns
@@ -280,7 +280,7 @@ def sensor_noise(sensor, duration_s: float, seed: int) -> np.ndarray:
 
     Parameters
     ----------
-    sensor : hosedrogue.params.Sensor
+    sensor : hosedrogue.spec.params.Sensor
         Noise standard deviation [m] and sample time [s].
     duration_s : float
         Simulated time [s] the samples cover.

@@ -18,7 +18,7 @@ The tables, by the array they lay out:
   continued by the tanker's motion, :data:`ENV_M` (:mod:`hosedrogue.model.frame`), then the
   motion table, :data:`MOTION_HEAD` and a :data:`MOTION_ROW` per ramp;
 * ``act``, the drogue's actuator: the ideal actuator, :data:`ACT`
-  (:meth:`hosedrogue.sections.Actuator.as_array`), continued by the control surfaces,
+  (:meth:`hosedrogue.spec.sections.Actuator.as_array`), continued by the control surfaces,
   :data:`SURFACES` (:func:`hosedrogue.model.drogue_actuator.actuator_array`);
 * ``ep``, the engagement's scalars: :data:`EP` (:func:`hosedrogue.engagement.driver.engagement_parameters`);
 * the engagement's state after the hose's entries: :data:`TAIL`, then the block of the pilot's
@@ -206,9 +206,9 @@ MOTION_HEAD = Layout("motion table head", [
     ("MT_G", 1, "gravity g [m/s^2]"),
 ])
 MT_RAMPS, MT_PHI0, MT_GAMMA0, MT_G = MOTION_HEAD.offsets()
-#: one ramp's row of the motion table, after the header (hosedrogue.manoeuvres.Ramp)
+#: one ramp's row of the motion table, after the header (hosedrogue.spec.manoeuvres.Ramp)
 MOTION_ROW = Layout("motion table row", [
-    ("MR_QUANTITY", 1, "the quantity that changes (hosedrogue.manoeuvres BANK, AIRSPEED or the flight path)"),
+    ("MR_QUANTITY", 1, "the quantity that changes (hosedrogue.spec.manoeuvres BANK, AIRSPEED or the flight path)"),
     ("MR_START", 1, "the ramp's start [s]"),
     ("MR_RATE", 1, "the rate of change the ramp reaches [quantity/s]"),
     ("MR_RAMP", 1, "the time its rate takes to rise (and to fall) [s]"),

@@ -242,7 +242,7 @@ def held_command(drogue_actuator=None) -> HeldCommand:
 
     Parameters
     ----------
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (their ``command`` and ``surfaces``).
 
     Returns

@@ -17,7 +17,7 @@ from ..constants import G0
 from ..environment.atmosphere import density
 from ..environment.turbulence import GustRecord, generate_gusts
 from ..environment.wake import wake_scalars
-from ..params import PAPER, ParameterError, Params
+from ..spec.params import PAPER, ParameterError, Params
 from . import elastic as E
 from . import frame
 from . import chain_dynamics as CD, chain_loads as CL, layout as LY

@@ -118,7 +118,7 @@ def plot_capture_vs_surfaces(table, newtons_per_deg: float | None = None):
     -------
     matplotlib.figure.Figure
     """
-    from ..sections import DrogueActuator
+    from ..spec.sections import DrogueActuator
 
     default = DrogueActuator()
     fig, axes = new_figure(1, 2, size=(11.5, 4.5))

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..params import PAPER
+from ..spec.params import PAPER
 from .markup import html_table, slash_join
 
 if TYPE_CHECKING:

@@ -265,7 +265,7 @@ class _Study:
     radius_m: float  #: capture radius [m]
     approach_seed: int  #: turbulence seed of the approach figure
     fast: bool
-    probe: object  #: the approach scenarios' hosedrogue.sections.Probe
+    probe: object  #: the approach scenarios' hosedrogue.spec.sections.Probe
     speed_specs: list  #: studies.docking_grid.CellSpec of the closure-speed study
     speed_cells: list  #: their campaigns (the grid's where the scenario is the same)
     speed_table: object  #: studies.docking_statistics.speed_table

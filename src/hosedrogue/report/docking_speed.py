@@ -81,7 +81,7 @@ def speed_html(df, findings: dict, probe) -> str:
         :func:`hosedrogue.studies.docking_statistics.speed_table`.
     findings : dict
         :func:`hosedrogue.studies.docking_statistics.speed_findings`.
-    probe : hosedrogue.sections.Probe
+    probe : hosedrogue.spec.sections.Probe
         The scenario's probe: standoff [m], push [m], stop time [s], latch minimum [m/s].
 
     Returns

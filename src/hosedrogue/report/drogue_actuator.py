@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..paper import SEC33_DISPLACEMENT_M
-from ..sections import DrogueActuator
+from ..spec.sections import DrogueActuator
 from ..studies import drogue_actuator as study
 from .docking_cells import CAMPAIGNS as DOCKING_CAMPAIGNS
 from .docking_cells import capture_cells, capture_record

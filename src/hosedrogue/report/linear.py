@@ -17,7 +17,7 @@ import numpy as np
 from ..analysis.reduction import second_order_characteristics
 from ..analysis.responses import freq_response
 from ..paper import CHANNELS, TABLE2
-from ..params import PAPER
+from ..spec.params import PAPER
 from .linear_responses import responses_section
 from .markup import fmt, html_table, ratio
 from .section_results import LinearResult

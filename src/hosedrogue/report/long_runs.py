@@ -153,7 +153,7 @@ def _zigzag_prose(study, stats: dict) -> str:
         f"{outcome} its {stats['duration_s']:.0f} s in severe turbulence. Use it for every run beyond the "
         f"paper's 20 s window: <code>--config converged</code> on the command line, "
         f"<code>[model] preset = \"converged\"</code> in a scenario file (e.g. the shipped "
-        f"<code>long-turbulence-severe</code>), <code>hosedrogue.config.load_preset(\"converged\")</code> from "
+        f"<code>long-turbulence-severe</code>), <code>hosedrogue.spec.config.load_preset(\"converged\")</code> from "
         f"Python. The paper's case keeps the paper's model, so the rest of this report is unaffected; the "
         f'preset\'s link count comes from the <a href="#accuracy">accuracy-per-cost section</a>.</p>'
     )

@@ -6,7 +6,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..params import PAPER, SECTIONS, Params
+from ..spec.params import PAPER, SECTIONS, Params
 from .markup import fmt, html_table
 
 if TYPE_CHECKING:
@@ -139,7 +139,7 @@ def _html(p: Params, rows: list[dict]) -> str:
              else r["value"], r["unit"], r["source"]) for r in rows]
     return (
         '<section id="table1"><h2>Table 1 as used: parameters</h2>'
-        "<p>Every parameter of the paper's case (<code>hosedrogue.params.PAPER</code>), its unit and "
+        "<p>Every parameter of the paper's case (<code>hosedrogue.spec.params.PAPER</code>), its unit and "
         "where it comes from. The hose length is not stated in the paper's text; the row "
         f"'Length/m {hose.length_m:g}' of Table 1 is read as the hose length: {hose.length_m:g} m in "
         f"{hose.links} links of {hose.link_length_m:g} m, which is consistent with the link inertia "

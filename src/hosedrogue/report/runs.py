@@ -7,7 +7,7 @@ read a run's arrays into the one definition in :mod:`hosedrogue.metrics`.
 from __future__ import annotations
 
 from .. import metrics
-from ..params import Params
+from ..spec.params import Params
 
 __all__ = ["run_named_scenario", "turbulence_window_s", "peak_offsets_m", "rms_offsets_m", "peak_forces_n"]
 

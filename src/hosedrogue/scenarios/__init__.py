@@ -4,9 +4,9 @@ A scenario file is TOML: a ``[scenario]`` table (``duration_s``, ``initial``, of
 ``extends`` to start from another scenario), the drogue's control loop (``[controller]``,
 ``[actuator]``, ``[sensor]``, and ``[drogue_actuator]`` for a drogue steered by control
 surfaces), the engagement (``[reel]``, ``[probe]``, ``[bow_wave]``, ``[pilot]``, ``[receiver]``) and
-any parameter section of :mod:`hosedrogue.params` (``[flight]``, ``[turbulence]``, ...) overriding the
+any parameter section of :mod:`hosedrogue.spec.params` (``[flight]``, ``[turbulence]``, ...) overriding the
 paper's case. ``[model] preset = "converged"`` starts from a
-shipped model preset (:mod:`hosedrogue.config`); the file's parameter sections then override it.
+shipped model preset (:mod:`hosedrogue.spec.config`); the file's parameter sections then override it.
 Every section, key, unit, default and range is listed in the documentation's scenario reference.
 
 A scenario with a ``[reel]`` or ``[probe]`` section runs the hose of varying length (the
@@ -30,9 +30,9 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..config import load_preset, preset_names, read_toml
-from ..params import SECTIONS, PAPER, ParameterError, Params, params_from_dict
-from ..sections import (CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, Actuator, Controller,
+from ..spec.config import load_preset, preset_names, read_toml
+from ..spec.params import SECTIONS, PAPER, ParameterError, Params, params_from_dict
+from ..spec.sections import (CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, Actuator, Controller,
                         DrogueActuator, Engagement, Loop, Sensor)
 
 #: Keys of the ``[scenario]`` table.
@@ -84,11 +84,11 @@ class Scenario:
                                      f"[-{MAX_OFFSET_DEG:g}, {MAX_OFFSET_DEG:g}] deg")
             object.__setattr__(self, key, float(v))
         if not isinstance(self.params, Params):
-            raise ParameterError(f"params = {self.params!r}: must be a hosedrogue.params.Params")
+            raise ParameterError(f"params = {self.params!r}: must be a hosedrogue.spec.params.Params")
         if not isinstance(self.loop, Loop):
-            raise ParameterError(f"loop = {self.loop!r}: must be a hosedrogue.sections.Loop")
+            raise ParameterError(f"loop = {self.loop!r}: must be a hosedrogue.spec.sections.Loop")
         if self.engagement is not None and not isinstance(self.engagement, Engagement):
-            raise ParameterError(f"engagement = {self.engagement!r}: must be a hosedrogue.sections.Engagement or None")
+            raise ParameterError(f"engagement = {self.engagement!r}: must be a hosedrogue.spec.sections.Engagement or None")
         num = self.params.numerics
         if num.integrator != "adaptive" or self.engagement is not None:
             num.steps(self.duration_s, "scenario.duration_s")  # at least one step
@@ -116,7 +116,7 @@ class Scenario:
 
     @property
     def controller_options(self) -> dict:
-        """The controller's design options (see :class:`hosedrogue.sections.Controller`)."""
+        """The controller's design options (see :class:`hosedrogue.spec.sections.Controller`)."""
         return dict(self.loop.controller.options)
 
     @property
@@ -169,7 +169,7 @@ class Scenario:
         Parameters
         ----------
         controller : str or Controller
-            "none", "pid", "lqr", or a :class:`~hosedrogue.sections.Controller`.
+            "none", "pid", "lqr", or a :class:`~hosedrogue.spec.sections.Controller`.
 
         Returns
         -------

@@ -1,11 +1,11 @@
 """Time simulation of the nonlinear model: one run (:func:`simulate`) or many turbulence seeds in
 one compiled call (:func:`simulate_batch`).
 
-``Actuator`` and ``Sensor`` are defined in :mod:`hosedrogue.params` (every parameter
+``Actuator`` and ``Sensor`` are defined in :mod:`hosedrogue.spec.params` (every parameter
 specification lives there) and importable from here.
 """
 
-from ..params import Actuator, Sensor
+from ..spec.params import Actuator, Sensor
 from ..results import SimulationResult
 from .batch import simulate_batch
 from .simulate import ControlFunction, simulate

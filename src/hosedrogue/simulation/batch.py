@@ -26,7 +26,7 @@ from ..model.integrate import applied_force_at, drogue_yz, loop_arrays, rk4_step
 from ..model.layout import OK
 from ..model.chain_dynamics import make_workspace_jit
 from ..model.system import HoseModel
-from ..params import Actuator, ParameterError, Params
+from ..spec.params import Actuator, ParameterError, Params
 from .simulate import closed_loop_state, fixed_steps
 
 _NFIXED = len(SUMMARY_COLUMNS)

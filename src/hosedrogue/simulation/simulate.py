@@ -23,8 +23,8 @@ from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
                                sensor_noise)
 from ..model.system import HoseModel
-from ..params import PAPER, Actuator, ParameterError, Params, Sensor
-from ..sections import Controller
+from ..spec.params import PAPER, Actuator, ParameterError, Params, Sensor
+from ..spec.sections import Controller
 from ..metrics import turbulence_window
 from ..results import SimulationResult
 
@@ -84,7 +84,7 @@ def simulate(
         With a :class:`LinearController`: 0 (continuous, the default), or its zero-order-hold
         discretization called every ``sample_time_s`` [s] (a whole multiple of the RK4 step),
         compiled end to end, the sensor's delay included.
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue steers itself with these control surfaces: the controller's force command
         (continuous or sampled) is mixed to them at the dynamic pressure at the drogue, and their
         deflections make the force (docs/model.md §10); with ``command = "deflection"`` a user's
@@ -250,7 +250,7 @@ def closed_loop_state(x0: np.ndarray, ctrl: LinearController, actuator: Actuator
         Controller (its states start at zero).
     actuator : Actuator
         A rate-limited actuator adds the applied force [N] (starting at zero) to the state.
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         Control surfaces add their deflections [rad] (and servo rates [rad/s]), starting at zero.
 
     Returns

@@ -32,7 +32,7 @@ from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
                              held_command)
 from ..model.system import HoseModel
-from ..params import PAPER, Actuator, Params, Sensor
+from ..spec.params import PAPER, Actuator, Params, Sensor
 from ..results import SimulationResult
 
 #: Relative tolerance of "a whole multiple" of the RK4 step [-] (round-off of the decimal times).
@@ -351,7 +351,7 @@ class FixedLengthStepper(StepperBase):
         Keep the time series for :meth:`result` (False: only the measurement, for speed).
     model : HoseModel, optional
         Reuse a model built from ``params`` (its gusts must cover the run).
-    drogue_actuator : hosedrogue.sections.DrogueActuator, optional
+    drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue steers itself with these control surfaces (docs/model.md §10): the held force
         is mixed to them at the dynamic pressure of each evaluation, or with ``command =
         "deflection"`` the held command is their deflections [rad]; ``actuator`` must then have

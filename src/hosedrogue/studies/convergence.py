@@ -19,7 +19,7 @@ from ..analysis.equilibrium import solve_equilibrium
 from ..analysis.linearize import linearize
 from ..controllers.pid import PAPER_PID, pid_controller
 from ..paper import SEC233_TURBULENCE_WINDOW
-from ..params import PAPER, Params
+from ..spec.params import PAPER, Params
 from ..simulation import simulate
 
 #: The cases of the step study: a strong free swing, the paper's turbulence case, and the same

@@ -225,7 +225,7 @@ def approach_runs(level: str = "moderate", runs=("none", "pid"), seed: int = APP
     """
     from ..scenarios import load_scenario
     from ..scenarios.runner import run
-    from ..sections import Pilot
+    from ..spec.sections import Pilot
 
     unknown = [c for c in runs if c not in APPROACH_RUNS]
     if unknown:

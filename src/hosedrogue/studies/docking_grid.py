@@ -139,7 +139,7 @@ class CellSpec:
 
     def __post_init__(self) -> None:
         from ..errors import ParameterError
-        from ..sections import CONTROLLER_TYPES
+        from ..spec.sections import CONTROLLER_TYPES
 
         if self.level not in LEVELS:
             raise ParameterError(f"level = {self.level!r}: must be one of {', '.join(map(repr, LEVELS))}")
@@ -154,9 +154,9 @@ class CellSpec:
 
     @property
     def surfaces(self):
-        """The cell's ``[drogue_actuator]`` (:class:`hosedrogue.sections.DrogueActuator`), or None
+        """The cell's ``[drogue_actuator]`` (:class:`hosedrogue.spec.sections.DrogueActuator`), or None
         for the ideal force."""
-        from ..sections import DrogueActuator
+        from ..spec.sections import DrogueActuator
 
         if self.max_deflection_deg is None and self.bandwidth_hz is None:
             return None
@@ -263,7 +263,7 @@ def actuator_specs(deflections_deg=DEFLECTION_LIMITS_DEG, bandwidths_hz=SERVO_BA
     -------
     list of CellSpec
     """
-    from ..sections import DrogueActuator
+    from ..spec.sections import DrogueActuator
 
     default = DrogueActuator()
     specs = []
@@ -291,7 +291,7 @@ def approach_duration_s(probe, closure_speed_m_s: float) -> float:
 
     Parameters
     ----------
-    probe : hosedrogue.sections.Probe
+    probe : hosedrogue.spec.sections.Probe
         The scenario's probe: ``standoff_m`` [m], ``push_m`` [m], ``stop_time_s`` [s].
     closure_speed_m_s : float
         Probe closure speed v [m/s], > 0.
@@ -328,7 +328,7 @@ def cell_scenario(spec: CellSpec):
     hosedrogue.scenarios.Scenario
     """
     from ..scenarios import load_scenario
-    from ..sections import Pilot
+    from ..spec.sections import Pilot
 
     base = load_scenario(f"approach-{spec.level}")
     eng = base.engagement

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from ..errors import ParameterError
-from ..sections import DrogueActuator
+from ..spec.sections import DrogueActuator
 
 __all__ = ["LEVELS", "CONTROLLERS", "VARIANTS", "MARGIN_BANDWIDTHS_HZ", "CONVERGENCE_BANDWIDTHS_HZ", "ONE_CM_M",
            "resolved_params", "with_surfaces", "authority_n", "claims_scenario", "claims_runs", "claims_table", "within_one_cm", "servo_margins",
@@ -55,18 +55,18 @@ VARIANTS = {"ideal": None, "actuated": {}, "actuated-5deg": {"max_deflection_deg
 
 def resolved_params(params, section: DrogueActuator):
     """``params`` with the RK4 step halved (and ``output_every`` doubled: the same output times)
-    until it resolves the surfaces' servo (:attr:`hosedrogue.sections.DrogueActuator.max_step_s`).
+    until it resolves the surfaces' servo (:attr:`hosedrogue.spec.sections.DrogueActuator.max_step_s`).
 
     Parameters
     ----------
-    params : hosedrogue.params.Params
+    params : hosedrogue.spec.params.Params
         The parameters (``numerics.step_s`` [s], ``output_every`` [-]).
     section : DrogueActuator
         The surfaces.
 
     Returns
     -------
-    hosedrogue.params.Params
+    hosedrogue.spec.params.Params
     """
     h, every = params.numerics.step_s, params.numerics.output_every
     while h > section.max_step_s:
@@ -113,7 +113,7 @@ def authority_n(section: DrogueActuator, params=None) -> float:
     """
     from ..environment.atmosphere import density
     from ..model.drogue_actuator import surface_directions
-    from ..params import PAPER
+    from ..spec.params import PAPER
 
     p = PAPER if params is None else params
     q = 0.5 * density(p.flight.altitude_m) * p.flight.density_scale * p.flight.airspeed_m_s ** 2

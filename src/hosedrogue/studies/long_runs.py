@@ -25,8 +25,8 @@ import pandas as pd
 
 from ..analysis.linearize import linearize
 from ..simulation import simulate_batch
-from ..config import load_preset, preset_data
-from ..params import PAPER, ParameterError, Params
+from ..spec.config import load_preset, preset_data
+from ..spec.params import PAPER, ParameterError, Params
 from ..results import SimulationResult
 
 #: Standard intensities in the order of the study.

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..analysis.equilibrium import solve_equilibrium
 from ..analysis.steady_flight import SteadySweep, TurnBreakdown, steady_params, sweep_steady, turn_breakdown
-from ..params import PAPER, Params
+from ..spec.params import PAPER, Params
 
 #: The shipped scenario of the turn entry, and the approach campaigns: (label, scenario).
 TURN_ENTRY = "turn-entry-30"

@@ -109,7 +109,7 @@ def _min_damping(gains, models) -> dict:
 def _peaks(scenario, gains) -> tuple[float, float]:
     from ..metrics import peaks
     from ..scenarios.runner import run
-    from ..sections import Controller
+    from ..spec.sections import Controller
 
     opts = {ch: [g.kp, g.ki, g.kd, g.n_filter] for ch, g in gains.items()}
     sc = dataclasses.replace(scenario, loop=dataclasses.replace(scenario.loop, controller=Controller("pid", opts)))

@@ -249,7 +249,7 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
 
 def _miss_figure(table, settings: dict, capture: dict):
     """The miss-distance CDF of an engagement campaign, its capture radius from the scenario."""
-    from ..sections import Probe
+    from ..spec.sections import Probe
 
     probe = settings["scenario"].get("probe") or {}
     radius = probe.get("capture_radius_m", Probe().capture_radius_m)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.optimize
 
-from ..params import Params
+from ..spec.params import Params
 
 #: The shipped engagement scenarios, one per reel law.
 SCENARIOS = ("engage-locked", "engage-constant-tension", "engage-response")
@@ -129,7 +129,7 @@ def study_scenario(name: str, stiffness_n: float, closure_speed_m_s: float, link
     hosedrogue.scenarios.Scenario
     """
     from ..scenarios import load_scenario
-    from ..sections import Engagement
+    from ..spec.sections import Engagement
 
     sc = load_scenario(name)
     hose = {"axial_stiffness_n": float(stiffness_n), "axial_damping_n_s": axial_damping_n_s(sc.params, stiffness_n)}

@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .errors import ParameterError
+from ..errors import ParameterError
 from .fields import Section, real, records
 
 #: Largest bank angle [deg]: a 2 g coordinated turn, beyond any refuelling track (25-30 deg).

@@ -1,2 +1,2 @@
 """Named model presets: TOML files of parameter sections overriding the paper's case (see
-:mod:`hosedrogue.config`)."""
+:mod:`hosedrogue.spec.config`)."""

@@ -1,7 +1,7 @@
 """The drogue's control surfaces as a run section (``[drogue_actuator]``): a drogue that steers
 itself, the force its surfaces make in the local air, their limits and their servos
 (docs/model.md §10). Validated at construction like every section
-(:class:`hosedrogue.fields.Section`); :class:`hosedrogue.sections.Loop` holds it, the compiled
+(:class:`hosedrogue.spec.fields.Section`); :class:`hosedrogue.spec.sections.Loop` holds it, the compiled
 model is :mod:`hosedrogue.model.drogue_actuator`.
 """
 
@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .errors import ParameterError
+from ..errors import ParameterError
 from .fields import Section, choice, integer, real
 
 __all__ = ["DrogueActuator"]
@@ -111,7 +111,7 @@ class DrogueActuator(Section):
         ----------
         ideal_actuator : bool
             Whether the loop's ``[actuator]`` has its defaults (no limits).
-        controller : hosedrogue.sections.Controller or None
+        controller : hosedrogue.spec.sections.Controller or None
             The loop's controller (None: not a scenario's section, e.g. a designed LinearController).
 
         Raises

@@ -2,8 +2,8 @@
 drogue controller, and the engagement's reel, probe, bow wave, pilot and receiver (scenario tables
 ``[actuator]``, ``[sensor]``, ``[controller]``, ``[reel]``, ``[probe]``, ``[bow_wave]``,
 ``[pilot]``, ``[receiver]``; the drogue's control surfaces, ``[drogue_actuator]``, are
-:mod:`hosedrogue.drogue_surfaces`'). Validated at construction like :mod:`hosedrogue.params`
-(:class:`hosedrogue.fields.Section`): a wrong field raises a one-line
+:mod:`hosedrogue.spec.drogue_surfaces`'). Validated at construction like :mod:`hosedrogue.spec.params`
+(:class:`hosedrogue.spec.fields.Section`): a wrong field raises a one-line
 :class:`~hosedrogue.errors.ParameterError` naming field, value and allowed range. SI units, the
 unit in every field name. The defaults and their reasons are in ``docs/engagement.md``
 (engagement) and ``docs/model.md`` (actuator, sensor, drogue actuator); the sampled-data
@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from .errors import ParameterError
+from ..errors import ParameterError
 from .drogue_surfaces import DrogueActuator
 from .fields import Section, check_entry, choice, entry, entry_name, flag, real, table, vec3
 

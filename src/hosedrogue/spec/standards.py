@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from .constants import FT_TO_M
-from .errors import ParameterError
+from ..constants import FT_TO_M
+from ..errors import ParameterError
 
 #: Altitude breakpoints of the high-altitude intensity table [ft].
 INTENSITY_ALTITUDE_FT = (500.0, 1750.0, 3750.0, 7500.0, 15000.0, 25000.0, 35000.0, 45000.0,

@@ -4,8 +4,8 @@ A *section* is a frozen dataclass whose fields carry metadata (kind, range, unit
 helpers below (reals, integers, choices, flags, 3-vectors, text, option tables and entry points
 naming Python code); :class:`Section` validates every field at construction, so a bad value raises a
 one-line :class:`~hosedrogue.errors.ParameterError` naming the field, the value and what is
-allowed. The model's sections (:mod:`hosedrogue.params`) and the run's sections
-(:mod:`hosedrogue.sections`: actuator, sensor, reel, probe, bow wave, pilot) are built on it,
+allowed. The model's sections (:mod:`hosedrogue.spec.params`) and the run's sections
+(:mod:`hosedrogue.spec.sections`: actuator, sensor, reel, probe, bow wave, pilot) are built on it,
 and so is the scenario reference of the documentation (every field with its unit, default,
 range and meaning: :func:`field_table`).
 """
@@ -20,7 +20,7 @@ import re
 import textwrap
 from typing import Any, Mapping
 
-from .errors import ParameterError
+from ..errors import ParameterError
 
 INF = math.inf
 

@@ -15,8 +15,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from .constants import H_MAX_ATMOSPHERE
-from .errors import ParameterError
+from ..constants import H_MAX_ATMOSPHERE
+from ..errors import ParameterError
 from .fields import Section, choice, flag, integer, real, vec3
 from .manoeuvres import TankerMotion
 from .standards import standard_intensity
@@ -129,7 +129,7 @@ class Drogue(Section):
 @dataclass(frozen=True)
 class Flight(Section):
     """Flight condition of the tanker (paper Sec. 2.3.3: 150 m/s at 8000 m): straight and level, or
-    the start of its manoeuvres (:class:`~hosedrogue.manoeuvres.TankerMotion`)."""
+    the start of its manoeuvres (:class:`~hosedrogue.spec.manoeuvres.TankerMotion`)."""
 
     _section = "flight"
     #: Flight altitude [m]; sets the ICAO standard-atmosphere air density.

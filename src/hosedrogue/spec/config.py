@@ -1,6 +1,6 @@
 """Parameter sets by name or file: the shipped model presets and TOML config files.
 
-A *preset* is a TOML file shipped in ``hosedrogue/presets`` (``converged``: the stable model for
+A *preset* is a TOML file shipped in ``hosedrogue/spec/presets`` (``converged``: the stable model for
 runs beyond the paper's window, docs/long-runs.md) whose ``[section]`` tables override the
 paper's case. Entry points for the command line and for scenarios:
 
@@ -21,7 +21,7 @@ from typing import Any
 
 from .params import PAPER, ParameterError, Params, params_from_dict
 
-_PACKAGE = "hosedrogue.presets"
+_PACKAGE = "hosedrogue.spec.presets"
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:
@@ -69,7 +69,7 @@ def load_params(path: str | Path, base: Params = PAPER) -> Params:
         TOML file of ``[section]`` tables (``[hose]``, ``[flight]``, ...) whose fields override
         those of ``base``; fields keep the units of their names (``length_m`` [m], ...).
     base : Params, optional
-        The parameters the file overrides; default :data:`~hosedrogue.params.PAPER`, the paper's
+        The parameters the file overrides; default :data:`~hosedrogue.spec.params.PAPER`, the paper's
         case.
 
     Returns
@@ -153,7 +153,7 @@ def load_preset(name: str, base: Params = PAPER) -> Params:
     name : str
         A preset name, one of :func:`preset_names` (``"converged"``).
     base : Params, optional
-        The parameters the preset overrides; default :data:`~hosedrogue.params.PAPER`, the
+        The parameters the preset overrides; default :data:`~hosedrogue.spec.params.PAPER`, the
         paper's case.
 
     Returns
@@ -187,7 +187,7 @@ def resolve_config(name_or_path: str | Path, base: Params = PAPER) -> Params:
         :func:`preset_names`; otherwise the path of a TOML file.
     base : Params, optional
         The parameters the preset or file overrides; default
-        :data:`~hosedrogue.params.PAPER`, the paper's case.
+        :data:`~hosedrogue.spec.params.PAPER`, the paper's case.
 
     Returns
     -------
