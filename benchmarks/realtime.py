@@ -72,18 +72,18 @@ def user_facing_rtf(repeats=5):
 
 def in_process_rtf(repeats=5):
     """The same marginal cost measured inside one process (no start-up noise): wall time of
-    ``run_scenario`` + ``write_run`` (CSV, run.json, figure) for 610 s minus 10 s, from the
+    ``run`` + ``write`` (CSV, run.json, figure) for 610 s minus 10 s, from the
     fastest and from the median of ``repeats`` interleaved runs of each."""
     from pathlib import Path
 
     from hosedrogue.scenarios import load_scenario
-    from hosedrogue.scenarios.runner import run_scenario, write_run
+    from hosedrogue.scenarios.runner import run, write
 
     def wall(duration):
         scenario = load_scenario("paper-turbulence").with_overrides(duration_s=duration, seed=None)
         with tempfile.TemporaryDirectory() as out:
             t0 = time.perf_counter()
-            write_run(run_scenario(scenario), Path(out))
+            write(run(scenario), Path(out))
             return time.perf_counter() - t0
 
     wall(10)

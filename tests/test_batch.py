@@ -23,7 +23,7 @@ def test_batch_summaries_equal_single_runs():
         assert abs(df["peak_dy_m"][i] - np.abs(off[:, 1]).max()) < 1e-12
         assert abs(df["peak_dz_m"][i] - np.abs(off[:, 2]).max()) < 1e-12
         assert abs(df["rms_dy_m"][i] - np.sqrt(np.mean(off[:, 1] ** 2))) < 1e-12
-        assert abs(df["peak_u_y_n"][i] - np.abs(res.control_n[win, 0]).max()) < 1e-9
+        assert abs(df["peak_u_y_n"][i] - np.abs(res.control_force_n[win, 0]).max()) < 1e-9
         r = np.hypot(off[:, 1], off[:, 2])
         assert df["inside_0.1m_frac"][i] == np.mean(r <= 0.1)
     assert df["peak_dy_m"].nunique() == 3  # different seeds, different gusts

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import scipy.integrate
 
-from hosedrogue.environment.bow_wave import BowWave
+from hosedrogue.environment.bow_wave import BowWaveField
 from hosedrogue.errors import ParameterError
 
 V = 150.0  # the paper's airspeed [m/s]
@@ -17,12 +17,12 @@ TIP = np.array([-15.0, 0.4, 5.5])  # a probe tip near the paper's balance positi
 
 @pytest.fixture(params=["rankine", "source-line"])
 def bow(request):
-    return BowWave(V, forebody_radius_m=0.8, probe_offset_m=(2.0, 0.3, -0.4), shape=request.param,
+    return BowWaveField(V, forebody_radius_m=0.8, probe_offset_m=(2.0, 0.3, -0.4), shape=request.param,
                    nose_length_m=1.5)
 
 
 def test_no_flow_through_the_rankine_body():
-    bw = BowWave(V, forebody_radius_m=0.8, probe_offset_m=(2.0, 0.3, -0.4))
+    bw = BowWaveField(V, forebody_radius_m=0.8, probe_offset_m=(2.0, 0.3, -0.4))
     theta = np.linspace(0.05, 3.0, 60)
     s = bw.source_position_m(TIP)
     for phi in (0.0, 1.1, 2.9):
@@ -74,7 +74,7 @@ def test_far_field_decays_as_inverse_square(bow):
 
 
 def test_line_source_matches_a_quadrature_of_point_sources():
-    bw = BowWave(V, forebody_radius_m=0.8, shape="source-line", nose_length_m=1.5)
+    bw = BowWaveField(V, forebody_radius_m=0.8, shape="source-line", nose_length_m=1.5)
     s = bw.source_position_m(TIP)
     sigma = bw.flux_m3_s / bw.nose_length_m
     p = s + np.array([0.7, 0.4, -0.2])
@@ -90,6 +90,6 @@ def test_line_source_matches_a_quadrature_of_point_sources():
 
 def test_bad_input_names_the_field():
     with pytest.raises(ParameterError, match=r"bow_wave.forebody_radius_m = -1"):
-        BowWave(V, forebody_radius_m=-1)
+        BowWaveField(V, forebody_radius_m=-1)
     with pytest.raises(ParameterError, match=r"bow_wave.shape = 'cone'"):
-        BowWave(V, shape="cone")
+        BowWaveField(V, shape="cone")

@@ -292,7 +292,7 @@ def test_campaign_seed_changes_results_and_summary_is_complete(reference, tiny, 
 
 def test_statistics_inside_the_turbulence_window(reference, tiny):
     """Recompute one row from a fresh run of the same seed, independently of summarize_run."""
-    from hosedrogue.scenarios.runner import run_scenario
+    from hosedrogue.scenarios.runner import run as run_scenario
     from hosedrogue.scenarios import load_scenario
 
     _, summary = reference

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from hosedrogue.scenarios.runner import run_scenario
+from hosedrogue.scenarios.runner import run as run_scenario
 from hosedrogue.scenarios import load_scenario
 
 
@@ -42,7 +42,7 @@ def test_paper_lqr_cuts_peak_displacement_tenfold(runs):
     res = runs["paper-turbulence-lqr"]
     assert res.completed
     ratio = peaks(runs["paper-turbulence"]) / peaks(res)
-    print(f"LQR: peaks {peaks(res)} m, ratio {ratio}, peak force {np.abs(res.control_n).max(axis=0)} N")
+    print(f"LQR: peaks {peaks(res)} m, ratio {ratio}, peak force {np.abs(res.control_force_n).max(axis=0)} N")
     assert np.all(ratio >= 10.0), ratio
     # settled again after the gusts stop at 30 s: the slowest regulator pole (-1.57 1/s) has had
     # 39 time constants by t = 55 s, so the drogue is back within 1 mm
@@ -82,14 +82,14 @@ def test_actuator_limits_and_sensor_noise():
                                                                                         max_rate_n_s=200.0)))
     res = run_scenario(limited)
     assert res.completed
-    assert np.max(np.abs(res.control_n)) <= 20.0 + 1e-9
-    rate = np.abs(np.diff(res.control_n, axis=0)) / np.diff(res.t_s)[:, None]
+    assert np.max(np.abs(res.control_force_n)) <= 20.0 + 1e-9
+    rate = np.abs(np.diff(res.control_force_n, axis=0)) / np.diff(res.t_s)[:, None]
     assert rate.max() <= 200.0 * 1.01
     assert rate.max() > 100.0  # the limit is active, not vacuous
     noisy = dataclasses.replace(sc, loop=dataclasses.replace(sc.loop, sensor=Sensor(noise_std_m=0.002)))
     a, b = run_scenario(noisy), run_scenario(noisy)
-    assert np.array_equal(a.control_n, b.control_n)
-    assert not np.array_equal(a.control_n, run_scenario(sc).control_n)
+    assert np.array_equal(a.control_force_n, b.control_force_n)
+    assert not np.array_equal(a.control_force_n, run_scenario(sc).control_force_n)
 
 
 def test_paper_lqr_with_actuator_limits_and_sensor_noise(runs):
@@ -106,7 +106,7 @@ def test_paper_lqr_with_actuator_limits_and_sensor_noise(runs):
                                sensor=Sensor(noise_std_m=0.002))
     res = run_scenario(dataclasses.replace(sc, loop=loop))
     assert res.completed
-    assert np.max(np.abs(res.control_n)) <= 40.0 + 1e-9
+    assert np.max(np.abs(res.control_force_n)) <= 40.0 + 1e-9
     assert np.all(peaks(runs["paper-turbulence"]) / peaks(res) > 3.0)
 
 

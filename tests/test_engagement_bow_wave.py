@@ -1,5 +1,5 @@
 """The bow wave in the engagement kernels: the drag they add at the drogue against the field of
-:class:`~hosedrogue.environment.bow_wave.BowWave` computed directly, the drogue's steady
+:class:`~hosedrogue.environment.bow_wave.BowWaveField` computed directly, the drogue's steady
 displacement near and far (sign, size, 1/r^2 decay), the ``[bow_wave]`` section and the figure."""
 
 import numpy as np
@@ -10,7 +10,7 @@ from hosedrogue.engagement.bow_wave import bow_wave_displacement
 from hosedrogue.engagement.chain import chain_equilibrium, initial_chain
 from hosedrogue.engagement.driver import engagement_parameters
 from hosedrogue.spec.sections import BowWave as BowWaveSection, Reel
-from hosedrogue.environment.bow_wave import BowWave
+from hosedrogue.environment.bow_wave import BowWaveField
 from hosedrogue.errors import ParameterError
 from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import chain_loads as CL, layout as LY
@@ -50,7 +50,7 @@ def test_kernel_drogue_drag_matches_the_field():
         vr = ws[WS_V][n] - w
         return -0.5 * model.ps[LY.PS_RHO] * model.ps[LY.PS_DROGUE_CDA] * np.linalg.norm(vr) * vr
 
-    expected = drag(air + BowWave(150.0).velocity(drogue, tip))  # the field computed directly
+    expected = drag(air + BowWaveField(150.0).velocity(drogue, tip))  # the field computed directly
     np.testing.assert_allclose(ws[WS_DRAG], expected, rtol=1e-12)  # the same formula: round-off only
     # the bow wave 0.7 m ahead of the tip (~1.8 m/s of 150 m/s) changes the drag by 2 u / V ~ 2.4 %
     assert abs(expected[0] - drag(air)[0]) > 0.01 * abs(drag(air)[0])
@@ -85,7 +85,7 @@ def test_bow_wave_section_validation():
 
 
 def test_bow_wave_figure(displacement):
-    bw = BowWave(150.0)
+    bw = BowWaveField(150.0)
     x = np.linspace(-4.0, 2.0, 31)
     zz = np.linspace(-2.0, 2.0, 21)
     pts = np.stack(np.meshgrid(x, [0.0], zz, indexing="xy"), axis=-1)[0].transpose(1, 0, 2)

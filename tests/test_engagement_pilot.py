@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hosedrogue.scenarios.runner import run as run_engagement
-from hosedrogue.engagement.spec import Pilot
+from hosedrogue.spec.sections import Pilot
 from hosedrogue.errors import ParameterError
 from hosedrogue.scenarios import load_scenario
 

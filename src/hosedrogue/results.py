@@ -253,11 +253,6 @@ class SimulationResult(WithSurfaces, RunResult):
         """The state (N, 4n) [rad, rad/s] with :func:`state_names`, for the MATLAB file."""
         return {"states": (self.states, state_names(self.states.shape[1] // 4))}
 
-    @property
-    def control_n(self) -> np.ndarray:
-        """Former name of :attr:`control_force_n` (N, 2) [N]."""
-        return self.control_force_n
-
     def plot(self, **kwargs):
         """Lateral and vertical drogue displacement against time (see hosedrogue.plotting)."""
         from .plotting.figures import plot_displacement

@@ -239,7 +239,7 @@ def lqr_controller_for(lm: LinearModel, design: str = "balanced", Q=None, R=None
 
 def design_controller(kind: str, options: dict, params, model=None, equilibrium=None) -> LinearController | None:
     """A scenario's drogue controller: the one design used by the fixed-length scenarios
-    (:func:`hosedrogue.scenarios.runner.build_controller`) and the engagement.
+    (:func:`hosedrogue.scenarios.runner.drogue_controller`) and the engagement.
 
     PID: the paper's gains (Eq. 33) unless ``lateral``/``vertical`` are given. LQR: the paper's
     LQR read on the balanced states of each 2nd-order channel (``design = "balanced"``, default)

@@ -377,10 +377,6 @@ def chain_model(params: Params, chain: Chain, duration_s: float | None = None) -
     return HoseModel(params, duration_s=duration_s, lengths=chain.l)
 
 
-#: Former name of :func:`chain_model` (a HoseModel subclass that overwrote its arrays).
-ChainModel = chain_model
-
-
 def chain_equilibrium(params: Params, chain: Chain, duration_s: float | None = None) -> tuple[Equilibrium, HoseModel]:
     """Balance position of the chain as it is (any free length, any mesh), in steady air.
 

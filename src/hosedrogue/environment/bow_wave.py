@@ -189,10 +189,6 @@ class BowWaveField:
                         axis=-1)
 
 
-#: Former name of :class:`BowWaveField`.
-BowWave = BowWaveField
-
-
 #: Shape codes of the compiled field (:func:`bow_wave_velocity`): none, point source, line source.
 SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE = 0, 1, 2
 #: Inside this distance of the source [m] (1 mm, deep inside the forebody, never reached by the

@@ -1,6 +1,6 @@
 """The receiver's bow wave: its perturbation velocity around the probe and the drogue's steady
 displacement against the probe's distance (data from
-:func:`hosedrogue.environment.bow_wave.BowWave.velocity` and
+:func:`hosedrogue.environment.bow_wave.BowWaveField.velocity` and
 :func:`hosedrogue.engagement.bow_wave.bow_wave_displacement`), optionally with the forebody's
 outline, the far field's ``1/r^2`` asymptote, a displacement level and a third panel of the far
 displacement against the forebody radius (the report's "Docking" section)."""

@@ -29,7 +29,7 @@ def run_named_scenario(name: str, duration_s: float | None = None, seed: int | N
     tuple
         ``(scenario, result)``: the scenario as run and its ``SimulationResult``.
     """
-    from ..scenarios.runner import run_scenario
+    from ..scenarios.runner import run as run_scenario
     from ..scenarios import load_scenario
 
     sc = load_scenario(name)

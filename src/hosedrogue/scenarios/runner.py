@@ -119,10 +119,6 @@ def controller_record(scenario: Scenario) -> dict:
     return record(ctrl.type, dict(ctrl.options), drogue_controller(scenario))
 
 
-#: Former name of :func:`drogue_controller`.
-build_controller = drogue_controller
-
-
 def sampled_controllers(scenario: Scenario) -> dict:
     """The scenario's sampled-data controllers of the user (``[controller] type = "python"``,
     ``[reel] law = "python"``, ``[receiver]``), each's entry imported by its name (a one-line
@@ -358,9 +354,3 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
         paths.append(result.to_mat(out_dir / "timeseries.mat"))
     return paths
 
-
-#: Former names of :func:`run` and :func:`write`: the fixed-length runner (``run_scenario``,
-#: ``write_run``) and the engagement's (``hosedrogue.engagement.run.run_engagement``,
-#: ``write_engagement``) of earlier versions.
-run_scenario = run_engagement = run
-write_run = write_engagement = write

@@ -179,7 +179,7 @@ def hour_run(duration_s: float | None = None) -> SimulationResult:
     -------
     SimulationResult
     """
-    from ..scenarios.runner import run_scenario
+    from ..scenarios.runner import run as run_scenario
     from ..scenarios import load_scenario
 
     sc = load_scenario(HOUR_SCENARIO)
