@@ -3,7 +3,7 @@
 import numpy as np
 
 from hosedrogue.controllers.design import paper_pid
-from hosedrogue.metrics import in_window
+from hosedrogue.results.statistics import in_window
 from hosedrogue.spec.params import PAPER
 from hosedrogue.simulation import simulate, simulate_batch
 
@@ -18,7 +18,7 @@ def test_batch_summaries_equal_single_runs():
     assert df["completed"].all()
     for i, seed in enumerate(seeds):
         res = simulate(p, 5.0, control=paper_pid(), seed=seed)
-        win = in_window(res.t_s, (1.0, 4.0))  # the window rule of hosedrogue.metrics
+        win = in_window(res.t_s, (1.0, 4.0))  # the window rule of hosedrogue.results.statistics
         off = res.drogue_offset_m[win]
         assert abs(df["peak_dy_m"][i] - np.abs(off[:, 1]).max()) < 1e-12
         assert abs(df["peak_dz_m"][i] - np.abs(off[:, 2]).max()) < 1e-12

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hosedrogue import metrics
+from hosedrogue.results import statistics as metrics
 from hosedrogue.studies import executor, store
 from hosedrogue.studies.campaign import run_campaign
 from hosedrogue.studies.seeds import run_seed
@@ -355,7 +355,7 @@ def test_cli_main_runs_montecarlo(tiny, tmp_path):
 def test_runs_csv_statistics_are_the_batch_module_s_columns(tiny):
     """A campaign row's statistics are the columns a real simulate_batch DataFrame has, in its
     order, and their values agree with the batch's for the same seed (both come from
-    hosedrogue.metrics: the batch's compiled accumulator over every RK4 step, the campaign's pass
+    hosedrogue.results.statistics: the batch's compiled accumulator over every RK4 step, the campaign's pass
     over the saved series, here saved at every step too; 1e-12 relative covers the different
     summation orders)."""
     import dataclasses

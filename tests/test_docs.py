@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 import hosedrogue
-from hosedrogue import reference
+from hosedrogue.scenarios import reference
 from hosedrogue.spec.params import SECTIONS
 from hosedrogue.scenarios import SCENARIO_KEYS, TABLES, shipped_scenarios
 from hosedrogue.spec.sections import CONTROLLER_OPTIONS, ENGAGEMENT_SECTIONS, LOOP_SECTIONS
@@ -28,7 +28,7 @@ DOCS = Path(__file__).resolve().parents[1] / "docs"
 USER_GUIDE = ("getting-started.md", "tutorial.md", "scenarios.md", "campaigns.md", "report.md", "cli.md")
 
 #: Fields whose metadata is known to lack something, until the code says it: each must still be
-#: reported by :func:`hosedrogue.reference.problems` (a fixed one fails here, keeping the list short).
+#: reported by :func:`hosedrogue.scenarios.reference.problems` (a fixed one fails here, keeping the list short).
 KNOWN_GAPS: set[str] = set()
 
 #: Every section of fields, by table name.

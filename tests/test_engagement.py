@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from hosedrogue.engagement import Probe, Reel, simulate_engagement
-from hosedrogue.results import SUMMARY_KEYS
+from hosedrogue.results.run import SUMMARY_KEYS
 from hosedrogue.scenarios.runner import run as run_engagement
 from hosedrogue.errors import ParameterError
 from hosedrogue.spec.params import PAPER

@@ -16,7 +16,7 @@ from hosedrogue.controllers.sampled import SampledController
 from hosedrogue.engagement import EngagementStepper, Probe, Receiver, Reel, simulate_engagement
 from hosedrogue.errors import ParameterError
 from hosedrogue.spec.params import PAPER, Sensor
-from hosedrogue.results import EngagementResult
+from hosedrogue.results.run import EngagementResult
 from hosedrogue.spec.sections import Controller, Pilot
 from hosedrogue.studies.convergence import with_links
 

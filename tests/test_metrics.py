@@ -1,11 +1,11 @@
-"""The per-run statistics of hosedrogue.metrics: one window rule, and the compiled accumulator
+"""The per-run statistics of hosedrogue.results.statistics: one window rule, and the compiled accumulator
 (batch) computing what the numpy pass over a saved series (campaign, report) computes."""
 
 import math
 
 import numpy as np
 
-from hosedrogue import metrics
+from hosedrogue.results import statistics as metrics
 
 
 def test_window_edges_absorb_rounding_of_sample_times():

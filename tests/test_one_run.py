@@ -10,7 +10,7 @@ import scipy.io
 
 import hosedrogue as hd
 from hosedrogue import cli
-from hosedrogue.results import COLUMNS
+from hosedrogue.results.run import COLUMNS
 from hosedrogue.scenarios import load_scenario, merge_tables, scenario_from_dict
 
 

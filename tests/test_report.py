@@ -466,7 +466,7 @@ def _check_figure(fig):
 
 def _fake_result(n_links=3, n=200, seed=0, on=False):
     """A SimulationResult of a short swinging chain (no physics: shapes and units only)."""
-    from hosedrogue.results import SimulationResult
+    from hosedrogue.results.run import SimulationResult
 
     rng = np.random.default_rng(seed)
     t = np.linspace(0.0, 4.0, n)
@@ -644,12 +644,12 @@ def test_plot_actuated_drogue_figures():
     import pandas as pd
 
     from hosedrogue.plotting.drogue_actuator import plot_actuated_run, plot_capture_vs_surfaces, plot_claims
-    from hosedrogue.results import SimulationResult
+    from hosedrogue.results.run import SimulationResult
     import dataclasses
 
     ideal = _fake_result(on=True)
     n = ideal.t_s.size
-    from hosedrogue.metrics import SurfaceSeries
+    from hosedrogue.results.surfaces import SurfaceSeries
 
     act = dataclasses.replace(ideal, surfaces=SurfaceSeries(np.zeros((n, 4)) + 0.01, np.zeros((n, 4)), np.full(n, 5900.0),
                                                             0.35, 1.7))

@@ -12,7 +12,7 @@ import pytest
 
 import hosedrogue as hd
 from hosedrogue import cli, viewer
-from hosedrogue.hose_file import read_hose_npz, split_joints, stack_joints
+from hosedrogue.results.hose_file import read_hose_npz, split_joints, stack_joints
 from hosedrogue.viewer.page import envelope_indices, frame_indices
 from viewer_cases import ENGAGE, TINY
 

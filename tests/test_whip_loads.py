@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from hosedrogue.cli import main
-from hosedrogue.load_convergence import (COARSE_NOTE, FLAIL_NOTE, SNAP_NOTE, converged_peaks, flailing,
+from hosedrogue.results.convergence import (COARSE_NOTE, FLAIL_NOTE, SNAP_NOTE, converged_peaks, flailing,
                                          went_slack)
 from hosedrogue.model.elastic_loop import elastic_run
 from hosedrogue.model.layout import SCHEME_RK4

@@ -1,7 +1,7 @@
 """Pages generated from the code when the build starts, so that they cannot drift from it.
 
 * ``scenario-reference.md``: every table and key of a scenario file with its unit, default,
-  range and meaning (:func:`hosedrogue.reference.scenario_reference_markdown`, from the field
+  range and meaning (:func:`hosedrogue.scenarios.reference.scenario_reference_markdown`, from the field
   metadata);
 * ``cli.md``: every command of ``hosedrogue`` with its purpose and its ``--help``
   (:func:`hosedrogue.cli.build_parser`).
@@ -50,7 +50,7 @@ def _write_if_changed(path: Path, text: str) -> None:
 
 def generate(app) -> None:
     """Write the generated Markdown files (``builder-inited``)."""
-    from hosedrogue.reference import scenario_reference_markdown
+    from hosedrogue.scenarios.reference import scenario_reference_markdown
 
     folder = Path(app.config.hd_generated_dir)
     folder.mkdir(parents=True, exist_ok=True)

@@ -77,7 +77,7 @@ def run(args) -> int:
         Exit status (see :mod:`hosedrogue.cli`).
     """
     # here, not at the top: the model's modules (numba) load only when a campaign runs
-    from ..metrics import DEFAULT_CAPTURE_RADII_M, capture_column
+    from ..results.statistics import DEFAULT_CAPTURE_RADII_M, capture_column
     from ..studies.campaign import run_campaign
 
     radii = DEFAULT_CAPTURE_RADII_M if args.capture_radii is None else args.capture_radii

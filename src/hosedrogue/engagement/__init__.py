@@ -3,7 +3,7 @@ hose drum unit, a hose of varying free length, a receiver probe (prescribed, flo
 model or by your docking controller), capture and the coupled phase; the stepping API
 (:class:`EngagementStepper`, docs/controllers.md)."""
 
-from ..results import EngagementResult
+from ..results.run import EngagementResult
 from ..spec.sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 from .simulate import simulate_engagement
 from .stepper import EngagementStepper

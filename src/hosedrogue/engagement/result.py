@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..metrics import turbulence_window
+from ..results.statistics import turbulence_window
 from ..model import drogue_actuator as DA, layout as LY
+from ..results.surfaces import surface_fields
 from ..model.engagement import chain as EC, outputs as EO
 from ..spec.params import Params
-from ..results import EngagementResult
+from ..results.run import EngagementResult
 from .chain import Chain, hose_mass_in_air
 
 #: Names of the energy terms, in the order of the columns of the energy kernel and the work states.
@@ -260,7 +261,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     link_tensions = [t for seg in cols.pop("links_t") for t in seg] if params.hose.elastic else None
     cols.pop("links_t", None)
     cat = {k: np.concatenate(v) for k, v in cols.items()}
-    surfaces = {} if "defl" not in cat else DA.result_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
+    surfaces = {} if "defl" not in cat else surface_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
     outcome.update(_peaks(cat, drogue_eq, events, delta_total, t_set))
     record = None

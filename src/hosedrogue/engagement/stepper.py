@@ -356,7 +356,7 @@ class EngagementStepper(StepperBase):
         return out["joints_m"], out["probe_position_m"]
 
     def result(self) -> EngagementResult:
-        """The run so far as the usual :class:`~hosedrogue.results.EngagementResult` (``completed``
+        """The run so far as the usual :class:`~hosedrogue.results.run.EngagementResult` (``completed``
         False and ``message`` saying why if it stopped early or is still running).
 
         Returns

@@ -19,16 +19,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..results import cellstr as _cellstr, save_mat as _save, state_names  # noqa: F401 - re-exported
+from ..results.run import cellstr as _cellstr, save_mat as _save, state_names  # noqa: F401 - re-exported
 from ..units import unit_of  # noqa: F401 - re-exported (the names' units)
 
 
 def simulation_mat_dict(result) -> dict:
-    """The content of a run's ``.mat`` file (:meth:`hosedrogue.results.RunResult.mat_dict`).
+    """The content of a run's ``.mat`` file (:meth:`hosedrogue.results.run.RunResult.mat_dict`).
 
     Parameters
     ----------
-    result : hosedrogue.results.RunResult
+    result : hosedrogue.results.run.RunResult
         A finished (or stopped) run of either hose model.
 
     Returns
@@ -39,11 +39,11 @@ def simulation_mat_dict(result) -> dict:
 
 
 def write_simulation_mat(result, path: str | Path) -> Path:
-    """Write a run to a MATLAB file (:meth:`hosedrogue.results.RunResult.to_mat`).
+    """Write a run to a MATLAB file (:meth:`hosedrogue.results.run.RunResult.to_mat`).
 
     Parameters
     ----------
-    result : hosedrogue.results.RunResult
+    result : hosedrogue.results.run.RunResult
         The run.
     path : str or Path
         File to write (``.mat``).

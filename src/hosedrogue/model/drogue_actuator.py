@@ -300,27 +300,3 @@ def surface_directions(section) -> np.ndarray:
     """
     phi = np.asarray(section.roll_angles_rad)
     return np.column_stack([-np.sin(phi), np.cos(phi)])
-
-
-def result_fields(deflection_rad: np.ndarray, rate_rad_s: np.ndarray, q_pa: np.ndarray, section) -> dict:
-    """A drogue actuator's result field (keyword argument of the results, :class:`hosedrogue.metrics.WithSurfaces`).
-
-    Parameters
-    ----------
-    deflection_rad, rate_rad_s : array (N, n_s)
-        Each surface's deflection [rad] and deflection rate [rad/s] at the output times.
-    q_pa : array (N,)
-        Dynamic pressure at the drogue [Pa].
-    section : hosedrogue.spec.sections.DrogueActuator
-        The surfaces (their deflection [deg] and rate [deg/s] limits).
-
-    Returns
-    -------
-    dict
-        ``{"surfaces": SurfaceSeries}``.
-    """
-    from ..metrics import SurfaceSeries
-
-    return {"surfaces": SurfaceSeries(np.ascontiguousarray(deflection_rad), np.ascontiguousarray(rate_rad_s),
-                                      np.ascontiguousarray(q_pa), math.radians(section.max_deflection_deg),
-                                      math.radians(section.max_rate_deg_s))}

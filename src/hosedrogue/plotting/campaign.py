@@ -1,7 +1,7 @@
 """Figures of a Monte Carlo campaign: distributions of the per-run statistics over runs.
 
 ``table`` is a campaign's runs table (a pandas DataFrame with ``run``, ``controller``,
-``completed`` and the statistic columns of :mod:`hosedrogue.metrics`; the capture-radius columns
+``completed`` and the statistic columns of :mod:`hosedrogue.results.statistics`; the capture-radius columns
 ``inside_*`` in the order of the capture radii).
 """
 

@@ -18,7 +18,7 @@ def plot_actuated_run(ideal, actuated, window_s=None, max_deflection_deg: float 
 
     Parameters
     ----------
-    ideal, actuated : hosedrogue.results.RunResult
+    ideal, actuated : hosedrogue.results.run.RunResult
         The two runs (the second with its ``surfaces``).
     window_s : (float, float), optional
         Turbulence window [s], shaded.

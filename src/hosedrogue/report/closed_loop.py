@@ -11,7 +11,7 @@ from .markup import figure_html, html_table
 from .runs import peak_forces_n, peak_offsets_m, rms_offsets_m, run_named_scenario, turbulence_window_s
 
 if TYPE_CHECKING:
-    from ..results import SimulationResult
+    from ..results.run import SimulationResult
     from .controllers import ControllersResult
     from .settings import ReportSettings
     from .writer import ReportFolder

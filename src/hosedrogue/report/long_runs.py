@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import metrics
+from ..results import statistics
 from .markup import esc, figure_html, html_table
 
 if TYPE_CHECKING:
@@ -66,8 +66,8 @@ def _hour_stats(study) -> dict:
 
     h = study.hour
     off = h.drogue_offset_m
-    rms_y, rms_z = metrics.rms_in_window(h.t_s, off, (TURBULENCE_START_S, np.inf))
-    peak_y, peak_z = metrics.peaks(off)
+    rms_y, rms_z = statistics.rms_in_window(h.t_s, off, (TURBULENCE_START_S, np.inf))
+    peak_y, peak_z = statistics.peaks(off)
     return {"duration_s": float(h.t_s[-1]), "completed": bool(h.completed), "rms_lateral_m": rms_y,
             "rms_vertical_m": rms_z, "peak_lateral_m": peak_y, "peak_vertical_m": peak_z}
 

@@ -1,12 +1,12 @@
 """Nonlinear runs of the report and the statistics of the drogue offset in them.
 
 The window statistics (:func:`peak_offsets_m`, :func:`rms_offsets_m`, :func:`peak_forces_n`)
-read a run's arrays into the one definition in :mod:`hosedrogue.metrics`.
+read a run's arrays into the one definition in :mod:`hosedrogue.results.statistics`.
 """
 
 from __future__ import annotations
 
-from .. import metrics
+from ..results import statistics
 from ..spec.params import Params
 
 __all__ = ["run_named_scenario", "turbulence_window_s", "peak_offsets_m", "rms_offsets_m", "peak_forces_n"]
@@ -39,7 +39,7 @@ def run_named_scenario(name: str, duration_s: float | None = None, seed: int | N
 
 
 def turbulence_window_s(params: Params) -> tuple[float, float]:
-    """When the turbulence is on (the window rule of :mod:`hosedrogue.metrics`).
+    """When the turbulence is on (the window rule of :mod:`hosedrogue.results.statistics`).
 
     Parameters
     ----------
@@ -51,7 +51,7 @@ def turbulence_window_s(params: Params) -> tuple[float, float]:
     tuple of float
         ``(start, end)`` [s].
     """
-    return metrics.turbulence_window(params.turbulence)
+    return statistics.turbulence_window(params.turbulence)
 
 
 def peak_offsets_m(res) -> tuple[float, float]:
@@ -67,7 +67,7 @@ def peak_offsets_m(res) -> tuple[float, float]:
     tuple of float
         Lateral and vertical peak [m].
     """
-    return metrics.peaks(res.drogue_offset_m)
+    return statistics.peaks(res.drogue_offset_m)
 
 
 def rms_offsets_m(res, window_s) -> tuple[float, float]:
@@ -85,7 +85,7 @@ def rms_offsets_m(res, window_s) -> tuple[float, float]:
     tuple of float
         Lateral and vertical RMS [m].
     """
-    return metrics.rms_in_window(res.t_s, res.drogue_offset_m, window_s)
+    return statistics.rms_in_window(res.t_s, res.drogue_offset_m, window_s)
 
 
 def peak_forces_n(res) -> tuple[float, float]:
@@ -101,4 +101,4 @@ def peak_forces_n(res) -> tuple[float, float]:
     tuple of float
         Lateral and vertical peak [N].
     """
-    return metrics.force_peaks(res.control_force_n)
+    return statistics.force_peaks(res.control_force_n)

@@ -2,7 +2,7 @@
 the fixed-length or the varying-length (engagement) driver.
 
 * :func:`run` - balance position, controller (designed once per process and design), initial
-  state, simulation; returns a :class:`~hosedrogue.results.RunResult`;
+  state, simulation; returns a :class:`~hosedrogue.results.run.RunResult`;
 * :func:`write` - ``timeseries.csv``, ``run.json``, ``hose.npz`` (the hose's shape over time),
   the figure and, with ``formats=("csv", "mat")``, ``timeseries.mat``, for either kind of result.
 """
@@ -17,11 +17,11 @@ from typing import Sequence
 
 import numpy as np
 
-from .. import hose_file
+from ..results import hose_file
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..errors import ParameterError
 from ..model.system import HoseModel
-from ..results import RunResult
+from ..results.run import RunResult
 from ..simulation import simulate
 from . import Scenario
 
@@ -173,8 +173,8 @@ def run(scenario: Scenario) -> RunResult:
     Returns
     -------
     RunResult
-        :class:`~hosedrogue.results.SimulationResult` or
-        :class:`~hosedrogue.results.EngagementResult`; ``meta`` records what was run (scenario,
+        :class:`~hosedrogue.results.run.SimulationResult` or
+        :class:`~hosedrogue.results.run.EngagementResult`; ``meta`` records what was run (scenario,
         source, model, duration [s], initial state, controller, actuator, sensor, parameters).
 
     Raises
@@ -317,7 +317,7 @@ def _json_value(value):
 
 def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
     """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, ``hose.npz`` (the
-    joint positions at every output time, :mod:`hosedrogue.hose_file`; what ``hosedrogue view``
+    joint positions at every output time, :mod:`hosedrogue.results.hose_file`; what ``hosedrogue view``
     draws), its figure (``displacement.png`` or ``engagement.png``) and, with
     ``"mat"``, ``timeseries.mat``.
 

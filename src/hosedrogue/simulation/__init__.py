@@ -6,7 +6,7 @@ specification lives there) and importable from here.
 """
 
 from ..spec.params import Actuator, Sensor
-from ..results import SimulationResult
+from ..results.run import SimulationResult
 from .batch import simulate_batch
 from .simulate import ControlFunction, simulate
 

@@ -3,7 +3,7 @@
 Envelope and docking studies run the same hose, flight condition and controller under many
 turbulence seeds. :func:`simulate_batch` generates every run's gust record up front, then a
 single numba call integrates all runs (the RK4 loop of :func:`hosedrogue.model.integrate.rk4_steps`)
-and reduces each to the statistics of :mod:`hosedrogue.metrics` on the fly (its compiled
+and reduces each to the statistics of :mod:`hosedrogue.results.statistics` on the fly (its compiled
 accumulator, its window rule), so neither Python overhead nor full time histories dominate a
 campaign.
 """
@@ -17,11 +17,11 @@ from numba import njit
 
 from ..jit import JIT
 
-from .. import metrics
+from ..results import statistics
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..environment.turbulence import generate_gusts
-from ..metrics import SUMMARY_COLUMNS, capture_column
+from ..results.statistics import SUMMARY_COLUMNS, capture_column
 from ..model.integrate import applied_force_at, drogue_yz, loop_arrays, rk4_steps
 from ..model.layout import OK
 from ..model.chain_dynamics import make_workspace_jit
@@ -41,11 +41,11 @@ def _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, Ac, Bc, Cc, Dc, y_
     z = np.empty(z0.shape[0])
     work = np.empty((5, z0.shape[0]))
     u = np.empty(2)
-    acc = np.zeros(metrics.ACCUMULATOR_FIXED + radii.shape[0])
+    acc = np.zeros(statistics.ACCUMULATOR_FIXED + radii.shape[0])
     for run in range(gusts.shape[0]):
         gust = gusts[run]
         z[:] = z0
-        metrics.reset(acc)
+        statistics.reset(acc)
         status = OK
         t = 0.0
         for step in range(1, nsteps + 1):
@@ -53,22 +53,22 @@ def _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, Ac, Bc, Cc, Dc, y_
                                   y_ref, act, noise, noise_dt, max_yaw, ws, work, u, False)
             if status != OK:
                 break
-            if metrics.in_window_at(t, t_w0, t_w1):
+            if statistics.in_window_at(t, t_w0, t_w1):
                 yy, zz = drogue_yz(z, l, ws)
                 applied_force_at(t, z, nx, yy, zz, Cc, Dc, y_ref, act, noise, noise_dt, u)
-                metrics.accumulate(acc, yy - y_ref[0], zz - y_ref[1], u[0], u[1], radii)
+                statistics.accumulate(acc, yy - y_ref[0], zz - y_ref[1], u[0], u[1], radii)
         out[run, 0] = 1.0 if status == OK else 0.0
         out[run, 1] = t
-        metrics.finish(acc, out[run, 2:])
+        statistics.finish(acc, out[run, 2:])
 
 
 def simulate_batch(params: Params, seeds, duration_s: float, controller: LinearController | None = None,
-                   capture_radii_m=metrics.DEFAULT_CAPTURE_RADII_M, actuator: Actuator = Actuator(),
+                   capture_radii_m=statistics.DEFAULT_CAPTURE_RADII_M, actuator: Actuator = Actuator(),
                    equilibrium: Equilibrium | None = None):
     """Statistics of one run per turbulence seed, all integrated in one compiled call.
 
     Every run starts at the balance position; the statistics window is the turbulence window
-    (:func:`hosedrogue.metrics.turbulence_window`).
+    (:func:`hosedrogue.results.statistics.turbulence_window`).
 
     Parameters
     ----------
@@ -90,7 +90,7 @@ def simulate_batch(params: Params, seeds, duration_s: float, controller: LinearC
     Returns
     -------
     pandas.DataFrame
-        A ``seed`` column, :data:`hosedrogue.metrics.SUMMARY_COLUMNS` and one
+        A ``seed`` column, :data:`hosedrogue.results.statistics.SUMMARY_COLUMNS` and one
         ``inside_<r>m_frac`` column per capture radius; statistics are NaN for a run that stopped
         before the window.
     """
@@ -114,7 +114,7 @@ def simulate_batch(params: Params, seeds, duration_s: float, controller: LinearC
     z0 = closed_loop_state(eq.state, ctrl, actuator)
     h, nsteps = fixed_steps(params, duration_s)
     loop = loop_arrays(ctrl, eq.drogue_position_m[1:].copy(), actuator, np.zeros((1, 2)), 1.0)
-    t_w0, t_w1 = metrics.turbulence_window(params.turbulence)
+    t_w0, t_w1 = statistics.turbulence_window(params.turbulence)
     out = np.zeros((len(seeds), _NFIXED + radii.size))
     l, M, S, J, ps, env, _ = model.kernel_args()
     _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, *loop,

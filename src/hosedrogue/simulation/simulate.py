@@ -18,6 +18,7 @@ import scipy.integrate
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..model import drogue_actuator as DA
+from ..results.surfaces import surface_fields
 from ..controllers.sampled import SampledController
 from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
@@ -25,8 +26,8 @@ from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loo
 from ..model.system import HoseModel
 from ..spec.params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..spec.sections import Controller
-from ..metrics import turbulence_window
-from ..results import SimulationResult
+from ..results.statistics import turbulence_window
+from ..results.run import SimulationResult
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
 
@@ -235,7 +236,7 @@ def _run_compiled(model, params, x0, duration_s, control, y_ref, actuator, senso
     surfaces = {}
     if drogue_actuator is not None:
         ns, na = drogue_actuator.surfaces, 4 * n + ctrl.n_states
-        surfaces = DA.result_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], drogue_actuator)
+        surfaces = surface_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], drogue_actuator)
     return ts, zs[:, : model.state_size], us[:, :2], status, t_stop, outs, surfaces
 
 

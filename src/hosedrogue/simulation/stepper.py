@@ -25,15 +25,15 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
-from ..metrics import turbulence_window
-from ..model import chain_dynamics as CD, layout as LY
-from ..model import drogue_actuator as DA
+from ..model import chain_dynamics as CD, drogue_actuator as DA, layout as LY
 from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
                              held_command)
 from ..model.system import HoseModel
+from ..results.run import SimulationResult
+from ..results.statistics import turbulence_window
+from ..results.surfaces import surface_fields
 from ..spec.params import PAPER, Actuator, Params, Sensor
-from ..results import SimulationResult
 
 #: Relative tolerance of "a whole multiple" of the RK4 step [-] (round-off of the decimal times).
 MULTIPLE_RTOL = 1e-9
@@ -477,7 +477,7 @@ class FixedLengthStepper(StepperBase):
         return self.result()
 
     def result(self) -> SimulationResult:
-        """The run so far as the usual :class:`~hosedrogue.results.SimulationResult` (``completed``
+        """The run so far as the usual :class:`~hosedrogue.results.run.SimulationResult` (``completed``
         False and ``message`` saying why if it stopped early or is still running).
 
         Returns
@@ -491,7 +491,7 @@ class FixedLengthStepper(StepperBase):
         surfaces = {}
         if self.drogue_actuator is not None:
             ns, na = self.drogue_actuator.surfaces, self.nx + self.hold_controller.n_states
-            surfaces = DA.result_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], self.drogue_actuator)
+            surfaces = surface_fields(zs[:, na:na + ns], us[:, 3:3 + ns], us[:, 2], self.drogue_actuator)
         return SimulationResult(
             t_s=ts, states=zs[:, :self.nx], joints_m=joints, drogue_position_m=joints[:, -1, :],
             drogue_velocity_m_s=dvel, drogue_drag_n=ddrag, tow_force_n=tow, exit_tension_n=tension,

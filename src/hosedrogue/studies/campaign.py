@@ -31,7 +31,7 @@ Files in the output folder ``DIR``
 
 Per-run statistics
 ------------------
-Those of :mod:`hosedrogue.metrics` (peaks, RMS, time inside the capture radii, peak control
+Those of :mod:`hosedrogue.results.statistics` (peaks, RMS, time inside the capture radii, peak control
 forces), computed over each run's saved time series inside the turbulence window (the whole run
 when turbulence is off), with the window rule written down there.
 
@@ -59,7 +59,7 @@ from typing import Any, Iterator, Sequence
 import numpy as np
 
 from ..errors import ParameterError
-from ..metrics import DEFAULT_CAPTURE_RADII_M, capture_column, turbulence_window, window_statistics
+from ..results.statistics import DEFAULT_CAPTURE_RADII_M, capture_column, turbulence_window, window_statistics
 from ..progress import progress_bar, progress_enabled
 from ..scenarios import Scenario, load_scenario
 from ..scenarios.runner import run, sampled_controllers
@@ -125,7 +125,7 @@ def statistics_window(scenario) -> tuple[float, float]:
     Returns
     -------
     (float, float)
-        :func:`hosedrogue.metrics.turbulence_window`: the turbulence window, or the whole run
+        :func:`hosedrogue.results.statistics.turbulence_window`: the turbulence window, or the whole run
         ``(0, inf)`` when turbulence is off.
 
     Raises
@@ -146,11 +146,11 @@ def statistics_window(scenario) -> tuple[float, float]:
 
 # --- one run (executes on a worker) --------------------------------------------------------------
 def summarize_run(result, window_s: tuple[float, float], capture_radii_m: Sequence[float]) -> dict:
-    """Per-run statistics of a simulation result (:func:`hosedrogue.metrics.window_statistics`).
+    """Per-run statistics of a simulation result (:func:`hosedrogue.results.statistics.window_statistics`).
 
     Parameters
     ----------
-    result : hosedrogue.results.SimulationResult
+    result : hosedrogue.results.run.SimulationResult
         The run.
     window_s : (float, float)
         Statistics window [start, end) [s] (:func:`statistics_window`).

@@ -187,7 +187,7 @@ def approach_path(r) -> dict:
 
     Parameters
     ----------
-    r : hosedrogue.results.EngagementResult
+    r : hosedrogue.results.run.EngagementResult
         An approach run.
 
     Returns
@@ -221,7 +221,7 @@ def approach_runs(level: str = "moderate", runs=("none", "pid"), seed: int = APP
     Returns
     -------
     dict
-        ``label -> hosedrogue.results.EngagementResult``.
+        ``label -> hosedrogue.results.run.EngagementResult``.
     """
     from ..scenarios import load_scenario
     from ..scenarios.runner import run

@@ -9,7 +9,7 @@ difference of two rates is called significant when their Wilson 95 % intervals a
 (:func:`hosedrogue.studies.statistics.intervals_overlap`: conservative).
 
 Saturation (force-limit study) is read from runs.csv: the two per-axis peaks of
-:data:`hosedrogue.metrics.FORCE_STATISTICS` are ``max |u_y|`` and ``max |u_z|`` of the applied
+:data:`hosedrogue.results.statistics.FORCE_STATISTICS` are ``max |u_y|`` and ``max |u_z|`` of the applied
 (clipped) force over the turbulence window, which in the docking cells is the whole run, and the
 third is ``max hypot(u_y, u_z)``, the magnitude. A per-axis limit is reached by a per-axis peak,
 not by the magnitude (a magnitude above the limit can have neither axis clipped), so a run counts
@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ..metrics import FORCE_STATISTICS
+from ..results.statistics import FORCE_STATISTICS
 from .docking_grid import CONTROLLERS, LEVELS, PILOT
 from .statistics import intervals_overlap
 

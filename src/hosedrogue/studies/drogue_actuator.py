@@ -181,7 +181,7 @@ def claims_runs(seeds: int = 1, duration_s: float | None = None, levels=LEVELS, 
     pandas.DataFrame
         level, controller, force (the variant), seed, completed, the window statistics
         (peak and RMS offsets [m], peak forces [N]) and, actuated, the surfaces' statistics
-        (:func:`hosedrogue.metrics.surface_statistics`; NaN for the ideal force).
+        (:func:`hosedrogue.results.surfaces.surface_statistics`; NaN for the ideal force).
     """
     import pandas as pd
 

@@ -27,7 +27,7 @@ from ..analysis.linearize import linearize
 from ..simulation import simulate_batch
 from ..spec.config import load_preset, preset_data
 from ..spec.params import PAPER, ParameterError, Params
-from ..results import SimulationResult
+from ..results.run import SimulationResult
 
 #: Standard intensities in the order of the study.
 INTENSITIES = ("light", "moderate", "severe")

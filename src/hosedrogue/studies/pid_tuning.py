@@ -107,7 +107,7 @@ def _min_damping(gains, models) -> dict:
 
 
 def _peaks(scenario, gains) -> tuple[float, float]:
-    from ..metrics import peaks
+    from ..results.statistics import peaks
     from ..scenarios.runner import run
     from ..spec.sections import Controller
 

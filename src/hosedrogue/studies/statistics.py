@@ -19,12 +19,12 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
-from ..metrics import statistic_units
+from ..results.statistics import statistic_units
 from ..plotting.campaign import plot_cdf, plot_histograms, plot_miss_cdf
 from ..plotting.figures import save_figure
 from .store import csv_line, is_actuated, is_engagement, read_runs, read_settings, run_columns, write_atomic
 
-#: Order of the engagement results in ``by_result`` (:meth:`hosedrogue.results.EngagementResult.capture_category`)
+#: Order of the engagement results in ``by_result`` (:meth:`hosedrogue.results.run.EngagementResult.capture_category`)
 RESULTS = ("captured", "miss", "failed latch", "no contact", "stopped")
 
 

@@ -20,7 +20,8 @@ from typing import Any, Iterable, Sequence
 
 from ..version import __version__
 from ..errors import ParameterError
-from ..metrics import DEFAULT_CAPTURE_RADII_M, SURFACE_STATISTICS, statistic_units
+from ..results.statistics import DEFAULT_CAPTURE_RADII_M, statistic_units
+from ..results.surfaces import SURFACE_STATISTICS
 from .seeds import SEED_RULE
 
 #: Format tag of campaign.json (2: the typed scenario, with its hose "model").
@@ -37,7 +38,7 @@ _KEY_COLUMNS = ("run", "controller", "seed", "completed", "t_end_s")
 ENGAGEMENT_COLUMNS = ("result", "miss_distance_m", "closure_speed_m_s", "peak_probe_load_n", "peak_exit_tension_n",
                       "peak_slack_m")
 #: Columns of a campaign whose drogue steers itself with control surfaces
-#: (:func:`hosedrogue.metrics.surface_statistics`: peak deflection [deg] and rate [deg/s], the
+#: (:func:`hosedrogue.results.surfaces.surface_statistics`: peak deflection [deg] and rate [deg/s], the
 #: fractions of the window saturated in deflection and in rate [-])
 ACTUATOR_COLUMNS = tuple(name for name, _ in SURFACE_STATISTICS)
 def is_engagement(settings: dict) -> bool:
@@ -71,7 +72,7 @@ def run_columns(capture_radii_m: Sequence[float], engagement: bool = False, actu
     -------
     list of str
         Run index, controller, seed, completed, stop time [s], the statistics of
-        :func:`hosedrogue.metrics.statistic_units`, the engagement columns, the actuator
+        :func:`hosedrogue.results.statistics.statistic_units`, the engagement columns, the actuator
         columns, message.
     """
     extra = (ENGAGEMENT_COLUMNS if engagement else ()) + (ACTUATOR_COLUMNS if actuated else ())

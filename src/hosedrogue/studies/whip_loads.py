@@ -8,7 +8,7 @@ axial mode ``omega_1`` (:func:`first_axial_mode_rad_s`), so every EA has the sam
 of its slowest axial wave (docs/model.md §11). The probe's latch window is opened down to
 :data:`MIN_CLOSURE_SPEED_M_S` so that the slowest probe couples (the coupler sees the closure
 speed along the inclined last link, 0.48 m/s of 0.5 m/s), and each run lasts until
-:data:`SETTLE_S` after the probe stops. Each row reports the peaks of :mod:`hosedrogue.results`
+:data:`SETTLE_S` after the probe stops. Each row reports the peaks of :mod:`hosedrogue.results.run`
 (taken at every step) and which of them the run calls converged.
 
 ``hosedrogue study whip-loads`` runs it from the command line; the report's section "Whip loads"

@@ -71,7 +71,7 @@ def rerun(settings: dict, seed: int, controller: str):
 
     Returns
     -------
-    hosedrogue.results.RunResult
+    hosedrogue.results.run.RunResult
     """
     from ..scenarios import scenario_from_dict
     from ..scenarios.runner import run

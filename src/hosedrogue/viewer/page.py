@@ -21,7 +21,7 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import ParameterError
-from ..hose_file import split_joints
+from ..results.hose_file import split_joints
 from ..version import __version__
 from .runs import SERIES, ViewRun
 

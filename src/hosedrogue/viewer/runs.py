@@ -2,9 +2,9 @@
 
 A run's folder (``hosedrogue simulate --out DIR``, :func:`hosedrogue.write`) holds
 ``timeseries.csv``, ``run.json`` and ``hose.npz`` (the hose's joints at every output time,
-:mod:`hosedrogue.hose_file`). :func:`read_run` reads them and
+:mod:`hosedrogue.results.hose_file`). :func:`read_run` reads them and
 :meth:`ViewRun.from_result` takes the same three things from a
-:class:`~hosedrogue.results.RunResult`, so the page is the same for a run written to disk and
+:class:`~hosedrogue.results.run.RunResult`, so the page is the same for a run written to disk and
 one that never was.
 """
 
@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
-from ..hose_file import FILE as HOSE_FILE, read_hose_npz, split_joints
-from ..results import RunResult
+from ..results.hose_file import FILE as HOSE_FILE, read_hose_npz, split_joints
+from ..results.run import RunResult
 
 __all__ = ["ViewRun", "read_run", "SERIES", "RUN_FILES"]
 
@@ -46,7 +46,7 @@ class ViewRun:
         (N,) joints at each output time [-].
     joints_m : numpy.ndarray
         (sum(joint_count), 3) joint positions in S_p [m], time after time
-        (:meth:`hosedrogue.results.RunResult.hose_shapes`).
+        (:meth:`hosedrogue.results.run.RunResult.hose_shapes`).
     document : dict
         The run's ``run.json`` content (what was run, how it ended, its outcome).
     source : str
@@ -109,7 +109,7 @@ class ViewRun:
 
         Parameters
         ----------
-        result : hosedrogue.results.RunResult
+        result : hosedrogue.results.run.RunResult
             The run.
         label : str, optional
             Name on the page (default: the scenario's name in ``result.meta``, else "run").

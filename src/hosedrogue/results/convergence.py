@@ -1,7 +1,7 @@
 """Which peak loads of an engagement run are converged with the link count, and why the others
 are not (docs/engagement.md, "Link-count convergence"): the rule behind ``run.json``'s
 ``"converged"``, ``peak_tension_converged`` and ``notes``
-(:meth:`hosedrogue.results.EngagementResult.summary`).
+(:meth:`hosedrogue.results.run.EngagementResult.summary`).
 
 The rule is physical, read from a run's own histories, and was established by doubling the
 links of the shipped engagement scenarios (160 -> 320 links of 0.1 m):

@@ -23,14 +23,14 @@ import re
 import textwrap
 from typing import Any
 
-from .spec.config import preset_names
-from .constants import FT_TO_M
-from .spec.fields import field_table
-from .spec.params import SECTIONS, TURBULENCE_PRESET_KEY
-from .scenarios import MAX_DURATION_S, MAX_OFFSET_DEG, SCENARIO_KEYS, Scenario
-from .spec.sections import (CONTROLLER_KEYS, CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS,
+from ..spec.config import preset_names
+from ..constants import FT_TO_M
+from ..spec.fields import field_table
+from ..spec.params import SECTIONS, TURBULENCE_PRESET_KEY
+from . import MAX_DURATION_S, MAX_OFFSET_DEG, SCENARIO_KEYS, Scenario
+from ..spec.sections import (CONTROLLER_KEYS, CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS,
                        LQR_DESIGNS, MAX_SAMPLE_TIME_S, Controller)
-from .spec.standards import INTENSITY_ALTITUDE_FT, INTENSITY_FT_S, PROBABILITY_OF_EXCEEDANCE
+from ..spec.standards import INTENSITY_ALTITUDE_FT, INTENSITY_FT_S, PROBABILITY_OF_EXCEEDANCE
 
 #: The unit shown for a dimensionless number (its ``#:`` comment says ``[-]``) or a non-numeric key.
 NO_UNIT = "-"

@@ -7,7 +7,7 @@ with their own count because the engagement's link count changes where the hose 
 fixed-length hose has n+1 at every time. Stored as computed (float64, not resampled).
 
 * :func:`stack_joints` - per-time joint arrays -> (joint_count, joints_m)
-  (:meth:`hosedrogue.results.RunResult.hose_shapes`);
+  (:meth:`hosedrogue.results.run.RunResult.hose_shapes`);
 * :func:`split_joints` - the inverse;
 * :func:`write_hose_npz`, :func:`read_hose_npz` - the file (the reader checks that its arrays agree).
 """
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ParameterError
+from ..errors import ParameterError
 
 __all__ = ["FILE", "stack_joints", "split_joints", "write_hose_npz", "read_hose_npz"]
 

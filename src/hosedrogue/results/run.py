@@ -3,7 +3,7 @@
 One interface for both hose models (:class:`RunResult`): the fixed-length hose (:class:`SimulationResult`)
 and the hose of varying length in an engagement (:class:`EngagementResult`) give the same quantities under
 the same names, so writers, campaigns and user code take either without a branch; a drogue with control
-surfaces adds theirs (:class:`hosedrogue.metrics.WithSurfaces`). Frames: S_p, the tanker trajectory frame
+surfaces adds theirs (:class:`hosedrogue.results.surfaces.WithSurfaces`). Frames: S_p, the tanker trajectory frame
 (x forward, y right, z down), origin at the tow point.
 """
 
@@ -17,9 +17,10 @@ import math
 
 import numpy as np
 
-from .load_convergence import converged_peaks, went_slack
-from .metrics import WithSurfaces
-from .version import __version__
+from .convergence import converged_peaks, went_slack
+from .statistics import DEFAULT_CAPTURE_RADII_M, window_statistics
+from .surfaces import WithSurfaces
+from ..version import __version__
 
 #: The time-series columns of every run, in file order (SI units in the names; the engagement
 #: adds its own after them, :meth:`EngagementResult.extra_columns`).
@@ -111,25 +112,23 @@ class RunResult:
                 f"peak control force {st['peak_u_n']:.4g} N")
 
     def statistics(self, capture_radii_m=None) -> dict[str, float]:
-        """The run's window statistics (:func:`hosedrogue.metrics.window_statistics`: peak and RMS
+        """The run's window statistics (:func:`hosedrogue.results.statistics.window_statistics`: peak and RMS
         drogue offsets [m], peak control forces [N], the time fraction inside each capture radius)
         over :attr:`statistics_window_s`.
 
         Parameters
         ----------
         capture_radii_m : sequence of float, optional
-            Capture radii [m] (default :data:`hosedrogue.metrics.DEFAULT_CAPTURE_RADII_M`).
+            Capture radii [m] (default :data:`hosedrogue.results.statistics.DEFAULT_CAPTURE_RADII_M`).
 
         Returns
         -------
         dict
             Statistic name (unit in the name) -> value; NaN where the window holds no sample.
         """
-        from . import metrics
-
-        radii = metrics.DEFAULT_CAPTURE_RADII_M if capture_radii_m is None else capture_radii_m
-        return metrics.window_statistics(self.t_s, self.drogue_offset_m, self.control_force_n,
-                                         self.statistics_window_s, radii)
+        radii = DEFAULT_CAPTURE_RADII_M if capture_radii_m is None else capture_radii_m
+        return window_statistics(self.t_s, self.drogue_offset_m, self.control_force_n,
+                                 self.statistics_window_s, radii)
 
     #: File name of the run's figure (:meth:`plot`) in its output folder.
     FIGURE = "displacement.png"
@@ -149,7 +148,7 @@ class RunResult:
 
     def hose_shapes(self) -> tuple[np.ndarray, np.ndarray]:
         """(joint_count (N,) [-], joints_m (sum of joint_count, 3) [m] in S_p): the joints at every
-        output time, stacked alike for both hose models (:func:`hosedrogue.hose_file.stack_joints`)."""
+        output time, stacked alike for both hose models (:func:`hosedrogue.results.hose_file.stack_joints`)."""
         from .hose_file import stack_joints
         return stack_joints(self.joints_m)
 
@@ -172,7 +171,7 @@ class RunResult:
         """
         import json
 
-        from .units import unit_of
+        from ..units import unit_of
 
         cols = self.columns()
         names = list(cols)
@@ -255,7 +254,7 @@ class SimulationResult(WithSurfaces, RunResult):
 
     def plot(self, **kwargs):
         """Lateral and vertical drogue displacement against time (see hosedrogue.plotting)."""
-        from .plotting.figures import plot_displacement
+        from ..plotting.figures import plot_displacement
 
         return plot_displacement(self, **kwargs)
 
@@ -364,8 +363,8 @@ class EngagementResult(WithSurfaces, RunResult):
 
     def went_slack(self) -> bool:
         """Whether the hose went (nearly) slack: the exit tension fell below
-        :data:`~hosedrogue.load_convergence.SLACK_TENSION_FRACTION` of the steady trail tension
-        (:func:`hosedrogue.load_convergence.went_slack`).
+        :data:`~hosedrogue.results.convergence.SLACK_TENSION_FRACTION` of the steady trail tension
+        (:func:`hosedrogue.results.convergence.went_slack`).
 
         Returns
         -------
@@ -376,7 +375,7 @@ class EngagementResult(WithSurfaces, RunResult):
     def summary(self) -> dict[str, Any]:
         """The run's ``"engagement"`` object: :data:`SUMMARY_KEYS` first, then the supporting
         figures, ``peak_tension_converged``, ``converged`` (which peaks are converged with the link
-        count) and ``notes`` (why the others are not; :func:`hosedrogue.load_convergence.converged_peaks`).
+        count) and ``notes`` (why the others are not; :func:`hosedrogue.results.convergence.converged_peaks`).
 
         Returns
         -------
@@ -395,7 +394,7 @@ class EngagementResult(WithSurfaces, RunResult):
 
     def plot(self, **kwargs):
         """The engagement's time histories (drogue, tensions, probe load, slack, reel; see hosedrogue.plotting)."""
-        from .plotting.engagement import plot_engagement_history
+        from ..plotting.engagement import plot_engagement_history
 
         return plot_engagement_history({self.meta.get("scenario", "run"): self}, **kwargs)
 
