@@ -10,7 +10,7 @@ PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.installed-docs
 
-.PHONY: reproduce test bench docs wheel-check clean
+.PHONY: reproduce test test-quick bench docs wheel-check clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -29,6 +29,10 @@ reproduce: $(STAMP)
 
 test: $(STAMP)
 	$(PY) -m pytest -q
+
+# the daily loop: everything but what is slow for reasons other than physics (docs/develop.md, "Tests")
+test-quick: $(STAMP)
+	$(PY) -m pytest -q -m "not e2e and not dask and not browser and not packaging and not fmu and not subprocess"
 
 bench: $(STAMP)
 	$(PY) benchmarks/realtime.py

@@ -12,7 +12,7 @@ simulate"; expect 1.4e-7 and 3.5e-9 m elastic, 1.4e-9 and 1.1e-10 m rigid).
 Prints, for each hose and feed, the largest drogue-position difference (target <= 1e-6 m), that
 before the push's speed ramp (where the path is a straight line and the two runs are the same
 arithmetic), the hose-length difference, and the wall time of both runs.
-tests/test_fmu_engagement.py runs the same comparison on a coarse variant (20 links, 4 s) in
+tests/interop/test_fmu_engagement.py runs the same comparison on a coarse variant (20 links, 4 s) in
 seconds; --links 20 --duration 4 --standoff 3.0006 --step S measures the convergence in the step
 (that standoff, the test's, keeps the capture off the step grid: see there).
 
