@@ -106,3 +106,31 @@ def test_cli_whip_loads_bad_input(capsys):
         main(["study", "whip-loads", "--stiffness", "-5"])
     assert exc.value.code == 2
     assert "--stiffness" in capsys.readouterr().err
+
+
+def test_cli_whip_loads_runs_the_users_file(tmp_path, capsys):
+    """A user's engagement scenario runs in the grid beside a shipped one: the row names the file's
+    scenario, and its hose, twice as heavy (8.8 kg/m), raises the trail tension (the peak exit
+    tension less its rise) by more than nothing and less than the added weight, 16 m x 4.4 kg/m x g =
+    690 N (the weight adds to the vertical component of the tow point's tension; the drag, its
+    horizontal component, changes only with the hose's shape)."""
+    mine = tmp_path / "wing-pod.toml"
+    mine.write_text('[scenario]\nextends = "engage-constant-tension"\nname = "wing-pod"\n'
+                    '[hose]\nmass_per_length_kg_m = 8.8\n')
+    code = main(["study", "whip-loads", "--stiffness", "1e6", "--closure-speeds", "2.5", "--scenarios",
+                 "engage-constant-tension", str(mine), "--links", "40", "--step", "0.0025", "--json"])
+    assert code == 0
+    shipped, user = json.loads(capsys.readouterr().out)["rows"]
+    assert (shipped["scenario"], user["scenario"]) == ("engage-constant-tension", "wing-pod")
+    trail = [r["peak_exit_tension_n"] - r["peak_tension_rise_n"] for r in (shipped, user)]
+    added_weight_n = 16.0 * 4.4 * 9.80665
+    assert 0.0 < trail[1] - trail[0] < added_weight_n
+
+
+@pytest.mark.parametrize("name, says", [("swing-release", "'swing-release' is a fixed-length scenario"),
+                                        ("no-such.toml", "no such file or shipped scenario")])
+def test_cli_whip_loads_refuses_what_is_not_an_engagement(name, says, capsys):
+    """A fixed-length scenario or a missing file: one line, exit 2, before any run."""
+    assert main(["study", "whip-loads", "--scenarios", "engage-response", name]) == 2
+    err = capsys.readouterr().err
+    assert says in err and len(err.strip().splitlines()) == 1

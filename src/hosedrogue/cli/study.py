@@ -75,7 +75,8 @@ def _add_whip_loads(studies) -> None:
     w = studies.add_parser(
         "whip-loads", help="the whip's loads against the hose's axial stiffness and the closure speed",
         description=(
-            "Run the shipped engagement scenarios (one per reel law) over a grid of the hose's axial stiffness EA "
+            "Run engagement scenarios (default the shipped ones, one per reel law; or your own files) over a grid "
+            "of the hose's axial stiffness EA "
             "[N] (its axial damping at the shipped loss factor 0.1 of the first axial mode) and the probe's "
             "closure speed [m/s], one run per point (no turbulence: deterministic). Prints per run the peak exit "
             "tension [N], its rise above the trail tension [N], the drogue-end tension [N], the probe load [N] "
@@ -85,8 +86,9 @@ def _add_whip_loads(studies) -> None:
                    default=list(STIFFNESSES_N), help="axial stiffnesses [N] (default 1e5 1e6 1e7 1e8)")
     w.add_argument("--closure-speeds", metavar="V", nargs="+", type=finite_float("--closure-speeds", 0.3, 3.0, "m/s"),
                    default=list(CLOSURE_SPEEDS_M_S), help="probe closure speeds [m/s] (default 0.5 1 1.5 2 2.5)")
-    w.add_argument("--scenarios", metavar="NAME", nargs="+", choices=SCENARIOS, default=list(SCENARIOS),
-                   help=f"engagement scenarios (default {' '.join(SCENARIOS)})")
+    w.add_argument("--scenarios", metavar="NAME|FILE", nargs="+", default=list(SCENARIOS),
+                   help=f"engagement scenarios: shipped names or TOML files with [probe] (default {' '.join(SCENARIOS)}); "
+                        "all are checked before the first run")
     w.add_argument("--links", metavar="N", type=bounded_int("--links", 2, 1000),
                    help="links of every run [-] (default the scenarios' 160)")
     w.add_argument("--step", metavar="H", type=finite_float("--step", 1e-5, 0.01, "s"),
@@ -114,10 +116,10 @@ def run_whip_loads(args) -> int:
     if args.json:
         print(json.dumps({"rows": [r.to_dict() for r in rows]}, indent=2))
     else:
-        print("law, EA [N], closure [m/s]: " + ", ".join(PEAKS) + " (* not converged)")
+        print("scenario (law), EA [N], closure [m/s]: " + ", ".join(PEAKS) + " (* not converged)")
         for r in rows:
             vals = ", ".join(f"{r.peaks[k]:.4g}{'' if r.converged[k] else '*'}" for k in PEAKS)
-            print(f"{r.law}, {r.stiffness_n:g}, {r.closure_speed_m_s:g}: {vals}; {r.result}")
+            print(f"{r.scenario} ({r.law}), {r.stiffness_n:g}, {r.closure_speed_m_s:g}: {vals}; {r.result}")
     if not all(r.completed for r in rows):
         print(f"hosedrogue: {sum(not r.completed for r in rows)} runs stopped early", file=sys.stderr)
         return EXIT_INCOMPLETE

@@ -1,7 +1,8 @@
 """The whip's loads against the hose's axial stiffness and the closure speed, for the three reel laws.
 
-A grid of the shipped engagement scenarios (``engage-locked``, ``engage-constant-tension``,
-``engage-response``): the axial stiffness EA [N] and the probe's closure speed [m/s] are varied,
+A grid of engagement scenarios, by default the shipped ones (``engage-locked``,
+``engage-constant-tension``, ``engage-response``), or the user's own (a TOML file, or a
+:class:`~hosedrogue.scenarios.Scenario` built in Python, with a ``[probe]``): the axial stiffness EA [N] and the probe's closure speed [m/s] are varied,
 everything else is the scenario's. The axial damping follows EA at the shipped loss factor: the
 Kelvin-Voigt damping ``c_a = eta EA / omega_1`` with ``eta`` = 0.1 at the trailed hose's first
 axial mode ``omega_1`` (:func:`first_axial_mode_rad_s`), so every EA has the same damping ratio
@@ -24,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.optimize
 
+from ..errors import ParameterError
 from ..spec.params import Params
 
 #: The shipped engagement scenarios, one per reel law.
@@ -88,6 +90,7 @@ def axial_damping_n_s(params: Params, stiffness_n: float, loss_factor: float = L
 class WhipLoadRow:
     """One run of the grid: its settings, outcome, peaks and their convergence flags."""
 
+    scenario: str  #: the scenario's name (a shipped one, or the user's file's)
     law: str  #: reel law
     stiffness_n: float  #: axial stiffness EA [N]
     damping_n_s: float  #: axial damping c_a [N s]
@@ -106,15 +109,41 @@ class WhipLoadRow:
         return d
 
 
-def study_scenario(name: str, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
+def engagement_scenario(scenario):
+    """An engagement scenario of the study: a shipped name, a TOML file or a Scenario.
+
+    Parameters
+    ----------
+    scenario : str, Path or hosedrogue.scenarios.Scenario
+        A shipped engagement scenario's name, a scenario file, or a scenario built in Python.
+
+    Returns
+    -------
+    hosedrogue.scenarios.Scenario
+
+    Raises
+    ------
+    ParameterError
+        The name or file is not a scenario, or the scenario has no engagement (``[probe]``).
+    """
+    from ..scenarios import Scenario, load_scenario
+
+    sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    if sc.engagement is None:
+        raise ParameterError(f"scenarios: {str(scenario)!r} is a fixed-length scenario; the whip-load study "
+                             f"runs engagements (a scenario with [probe] and [reel], e.g. {SCENARIOS[-1]})")
+    return sc
+
+
+def study_scenario(scenario, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
                    step_s: float | None = None):
-    """The scenario of one grid point: ``name`` with EA, its damping, the closure speed, the wider
+    """The scenario of one grid point: ``scenario`` with EA, its damping, the closure speed, the wider
     latch window and the run's length; on ``links`` links at ``step_s`` [s] if given.
 
     Parameters
     ----------
-    name : str
-        A shipped engagement scenario.
+    scenario : str, Path or hosedrogue.scenarios.Scenario
+        An engagement scenario (:func:`engagement_scenario`).
     stiffness_n : float
         Axial stiffness EA [N].
     closure_speed_m_s : float
@@ -128,10 +157,9 @@ def study_scenario(name: str, stiffness_n: float, closure_speed_m_s: float, link
     -------
     hosedrogue.scenarios.Scenario
     """
-    from ..scenarios import load_scenario
     from ..spec.sections import Engagement
 
-    sc = load_scenario(name)
+    sc = engagement_scenario(scenario)
     hose = {"axial_stiffness_n": float(stiffness_n), "axial_damping_n_s": axial_damping_n_s(sc.params, stiffness_n)}
     numerics = {}
     if links is not None:
@@ -147,13 +175,13 @@ def study_scenario(name: str, stiffness_n: float, closure_speed_m_s: float, link
                                                      bow_wave=sc.engagement.bow_wave, pilot=sc.engagement.pilot))
 
 
-def run_point(name: str, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
+def run_point(scenario, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
               step_s: float | None = None) -> WhipLoadRow:
     """Run one grid point (:func:`study_scenario`) and read its row.
 
     Parameters
     ----------
-    name, stiffness_n, closure_speed_m_s, links, step_s
+    scenario, stiffness_n, closure_speed_m_s, links, step_s
         See :func:`study_scenario` (EA [N], closure speed [m/s], step [s]).
 
     Returns
@@ -162,10 +190,10 @@ def run_point(name: str, stiffness_n: float, closure_speed_m_s: float, links: in
     """
     from ..scenarios.runner import run
 
-    sc = study_scenario(name, stiffness_n, closure_speed_m_s, links, step_s)
+    sc = study_scenario(scenario, stiffness_n, closure_speed_m_s, links, step_s)
     r = run(sc)
     s = r.summary()
-    return WhipLoadRow(law=sc.engagement.reel.law, stiffness_n=float(stiffness_n),
+    return WhipLoadRow(scenario=sc.name, law=sc.engagement.reel.law, stiffness_n=float(stiffness_n),
                        damping_n_s=sc.params.hose.axial_damping_n_s, closure_speed_m_s=float(closure_speed_m_s),
                        links=sc.params.hose.links, result=s["result"], completed=r.completed,
                        peaks={k: s[k] for k in PEAKS}, converged=dict(s["converged"]))
@@ -182,8 +210,9 @@ def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEE
         Axial stiffnesses EA [N].
     closure_speeds_m_s : sequence of float
         Probe closure speeds [m/s].
-    scenarios : sequence of str
-        The engagement scenarios (one per reel law).
+    scenarios : sequence of str, Path or Scenario
+        The engagement scenarios: shipped names (default: one per reel law), files or Scenarios
+        (:func:`engagement_scenario`); every one is loaded and checked before the first run.
     links : int, optional
         Links of every run (default the scenarios').
     step_s : float, optional
@@ -195,13 +224,14 @@ def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEE
     -------
     list of WhipLoadRow
     """
+    loaded = [engagement_scenario(sc) for sc in scenarios]
     rows = []
-    for name in scenarios:
+    for sc in loaded:
         for ea in stiffnesses_n:
             for v in closure_speeds_m_s:
                 if progress is not None:
-                    progress(f"{name}, EA {ea:g} N, {v:g} m/s")
-                rows.append(run_point(name, ea, v, links, step_s))
+                    progress(f"{sc.name}, EA {ea:g} N, {v:g} m/s")
+                rows.append(run_point(sc, ea, v, links, step_s))
     return rows
 
 
