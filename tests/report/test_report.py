@@ -282,6 +282,35 @@ def test_fast_report_end_to_end(tmp_path):
 
 
 # --- sections alone --------------------------------------------------------------------------------
+def test_only_builds_the_sections_named_and_those_they_need():
+    """``--only``: the sections named and, transitively, those they need, in build order; a name of
+    no section is refused with the list."""
+    from hosedrogue.errors import ParameterError
+    from hosedrogue.report.build import SECTIONS, sections_for
+
+    assert [s.key for s in sections_for(["closed_loop"])] == ["sweep", "linear", "controllers", "closed_loop"]
+    assert [s.key for s in sections_for(["docking_env", "parameters"])] == ["parameters", "docking", "docking_env"]
+    assert sections_for(None) == SECTIONS
+    with pytest.raises(ParameterError, match=r"^only = 'dockin': no such report section; sections: parameters, "):
+        sections_for(["dockin"])
+
+
+def test_reproduce_only_writes_a_partial_report(tmp_path, capsys):
+    """``hosedrogue reproduce --only parameters``: that section's page and report.json, both
+    saying the report is partial; the closing 'differences' section, which needs the convergence
+    section, is left out; a wrong name writes nothing (exit 2)."""
+    from hosedrogue.cli import main
+
+    out = tmp_path / "r"
+    assert main(["reproduce", "--fast", "--only", "parameters", "--out", str(out)]) == 0
+    build = json.loads((out / "report.json").read_text())["build"]
+    assert build["sections"] == ["parameters"] and list(build["stage_times_s"]) == ["parameters"]
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert 'id="partial-banner"' in page and 'id="table1"' in page and 'id="differences"' not in page
+    assert main(["reproduce", "--only", "nope", "--out", str(tmp_path / "bad")]) == 2
+    assert not (tmp_path / "bad").exists()
+
+
 def _folder(path):
     from hosedrogue.report.writer import ReportFolder
 

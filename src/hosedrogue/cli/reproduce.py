@@ -22,6 +22,9 @@ def add_parser(sub) -> None:
                                    "write DIR/index.html with figures (PNG), data (CSV), report.json and an animation.")
     s.add_argument("--out", metavar="DIR", default="out/report", help="output folder (default out/report)")
     s.add_argument("--fast", action="store_true", help="coarser grids and shorter runs (< 1 min); marked as such")
+    s.add_argument("--only", metavar="SECTION", nargs="+",
+                   help="build only these sections (e.g. docking whip_loads; a wrong name lists them all) "
+                        "and those they need; the page says it is partial; a wrong key gets the list")
     s.set_defaults(func=run)
 
 
@@ -39,9 +42,11 @@ def run(args) -> int:
         Exit status (see :mod:`hosedrogue.cli`).
     """
     from ..report import build_report
+    from ..report.build import sections_for
 
+    sections_for(args.only)  # a wrong key: one line, exit 2, before anything is written
     out = Path(args.out)
     prepare_out(out)
-    build_report(out, fast=args.fast)
+    build_report(out, fast=args.fast, only=args.only)
     print(f"wrote {out / 'index.html'}")
     return 0

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from ..errors import ParameterError
 from ..version import __version__
 from . import (accuracy, closed_loop, controllers, convergence, differences, docking, docking_env, drogue_actuator,
                engagement, hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
@@ -23,7 +24,8 @@ from .page import render_page
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
 
-__all__ = ["ReportSettings", "FULL", "FAST", "Section", "SECTIONS", "CLOSING", "build_report"]
+__all__ = ["ReportSettings", "FULL", "FAST", "Section", "SECTIONS", "CLOSING", "build_report", "section_keys",
+           "sections_for"]
 
 
 @dataclass(frozen=True)
@@ -78,11 +80,48 @@ CLOSING: tuple[Section, ...] = (
 )
 
 
+def section_keys() -> tuple[str, ...]:
+    """The keys of :data:`SECTIONS`, in build order (what ``reproduce --only`` accepts)."""
+    return tuple(s.key for s in SECTIONS)
+
+
+def sections_for(only=None) -> tuple[Section, ...]:
+    """The sections to build for ``only`` (keys of :data:`SECTIONS`), with every section they need,
+    in build order; all of them for None.
+
+    Parameters
+    ----------
+    only : sequence of str, optional
+        Section keys (:func:`section_keys`).
+
+    Returns
+    -------
+    tuple of Section
+
+    Raises
+    ------
+    ParameterError
+        A key that names no section.
+    """
+    if only is None:
+        return SECTIONS
+    by_key = {s.key: s for s in SECTIONS}
+    wanted, stack = set(), list(only)
+    while stack:
+        key = stack.pop()
+        if key not in by_key:
+            raise ParameterError(f"only = {key!r}: no such report section; sections: {', '.join(by_key)}")
+        if key not in wanted:
+            wanted.add(key)
+            stack.extend(by_key[key].needs)
+    return tuple(s for s in SECTIONS if s.key in wanted)
+
+
 def _run(section: Section, out: ReportFolder, settings: ReportSettings, results: dict) -> None:
     results[section.key] = section.build(out, settings, **{name: results[name] for name in section.needs})
 
 
-def build_report(out_dir, fast: bool = False, progress: bool = True) -> dict:
+def build_report(out_dir, fast: bool = False, progress: bool = True, only=None) -> dict:
     """Regenerate the paper's Sec. 2.3 and 3 results and write the report into ``out_dir``.
 
     Parameters
@@ -94,6 +133,10 @@ def build_report(out_dir, fast: bool = False, progress: bool = True) -> dict:
         says prominently that it is the fast version.
     progress : bool
         Show a tqdm progress bar over the sections on stderr.
+    only : sequence of str, optional
+        Build only these sections (keys of :data:`SECTIONS`) and those they need
+        (:func:`sections_for`); the closing sections whose needs were built follow. The page and
+        ``report.json`` (``build.sections``) say which were built.
 
     Returns
     -------
@@ -103,15 +146,16 @@ def build_report(out_dir, fast: bool = False, progress: bool = True) -> dict:
     from tqdm import tqdm
 
     settings = FAST if fast else FULL
+    chosen = sections_for(only)
     out = ReportFolder(Path(out_dir))
     out.dir.mkdir(parents=True, exist_ok=True)
     results: dict[str, object] = {}
     timings: dict[str, float] = {}
     t_start = time.perf_counter()
-    bar = tqdm(total=len(SECTIONS) + 1, desc="reproduce", unit="stage", disable=not progress, file=sys.stderr)
+    bar = tqdm(total=len(chosen) + 1, desc="reproduce", unit="stage", disable=not progress, file=sys.stderr)
     out.status = bar.set_postfix_str
     try:
-        for section in SECTIONS:
+        for section in chosen:
             bar.set_description(f"reproduce: {section.label}")
             t0 = time.perf_counter()
             _run(section, out, settings, results)
@@ -119,12 +163,15 @@ def build_report(out_dir, fast: bool = False, progress: bool = True) -> dict:
             bar.update(1)
         bar.set_description("reproduce: page")
         for section in CLOSING:
-            _run(section, out, settings, results)
+            if all(name in results for name in section.needs):
+                _run(section, out, settings, results)
         elapsed = time.perf_counter() - t_start
         build = {"version": __version__, "settings": settings.name, "fast": bool(fast),
                  "elapsed_s": elapsed, "stage_times_s": timings}
+        if only is not None:
+            build["sections"] = [s.key for s in chosen]
         headline = out.write_json({"build": build, **out.headline})
-        out.write_text(render_page(out, settings, elapsed), "index.html")
+        out.write_text(render_page(out, settings, elapsed, build.get("sections")), "index.html")
         bar.update(1)
     finally:
         bar.close()

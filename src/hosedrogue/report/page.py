@@ -44,7 +44,15 @@ def _ordered(sections) -> list:
     return front + [s for s in sections if s.anchor not in FRONT]
 
 
-def render_page(out, settings, elapsed_s: float) -> str:
+def _partial_banner(partial) -> str:
+    if partial is None:
+        return ""
+    return ('<div class="banner" id="partial-banner"><b>PARTIAL REPORT.</b> Built with <code>--only</code>: '
+            f"only the sections {esc(', '.join(partial))} (and those they need); run <code>hosedrogue "
+            "reproduce</code> without <code>--only</code> for the whole report.</div>")
+
+
+def render_page(out, settings, elapsed_s: float, partial=None) -> str:
     """The whole page.
 
     Parameters
@@ -55,6 +63,8 @@ def render_page(out, settings, elapsed_s: float) -> str:
         Build settings (the fast version gets a banner and a marked title).
     elapsed_s : float
         Wall-clock time of the build [s], shown in the header.
+    partial : sequence of str, optional
+        The keys of the sections built when only some were (``reproduce --only``): a banner says so.
 
     Returns
     -------
@@ -74,7 +84,7 @@ def render_page(out, settings, elapsed_s: float) -> str:
         f"Aerial Refueling System</i>, Trans. Nanjing Univ. Aeronaut. Astronaut. 35(2), 2018. Every result below is "
         f"regenerated from this project's own model (hosedrogue {esc(__version__)}, {esc(settings.name)} build, "
         f"{elapsed_s:.0f} s, {when}). Frame S_p: origin at the tow point, x forward, y right, z down; SI units.</p>"
-        f"{_banner(settings)}"
+        f"{_banner(settings)}{_partial_banner(partial)}"
         '<section id="summary"><h2>Summary</h2><ul>' + "".join(f"<li>{esc(s)}</li>" for s in out.summary) + "</ul>"
         '<p class=meta>Headline numbers: <a href="report.json">report.json</a>.</p></section>'
         f"<nav>{nav}</nav>{body}</body></html>\n"
