@@ -27,12 +27,14 @@ $(DOCS_STAMP): $(PY) pyproject.toml
 reproduce: $(STAMP)
 	$(VENV)/bin/hosedrogue reproduce --out out/report
 
+# -n auto: one pytest worker per core (pytest-xdist); each compiles what its tests need, sharing
+# numba's disk cache, so a cold suite pays most compiles once
 test: $(STAMP)
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n auto
 
 # the daily loop: everything but what is slow for reasons other than physics (docs/develop.md, "Tests")
 test-quick: $(STAMP)
-	$(PY) -m pytest -q -m "not e2e and not dask and not browser and not packaging and not fmu and not subprocess"
+	$(PY) -m pytest -q -n auto -m "not e2e and not dask and not browser and not packaging and not fmu and not subprocess"
 
 bench: $(STAMP)
 	$(PY) benchmarks/realtime.py
