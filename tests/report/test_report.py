@@ -282,6 +282,32 @@ def test_fast_report_end_to_end(tmp_path):
 
 
 # --- sections alone --------------------------------------------------------------------------------
+@pytest.mark.subprocess
+def test_sections_on_two_processes_write_the_report_one_process_writes(tmp_path):
+    """Three independent sections built on two processes (spawned, each writing its files and
+    returning what it added) give the files, the page and report.json that one process gives,
+    byte for byte, but for the build's wall times, its worker count and the page's time stamp."""
+    from hosedrogue.report import build_report
+    from hosedrogue.report.parallel import section_groups
+    from hosedrogue.report.build import sections_for
+
+    only = ["parameters", "sweep", "pid_tuning"]
+    assert section_groups(sections_for(only)) == [("parameters",), ("sweep",), ("pid_tuning",)]
+    heads = {w: build_report(tmp_path / str(w), fast=True, progress=False, only=only, workers=w) for w in (1, 2)}
+    one, two = (sorted(p.name for p in (tmp_path / str(w)).iterdir()) for w in (1, 2))
+    assert one == two and "fig03_sweep.png" in one
+    for name in one:
+        a, b = ((tmp_path / str(w) / name).read_bytes() for w in (1, 2))
+        if name == "report.json":
+            a, b = (json.loads(x) for x in (a, b))
+            for x in (a, b):
+                x["build"].pop("elapsed_s"), x["build"].pop("workers"), x["build"].pop("stage_times_s")
+        elif name == "index.html":
+            a, b = (re.sub(rb"build, \d+ s, [\d: -]+\)", b"", x) for x in (a, b))
+        assert a == b, name
+    assert list(heads[2]["build"]["stage_times_s"]) == list(heads[1]["build"]["stage_times_s"])
+
+
 def test_only_builds_the_sections_named_and_those_they_need():
     """``--only``: the sections named and, transitively, those they need, in build order; a name of
     no section is refused with the list."""

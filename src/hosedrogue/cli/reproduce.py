@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
-from .options import prepare_out
+from .options import bounded_int, prepare_out
 
 NAME = "reproduce"
 
@@ -25,6 +26,9 @@ def add_parser(sub) -> None:
     s.add_argument("--only", metavar="SECTION", nargs="+",
                    help="build only these sections (e.g. docking whip_loads; a wrong name lists them all) "
                         "and those they need; the page says it is partial; a wrong key gets the list")
+    s.add_argument("--workers", metavar="K", type=bounded_int("--workers", 1, 256), default=os.cpu_count() or 1,
+                   help="processes building independent sections side by side [-] (default: one per core, "
+                        f"{os.cpu_count() or 1} here; 1: all in this process); the report is the same either way")
     s.set_defaults(func=run)
 
 
@@ -47,6 +51,6 @@ def run(args) -> int:
     sections_for(args.only)  # a wrong key: one line, exit 2, before anything is written
     out = Path(args.out)
     prepare_out(out)
-    build_report(out, fast=args.fast, only=args.only)
+    build_report(out, fast=args.fast, only=args.only, workers=args.workers)
     print(f"wrote {out / 'index.html'}")
     return 0

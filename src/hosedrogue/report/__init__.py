@@ -12,8 +12,11 @@ ratio and a plain explanation of each large difference.
 
 Layout
 ------
-- :mod:`.build`: :func:`build_report` and the ordered list of sections (``SECTIONS``, then
-  ``CLOSING``);
+- :mod:`.plan`: the ordered list of sections (``SECTIONS``, then ``CLOSING``), what each needs,
+  which a partial build (``--only``) runs;
+- :mod:`.build`: :func:`build_report`, in one process or, independent sections side by side, in
+  several (:mod:`.parallel`: each process returns what its sections added, merged in build
+  order, so the report is the same);
 - :mod:`.settings`: every difference between the full and the fast version (``FULL``, ``FAST``);
 - :mod:`.writer`: the output folder (CSV, PNG, JSON, page fragments, summary, headline numbers);
 - :mod:`.markup`: number formatting and HTML tables and figures;
@@ -39,9 +42,10 @@ Adding a section
    inside it call ``out.csv``, ``out.figure``, ``out.section(anchor, nav_name, html)`` and, if
    wanted, ``out.summarize(text)``, ``out.comparison.add(...)`` and ``out.record(key, numbers)``.
    Read published numbers from :mod:`hosedrogue.paper`.
-2. Add one line to ``SECTIONS`` in :mod:`.build`, e.g.
+2. Add one line to ``SECTIONS`` in :mod:`.plan`, e.g.
    ``Section("lqr", "LQR", lqr.build, needs=("linear",))``, at its place in the order (the page
-   shows sections in build order, after ``page.FRONT``), and import the module there.
+   shows sections in build order, after ``page.FRONT``), and import the module there. Its result
+   must pickle if a later section needs it (it may be built in another process).
 """
 
 from .build import FAST, FULL, ReportSettings, build_report

@@ -1,0 +1,188 @@
+"""The report's sections on several cores: independent sections in separate processes, their
+contributions merged in build order, so the report is the one a single process writes.
+
+A *group* is a set of sections joined by what they need (``Section.needs``): a section runs in the
+process that built the results it takes (sweep, linear model, controllers, closed loop, the 3D
+views and the animation are one group; the docking statistics and the docking environment
+another). Each process writes its sections' files into the report folder and returns what they
+added to the page and to ``report.json`` (:class:`Contribution`); the parent adds the
+contributions in the order of :data:`~hosedrogue.report.plan.SECTIONS`, whatever order the
+processes finish in. The processes are started fresh (``spawn``): no state of the parent leaks
+into them, and a section that starts its own dask cluster (the docking campaigns) can.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = ["Contribution", "section_groups", "build_group", "run_groups"]
+
+
+@dataclass(frozen=True)
+class Contribution:
+    """What one section added to the report folder, in the order it added it.
+
+    Parameters
+    ----------
+    files : tuple of str
+        Files written.
+    sections : tuple of PageSection
+        Page sections.
+    summary : tuple of str
+        Points of the page's summary.
+    rows : tuple of dict
+        Rows of the paper-against-ours table.
+    headline : dict
+        Headline numbers of ``report.json`` (top-level keys).
+    """
+
+    files: tuple
+    sections: tuple
+    summary: tuple
+    rows: tuple
+    headline: dict
+
+
+def _mark(out) -> tuple:
+    return len(out.files), len(out.sections), len(out.summary), len(out.comparison.rows), tuple(out.headline)
+
+
+def _contribution(out, mark: tuple) -> Contribution:
+    files, sections, summary, rows, keys = mark
+    return Contribution(tuple(out.files[files:]), tuple(out.sections[sections:]), tuple(out.summary[summary:]),
+                        tuple(out.comparison.rows[rows:]),
+                        {k: v for k, v in out.headline.items() if k not in keys})
+
+
+def apply(out, c: Contribution) -> None:
+    """Add a section's contribution to the report folder ``out``.
+
+    Parameters
+    ----------
+    out : hosedrogue.report.writer.ReportFolder
+        The parent's folder.
+    c : Contribution
+        What the section added in its process.
+    """
+    out.files.extend(c.files)
+    out.sections.extend(c.sections)
+    out.summary.extend(c.summary)
+    out.comparison.rows.extend(c.rows)
+    out.headline.update(c.headline)
+
+
+def section_groups(chosen) -> list[tuple[str, ...]]:
+    """The chosen sections joined by what they need, each group in build order, the groups in the
+    order of their first section.
+
+    Parameters
+    ----------
+    chosen : sequence of Section
+        The sections to build, in build order (every section they need among them).
+
+    Returns
+    -------
+    list of tuple of str
+        Section keys per group.
+    """
+    group = {s.key: s.key for s in chosen}
+
+    def root(k: str) -> str:
+        while group[k] != k:
+            k = group[k]
+        return k
+
+    for s in chosen:
+        for name in s.needs:
+            group[root(s.key)] = root(name)
+    order: dict[str, list[str]] = {}
+    for s in chosen:
+        order.setdefault(root(s.key), []).append(s.key)
+    return [tuple(keys) for keys in order.values()]
+
+
+def build_group(keys, out_dir, fast: bool, keep) -> tuple[dict, dict, dict]:
+    """Build one group's sections in this process, in order (what a worker runs).
+
+    Parameters
+    ----------
+    keys : sequence of str
+        The group's section keys, in build order.
+    out_dir : str or Path
+        The report folder (it exists).
+    fast : bool
+        The fast version's settings.
+    keep : sequence of str
+        Keys of the results the parent needs (the closing sections' needs).
+
+    Returns
+    -------
+    results : dict
+        The kept results, by key.
+    contributions : dict
+        Section key -> :class:`Contribution`.
+    times : dict
+        Section key -> wall-clock time [s].
+    """
+    from .plan import SECTIONS, run_section
+    from .settings import FAST, FULL
+    from .writer import ReportFolder
+
+    by_key = {s.key: s for s in SECTIONS}
+    settings = FAST if fast else FULL
+    out = ReportFolder(Path(out_dir))
+    results: dict = {}
+    contributions, times = {}, {}
+    for key in keys:
+        mark = _mark(out)
+        t0 = time.perf_counter()
+        run_section(by_key[key], out, settings, results)
+        times[key] = time.perf_counter() - t0
+        contributions[key] = _contribution(out, mark)
+    return {k: results[k] for k in keep if k in results}, contributions, times
+
+
+def run_groups(groups, out_dir, fast: bool, keep, workers: int, done=None) -> tuple[dict, dict, dict]:
+    """Build the groups on ``workers`` processes.
+
+    Parameters
+    ----------
+    groups : list of tuple of str
+        :func:`section_groups`, submitted in this order.
+    out_dir : str or Path
+        The report folder (it exists).
+    fast : bool
+        The fast version's settings.
+    keep : sequence of str
+        Keys of the results the parent needs.
+    workers : int
+        Processes [-], >= 1.
+    done : callable, optional
+        Called with each finished group's keys.
+
+    Returns
+    -------
+    results, contributions, times : dict
+        As :func:`build_group`'s, over every group.
+    """
+    results, contributions, times = {}, {}, {}
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    try:
+        pending = {pool.submit(build_group, keys, str(out_dir), fast, tuple(keep)): keys for keys in groups}
+        while pending:
+            finished, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for future in finished:
+                keys = pending.pop(future)
+                r, c, t = future.result()  # a section's error stops the build here, as in one process
+                results.update(r)
+                contributions.update(c)
+                times.update(t)
+                if done is not None:
+                    done(keys)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)  # groups not started are dropped
+    return results, contributions, times
