@@ -30,8 +30,9 @@ valid, and the next process runs the old callee (numba's documentation, "Notes o
 every compiled function of the package is stamped instead with :func:`source_stamp`, the hash
 of the source of every module of the package that compiles code (any module that imports numba)
 and of numba's version: any change in any of them recompiles every cached function of the
-package, whatever it calls, and nothing else does. The stamp is taken once per process. The
-locators that apply it (:class:`PackageCacheLocator` and its kin) come before numba's own for the
+package, whatever it calls, and nothing else does. The stamp is taken once per process; since it
+is the source's content, not its place, a cache folder of one's own (``NUMBA_CACHE_DIR``) serves
+every checkout of the same source (CI keeps one between runs). The locators that apply it (:class:`PackageCacheLocator` and its kin) come before numba's own for the
 package's files only; other packages' functions are cached as numba does.
 """
 
@@ -111,10 +112,19 @@ def _in_package(py_file) -> bool:
 
 class _PackageStamp:
     """Mixin of the package's cache locators: the package's source stamp, not the file's, and
-    only for the package's own files (numba's locators handle every other)."""
+    only for the package's own files (numba's locators handle every other). In a cache folder of
+    its own (``NUMBA_CACHE_DIR``, or the user-wide one of a read-only install) a module's entries
+    are filed under its place in the package, not under the checkout's path: every copy of the
+    same source (a fresh clone, another virtual environment) finds what another compiled, and a
+    copy of other source finds a stamp that is not its own and compiles."""
 
     def get_source_stamp(self):
         return source_stamp()
+
+    @classmethod
+    def get_suitable_cache_subpath(cls, py_file):
+        folder = Path(py_file).resolve().parent.relative_to(PACKAGE_DIR).as_posix()
+        return "hosedrogue_" + hashlib.sha1(folder.encode()).hexdigest()
 
     @classmethod
     def from_function(cls, py_func, py_file):

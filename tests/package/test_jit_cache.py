@@ -81,6 +81,22 @@ def test_editing_a_callee_recompiles_its_cached_caller(tmp_path):
 
 
 @pytest.mark.subprocess
+def test_another_checkout_of_the_same_source_uses_the_cache(tmp_path):
+    """One cache folder, two copies of the package at different paths: the second finds what the
+    first compiled; a third with an edited callee compiles its own, and the first, back again,
+    finds the stamp is not its own and compiles (never the other's code)."""
+    first, _ = _copy(tmp_path / "a")
+    second, _ = _copy(tmp_path / "b")
+    third, pkg3 = _copy(tmp_path / "c")
+    (pkg3 / "model" / "_stamp_callee.py").write_text(CALLEE.format(factor="5.0"))
+    cache = tmp_path / "cache"
+    assert _run(first, cache) == (9.0, 0, 1)
+    assert _run(second, cache) == (9.0, 1, 0)
+    assert _run(third, cache) == (15.0, 0, 1)
+    assert _run(first, cache) == (9.0, 0, 1)
+
+
+@pytest.mark.subprocess
 @pytest.mark.skipif(not hasattr(numba_config, "CACHE_LOCATOR_CLASSES"),
                     reason="this numba has no NUMBA_CACHE_LOCATOR_CLASSES to select its own locator")
 def test_numbas_own_locator_runs_the_stale_callee(tmp_path):
