@@ -11,6 +11,7 @@ from pathlib import Path
 
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 from .study_actuator import add_study_parser
+from .study_registry import add_registry_studies
 
 NAME = "study"
 
@@ -66,6 +67,7 @@ def add_parser(sub) -> None:
     d.set_defaults(func=run_docking)
     _add_whip_loads(studies)
     add_study_parser(studies)
+    add_registry_studies(studies)
 
 
 def _add_whip_loads(studies) -> None:

@@ -368,7 +368,7 @@ class ScenarioStepStudy:
     duration_s: float  #: length of the runs [s]
 
 
-def scenario_step_study(scenario: str = "paper-turbulence", steps_s=(0.01, 0.02, 0.025),
+def scenario_step_study(scenario="paper-turbulence", steps_s=(0.01, 0.02, 0.025),
                         reference_step_s: float = 0.000625) -> ScenarioStepStudy:
     """The numbers behind the shipped ``paper-turbulence`` step (docs/convergence.md): RK4 at
     ``steps_s`` with the scenario's gust reading against ``reference_step_s``, and the scenario's
@@ -377,8 +377,8 @@ def scenario_step_study(scenario: str = "paper-turbulence", steps_s=(0.01, 0.02,
 
     Parameters
     ----------
-    scenario : str
-        Shipped scenario name.
+    scenario : str, Path or hosedrogue.scenarios.Scenario
+        A fixed-length scenario: a shipped name, a TOML file or a Scenario.
     steps_s : sequence of float
         RK4 steps to test [s].
     reference_step_s : float
@@ -393,10 +393,10 @@ def scenario_step_study(scenario: str = "paper-turbulence", steps_s=(0.01, 0.02,
     RuntimeError
         If a run stops early.
     """
-    from ..scenarios import load_scenario
+    from ..scenarios import Scenario, load_scenario
     from ..simulation import simulate
 
-    sc = load_scenario(scenario)
+    sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     p = sc.params
     eq = solve_equilibrium(p)
     out_dt = 0.1
@@ -405,7 +405,7 @@ def scenario_step_study(scenario: str = "paper-turbulence", steps_s=(0.01, 0.02,
         pp = params.replace(numerics={"step_s": h, "output_every": int(round(out_dt / h))})
         res = simulate(pp, sc.duration_s, equilibrium=eq)
         if not res.completed:
-            raise RuntimeError(f"{scenario} at step {h} s: {res.message}")
+            raise RuntimeError(f"{sc.name} at step {h} s: {res.message}")
         return res.drogue_position_m
 
     ref = path(p, reference_step_s)

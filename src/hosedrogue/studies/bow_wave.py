@@ -171,7 +171,7 @@ def _radius_for(sc, displacement_m: float, distance_m: float, bounds_m) -> float
                              f"{displacement_m:g} m between these forebody radii") from None
 
 
-def bow_wave_study(level: str = "moderate") -> BowWaveStudy:
+def bow_wave_study(level: str = "moderate", scenario=None) -> BowWaveStudy:
     """The field and the steady displacement of the ``approach-LEVEL`` scenario's bow wave (its
     model and flight condition, wake on), and the far displacement against the forebody radius.
 
@@ -179,16 +179,26 @@ def bow_wave_study(level: str = "moderate") -> BowWaveStudy:
     ----------
     level : str
         Which approach scenario (they share the bow wave and the model).
+    scenario : str, Path or hosedrogue.scenarios.Scenario, optional
+        Instead, an engagement scenario of one's own (a name, a TOML file or a Scenario): its
+        model, flight condition and ``[bow_wave]`` (on, whatever its ``enabled``).
 
     Returns
     -------
     BowWaveStudy
     """
     from ..engagement.bow_wave import bow_wave_displacement
-    from ..scenarios import load_scenario
+    from ..errors import ParameterError
+    from ..scenarios import Scenario, load_scenario
 
-    sc = load_scenario(f"approach-{level}")
-    bw = sc.engagement.bow_wave
+    if scenario is None:
+        scenario = f"approach-{level}"
+    sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    if sc.engagement is None:
+        raise ParameterError(f"scenario: {sc.name!r} is a fixed-length scenario; the bow-wave study takes an "
+                             "engagement's [bow_wave] (a scenario with [probe], e.g. approach-moderate)")
+    bw = dataclasses.replace(sc.engagement.bow_wave, enabled=True)
+    sc = dataclasses.replace(sc, engagement=dataclasses.replace(sc.engagement, bow_wave=bw))
     x, z, vel, outline, stagnation, source_aft = bow_wave_field(sc)
     d = np.asarray(DISTANCES_M)
     disp = bow_wave_displacement(sc.params, bw, d)
