@@ -59,7 +59,7 @@ def test_manoeuvres_takes_the_users_hose(tmp_path, capsys):
 def test_bow_wave_far_displacement_grows_as_the_forebody_area(tmp_path, capsys):
     """A forebody of radius 1.2 m instead of 0.75 m: far from the nose the bow wave is the field of
     a source of strength pi R^2 V, so the drogue's small displacement there grows as R^2 (2.56);
-    10 % allows for the drogue's 4 m distance not being quite far."""
+    10 % allows for the probe tip's 10 m from the drogue not being quite far."""
     mine = tmp_path / "big.toml"
     mine.write_text('[scenario]\nextends = "approach-moderate"\nname = "big-nose"\n[bow_wave]\nforebody_radius_m = 1.2\n')
     far = {}
