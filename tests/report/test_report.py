@@ -317,6 +317,8 @@ def test_only_builds_the_sections_named_and_those_they_need():
     assert [s.key for s in sections_for(["closed_loop"])] == ["sweep", "linear", "controllers", "closed_loop"]
     assert [s.key for s in sections_for(["docking_env", "parameters"])] == ["parameters", "docking", "docking_env"]
     assert sections_for(None) == SECTIONS
+    from hosedrogue.report.plan import COST_HINT_S
+    assert set(COST_HINT_S) <= {s.key for s in SECTIONS}  # an ordering hint of sections that exist
     with pytest.raises(ParameterError, match=r"^only = 'dockin': no such report section; sections: parameters, "):
         sections_for(["dockin"])
 

@@ -70,9 +70,14 @@ SECTIONS: tuple[Section, ...] = (
 )
 
 #: Wall time of each section in the full build [s], measured on the project's 2-core machine
-#: (report.json's stage times, 2026-12-02): only the order in which the parallel build starts its
-#: groups (longest first), never a result.
-COST_HINT_S: dict[str, float] = {}
+#: (report.json's stage times of a fresh clone's ``make reproduce``, 2026-12-02, two processes):
+#: only the order in which the parallel build starts its groups (longest first), never a result.
+COST_HINT_S: dict[str, float] = {
+    "docking": 430.0, "drogue_actuator": 426.0, "docking_env": 64.0, "whip_loads": 56.0, "engagement": 49.0,
+    "long_runs": 42.0, "manoeuvres": 35.0, "convergence": 32.0, "pid_tuning": 23.0, "controllers": 13.0,
+    "sweep": 10.0, "accuracy": 10.0, "linear": 5.0, "closed_loop": 4.0, "animation": 4.0,
+    "turbulence_speeds": 1.0, "parameters": 0.3, "hose_3d": 0.2,
+}
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.
 CLOSING: tuple[Section, ...] = (
