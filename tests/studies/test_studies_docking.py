@@ -68,6 +68,39 @@ def test_a_closure_speed_cell_changes_the_speed_and_the_duration_only():
     assert not same_scenario(sc, cell_scenario(CellSpec("moderate", "pid", True)))
 
 
+def test_a_users_approach_in_a_levels_turbulence_is_the_shipped_level():
+    """The shipped approach-light is approach-moderate in light turbulence: approach-moderate taken
+    as the user's base gives, in every light cell, the shipped cell's scenario (names aside)."""
+    from hosedrogue.studies.docking_grid import level_scenario
+
+    base = load_scenario("approach-moderate")
+    for spec in (CellSpec("light", "pid", True), CellSpec("light", "none", False, pilot=True),
+                 CellSpec("light", "lqr", True, closure_speed_m_s=0.5)):
+        mine = cell_scenario(spec, base)
+        assert mine.name == f"approach-moderate-{spec.name}"
+        assert same_scenario(mine, cell_scenario(spec))
+    with pytest.raises(ParameterError, match="'swing-release' is a fixed-length scenario; a docking cell runs"):
+        level_scenario(load_scenario("swing-release"), "light")
+
+
+def test_cli_runs_the_grid_on_the_users_approach(tmp_path, capsys):
+    """``study docking --scenario FILE``: the cells fly the file's hose (3.6 kg/m, recorded in each
+    campaign's settings) and are named after it."""
+    from hosedrogue.cli import main
+
+    mine = tmp_path / "wing-pod.toml"
+    mine.write_text('[scenario]\nextends = "approach-moderate"\nname = "wing-pod"\n[hose]\nmass_per_length_kg_m = 3.6\n')
+    out = tmp_path / "grid"
+    assert main(["study", "docking", "--runs", "1", "--levels", "light", "--controllers", "none", "--no-pilot",
+                 "--scenario", str(mine), "--out", str(out), "--json", "--quiet"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["scenario"] == "wing-pod" and [c["cell"] for c in record["cells"]] == ["light-none-bow-on",
+                                                                                         "light-none-bow-off"]
+    settings = json.loads((out / "light-none-bow-on" / "campaign.json").read_text())
+    assert settings["scenario"]["scenario"]["name"] == "wing-pod-light-none-bow-on"
+    assert settings["scenario"]["hose"]["mass_per_length_kg_m"] == 3.6
+
+
 def test_a_force_limit_cell_limits_the_actuator_and_nothing_else():
     sc, ref = cell_scenario(CellSpec("moderate", "pid", True, max_force_n=50.0)), load_scenario("approach-moderate")
     assert sc.actuator.max_force_n == 50.0

@@ -52,6 +52,9 @@ def add_parser(sub) -> None:
     d.add_argument("--controllers", metavar="TYPE", nargs="+", choices=CONTROLLERS, default=list(CONTROLLERS),
                    help=f"drogue controllers (default {' '.join(CONTROLLERS)})")
     d.add_argument("--no-pilot", action="store_true", help="leave out the pilot model's cells")
+    d.add_argument("--scenario", metavar="NAME|FILE",
+                   help="your approach (an engagement scenario) instead of the shipped approach-LEVEL: each cell flies "
+                        "it in the level's standard turbulence at its altitude; the cells are named after it")
     d.add_argument("--closure-speeds", metavar="V", nargs="+", type=finite_float("--closure-speeds", 0.05, 10.0, "m/s"),
                    help="also the closure-speed cells: probe closure speeds [m/s] (each level and controller, bow "
                         "wave on, the run as long as the probe's path)")
@@ -193,13 +196,22 @@ def run_docking(args) -> int:
     # here, not at the top: the model's modules (numba) load only when the study runs
     from ..studies.docking import run_grid
 
+    from ..scenarios import load_scenario
+    from ..studies.docking_grid import level_scenario
+
+    base = None
+    if args.scenario is not None:
+        base = load_scenario(args.scenario)
+        level_scenario(base, "moderate")  # an engagement, checked before anything runs
     prepare_out(args.out)
     grid, speeds, forces = _specs(args)
     specs = grid + speeds + forces
-    every = run_grid(specs, args.runs, args.out, workers=args.workers, seed=args.seed, progress=not args.quiet)
+    every = run_grid(specs, args.runs, args.out, workers=args.workers, seed=args.seed, progress=not args.quiet,
+                     base=base)
     findings = _findings(grid, speeds, forces, every)
     if args.json:
-        record = {"runs_per_cell": args.runs, "seed": args.seed, "out": str(args.out),
+        record = {"scenario": "approach-LEVEL" if base is None else base.name, "runs_per_cell": args.runs,
+                  "seed": args.seed, "out": str(args.out),
                   "cells": [_cell_record(s, c) for s, c in zip(specs, every)], **findings}
         print(json.dumps(record, indent=2))
     else:

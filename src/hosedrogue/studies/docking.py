@@ -120,7 +120,7 @@ def _run_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, clie
 
 
 def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None, seed: int = CAMPAIGN_SEED,
-             status=None, progress: bool = False) -> list[CampaignCell]:
+             status=None, progress: bool = False, base=None) -> list[CampaignCell]:
     """Run the campaign of every cell into ``out_dir/<cell>/``, on one dask cluster or in this process.
 
     A cell whose scenario (:func:`.docking_grid.cell_scenario`) is that of an earlier cell is not
@@ -148,6 +148,9 @@ def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None,
         ``status(text)`` is told which cell runs.
     progress : bool
         Show each campaign's progress bar on stderr (only when it is a terminal).
+    base : hosedrogue.scenarios.Scenario, optional
+        The user's approach scenario instead of the shipped ``approach-LEVEL``
+        (:func:`.docking_grid.cell_scenario`).
 
     Returns
     -------
@@ -166,7 +169,7 @@ def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None,
     _check_int("seed", seed, 0)
     _check_workers(workers, client)
     specs = list(specs)
-    scenarios = [cell_scenario(spec) for spec in specs]  # bad cells fail here, before anything runs
+    scenarios = [cell_scenario(spec, base) for spec in specs]  # bad cells fail here, before anything runs
     out = Path(out_dir)
     done: list[CampaignCell] = []
     cells = []

@@ -29,7 +29,8 @@ from dataclasses import dataclass
 __all__ = ["CONTROLLERS", "LEVELS", "PILOT", "CAMPAIGN_SEED", "CLOSURE_SPEEDS_M_S", "SPEED_LEVEL",
            "SPEED_CONTROLLERS", "FORCE_LIMITS_N", "FORCE_LEVELS", "FORCE_CONTROLLERS", "DEFLECTION_LIMITS_DEG",
            "SERVO_BANDWIDTHS_HZ", "ACTUATOR_LEVELS", "ACTUATOR_CONTROLLERS", "CellSpec", "cell_name", "grid_specs",
-           "speed_specs", "force_specs", "actuator_specs", "approach_duration_s", "cell_scenario", "same_scenario"]
+           "speed_specs", "force_specs", "actuator_specs", "approach_duration_s", "level_scenario", "cell_scenario",
+           "same_scenario"]
 
 #: Drogue controllers of the grid, in the order of the legends (the paper's gains; each acts on
 #: the drogue during the approach and is off once coupled).
@@ -310,7 +311,36 @@ def approach_duration_s(probe, closure_speed_m_s: float) -> float:
     return math.ceil(round((probe.standoff_m / v + after) * _TENTHS_PER_S, 6)) / _TENTHS_PER_S
 
 
-def cell_scenario(spec: CellSpec):
+def level_scenario(base, level: str):
+    """A user's approach scenario in a cell's turbulence: ``base`` with the standard intensity
+    ``level`` at its altitude, turbulence on (the shipped ``approach-LEVEL`` are
+    ``approach-moderate`` so changed).
+
+    Parameters
+    ----------
+    base : hosedrogue.scenarios.Scenario
+        An engagement scenario (with ``[probe]``).
+    level : str
+        One of :data:`LEVELS`.
+
+    Returns
+    -------
+    hosedrogue.scenarios.Scenario
+
+    Raises
+    ------
+    ParameterError
+        ``base`` is a fixed-length scenario.
+    """
+    from ..errors import ParameterError
+
+    if base.engagement is None:
+        raise ParameterError(f"scenario: {base.name!r} is a fixed-length scenario; a docking cell runs an approach "
+                             "(an engagement scenario with [probe], e.g. approach-moderate)")
+    return dataclasses.replace(base, params=base.params.replace(turbulence={"enabled": True, "intensity": level}))
+
+
+def cell_scenario(spec: CellSpec, base=None):
     """The scenario of one cell: the shipped ``approach-LEVEL`` with the cell's drogue controller,
     bow wave, pilot (its defaults), closure speed (with the duration of :func:`approach_duration_s`),
     force limit and control surfaces (with the RK4 step their servo needs), named ``approach-<cell>``.
@@ -322,6 +352,9 @@ def cell_scenario(spec: CellSpec):
     ----------
     spec : CellSpec
         The cell.
+    base : hosedrogue.scenarios.Scenario, optional
+        Instead of the shipped ``approach-LEVEL``, the user's approach in the cell's turbulence
+        (:func:`level_scenario`); the cell is then named ``<base name>-<cell>``.
 
     Returns
     -------
@@ -330,7 +363,8 @@ def cell_scenario(spec: CellSpec):
     from ..scenarios import load_scenario
     from ..spec.sections import Pilot
 
-    base = load_scenario(f"approach-{spec.level}")
+    prefix = "approach" if base is None else base.name
+    base = load_scenario(f"approach-{spec.level}") if base is None else level_scenario(base, spec.level)
     eng = base.engagement
     eng = dataclasses.replace(eng, bow_wave=dataclasses.replace(eng.bow_wave, enabled=bool(spec.bow_wave)))
     if spec.pilot:
@@ -350,7 +384,7 @@ def cell_scenario(spec: CellSpec):
 
         loop = dataclasses.replace(loop, drogue_actuator=spec.surfaces)
         params = resolved_params(params, spec.surfaces)  # the RK4 step the servo needs
-    return dataclasses.replace(base, name=f"approach-{spec.name}", description=description, duration_s=duration,
+    return dataclasses.replace(base, name=f"{prefix}-{spec.name}", description=description, duration_s=duration,
                                params=params, loop=loop, engagement=eng, source="")
 
 

@@ -242,7 +242,8 @@ def _reference(default) -> Setting:
 #: The studies, by name.
 STUDIES: dict[str, Study] = {s.name: s for s in (
     Study("docking", "capture rate of the approach per turbulence level, drogue controller, bow wave and pilot",
-          "docking", "docking", "approach-LEVEL", "", custom_cli=True),
+          "docking", "docking", "approach-LEVEL", "your approach, flown in each level's turbulence (--scenario)",
+          "engagement", custom_cli=True),
     Study("whip-loads", "the whip's loads against the hose's axial stiffness and the closure speed",
           "whip_loads", "whip_loads", "engage-locked, engage-constant-tension, engage-response",
           "engagement scenarios (--scenarios NAME|FILE ...)", custom_cli=True),
