@@ -260,3 +260,23 @@ def test_structural_damping_balance_with_moving_reel():
     dissipated = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(r.t_s))])
     assert dissipated[-1] > 0.01 * r.energy["kinetic"][0]
     assert np.max(np.abs(res + dissipated)) < 1e-3 * dissipated[-1]
+
+
+def test_the_initial_balance_position_is_solved_once_and_is_the_same_bits():
+    """The balance position in steady air does not depend on the turbulence (seed, intensity,
+    on or off) nor on the run's length: the cached one is a fresh solve's, bit for bit, for each;
+    it is solved once per model and flight condition and cannot be changed in place."""
+    from hosedrogue.engagement.chain import chain_equilibrium, initial_chain, initial_equilibrium
+    from hosedrogue.scenarios import load_scenario
+
+    p = load_scenario("approach-moderate").params
+    cached = initial_equilibrium(p)
+    for turbulence, duration in (({"seed": 7}, 4.5), ({"intensity": "severe"}, 9.0), ({"enabled": False}, None)):
+        q = p.replace(turbulence=turbulence)
+        fresh, _ = chain_equilibrium(q, initial_chain(q), duration)
+        assert initial_equilibrium(q) is cached
+        assert fresh.q.tobytes() == cached.q.tobytes()
+        assert fresh.drogue_position_m.tobytes() == cached.drogue_position_m.tobytes()
+    assert initial_equilibrium(p.replace(flight={"airspeed_m_s": 140.0})) is not cached
+    with pytest.raises(ValueError):
+        cached.q[0] = 0.0

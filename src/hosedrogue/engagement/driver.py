@@ -20,7 +20,8 @@ from ..environment.bow_wave import BowWaveField
 from ..model import layout as LY
 from ..model.engagement import chain as EC, steps as ES
 from ..spec.params import Actuator, ParameterError, Params, Sensor
-from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_equilibrium, chain_model, initial_chain
+from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
+                    initial_equilibrium)
 from .events import contact_event, remesh_event, switch_event
 from .result import EngagementResult, assemble_result
 from .result import segment_outputs as _outputs
@@ -372,9 +373,8 @@ def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: floa
     chain = initial_chain(params)
     need_eq = x0 is None or (probe is not None and probe.enabled)
     if equilibrium is None and need_eq:
-        equilibrium, model = chain_equilibrium(params, chain, duration_s)
-    else:
-        model = chain_model(params, chain, duration_s)
+        equilibrium = initial_equilibrium(params)  # solved once per model and flight condition
+    model = chain_model(params, chain, duration_s)
     if gravity_m_s2 is not None:
         model.ps[LY.PS_G] = float(gravity_m_s2)
     n = chain.n
