@@ -9,7 +9,8 @@ import pytest
 
 from hosedrogue.cli import build_parser, main
 from hosedrogue.report.plan import SECTIONS
-from hosedrogue.studies.registry import STUDIES, plain
+from hosedrogue.jsonio import plain
+from hosedrogue.studies.registry import STUDIES
 
 
 def _study_commands():

@@ -95,7 +95,8 @@ def run_registry_study(args) -> int:
         Exit status (see :mod:`hosedrogue.cli`).
     """
     from ..scenarios import load_scenario
-    from ..studies.registry import STUDIES, check_scenario, plain
+    from ..jsonio import plain
+    from ..studies.registry import STUDIES, check_scenario
     from .options import prepare_out
 
     study = STUDIES[args.registry_study]

@@ -11,6 +11,8 @@ import math
 
 import numpy as np
 
+from ..jsonio import plain
+
 __all__ = ["frame_document", "straight_on_miss", "plain"]
 
 
@@ -84,27 +86,3 @@ def straight_on_miss(joints: np.ndarray, tip: np.ndarray) -> float:
 
 def _b64(array: np.ndarray, dtype: str) -> str:
     return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode("ascii")
-
-
-def plain(value):
-    """A JSON-ready copy of an outcome or status.
-
-    Parameters
-    ----------
-    value : Any
-        Dicts, lists and scalars.
-
-    Returns
-    -------
-    Any
-        The same, numpy scalars as Python numbers and non-finite floats as None.
-    """
-    if isinstance(value, dict):
-        return {k: plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [plain(v) for v in value]
-    if isinstance(value, (np.floating, np.integer)):
-        return value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

@@ -7,46 +7,17 @@ figure resolution and the list of written files are set in one place.
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
-import numpy as np
-
+from ..jsonio import plain
 from .comparison import Comparison
 
-__all__ = ["DPI", "PageSection", "ReportFolder", "finite_json"]
+__all__ = ["DPI", "PageSection", "ReportFolder"]
 
 #: PNG resolution [dots per inch].
 DPI = 110
-
-
-def finite_json(obj):
-    """Convert numpy scalars and arrays to JSON types; non-finite numbers become None.
-
-    Parameters
-    ----------
-    obj : object
-        Nested dicts, lists, tuples, numpy arrays and scalars.
-
-    Returns
-    -------
-    object
-        The same structure in plain JSON types (the report's test checks that no None is left).
-    """
-    if isinstance(obj, dict):
-        return {str(k): finite_json(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple, np.ndarray)):
-        return [finite_json(v) for v in obj]
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    return obj
 
 
 @dataclass(frozen=True)
@@ -216,8 +187,8 @@ class ReportFolder:
         dict
             What was written (plain JSON types).
         """
-        data = finite_json(headline)
-        (self.dir / name).write_text(json.dumps(data, indent=2) + "\n")
+        data = plain(headline)
+        (self.dir / name).write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
         self.files.append(name)
         return data
 

@@ -19,9 +19,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Callable
 
-import numpy as np
-
-__all__ = ["Setting", "Study", "STUDIES", "check_scenario", "plain"]
+__all__ = ["Setting", "Study", "STUDIES", "check_scenario"]
 
 
 @dataclass(frozen=True)
@@ -96,32 +94,6 @@ class Study:
     settings: tuple = ()
     run: Callable | None = None
     custom_cli: bool = False
-
-
-def plain(value):
-    """``value`` as strict JSON types: arrays and tuples as lists, numpy scalars as Python's,
-    NaN and infinities as None.
-
-    Parameters
-    ----------
-    value : object
-        Numbers, strings, bools, None, and dicts, lists, tuples and arrays of them.
-
-    Returns
-    -------
-    object
-    """
-    if isinstance(value, dict):
-        return {str(k): plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return [plain(v) for v in value]
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        return float(value) if math.isfinite(value) else None
-    return value
 
 
 def check_scenario(study: Study, scenario):
