@@ -68,6 +68,7 @@ def test_bow_wave_far_displacement_grows_as_the_forebody_area(tmp_path, capsys):
         assert main(["study", "bow-wave", *args, "--json", "--out", str(tmp_path / name)]) == 0
         record = json.loads(capsys.readouterr().out)
         assert json.loads((tmp_path / name / "study.json").read_text()) == record
+        assert (tmp_path / name / "bow_wave.png").stat().st_size > 10_000  # the study's figure
         far[name] = (record["radius_m"], record["far_m"])
     (r0, d0), (r1, d1) = far["shipped"], far["mine"]
     assert (r0, r1) == (0.75, 1.2)

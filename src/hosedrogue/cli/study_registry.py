@@ -56,7 +56,8 @@ def add_registry_studies(studies) -> None:
         for setting in study.settings:
             flag, kw = _option(setting)
             p.add_argument(flag, **kw)
-        p.add_argument("--out", metavar="DIR", type=Path, help="also write DIR/study.json (the --json record)")
+        p.add_argument("--out", metavar="DIR", type=Path,
+                       help="also write DIR/study.json (the --json record) and the study's figures as PNG")
         p.add_argument("--json", action="store_true", help="print the study's numbers as one JSON object (SI units)")
         p.set_defaults(func=run_registry_study, registry_study=study.name)
 
@@ -105,12 +106,16 @@ def run_registry_study(args) -> int:
     settings = {k: tuple(v) if isinstance(v, list) else v for k, v in settings.items() if v is not None}
     if args.out is not None:
         prepare_out(args.out)
-    _, record = study.run(scenario, **settings)
+    result, record = study.run(scenario, **settings)
     record = {"study": study.name, "scenario": scenario.name if scenario is not None else study.scenario,
               **plain(record)}
     text = json.dumps(record, indent=2, allow_nan=False)
     if args.out is not None:
+        from ..plotting.base import save_figure
+
         args.out.mkdir(parents=True, exist_ok=True)
         (args.out / "study.json").write_text(text + "\n")
+        for name, fig in (result.figures() if hasattr(result, "figures") else {}).items():
+            save_figure(fig, args.out / f"{name}.png")
     print(text if args.json else "\n".join(_lines(record)))
     return 0

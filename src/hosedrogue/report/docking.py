@@ -78,8 +78,6 @@ def _runs_frame(cells):
 def _bow_wave_outputs(out, bw) -> None:
     import pandas as pd
 
-    from ..plotting.bow_wave import plot_bow_wave
-
     r = bw.distances_m + bw.source_ahead_of_tip_m
     disp = pd.DataFrame(dict(probe_distance_m=bw.distances_m, source_distance_m=r,
                              forward_m=bw.displacement_m[:, 0], right_m=bw.displacement_m[:, 1],
@@ -90,10 +88,7 @@ def _bow_wave_outputs(out, bw) -> None:
     X, Z = np.meshgrid(bw.x_m, bw.z_m)
     out.csv(pd.DataFrame(dict(x_m=X.ravel(), z_m=Z.ravel(), u_m_s=bw.velocity_m_s[..., 0].ravel(),
                               w_m_s=bw.velocity_m_s[..., 2].ravel())), "docking_bow_wave_field.csv")
-    out.figure(plot_bow_wave(bw.x_m, bw.z_m, bw.velocity_m_s, bw.distances_m, bw.displacement_m, outline_m=bw.outline_m,
-                             stagnation_m=bw.stagnation_m, source_distance_m=r, level_m=LEVEL_M, radii_m=bw.radii_m,
-                             far_displacement_m=bw.radii_displacement_m[:, 1], far_distance_m=FAR_M,
-                             radius_limit_m=bw.radius_limit_m), "fig_docking_bow_wave.png")
+    out.figure(bw.figures()["bow_wave"], "fig_docking_bow_wave.png")
 
 
 def _approach_outputs(out, paths: dict, radius: float) -> None:

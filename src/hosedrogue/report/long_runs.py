@@ -213,13 +213,12 @@ def build(out: ReportFolder, settings: ReportSettings) -> LongRunsResult:
     LongRunsResult
         Headline numbers.
     """
-    from ..plotting.long_runs import plot_long_runs
 
     study = _study(settings)
     stats = _hour_stats(study)
     f = _finding(study, stats)
     _write_csv(out, study)
-    out.figure(plot_long_runs(study), "fig_long_runs.png")
+    out.figure(study.figures()["long_runs"], "fig_long_runs.png")
     out.section("long-runs", "long runs", _html(settings, study, stats))
     stop = "never stops" if not np.isfinite(f.earliest_stop_s) else f"stops as early as {f.earliest_stop_s:.0f} s"
     out.summarize(f"Long runs: the paper's model has zigzag modes with damping ratio {f.paper_damping_ratio:.1e} and "

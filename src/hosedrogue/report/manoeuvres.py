@@ -184,7 +184,7 @@ def build(out: ReportFolder, settings: ReportSettings) -> ManoeuvresResult:
     -------
     ManoeuvresResult
     """
-    from ..plotting.manoeuvres import plot_steady_flight, plot_turn_capture, plot_turn_entry
+    from ..plotting.manoeuvres import plot_turn_capture, plot_turn_entry
     from ..studies.manoeuvres import steady_flight_study, turn_capture_study, turn_entry_study
 
     out.status("manoeuvres: steady flight")
@@ -196,7 +196,7 @@ def build(out: ReportFolder, settings: ReportSettings) -> ManoeuvresResult:
     shutil.rmtree(folder, ignore_errors=True)  # rewritten at every build, as the docking campaigns
     capture = turn_capture_study(settings.manoeuvre_runs, folder, workers=settings.manoeuvre_workers)
     _write_csv(out, steady, entry, capture)
-    out.figure(plot_steady_flight(steady.bank, steady.flight_path), "fig_manoeuvres_steady.png")
+    out.figure(steady.figures()["steady_flight"], "fig_manoeuvres_steady.png")
     out.figure(plot_turn_entry(entry), "fig_manoeuvres_turn_entry.png")
     out.figure(plot_turn_capture(capture), "fig_manoeuvres_capture.png")
     out.section("manoeuvres", "manoeuvres", _html(settings, steady, entry, capture))

@@ -71,6 +71,23 @@ class BowWaveStudy:
     near_m: float  #: total displacement at NEAR_M with the scenario's forebody [m]
     far_m: float  #: total displacement at FAR_M with it [m]
 
+    def figures(self) -> dict:
+        """The study's figure: the field around the probe, the displacement against the distance
+        and against the forebody radius (:func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
+
+        Returns
+        -------
+        dict
+            ``{"bow_wave": matplotlib.figure.Figure}``.
+        """
+        from ..plotting.bow_wave import plot_bow_wave
+
+        return {"bow_wave": plot_bow_wave(
+            self.x_m, self.z_m, self.velocity_m_s, self.distances_m, self.displacement_m, outline_m=self.outline_m,
+            stagnation_m=self.stagnation_m, source_distance_m=self.distances_m + self.source_ahead_of_tip_m,
+            level_m=LEVEL_M, radii_m=self.radii_m, far_displacement_m=self.radii_displacement_m[:, 1],
+            far_distance_m=FAR_M, radius_limit_m=self.radius_limit_m)}
+
 
 def bow_wave_field(scenario):
     """The bow-wave field in the x-z plane through the probe tip (tip at the origin) on the grid

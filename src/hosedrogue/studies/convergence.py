@@ -130,6 +130,26 @@ def link_convergence(links=(5, 10, 20, 40, 80), params: Params = PAPER) -> LinkS
     return LinkStudy(np.asarray(links), np.array(pos), np.array(lat), np.array(ver))
 
 
+@dataclass(frozen=True)
+class ConvergenceStudy:
+    """Both studies on one model: the RK4 step's and the link count's."""
+
+    steps: tuple  #: StepStudy per case
+    links: LinkStudy  #: the link count's
+
+    def figures(self) -> dict:
+        """The study's figure (:func:`hosedrogue.plotting.convergence.plot_convergence`).
+
+        Returns
+        -------
+        dict
+            ``{"convergence": matplotlib.figure.Figure}``.
+        """
+        from ..plotting.convergence import plot_convergence
+
+        return {"convergence": plot_convergence(list(self.steps), self.links)}
+
+
 def lowest_modes(lm) -> tuple[float, float]:
     """Lowest mode frequency [rad/s] visible in each output: the imaginary part of the
     lowest-frequency pole whose modal residue exceeds 1 % of the largest (the pendulum mode of

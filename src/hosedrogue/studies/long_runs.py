@@ -201,6 +201,18 @@ class LongRunStudy:
     #: Cap of the blow-up runs [s].
     cap_s: float
 
+    def figures(self) -> dict:
+        """The study's figure (:func:`hosedrogue.plotting.long_runs.plot_long_runs`).
+
+        Returns
+        -------
+        dict
+            ``{"long_runs": matplotlib.figure.Figure}``.
+        """
+        from ..plotting.long_runs import plot_long_runs
+
+        return {"long_runs": plot_long_runs(self)}
+
     @property
     def damping_gain(self) -> float:
         """Least damping ratio of the converged model over the paper's."""

@@ -52,6 +52,18 @@ class SteadyFlightStudy:
     flight_path: SteadySweep  #: over the flight-path angle [deg], wings level
     breakdown: TurnBreakdown  #: the turn of :data:`BREAKDOWN_BANK_DEG` taken apart (continuous hose)
 
+    def figures(self) -> dict:
+        """The study's figure (:func:`hosedrogue.plotting.manoeuvres.plot_steady_flight`).
+
+        Returns
+        -------
+        dict
+            ``{"steady_flight": matplotlib.figure.Figure}``.
+        """
+        from ..plotting.manoeuvres import plot_steady_flight
+
+        return {"steady_flight": plot_steady_flight(self.bank, self.flight_path)}
+
 
 def steady_flight_study(params: Params = PAPER, banks_deg=(0, 15, 30, 45), paths_deg=(-10, 0, 10),
                         breakdown_bank_deg: float = BREAKDOWN_BANK_DEG) -> SteadyFlightStudy:

@@ -79,7 +79,8 @@ class Study:
         Its other settings.
     run : callable or None
         ``run(scenario, **settings) -> (result, record)``; None for a study with a command line
-        of its own.
+        of its own. A result with a ``figures()`` method (name -> matplotlib Figure) has its
+        figures written by ``--out``.
     custom_cli : bool
         Whether :mod:`hosedrogue.cli.study` writes its command line by hand.
     """
@@ -143,7 +144,7 @@ def _pid_tuning(scenario, duration_s=None):
 def _convergence(scenario, case="swing", steps_s=(0.02, 0.01, 0.005, 0.0025), reference_step_s=0.000625,
                  links=(5, 10, 20, 40, 80)):
     from ..spec.params import PAPER
-    from .convergence import link_convergence, step_convergence
+    from .convergence import ConvergenceStudy, link_convergence, step_convergence
 
     params = PAPER if scenario is None else _fixed_length(scenario, "convergence").params
     step = step_convergence(case, steps_s, reference_step_s, params)
@@ -154,7 +155,7 @@ def _convergence(scenario, case="swing", steps_s=(0.02, 0.01, 0.005, 0.0025), re
               "links": {"links": link.links, "drogue_position_m": link.drogue_position_m,
                         "lowest_lateral_rad_s": link.lowest_lateral_rad_s,
                         "lowest_vertical_rad_s": link.lowest_vertical_rad_s}}
-    return (step, link), record
+    return ConvergenceStudy((step,), link), record
 
 
 def _accuracy(scenario, steps_s=(0.01, 0.02, 0.025), reference_step_s=0.000625):
