@@ -200,9 +200,10 @@ def run_docking(args) -> int:
     from ..studies.docking_grid import level_scenario
 
     base = None
-    if args.scenario is not None:
+    if args.scenario is not None:  # checked before anything runs
         base = load_scenario(args.scenario)
-        level_scenario(base, "moderate")  # an engagement, checked before anything runs
+        for level in args.levels:
+            level_scenario(base, level)
     prepare_out(args.out)
     grid, speeds, forces = _specs(args)
     specs = grid + speeds + forces

@@ -4,7 +4,6 @@ registry), ``--scenario NAME|FILE`` where it takes the user's scenario, ``--json
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -96,7 +95,7 @@ def run_registry_study(args) -> int:
         Exit status (see :mod:`hosedrogue.cli`).
     """
     from ..scenarios import load_scenario
-    from ..jsonio import plain
+    from ..jsonio import dumps, plain
     from ..studies.registry import STUDIES, check_scenario
     from .options import prepare_out
 
@@ -109,7 +108,7 @@ def run_registry_study(args) -> int:
     result, record = study.run(scenario, **settings)
     record = {"study": study.name, "scenario": scenario.name if scenario is not None else study.scenario,
               **plain(record)}
-    text = json.dumps(record, indent=2, allow_nan=False)
+    text = dumps(record, indent=2)
     if args.out is not None:
         from ..plotting.base import save_figure
 

@@ -57,7 +57,10 @@ def build_report(out_dir, fast: bool = False, progress: bool = True, only=None, 
     bar = tqdm(total=len(chosen) + 1, desc="reproduce", unit="stage", disable=not progress, file=sys.stderr)
     out.status = bar.set_postfix_str
     try:
-        results, timings = (_build_parallel if workers > 1 else _build_serial)(chosen, out, settings, bar, workers)
+        if workers > 1:
+            results, timings = _build_parallel(chosen, out, settings, bar, workers)
+        else:
+            results, timings = _build_serial(chosen, out, settings, bar)
         bar.set_description("reproduce: page")
         for section in CLOSING:
             if all(name in results for name in section.needs):
@@ -75,7 +78,7 @@ def build_report(out_dir, fast: bool = False, progress: bool = True, only=None, 
     return headline
 
 
-def _build_serial(chosen, out: ReportFolder, settings: ReportSettings, bar, workers: int) -> tuple[dict, dict]:
+def _build_serial(chosen, out: ReportFolder, settings: ReportSettings, bar) -> tuple[dict, dict]:
     """The sections one after the other in this process: their results and wall times [s] by label."""
     results: dict[str, object] = {}
     timings: dict[str, float] = {}

@@ -139,6 +139,32 @@ class Scenario:
         """The hose model this scenario runs: ``"engagement"`` (varying length) or ``"fixed-length"``."""
         return "fixed-length" if self.engagement is None else "engagement"
 
+    def require_model(self, model: str, field: str, purpose: str) -> "Scenario":
+        """This scenario if it runs ``model`` (:attr:`model`); else a one-line error.
+
+        Parameters
+        ----------
+        model : str
+            ``"engagement"`` or ``"fixed-length"``.
+        field : str
+            The input that named the scenario (the error's first word).
+        purpose : str
+            What needs the other model, e.g. ``"the whip-load study runs engagements ..."``.
+
+        Returns
+        -------
+        Scenario
+
+        Raises
+        ------
+        ParameterError
+            ``field: 'NAME' is a fixed-length scenario; PURPOSE`` (or ``is an engagement``).
+        """
+        if self.model != model:
+            have = "a fixed-length scenario" if self.engagement is None else "an engagement"
+            raise ParameterError(f"{field}: {self.name!r} is {have}; {purpose}")
+        return self
+
     # --- copies ------------------------------------------------------------------------------------
     def with_overrides(self, duration_s: float | None = None, seed: int | None = None) -> "Scenario":
         """A copy with another duration [s] and/or turbulence seed (validated).

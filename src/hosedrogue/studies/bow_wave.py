@@ -205,15 +205,13 @@ def bow_wave_study(level: str = "moderate", scenario=None) -> BowWaveStudy:
     BowWaveStudy
     """
     from ..engagement.bow_wave import bow_wave_displacement
-    from ..errors import ParameterError
     from ..scenarios import Scenario, load_scenario
 
     if scenario is None:
         scenario = f"approach-{level}"
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
-    if sc.engagement is None:
-        raise ParameterError(f"scenario: {sc.name!r} is a fixed-length scenario; the bow-wave study takes an "
-                             "engagement's [bow_wave] (a scenario with [probe], e.g. approach-moderate)")
+    sc.require_model("engagement", "scenario", "the bow-wave study takes an engagement's [bow_wave] (a scenario "
+                     "with [probe], e.g. approach-moderate)")
     bw = dataclasses.replace(sc.engagement.bow_wave, enabled=True)
     sc = dataclasses.replace(sc, engagement=dataclasses.replace(sc.engagement, bow_wave=bw))
     x, z, vel, outline, stagnation, source_aft = bow_wave_field(sc)

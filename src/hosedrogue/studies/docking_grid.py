@@ -332,11 +332,8 @@ def level_scenario(base, level: str):
     ParameterError
         ``base`` is a fixed-length scenario.
     """
-    from ..errors import ParameterError
-
-    if base.engagement is None:
-        raise ParameterError(f"scenario: {base.name!r} is a fixed-length scenario; a docking cell runs an approach "
-                             "(an engagement scenario with [probe], e.g. approach-moderate)")
+    base.require_model("engagement", "scenario", "a docking cell runs an approach (an engagement scenario with "
+                       "[probe], e.g. approach-moderate)")
     return dataclasses.replace(base, params=base.params.replace(turbulence={"enabled": True, "intensity": level}))
 
 

@@ -98,7 +98,7 @@ class Study:
 
 
 def check_scenario(study: Study, scenario):
-    """The user's scenario if it is of the kind ``study`` takes.
+    """The user's scenario if it is of the kind ``study`` takes (:meth:`Scenario.require_model`).
 
     Parameters
     ----------
@@ -120,15 +120,11 @@ def check_scenario(study: Study, scenario):
 
     if not study.kind:
         raise ParameterError(f"scenario: the {study.name} study takes no scenario")
-    if (scenario.engagement is None) != (study.kind == "fixed-length"):
-        have = "a fixed-length scenario" if scenario.engagement is None else "an engagement"
-        want = "an engagement (with [probe])" if study.kind == "engagement" else "a fixed-length scenario (no [probe])"
-        raise ParameterError(f"scenario: {scenario.name!r} is {have}; the {study.name} study takes {want}: "
-                             f"{study.takes}")
-    return scenario
+    want = "an engagement (with [probe])" if study.kind == "engagement" else "a fixed-length scenario (no [probe])"
+    return scenario.require_model(study.kind, "scenario", f"the {study.name} study takes {want}: {study.takes}")
 
 
-def _fixed_length(scenario, name: str):
+def _checked(scenario, name: str):
     """The user's scenario, checked against the study ``name``'s kind."""
     return check_scenario(STUDIES[name], scenario)
 
@@ -136,7 +132,7 @@ def _fixed_length(scenario, name: str):
 def _pid_tuning(scenario, duration_s=None):
     from .pid_tuning import pid_tuning_study
 
-    params = None if scenario is None else _fixed_length(scenario, "pid-tuning").params
+    params = None if scenario is None else _checked(scenario, "pid-tuning").params
     study = pid_tuning_study(params, duration_s)
     return study, {"rows": study.rows()}
 
@@ -146,7 +142,7 @@ def _convergence(scenario, case="swing", steps_s=(0.02, 0.01, 0.005, 0.0025), re
     from ..spec.params import PAPER
     from .convergence import ConvergenceStudy, link_convergence, step_convergence
 
-    params = PAPER if scenario is None else _fixed_length(scenario, "convergence").params
+    params = PAPER if scenario is None else _checked(scenario, "convergence").params
     step = step_convergence(case, steps_s, reference_step_s, params)
     link = link_convergence(links, params)
     record = {"step": {"case": step.case, "steps_s": step.steps_s, "max_error_m": step.max_error_m,
@@ -162,7 +158,7 @@ def _accuracy(scenario, steps_s=(0.01, 0.02, 0.025), reference_step_s=0.000625):
     from ..scenarios import load_scenario
     from .accuracy import scenario_step_study
 
-    sc = _fixed_length(load_scenario("paper-turbulence") if scenario is None else scenario, "accuracy")
+    sc = _checked(load_scenario("paper-turbulence") if scenario is None else scenario, "accuracy")
     study = scenario_step_study(sc, steps_s, reference_step_s)
     return study, {"scenario": sc.name, "steps_s": study.steps_s, "max_error_m": study.max_error_m,
                    "reference_step_s": study.reference_step_s, "reading_change_m": study.reading_change_m,
@@ -174,7 +170,7 @@ def _long_runs(scenario, intensities=("light", "moderate", "severe"), seeds=(201
     from ..spec.params import PAPER
     from .long_runs import long_runs_study
 
-    base = PAPER if scenario is None else _fixed_length(scenario, "long-runs").params
+    base = PAPER if scenario is None else _checked(scenario, "long-runs").params
     study = long_runs_study(intensities, seeds, cap_s, hour_s, base)
     return study, {"blowup": study.blowup.to_dict(orient="records"), "modes": study.modes.to_dict(orient="records"),
                    "damping_gain": study.damping_gain, "cap_s": study.cap_s,
@@ -185,7 +181,7 @@ def _manoeuvres(scenario, banks_deg=(0.0, 15.0, 30.0, 45.0), paths_deg=(-10.0, 0
     from ..spec.params import PAPER
     from .manoeuvres import steady_flight_study
 
-    params = PAPER if scenario is None else _fixed_length(scenario, "manoeuvres").params
+    params = PAPER if scenario is None else _checked(scenario, "manoeuvres").params
     study = steady_flight_study(params, banks_deg, paths_deg)
 
     def sweep(s):
@@ -197,7 +193,7 @@ def _manoeuvres(scenario, banks_deg=(0.0, 15.0, 30.0, 45.0), paths_deg=(-10.0, 0
 def _bow_wave(scenario):
     from .bow_wave import bow_wave_study
 
-    study = bow_wave_study(scenario=None if scenario is None else _fixed_length(scenario, "bow-wave"))
+    study = bow_wave_study(scenario=scenario)  # the study checks the scenario's kind
     return study, {"distances_m": study.distances_m, "displacement_m": study.displacement_m,
                    "radii_m": study.radii_m, "radii_displacement_m": study.radii_displacement_m,
                    "radius_limit_m": study.radius_limit_m, "radius_m": study.radius_m, "near_m": study.near_m,

@@ -25,7 +25,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.optimize
 
-from ..errors import ParameterError
 from ..spec.params import Params
 
 #: The shipped engagement scenarios, one per reel law.
@@ -129,10 +128,8 @@ def engagement_scenario(scenario):
     from ..scenarios import Scenario, load_scenario
 
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
-    if sc.engagement is None:
-        raise ParameterError(f"scenarios: {str(scenario)!r} is a fixed-length scenario; the whip-load study "
-                             f"runs engagements (a scenario with [probe] and [reel], e.g. {SCENARIOS[-1]})")
-    return sc
+    return sc.require_model("engagement", "scenarios", "the whip-load study runs engagements (a scenario with "
+                            f"[probe] and [reel], e.g. {SCENARIOS[-1]})")
 
 
 def study_scenario(scenario, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
