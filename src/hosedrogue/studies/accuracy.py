@@ -15,7 +15,7 @@ each end) and a list of link counts this measures
 with observed orders ``log2(e(n) / e(2n))`` for errors against a known limit, and
 ``log2(|f(n) - f(2n)| / |f(2n) - f(4n)|)`` for quantities whose limit is unknown.
 
-Library functions return dataclasses; :mod:`hosedrogue.plotting.accuracy` draws them.
+Library functions return dataclasses; :mod:`hosedrogue.studies.accuracy_figures` draws them.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from .base import _grid, new_figure
+from ..plotting.base import _grid, new_figure
 
 
 def plot_accuracy(studies: Sequence, tolerances_m=(1e-2, 1e-3)) -> Figure:
