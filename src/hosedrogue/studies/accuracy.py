@@ -367,6 +367,18 @@ class ScenarioStepStudy:
     reading_change_m: float  #: max |drogue(scenario reading) - drogue(paper's reading)|, both at the reference step [m]
     duration_s: float  #: length of the runs [s]
 
+    def figures(self) -> dict:
+        """The study's figure (:func:`hosedrogue.studies.accuracy_figures.plot_scenario_steps`).
+
+        Returns
+        -------
+        dict
+            ``{"steps": matplotlib.figure.Figure}``.
+        """
+        from .accuracy_figures import plot_scenario_steps
+
+        return {"steps": plot_scenario_steps(self)}
+
 
 def scenario_step_study(scenario="paper-turbulence", steps_s=(0.01, 0.02, 0.025),
                         reference_step_s: float = 0.000625) -> ScenarioStepStudy:
