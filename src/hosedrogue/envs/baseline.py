@@ -41,14 +41,21 @@ class PDFeedForward:
         Derivative gain on the offset's rate [-].
     feedforward : float
         Fraction of the drogue's lateral and vertical velocity fed forward [-].
-    closure_speed_m_s : float
-        Forward speed relative to the tanker [m/s] (the latch needs 0.5-3 m/s at the coupler).
+    closure_speed_m_s : float, optional
+        Forward speed relative to the tanker [m/s] (the latch needs 0.5-3 m/s at the coupler);
+        default 1 m/s, and on Docking-v1 the middle of its reward's closure window (2.05 m/s).
     """
 
     def __init__(self, env, kp_1_s: float = 2.0, kd: float = 0.2, feedforward: float = 1.0,
-                 closure_speed_m_s: float = 1.0):
-        self.max_speed_m_s = np.array(env.unwrapped.max_speed_m_s, dtype=np.float64)
+                 closure_speed_m_s: float | None = None):
+        base = env.unwrapped
+        self.max_speed_m_s = np.array(base.max_speed_m_s, dtype=np.float64)
+        #: the observation's unit per component (Docking-v1's observation is normalized)
+        self.scale = np.asarray(base.observation_scale, dtype=np.float64)
         self.kp, self.kd, self.ff = float(kp_1_s), float(kd), float(feedforward)
+        if closure_speed_m_s is None:
+            w = base.reward_weights
+            closure_speed_m_s = (w.min_closure_m_s + w.max_closure_m_s) / 2 if hasattr(w, "min_closure_m_s") else 1.0
         self.closure = float(closure_speed_m_s)
 
     def command(self, obs) -> np.ndarray:
@@ -63,6 +70,7 @@ class PDFeedForward:
         -------
         numpy.ndarray (3,)
         """
+        obs = np.asarray(obs, dtype=np.float64) * self.scale
         e, de, vd = obs[0:3], obs[3:6], obs[9:12]
         return np.array([self.closure,
                          self.ff * vd[1] + self.kp * e[1] + self.kd * de[1],
