@@ -115,8 +115,10 @@ class DockingEnvV1(DockingEnv):
         if options.get("turbulence_seed") is None:
             options["turbulence_seed"] = int(self.np_random.integers(0, 2**63 - 1))
         values = RZ.draw(self._ranges, self.np_random)
-        if values or self.scenario is not self.base_scenario:
-            self._build(RZ.episode_scenario(self.base_scenario, values, self.control_step_s), self.control_step_s)
+        if values or self._values:  # this episode or the last one randomized
+            scenario = RZ.episode_scenario(self.base_scenario, values, self.control_step_s) if values else \
+                self.base_scenario
+            self._build(scenario, self.control_step_s)
             self._renderer = None
         self._values = values
         obs, info = super().reset(options=options)
