@@ -88,8 +88,10 @@ def test_a_copy_in_mid_episode_continues_bit_for_bit_like_the_original(clone):
     a, b = fly(env, policy), fly(twin, policy)
     same(a, b)
     assert a[3] or a[4]
+    assert "peak_load_n" in a[2][-1] or a[2][-1]["outcome"] != "captured"
     env.last_obs, info_a = env.reset()
     twin.last_obs, info_b = twin.reset()
+    assert "peak_load_n" not in info_a and "miss_distance_m" not in info_a  # not known before the capture test
     assert info_a["randomized"] == info_b["randomized"] and info_a["turbulence_seed"] == info_b["turbulence_seed"]
     same(fly(env, policy, steps=30), fly(twin, policy, steps=30))
 

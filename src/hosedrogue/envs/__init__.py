@@ -36,6 +36,7 @@ if DOCKING_ID not in gymnasium.registry:
     gymnasium.register(id=DOCKING_ID, entry_point="hosedrogue.envs.docking:DockingEnv")
 if DOCKING_V1_ID not in gymnasium.registry:
     gymnasium.register(id=DOCKING_V1_ID, entry_point="hosedrogue.envs.docking_v1:DockingEnvV1",
+                       vector_entry_point="hosedrogue.envs.vector:DockingVectorEnv",
                        max_episode_steps=MAX_EPISODE_STEPS)
 
 __all__ = ["DEFAULT_RANGES", "DOCKING_ID", "DOCKING_V1_ID", "DockingEnv", "DockingEnvV1", "DockingReward",

@@ -120,12 +120,10 @@ class DockingEnvV1(DockingEnv):
                 self.base_scenario
             self._build(scenario, self.control_step_s)
             self._renderer = None
-        self._values = values
+        self._values, self._peak_load_n = values, math.nan
         obs, info = super().reset(options=options)
         self._potential = self._phi(self.stepper.measurement.as_array())
-        self._peak_load_n = math.nan
-        info["reward_terms"] = self._terms()
-        info["randomized"] = dict(values)
+        info.update(reward_terms=self._terms(), randomized=dict(values))
         return self._normalize(obs), info
 
     def step(self, action):
@@ -143,7 +141,8 @@ class DockingEnvV1(DockingEnv):
             The sum of ``info["reward_terms"]``.
         terminated, truncated : bool
         info : dict
-            As v0's, with ``peak_load_n`` at a capture and ``randomized``.
+            As v0's, without a number the capture test has not given (v0's None), with
+            ``peak_load_n`` at a capture and ``randomized``.
         """
         a = self._action(action)
         self._command = a * self.max_speed_m_s
@@ -168,10 +167,20 @@ class DockingEnvV1(DockingEnv):
         terms["shaping"] = w.discount * potential - self._potential
         self._potential, self._distance, self._outcome = potential, distance, outcome
         info = self._info(buf, terms)
-        info.update(peak_load_n=None if math.isnan(self._peak_load_n) else self._peak_load_n,
-                    randomized=dict(self._values))
+        info["randomized"] = dict(self._values)
         return self._normalize(obs), float(sum(terms.values())), ended and outcome != "time-out", \
             outcome == "time-out", info
+
+    def _info(self, buf: np.ndarray, terms: dict) -> dict:
+        """v0's info without the numbers not known yet (the capture test's before it decides, the
+        peak load but at a capture): one type per key, as a vector environment's batched info
+        needs (its ``_key`` mask says who has the key)."""
+        info = super()._info(buf, terms)
+        info["peak_load_n"] = None if math.isnan(self._peak_load_n) else self._peak_load_n
+        for key in ("miss_distance_m", "closure_speed_m_s", "contact_time_s", "peak_load_n"):
+            if info[key] is None:
+                del info[key]
+        return info
 
     @staticmethod
     def _terms(**given) -> dict:
