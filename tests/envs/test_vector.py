@@ -75,3 +75,30 @@ def test_disabled_autoreset_resets_the_masked_ones():
     assert np.array_equal(obs[1], single.reset()[0])  # the generator of seed 1 carried on
     with pytest.raises(ParameterError, match="autoreset_mode"):
         DockingVectorEnv(2, autoreset_mode="sometimes")
+
+
+def test_the_batched_info_is_gymnasiums():
+    """batch_infos builds at once what Gymnasium's VectorEnv._add_info builds one
+    sub-environment at a time: the same keys, masks, dtypes and values."""
+    from hosedrogue.envs.vector import batch_infos
+
+    vec = DockingVectorEnv(3)
+    infos = [{"a": 1.0, "b": {"c": np.arange(3.0), "s": "x"}, "final_obs": np.ones(2)}, None,
+             {"a": 2.0, "b": {"c": np.arange(3.0) + 1, "s": "y"}, "d": np.int64(4)}]
+    expected = {}
+    for i, info in enumerate(infos):
+        if info is not None:
+            expected = vec._add_info(expected, info, i)
+    got = batch_infos(infos)
+
+    def check(a, b):
+        assert list(a) == list(b)
+        for key in a:
+            if isinstance(a[key], dict):
+                check(a[key], b[key])
+            else:
+                assert a[key].dtype == b[key].dtype and a[key].shape == b[key].shape
+                assert all(np.array_equal(x, y) if isinstance(x, np.ndarray) else x == y
+                           for x, y in zip(a[key], b[key]))
+
+    check(expected, got)

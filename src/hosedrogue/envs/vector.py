@@ -97,13 +97,12 @@ class DockingVectorEnv(VectorEnv):
             mask = np.ones(n, dtype=np.bool_)
         elif not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.shape == (n,)):
             raise ParameterError(f"options['reset_mask'] = {mask!r}: must be a numpy bool array of shape ({n},)")
-        infos: dict = {}
+        infos: list = [None] * n
         for i in np.flatnonzero(mask):
-            self._obs[i], info = self.envs[i].reset(seed=seeds[i], options=options or None)
-            infos = self._add_info(infos, info, i)
+            self._obs[i], infos[i] = self.envs[i].reset(seed=seeds[i], options=options or None)
         self._steps[mask] = 0
         self._ended[mask] = False
-        return self._obs.copy(), infos
+        return self._obs.copy(), batch_infos(infos)
 
     def step(self, actions):
         """Step every sub-environment with its row of ``actions`` (autoresetting as the mode says).
@@ -126,27 +125,28 @@ class DockingVectorEnv(VectorEnv):
             raise ParameterError(f"actions: shape {actions.shape}: must be ({n}, 3)")
         rewards = np.zeros(n)
         terminated, truncated = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
-        infos: dict = {}
+        infos: list = [None] * n
         for i, env in enumerate(self.envs):
             if self._ended[i]:
                 if mode is AutoresetMode.DISABLED:
                     raise RuntimeError(f"sub-environment {i}'s episode has ended: reset it with "
                                        "options={'reset_mask': mask}")
-                self._obs[i], info = env.reset()
+                self._obs[i], infos[i] = env.reset()
                 self._steps[i], self._ended[i] = 0, False
-                infos = self._add_info(infos, info, i)
                 continue
             self._obs[i], rewards[i], terminated[i], truncated[i], info = env.step(actions[i])
             self._steps[i] += 1
             truncated[i] |= self._steps[i] >= self.max_episode_steps
             ended = terminated[i] or truncated[i]
             if ended and mode is AutoresetMode.SAME_STEP:
-                infos = self._add_info(infos, {"final_obs": self._obs[i].copy(), "final_info": info}, i)
+                final = {"final_obs": self._obs[i].copy(), "final_info": info}
                 self._obs[i], info = env.reset()
+                info = {**final, **info}
                 self._steps[i] = 0
             else:
                 self._ended[i] = ended
-            infos = self._add_info(infos, info, i)
+            infos[i] = info
+        infos = batch_infos(infos)
         return self._obs.copy(), rewards, terminated, truncated, infos
 
     def render(self):
@@ -168,3 +168,40 @@ class DockingVectorEnv(VectorEnv):
         """
         for env in self.envs:
             env.close()
+
+
+def batch_infos(infos: list) -> dict:
+    """Gymnasium's batched info of the sub-environments' infos (None: no info), as
+    ``VectorEnv._add_info`` builds it one sub-environment at a time, built once per key: each
+    key's values in an array (``final_obs`` and values of no number type in an object array),
+    a dict batched again, and a ``_key`` bool mask of who has the key.
+
+    Parameters
+    ----------
+    infos : list of dict or None
+        One per sub-environment.
+
+    Returns
+    -------
+    dict
+    """
+    n = len(infos)
+    out: dict = {}
+    for key in dict.fromkeys(k for info in infos if info for k in info):
+        have = [i for i, info in enumerate(infos) if info is not None and key in info]
+        first = infos[have[0]][key]
+        if isinstance(first, dict) and key != "final_obs":
+            array = batch_infos([info.get(key) if info is not None else None for info in infos])
+        else:
+            if key != "final_obs" and (type(first) in (int, float, bool) or isinstance(first, np.number)):
+                array = np.zeros(n, dtype=type(first))
+            elif key != "final_obs" and isinstance(first, np.ndarray):
+                array = np.zeros((n, *first.shape), dtype=first.dtype)
+            else:
+                array = np.full(n, None, dtype=object)
+            for i in have:
+                array[i] = infos[i][key]
+        mask = np.zeros(n, dtype=np.bool_)
+        mask[have] = True
+        out[key], out[f"_{key}"] = array, mask
+    return out
