@@ -217,3 +217,30 @@ def test_ramming_scores_below_the_operators_approach():
         scores[v] = (sum(run[1]), run[2][-1]["outcome"])
     assert scores[2.05][1] == "captured" and scores[3.0][1] in ("outside window", "failed latch")
     assert scores[3.0][0] < scores[2.05][0] - 10.0
+
+
+def test_gym_command_flies_v1_as_python_does(capsys):
+    """``hosedrogue gym --env v1 --json``: the episodes of :func:`fly` on Docking-v1, the same
+    outcomes, returns and peak loads bit for bit; a v1 option without --env v1 is one line, exit 2."""
+    import json
+
+    from hosedrogue.cli import main
+    from hosedrogue.envs import fly
+    from hosedrogue.studies.seeds import run_seed
+
+    argv = ["gym", "--env", "v1", "--episodes", "3", "--seed", "7", "--time-limit", "4.5", "--closure-window",
+            "1.0", "2.2", "--randomize", "--turbulence", "light", "--json"]
+    assert main(argv) == 0
+    doc = json.loads(capsys.readouterr().out)
+    ranges = {k: v for k, v in he.DEFAULT_RANGES.items() if k != "turbulence_sigma_m_s"}
+    e = DockingEnvV1(turbulence="light", time_limit_s=4.5, randomize=ranges,
+                     reward={"min_closure_m_s": 1.0, "max_closure_m_s": 2.2})
+    ends = fly(e, PDFeedForward(e), [run_seed(7, i) for i in range(3)])
+    assert doc["closure_window_m_s"] == [1.0, 2.2] and doc["randomized"] is True
+    assert [d["outcome"] for d in doc["episodes_detail"]] == [x["outcome"] for x in ends]
+    assert [d["return"] for d in doc["episodes_detail"]] == [x["return"] for x in ends]
+    assert [d["peak_load_n"] for d in doc["episodes_detail"]] == [x.get("peak_load_n") for x in ends]
+    assert all("turbulence_sigma_m_s" not in d["randomized"] for d in doc["episodes_detail"])
+    with pytest.raises(SystemExit) as exc:
+        raise SystemExit(main(["gym", "--randomize"]))
+    assert exc.value.code == 2 and "only with --env v1" in capsys.readouterr().err
