@@ -235,7 +235,7 @@ def test_gym_command_flies_v1_as_python_does(capsys):
     ranges = {k: v for k, v in he.DEFAULT_RANGES.items() if k != "turbulence_sigma_m_s"}
     e = DockingEnvV1(turbulence="light", time_limit_s=4.5, randomize=ranges,
                      reward={"min_closure_m_s": 1.0, "max_closure_m_s": 2.2})
-    ends = fly(e, PDFeedForward(e), [run_seed(7, i) for i in range(3)])
+    ends = fly(e, PDFeedForward(e), [run_seed(7, i) for i in range(3)], seed=7)
     assert doc["closure_window_m_s"] == [1.0, 2.2] and doc["randomized"] is True
     assert [d["outcome"] for d in doc["episodes_detail"]] == [x["outcome"] for x in ends]
     assert [d["return"] for d in doc["episodes_detail"]] == [x["return"] for x in ends]

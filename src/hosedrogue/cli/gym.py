@@ -98,7 +98,7 @@ def run(args) -> int:
     policy = POLICIES[args.policy](env)
     seeds = [run_seed(args.seed, i) for i in range(args.episodes)]
     cpu = time.process_time()
-    ends = fly(env, policy, seeds)
+    ends = fly(env, policy, seeds, seed=args.seed)  # the seed also decides a randomized episode's draws
     cpu = time.process_time() - cpu
     captured = sum(e["outcome"] == "captured" for e in ends)
     lo, hi = wilson_interval(captured, len(ends))

@@ -128,7 +128,7 @@ class StraightLine:
 POLICIES = {"baseline": PDFeedForward, "straight": StraightLine}
 
 
-def fly(env, policy, turbulence_seeds) -> list[dict]:
+def fly(env, policy, turbulence_seeds, seed: int | None = None) -> list[dict]:
     """Fly one episode per turbulence seed; the last ``info`` of each.
 
     Parameters
@@ -139,6 +139,9 @@ def fly(env, policy, turbulence_seeds) -> list[dict]:
         Observation -> action.
     turbulence_seeds : sequence of int
         One episode per seed (``reset(options={"turbulence_seed": seed})``), >= 0.
+    seed : int, optional
+        Seeds the environment's generator at the first episode (``reset(seed=seed)``): what a
+        randomized environment draws besides the turbulence seed.
 
     Returns
     -------
@@ -147,8 +150,8 @@ def fly(env, policy, turbulence_seeds) -> list[dict]:
         with ``steps`` (actions taken) and ``return`` (the sum of its rewards) added.
     """
     out = []
-    for seed in turbulence_seeds:
-        obs, info = env.reset(options={"turbulence_seed": int(seed)})
+    for k, turbulence_seed in enumerate(turbulence_seeds):
+        obs, info = env.reset(seed=seed if k == 0 else None, options={"turbulence_seed": int(turbulence_seed)})
         steps, total = 0, 0.0
         while True:
             obs, reward, terminated, truncated, info = env.step(policy(obs))
