@@ -152,6 +152,8 @@ def test_the_randomization_reaches_the_physics_and_a_curriculum_changes_it_from_
     ({"randomize": {"hose_length_m": (20, 30)}}, "randomize['hose_length_m'] = (20, 30)"),
     ({"randomize": {"airspeed_m_s": (160, 140)}}, "low <= high"),
     ({"randomize": "yes"}, "randomize = 'yes'"),
+    ({"randomize": {"start_standoff_m": 5.0, "start_offset_y_m": 1.5}, "breakaway_distance_m": 5.0},
+     "must stay below breakaway_distance_m = 5"),
     ({"reward": {"min_closure_m_s": 3.0}}, "reward.min_closure_m_s = 3.0"),
 ])
 def test_a_bad_option_is_one_line_naming_it(kwargs, names):
@@ -244,3 +246,24 @@ def test_gym_command_flies_v1_as_python_does(capsys):
     with pytest.raises(SystemExit) as exc:
         raise SystemExit(main(["gym", "--randomize"]))
     assert exc.value.code == 2 and "only with --env v1" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("end", [0, 1])
+def test_every_quantity_at_either_end_of_its_allowed_range_flies(end):
+    """Each randomizable quantity at its lowest and its highest allowed value builds an episode
+    that flies half a second toward the drogue without failing."""
+    for name, row in he.RANDOMIZABLE.items():
+        env = DockingEnvV1(randomize={name: row[2 + end]})
+        env.reset(seed=0)
+        for _ in range(25):
+            _, _, terminated, truncated, info = env.step(np.array([0.68, 0.0, 0.0]))
+            assert not (terminated or truncated), (name, info["outcome"])
+
+
+def test_the_page_shows_the_ranges_of_the_code():
+    from pathlib import Path
+
+    from hosedrogue.envs.randomize import ranges_markdown
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "gym.md").read_text()
+    assert ranges_markdown() in page

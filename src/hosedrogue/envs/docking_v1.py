@@ -79,6 +79,7 @@ class DockingEnvV1(DockingEnv):
                          drogue_controller=drogue_controller, model=model, control_step_s=control_step_s,
                          time_limit_s=time_limit_s, breakaway_distance_m=breakaway_distance_m, reward=reward)
         self.base_scenario = self.scenario
+        RZ.check_start(self._ranges, self.scenario.engagement.probe, self.breakaway_distance_m)
         high = np.concatenate([[POSITION_BOUND_M] * 3, [VELOCITY_BOUND_M_S] * 9, [POSITION_BOUND_M] * 3])
         high = (high / OBSERVATION_SCALE).astype(np.float32)
         self.observation_space = spaces.Box(-high, high, dtype=np.float32)
@@ -109,7 +110,9 @@ class DockingEnvV1(DockingEnv):
             raise ParameterError(f"options: unknown key(s) {', '.join(map(repr, unknown))}; allowed: "
                                  f"{', '.join(map(repr, RESET_OPTIONS))}")
         if "randomize" in options:
-            self._ranges = RZ.ranges(options.pop("randomize"))
+            table = RZ.ranges(options.pop("randomize"))
+            RZ.check_start(table, self.base_scenario.engagement.probe, self.breakaway_distance_m)
+            self._ranges = table
         if seed is not None:
             super(DockingEnv, self).reset(seed=seed)
         if options.get("turbulence_seed") is None:

@@ -27,9 +27,9 @@ RANDOMIZABLE = {
     "hose_mass_kg_m": ("hose", "mass_per_length_kg_m", 2.0, 8.0, "kg/m", "the hose's mass per length, fuel-filled"),
     "drogue_mass_kg": ("drogue", "mass_kg", 15.0, 50.0, "kg", "the drogue's mass"),
     "drogue_drag_coefficient": ("drogue", "drag_coefficient", 0.4, 1.2, "-", "the drogue's drag coefficient"),
-    "start_standoff_m": ("probe", "standoff_m", 1.5, 8.0, "m", "the probe tip's start aft of the drogue"),
-    "start_offset_y_m": ("probe", "offset_y_m", -2.0, 2.0, "m", "the probe tip's start to the right of the drogue"),
-    "start_offset_z_m": ("probe", "offset_z_m", -2.0, 2.0, "m", "the probe tip's start below the drogue"),
+    "start_standoff_m": ("probe", "standoff_m", 1.5, 5.0, "m", "the probe tip's start aft of the drogue"),
+    "start_offset_y_m": ("probe", "offset_y_m", -1.5, 1.5, "m", "the probe tip's start to the right of the drogue"),
+    "start_offset_z_m": ("probe", "offset_z_m", -1.5, 1.5, "m", "the probe tip's start below the drogue"),
     "bow_wave_radius_m": ("bow_wave", "forebody_radius_m", 0.0, 1.5, "m",
                           "the receiver's forebody radius in the bow-wave model (0: no bow wave)"),
     "sensor_noise_m": ("sensor", "noise_std_m", 0.0, 0.2, "m", "noise on the measured drogue position, per axis"),
@@ -74,6 +74,30 @@ def ranges(randomize: Any) -> dict:
         raise ParameterError(f"randomize: unknown name(s) {', '.join(map(repr, unknown))}; allowed: "
                              f"{', '.join(RANDOMIZABLE)}")
     return {name: _range(name, randomize[name]) for name in RANDOMIZABLE if name in randomize}
+
+
+def check_start(table: dict, probe, breakaway_distance_m: float) -> None:
+    """Refuse a randomization whose farthest start point is beyond the breakaway distance (the
+    episode would end at its first step).
+
+    Parameters
+    ----------
+    table : dict
+        From :func:`ranges`.
+    probe : hosedrogue.spec.sections.Probe
+        The scenario's probe (its start point where the table draws none).
+    breakaway_distance_m : float
+        The environment's breakaway distance [m].
+    """
+    def far(name, value):
+        return max(abs(v) for v in table[name]) if name in table else abs(value)
+
+    d = math.sqrt(far("start_standoff_m", probe.standoff_m) ** 2 + far("start_offset_y_m", probe.offset_y_m) ** 2
+                  + far("start_offset_z_m", probe.offset_z_m) ** 2)
+    if d >= breakaway_distance_m:
+        raise ParameterError(f"randomize: the probe may start {d:.2f} m from the drogue (start_standoff_m, "
+                             f"start_offset_y_m, start_offset_z_m): must stay below breakaway_distance_m = "
+                             f"{breakaway_distance_m:g} m")
 
 
 def _range(name: str, value: Any) -> tuple[float, float]:
@@ -137,3 +161,19 @@ def episode_scenario(base: Scenario, values: dict, control_step_s: float) -> Sce
                 continue
         tables.setdefault(table, {})[key] = value
     return scenario_from_dict(tables, name=base.name, source=base.source)
+
+
+def ranges_markdown() -> str:
+    """The table of docs/gym.md "Randomized episodes" (a test checks the page shows it).
+
+    Returns
+    -------
+    str
+        Markdown rows: name, allowed, default range, what (the scenario key).
+    """
+    rows = ["| name | allowed | default range | what |", "|---|---|---|---|"]
+    for name, (table, key, lo, hi, unit, what) in RANDOMIZABLE.items():
+        u = "" if unit == "-" else f" {unit}"
+        dlo, dhi = DEFAULT_RANGES[name]
+        rows.append(f"| `{name}` | {lo:g} to {hi:g}{u} | {dlo:g} to {dhi:g}{u} | {what}; `{table}.{key}` |")
+    return "\n".join(rows)
