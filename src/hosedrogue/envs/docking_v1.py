@@ -167,7 +167,7 @@ class DockingEnvV1(DockingEnv):
             terms["terminal"] = w.terminal(outcome)
         ended = outcome != "approaching"
         potential = 0.0 if ended and outcome != "time-out" else self._phi(buf)
-        terms["shaping"] = w.discount * potential - self._potential
+        terms["shaping"] = float(w.discount * potential - self._potential)
         self._potential, self._distance, self._outcome = potential, distance, outcome
         info = self._info(buf, terms)
         info["randomized"] = dict(self._values)
