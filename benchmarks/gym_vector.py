@@ -32,7 +32,9 @@ import gymnasium  # noqa: E402
 import numpy as np  # noqa: E402
 
 import hosedrogue.envs as he  # noqa: E402
-from hosedrogue.model.engagement import steps as ES  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gym_env import compiled_share  # noqa: E402  (the same measurement as gym_env.py's speed section)
 
 ACTION = np.array([2.05 / 3.0, 0.0, 0.0], dtype=np.float32)
 STEPS = 6400  # environment steps per measurement (about 80 episodes; 100 steps of 64)
@@ -76,22 +78,7 @@ def throughput():
         print(f"  make_vec num_envs={n:<3d}           {v[0]:7.0f} steps per CPU s ({v[1]:7.0f} per wall s): "
               f"{v[0] / one[0]:.2f} x the single environment per CPU s, {v[1] / one[1]:.2f} x per wall s "
               f"(target 20 at 64)")
-    original, spent = ES.eng_advance, [0.0]
-
-    def timed(*args):
-        t = time.process_time()
-        out = original(*args)
-        spent[0] += time.process_time() - t
-        return out
-
-    ES.eng_advance = timed
-    try:
-        c = time.process_time()
-        vector(vecs[64])
-        c = time.process_time() - c
-    finally:
-        ES.eng_advance = original
-    share = spent[0] / c
+    share = compiled_share(vector, vecs[64])
     print(f"  the compiled control step (eng_advance) is {share * 100:.0f} % of make_vec(64)'s CPU time: one compiled "
           f"call for the 64 episodes could at most make it {1 / share:.2f} x faster on one core "
           f"({2 / share:.2f} x on two)")

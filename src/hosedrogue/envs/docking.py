@@ -230,16 +230,8 @@ class DockingEnv(gymnasium.Env):
             ``closure_speed_m_s``, ``contact_time_s``, ``t_s``, ``distance_m``, ``command_m_s``,
             ``reward_terms``, ``turbulence_seed`` and the ``measurement`` (its attributes).
         """
-        st = self.stepper
         a = self._action(action)
-        self._command = a * self.max_speed_m_s
-        m = st.step(receiver=self._command)
-        buf = m.as_array()
-        obs = self._observe(buf)
-        distance = math.hypot(buf[M_REL], buf[M_REL + 1], buf[M_REL + 2])
-        if not math.isfinite(distance):
-            distance = self._distance  # a failed state: no progress counted
-        outcome = self._classify(distance)
+        buf, obs, distance, outcome = self._advance(a)
         w = self.reward_weights
         terms = {"progress": w.progress_per_m * (self._distance - distance),
                  "control": -w.control_penalty_1_s * float(a @ a) * self.control_step_s,
@@ -250,6 +242,18 @@ class DockingEnv(gymnasium.Env):
         truncated = outcome == "time-out"
         return obs, terms["progress"] + terms["control"] + terms["terminal"], terminated, truncated, \
             self._info(buf, terms)
+
+    def _advance(self, a: np.ndarray) -> tuple:
+        """One control step of the command of action ``a``: the measurement's array, the
+        observation, the probe-drogue distance (the last one in a failed state: no progress
+        counted) and the outcome."""
+        self._command = a * self.max_speed_m_s
+        buf = self.stepper.step(receiver=self._command).as_array()
+        obs = self._observe(buf)
+        distance = math.hypot(buf[M_REL], buf[M_REL + 1], buf[M_REL + 2])
+        if not math.isfinite(distance):
+            distance = self._distance
+        return buf, obs, distance, self._classify(distance)
 
     def _action(self, action) -> np.ndarray:
         """The action as 3 float64 numbers clipped to [-1, 1]; an episode that has ended refused."""

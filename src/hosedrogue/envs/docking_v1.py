@@ -24,7 +24,7 @@ from ..model.sampled import M_REL, M_REL_V
 from ..scenarios import Scenario
 from ..spec.rewards import DockingRewardV1
 from . import randomize as RZ
-from .docking import OBSERVATION, OUTCOMES, POSITION_BOUND_M, VELOCITY_BOUND_M_S, DockingEnv
+from .docking import OUTCOMES, POSITION_BOUND_M, VELOCITY_BOUND_M_S, DockingEnv
 
 #: The observation's unit per component: v1's observation is the measurement divided by it
 #: (3 m, the start's standoff, for the relative position; 3 m/s, the latch's highest closure
@@ -148,13 +148,7 @@ class DockingEnvV1(DockingEnv):
             ``peak_load_n`` at a capture and ``randomized``.
         """
         a = self._action(action)
-        self._command = a * self.max_speed_m_s
-        buf = self.stepper.step(receiver=self._command).as_array()
-        obs = self._observe(buf)
-        distance = math.hypot(buf[M_REL], buf[M_REL + 1], buf[M_REL + 2])
-        if not math.isfinite(distance):
-            distance = self._distance
-        outcome = self._classify(distance)
+        buf, obs, distance, outcome = self._advance(a)
         w = self.reward_weights
         terms = self._terms(control=-w.control_penalty_1_s * float(a @ a) * self.control_step_s)
         if outcome == "captured":
