@@ -40,9 +40,10 @@ def same(a, b):
         assert np.array_equal(i["measurement"]["drogue_position_m"], j["measurement"]["drogue_position_m"])
 
 
-@pytest.mark.parametrize("env_id", sorted(k for k in gymnasium.registry if k.startswith("hosedrogue/")))
-def test_gymnasium_env_checker_passes_on_every_registered_environment(env_id):
-    e = gymnasium.make(env_id, render_mode="rgb_array").unwrapped
+@pytest.mark.parametrize("env_id, kwargs", [(k, {}) for k in sorted(gymnasium.registry) if k.startswith("hosedrogue/")]
+                         + [("hosedrogue/Docking-v1", {"randomize": True})])
+def test_gymnasium_env_checker_passes_on_every_registered_environment(env_id, kwargs):
+    e = gymnasium.make(env_id, render_mode="rgb_array", **kwargs).unwrapped
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         check_env(e)
