@@ -269,3 +269,30 @@ def test_the_page_shows_the_ranges_of_the_code():
 
     page = (Path(__file__).resolve().parents[2] / "docs" / "gym.md").read_text()
     assert ranges_markdown() in page
+
+
+@pytest.mark.subprocess
+def test_a_pickled_environment_continues_bit_for_bit_in_another_process(tmp_path):
+    """Pickled mid-episode, loaded by a fresh Python: its next 30 observations are the
+    original's, bit for bit (the compiled functions found again by name, the state copied)."""
+    import os
+    import subprocess
+    import sys
+
+    env = DockingEnvV1(randomize=True)
+    policy = PDFeedForward(env)
+    env.last_obs, _ = env.reset(seed=5)
+    fly(env, policy, steps=10)
+    (tmp_path / "env.pkl").write_bytes(pickle.dumps((env, env.last_obs)))
+    ahead = np.array(fly(env, policy, steps=30)[0])
+    code = ("import pickle, sys, numpy as np\n"
+            "from hosedrogue.envs import PDFeedForward\n"
+            f"env, obs = pickle.loads(open({str(tmp_path / 'env.pkl')!r}, 'rb').read())\n"
+            "policy, out = PDFeedForward(env), []\n"
+            "for _ in range(30):\n"
+            "    obs = env.step(policy(obs))[0]\n"
+            "    out.append(obs)\n"
+            f"np.save({str(tmp_path / 'out.npy')!r}, np.array(out))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=os.environ)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert np.array_equal(np.load(tmp_path / "out.npy"), ahead)
