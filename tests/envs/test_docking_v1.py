@@ -200,6 +200,8 @@ def test_the_closure_window_changes_the_score_not_the_flight():
     last_a, last_b = a[2][-1], b[2][-1]
     assert (last_a["outcome"], last_b["outcome"]) == ("captured", "outside window") and a[3] and b[3]
     assert 1.5 < last_a["closure_speed_m_s"] < 2.6
+    # the step's time is the agent's (the load window's steps after it are not): one control step per action
+    assert last_a["t_s"] == pytest.approx(len(a[0]) * 0.02, abs=1e-12) and last_a["t_s"] >= last_a["contact_time_s"]
     w = DockingEnvV1().reward_weights
     ta, tb = last_a["reward_terms"], last_b["reward_terms"]
     assert ta["capture"] == w.capture_bonus and tb["capture"] == -w.window_penalty

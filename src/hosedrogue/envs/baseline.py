@@ -101,7 +101,8 @@ class StraightLine:
     env : gymnasium.Env
         The docking environment (its speed bounds; the closure speed of its scenario's probe).
     closure_speed_m_s : float, optional
-        Forward speed [m/s]; default the scenario's ``probe.closure_speed_m_s``.
+        Forward speed [m/s]; default the scenario's ``probe.closure_speed_m_s`` (1 m/s in the
+        approach scenarios: below Docking-v1's closure window, so give it there).
     """
 
     def __init__(self, env, closure_speed_m_s: float | None = None):

@@ -151,6 +151,7 @@ class DockingEnvV1(DockingEnv):
         buf, obs, distance, outcome = self._advance(a)
         w = self.reward_weights
         terms = self._terms(control=-w.control_penalty_1_s * float(a @ a) * self.control_step_s)
+        t_s = self.stepper.t_s  # the step's time, before the load window's steps
         if outcome == "captured":
             out = self.stepper.outcome
             self._peak_load_n = self._load_after_contact()
@@ -164,7 +165,7 @@ class DockingEnvV1(DockingEnv):
         terms["shaping"] = float(w.discount * potential - self._potential)
         self._potential, self._distance, self._outcome = potential, distance, outcome
         info = self._info(buf, terms)
-        info["randomized"] = dict(self._values)
+        info.update(t_s=t_s, randomized=dict(self._values))
         return self._normalize(obs), float(sum(terms.values())), ended and outcome != "time-out", \
             outcome == "time-out", info
 
