@@ -54,6 +54,18 @@ def test_modes_at_502_ft_s(linear_502):
     assert 0 < dutch.damping < 1 and dutch.frequency_rad_s > 1.0
 
 
+def test_classical_modes_at_the_papers_flight_condition():
+    """150 m/s, 8000 m (7 deg angle of attack): the five classical modes, each once, the short
+    period an oscillation here; the spiral's eigenvector has 0.7 m/s of airspeed against 0.67 rad of
+    bank (numerical coupling of 1e-12 across a small eigenvalue gap), lateral once airspeed is
+    weighed relative to the trim's (0.005)."""
+    lm = linearize_receiver(trim(load_model("f16"), 150.0, 8000.0))
+    names = sorted(m.name for m in lm.modes)
+    assert names == sorted(["short period", "phugoid", "Dutch roll", "roll", "spiral"])
+    for m in lm.modes:
+        assert (len(m.eigenvalues) == 2) == (m.name in ("short period", "phugoid", "Dutch roll"))
+
+
 @pytest.mark.parametrize("amplitude_deg", [0.02])
 def test_linear_response_approaches_the_nonlinear_one(amplitude_deg):
     """An elevator step of a and 2a (0.02 and 0.04 deg) from a trim at 150 m/s, 2000 m: over 2 s, the

@@ -17,7 +17,8 @@ short period and phugoid (longitudinal pairs, faster and slower; when one of the
 two real roots, as the F-16's short period does at its reference centre of gravity 0.35, the two
 real roots carry its name, the faster family being the short period), Dutch roll (the lateral
 pair), roll subsidence and spiral (the lateral real roots, faster and slower). An eigenvector is
-lateral when most of its size (states in m/s and rad) is in beta, phi, p, r.
+lateral when most of its size (airspeed relative to the trim's, angles in rad, rates in rad/s) is
+in beta, phi, p, r.
 """
 
 from __future__ import annotations
@@ -184,13 +185,15 @@ def _jacobians(model, xe0, u0, gravity):
     return A, B, C, D
 
 
-def modes(A: np.ndarray) -> tuple:
+def modes(A: np.ndarray, airspeed_m_s: float) -> tuple:
     """The modes of the linear model's state matrix (see the module's docstring).
 
     Parameters
     ----------
     A : numpy.ndarray
         (13, 13) state matrix of :data:`STATE_NAMES`.
+    airspeed_m_s : float
+        The trim's airspeed [m/s]: an eigenvector's airspeed component is weighed relative to it.
 
     Returns
     -------
@@ -201,10 +204,12 @@ def modes(A: np.ndarray) -> tuple:
     lam, vec = np.linalg.eig(A[np.ix_(idx, idx)])
     lateral_rows = [k for k, s in enumerate(idx) if s in _LATERAL]
     groups = {"long": [], "lat": []}
+    weight = np.ones(len(idx))
+    weight[0] = 1.0 / airspeed_m_s  # airspeed as a fraction of itself, beside angles in radians
     for k in range(lam.size):
         if lam[k].imag < 0:
             continue
-        v = np.abs(vec[:, k]) ** 2
+        v = np.abs(weight * vec[:, k]) ** 2
         groups["lat" if v[lateral_rows].sum() > 0.5 * v.sum() else "long"].append(lam[k])
     out = []
     for family, (fast, slow) in (("long", ("short period", "phugoid")), ("lat", ("Dutch roll", None))):
@@ -247,4 +252,4 @@ def linearize_receiver(trim: Trim) -> ReceiverLinearModel:
     """
     xe0 = euler_state(trim.state)
     A, B, C, D = _jacobians(trim.model, xe0, np.asarray(trim.controls, float), trim.gravity_m_s2)
-    return ReceiverLinearModel(A, B, C, D, trim, modes(A))
+    return ReceiverLinearModel(A, B, C, D, trim, modes(A, trim.airspeed_m_s))
