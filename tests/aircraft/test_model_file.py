@@ -113,3 +113,10 @@ def test_bad_file_is_one_line_naming_the_key(tmp_path, old, new, message):
 def test_unknown_model_name():
     with pytest.raises(ParameterError, match="--model = 'f17': neither a shipped model"):
         load_model("f17")
+
+
+def test_breakpoints_must_increase(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(TOY.replace("alpha = [-10.0, 30.0]", "alpha = [30.0, -10.0]", 1))
+    with pytest.raises(ParameterError, match="tables.lift_slope.alpha = \\[30.0, -10.0\\]: at least two strictly"):
+        load_model(path)

@@ -156,7 +156,9 @@ class _Reader:
         return arr
 
     def axis(self, value, key: str) -> tuple[float, ...]:
-        arr = self.array(value, key, (len(value),) if isinstance(value, list) else (-1,))
+        if not isinstance(value, list):
+            self.fail(key, value, "a list of breakpoints is required")
+        arr = self.array(value, key, (len(value),))
         if arr.size < 2 or np.any(np.diff(arr) <= 0):
             self.fail(key, value, "at least two strictly increasing breakpoints are required")
         return tuple(float(x) for x in arr)
