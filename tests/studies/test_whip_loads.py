@@ -121,3 +121,16 @@ def test_cli_whip_loads_refuses_what_is_not_an_engagement(name, says, capsys):
     assert main(["study", "whip-loads", "--scenarios", "engage-response", name]) == 2
     err = capsys.readouterr().err
     assert says in err and len(err.strip().splitlines()) == 1
+
+
+def test_cli_whip_loads_verifies_and_reports_the_locked_reel_as_a_distribution(capsys):
+    """``--verify 1 --ensemble 3`` on one locked-reel point (40 links): the row's flags are
+    measured (True or False, none "unverified") and each peak has its median and 5-95 % points
+    over the perturbed copies, in order."""
+    code = main(["study", "whip-loads", "--stiffness", "1e6", "--closure-speeds", "2.5", "--scenarios",
+                 "engage-locked", "--links", "40", "--step", "0.0025", "--verify", "1", "--ensemble", "3", "--json"])
+    (row,) = json.loads(capsys.readouterr().out)["rows"]
+    assert code == 0
+    assert all(isinstance(v, bool) for k, v in row.items() if k.startswith("converged_"))
+    for key in ("peak_exit_tension_n", "peak_probe_load_n", "peak_slack_m"):
+        assert row[f"{key}_p05"] <= row[f"{key}_median"] <= row[f"{key}_p95"], key

@@ -104,6 +104,9 @@ def _add_whip_loads(studies) -> None:
                         "the step; docs/convergence.md); default 0")
     w.add_argument("--tolerance", metavar="REL", type=finite_float("--tolerance", 1e-6, 0.5, "-"), default=0.03,
                    help="relative change within which a verified peak is converged [-] (default 0.03)")
+    w.add_argument("--ensemble", metavar="N", type=bounded_int("--ensemble", 2, 100_000),
+                   help="the locked reel's rows (a chaotic flail): also N copies with the probe displaced by up to "
+                        "1 um, each peak's median and 5-95 %% range")
     w.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     w.set_defaults(func=run_whip_loads)
 
@@ -125,7 +128,7 @@ def run_whip_loads(args) -> int:
     from ..studies.whip_loads import PEAKS, whip_load_study
 
     rows = whip_load_study(args.stiffness, args.closure_speeds, args.scenarios, args.links, args.step,
-                           verify=args.verify, tolerance=args.tolerance)
+                           verify=args.verify, tolerance=args.tolerance, ensemble=args.ensemble or 0)
     if args.json:
         print(dumps({"rows": [r.to_dict() for r in rows]}, indent=2))
     else:
@@ -133,6 +136,9 @@ def run_whip_loads(args) -> int:
         for r in rows:
             vals = ", ".join(f"{r.peaks[k]:.4g}{_flag(r.converged[k])}" for k in PEAKS)
             print(f"{r.scenario} ({r.law}), {r.stiffness_n:g}, {r.closure_speed_m_s:g}: {vals}; {r.result}")
+            for k, d in (r.distributions or {}).items():
+                print(f"    {k} over {d['copies']} perturbed copies: median {d['median']:.4g} "
+                      f"[5 %: {d['p05']:.4g}, 95 %: {d['p95']:.4g}]")
     if not all(r.completed for r in rows):
         print(f"hosedrogue: {sum(not r.completed for r in rows)} runs stopped early", file=sys.stderr)
         return EXIT_INCOMPLETE

@@ -101,12 +101,18 @@ class WhipLoadRow:
     completed: bool  #: the run reached its end
     peaks: dict  #: PEAKS -> value (N or m)
     converged: dict  #: PEAKS -> True/False as measured by the row's verification, or "unverified"
+    #: the locked reel with ``ensemble``: PEAKS -> the peak's distribution over the perturbed copies
+    #: (:func:`hosedrogue.studies.ensemble.distribution`: median, 5 % and 95 % points, bootstrap intervals)
+    distributions: dict | None = None
 
     def to_dict(self) -> dict:
-        """The row as a flat dict (``converged_<peak>`` flags after the peaks)."""
-        d = {k: v for k, v in dataclasses.asdict(self).items() if k not in ("peaks", "converged")}
+        """The row as a flat dict (``converged_<peak>`` flags after the peaks; with distributions,
+        ``<peak>_median``, ``_p05``, ``_p95``)."""
+        d = {k: v for k, v in dataclasses.asdict(self).items() if k not in ("peaks", "converged", "distributions")}
         d.update(self.peaks)
         d.update({f"converged_{k}": v for k, v in self.converged.items()})
+        for k, dist in (self.distributions or {}).items():
+            d.update({f"{k}_{q}": dist[q] for q in ("median", "p05", "p95")})
         return d
 
 
@@ -175,7 +181,8 @@ def study_scenario(scenario, stiffness_n: float, closure_speed_m_s: float, links
 
 
 def run_point(scenario, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
-              step_s: float | None = None, verify: bool = False, tolerance: float = 0.03) -> WhipLoadRow:
+              step_s: float | None = None, verify: bool = False, tolerance: float = 0.03, ensemble: int = 0,
+              perturb: str = "probe-offset=1e-6") -> WhipLoadRow:
     """Run one grid point (:func:`study_scenario`) and read its row.
 
     Parameters
@@ -187,6 +194,11 @@ def run_point(scenario, stiffness_n: float, closure_speed_m_s: float, links: int
         (:func:`hosedrogue.studies.verify.verify_run`); otherwise its peaks are "unverified".
     tolerance : float
         Relative tolerance of the verification [-].
+    ensemble : int
+        The locked reel (a chaotic flail): also this many perturbed copies (0: none) and each
+        peak's distribution (:func:`hosedrogue.studies.ensemble.run_ensemble`).
+    perturb : str
+        The copies' perturbation (:func:`hosedrogue.studies.ensemble.parse_perturbation`).
 
     Returns
     -------
@@ -195,6 +207,11 @@ def run_point(scenario, stiffness_n: float, closure_speed_m_s: float, links: int
     from ..scenarios.runner import run
 
     sc = study_scenario(scenario, stiffness_n, closure_speed_m_s, links, step_s)
+    dist = None
+    if ensemble and sc.engagement.reel.law == "locked":
+        from .ensemble import run_ensemble
+
+        dist = {k: v for k, v in run_ensemble(sc, ensemble, perturb).distributions.items() if k in PEAKS}
     if verify:
         from .verify import verify_run
 
@@ -205,12 +222,12 @@ def run_point(scenario, stiffness_n: float, closure_speed_m_s: float, links: int
     return WhipLoadRow(scenario=sc.name, law=sc.engagement.reel.law, stiffness_n=float(stiffness_n),
                        damping_n_s=sc.params.hose.axial_damping_n_s, closure_speed_m_s=float(closure_speed_m_s),
                        links=sc.params.hose.links, result=s["result"], completed=r.completed,
-                       peaks={k: s[k] for k in PEAKS}, converged=dict(s["converged"]))
+                       peaks={k: s[k] for k in PEAKS}, converged=dict(s["converged"]), distributions=dist)
 
 
 def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEEDS_M_S, scenarios=SCENARIOS,
                     links: int | None = None, step_s: float | None = None, progress=None, verify: int = 0,
-                    tolerance: float = 0.03) -> list[WhipLoadRow]:
+                    tolerance: float = 0.03, ensemble: int = 0, perturb: str = "probe-offset=1e-6") -> list[WhipLoadRow]:
     """The grid: every scenario x stiffness x closure speed, one run each (deterministic: no
     turbulence, so no seeds); ``verify`` of its rows, spread evenly over the grid (the first and
     the last among them), verified.
@@ -234,6 +251,10 @@ def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEE
         How many rows to verify [-] (:func:`run_point`; 0: none, the grid's size or more: all).
     tolerance : float
         Relative tolerance of the verification [-].
+    ensemble : int
+        Perturbed copies of every locked-reel row (0: none): its peaks as distributions (:func:`run_point`).
+    perturb : str
+        Their perturbation ("probe-offset=SIZE_M" or "seed").
 
     Returns
     -------
@@ -249,7 +270,7 @@ def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEE
     for i, (sc, ea, v) in enumerate(points):
         if progress is not None:
             progress(f"{sc.name}, EA {ea:g} N, {v:g} m/s{' (verified)' if i in sample else ''}")
-        rows.append(run_point(sc, ea, v, links, step_s, i in sample, tolerance))
+        rows.append(run_point(sc, ea, v, links, step_s, i in sample, tolerance, ensemble, perturb))
     return rows
 
 
