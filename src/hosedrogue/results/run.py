@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .convergence import PEAK_KEYS, UNVERIFIED_NOTE, unverified, went_slack
+from .convergence import PEAK_KEYS, UNVERIFIED_NOTE, unverified, verification_document, went_slack
 from .statistics import DEFAULT_CAPTURE_RADII_M, window_statistics
 from .surfaces import WithSurfaces
 from ..version import __version__
@@ -428,24 +428,6 @@ def run_header(result) -> dict:
         "t_end_s": float(result.t_s[-1]) if result.t_s.size else 0.0,
         "equilibrium_drogue_position_m": np.asarray(result.equilibrium_m).tolist(),
     }
-
-
-def verification_document(result: RunResult) -> dict:
-    """run.json's ``"verification"``: the run's :attr:`~RunResult.verification`, or
-    ``{"status": "unverified"}`` with the note saying how to verify it.
-
-    Parameters
-    ----------
-    result : RunResult
-        The run.
-
-    Returns
-    -------
-    dict
-    """
-    if result.verification is None:
-        return {"status": "unverified", "notes": [UNVERIFIED_NOTE]}
-    return result.verification
 
 
 def _statistics_document(result: RunResult) -> dict:
