@@ -350,8 +350,8 @@ def _folder(path):
 
 def test_engagement_section_alone_marks_the_fast_runs(tmp_path):
     """The fast version's engagement runs are not the shipped mesh: the section says so; every
-    reel captures; on its 0.4 m links no peak is claimed converged (docs/engagement.md); the
-    tension wave is drawn and written."""
+    reel captures; every peak's flag is measured by its doubling (the run verified, never
+    "unverified"); the tension wave is drawn and written."""
     from hosedrogue.report import engagement
     from hosedrogue.report.settings import FAST
 
