@@ -134,13 +134,20 @@ class RunResult:
     FIGURE = "displacement.png"
 
     def run_document(self) -> dict[str, Any]:
-        """The content of the run's ``run.json``: :func:`run_header`, then what was run (``meta``).
+        """The content of the run's ``run.json``: :func:`run_header`, the window ``statistics``, the
+        drogue offset's ``spectrum`` (:func:`hosedrogue.results.spectra.displacement_spectrum`, with
+        the covariance analysis's prediction where the run has one), then what was run (``meta``).
 
         Returns
         -------
         dict
         """
-        return {**run_header(self), "statistics": _statistics_document(self), **self.meta}
+        from .spectra import displacement_spectrum
+
+        meta = dict(self.meta)
+        prediction = meta.pop("spectrum_prediction", None)
+        return {**run_header(self), "statistics": _statistics_document(self),
+                "spectrum": displacement_spectrum(self, prediction), **meta}
 
     def plot(self, **kwargs):
         """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
