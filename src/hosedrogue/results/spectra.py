@@ -68,7 +68,8 @@ def displacement_spectrum(result, prediction: dict | None = None) -> dict | None
     band = f <= F_MAX_HZ
     out = {"method": "Welch (scipy.signal.welch): Hann window, 50 % overlap, segment means removed; one-sided, "
                      "per hertz",
-           "segment_s": nper * h, "resolution_hz": 1.0 / (nper * h), "window_s": [float(tw[0]), float(tw[-1] + h)],
+           "segment_s": round(nper * h, 9), "resolution_hz": round(1.0 / (nper * h), 9),
+           "window_s": [float(tw[0]), float(tw[-1] + h)],
            "frequency_hz": f[band].tolist(), "lateral_m2_hz": pyy[band].tolist(), "vertical_m2_hz": pzz[band].tolist()}
     if prediction is not None and "note" in prediction:
         out["predicted_note"] = prediction["note"]
