@@ -118,7 +118,7 @@ class LoopMargins:
     gain_crossover_phase_rad_s: float  #: frequency where the gain margin is read [rad/s] (NaN: none)
     phase_margin_deg: float  #: [deg] (inf: no gain crossover)
     crossover_rad_s: float  #: gain crossover frequency of the phase margin [rad/s] (NaN: none)
-    delay_margin_s: float  #: extra delay that makes the loop unstable [s] (inf: no crossover)
+    delay_margin_s: float  #: extra delay that makes the loop unstable [s] (inf: no crossover; 0: unstable already)
     stable: bool  #: the closed loop (both channels) is stable
     sample_time_s: float  #: [s]; 0 continuous
     delay_s: float  #: the sensor's delay already in the loop [s]
@@ -213,7 +213,7 @@ def margins(loop, closed_stable: bool = True, sample_time_s: float = 0.0, delay_
         pms = np.remainder(np.angle(response(loop, wc), deg=True), 360.0) - 180.0
         k = int(np.argmin(np.abs(pms)))
         pm, w_pm = float(pms[k]), float(wc[k])
-        dm = float(np.min(np.remainder(np.radians(pms), 2.0 * math.pi) / wc))
+        dm = float(np.min(np.remainder(np.radians(pms), 2.0 * math.pi) / wc)) if closed_stable else 0.0
     return LoopMargins(gm, w_gm, pm, w_pm, dm, closed_stable, float(sample_time_s), float(delay_s))
 
 
