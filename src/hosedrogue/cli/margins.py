@@ -5,7 +5,6 @@ Also the loop options (--controller, --lateral-gains, --vertical-gains, --sample
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from ..errors import ParameterError
