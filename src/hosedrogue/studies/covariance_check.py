@@ -62,7 +62,8 @@ class RmsComparison:
         return (self.simulated_m - self.predicted_m) / self.predicted_m
 
 
-def compare_rms(params: Params, seeds, duration_s: float, closed: bool = False) -> RmsComparison:
+def compare_rms(params: Params, seeds, duration_s: float, closed: bool = False, sample_time_s: float = 0.0,
+                delay_s: float = 0.0) -> RmsComparison:
     """Predict and simulate the RMS offset of ``params`` open loop or with the paper's PID.
 
     Parameters
@@ -75,15 +76,42 @@ def compare_rms(params: Params, seeds, duration_s: float, closed: bool = False) 
         Simulated time per run [s]; every run starts at the balance position at rest, so its
         first seconds (the loop's settling) count towards its RMS.
     closed : bool
-        With the paper's PID (continuous, as the scenarios run it) instead of open loop.
+        With the paper's PID (continuous, as the scenarios run it, unless sampled) instead of open loop.
+    sample_time_s : float
+        The PID's sample time [s] (0: continuous): its zero-order-hold discretization, run seed
+        by seed by :func:`hosedrogue.simulation.simulate.simulate` (the batch runs continuous loops).
+    delay_s : float
+        The sensor's delay [s] (sampled only), a whole multiple of the sample time.
 
     Returns
     -------
     RmsComparison
     """
     ctrl = paper_pid() if closed else None
-    pred = predict(params, ctrl, dm=disturbance_model(params))
-    df = simulate_batch(params, list(seeds), duration_s, controller=ctrl)
-    done = df[df["completed"]]
-    sim = np.array([done["rms_dy_m"].mean(), done["rms_dz_m"].mean()])
-    return RmsComparison(pred.rms_m, sim, pred.rms_standard_error(duration_s, len(done)), len(done), duration_s)
+    pred = predict(params, ctrl, sample_time_s, delay_s, dm=disturbance_model(params))
+    if sample_time_s > 0.0:
+        rms = _sampled_runs(params, list(seeds), duration_s, ctrl, sample_time_s, delay_s)
+    else:
+        df = simulate_batch(params, list(seeds), duration_s, controller=ctrl)
+        rms = df.loc[df["completed"], ["rms_dy_m", "rms_dz_m"]].to_numpy()
+    return RmsComparison(pred.rms_m, rms.mean(axis=0), pred.rms_standard_error(duration_s, len(rms)), len(rms),
+                         duration_s)
+
+
+def _sampled_runs(params, seeds, duration_s, ctrl, sample_time_s, delay_s) -> np.ndarray:
+    """(runs, 2) RMS lateral, vertical offset [m] of the completed runs of a sampled loop."""
+    from ..analysis.equilibrium import solve_equilibrium
+    from ..model.system import HoseModel
+    from ..simulation.simulate import simulate
+    from ..spec.sections import Sensor
+
+    eq = solve_equilibrium(params, model=HoseModel(params))
+    out = []
+    for seed in seeds:
+        p = params.replace(turbulence={"seed": seed})
+        r = simulate(p, duration_s, control=ctrl, equilibrium=eq, sensor=Sensor(delay_s=delay_s),
+                     sample_time_s=sample_time_s)
+        if r.completed:
+            st = r.statistics()
+            out.append((st["rms_dy_m"], st["rms_dz_m"]))
+    return np.array(out).reshape(-1, 2)
