@@ -80,8 +80,8 @@ def _predict(scenario, controller) -> dict:
     f_max = min(F_MAX_HZ, 0.5 / sample) if sample else F_MAX_HZ
     try:
         pr = predict(scenario.params, controller, sample, delay, frequency_hz=np.geomspace(1e-3, f_max, 300))
-    except ParameterError as exc:  # an unstable loop: no stationary response to predict
-        return {"note": f"no linear prediction: {exc}"}
+    except (ParameterError, ValueError, np.linalg.LinAlgError) as exc:  # an unstable loop, a singular solve:
+        return {"note": f"no linear prediction: {exc}"}                # the run stands without it
     return {"rms_m": pr.as_dict(), "sample_time_s": sample, "delay_s": delay,
             "frequency_hz": pr.frequency_hz.tolist(), "lateral_m2_hz": pr.psd_m2_hz[0].tolist(),
             "vertical_m2_hz": pr.psd_m2_hz[1].tolist()}
