@@ -11,6 +11,9 @@ from matplotlib.figure import Figure
 
 from .base import _grid, new_figure
 
+#: The Nyquist plot shows L where |L| is below this [-]: the view is the region about -1.
+NYQUIST_CLIP = 10.0
+
 
 def plot_loops(w_rad_s: Mapping[str, np.ndarray], response: Mapping[str, np.ndarray],
                margins: Mapping[str, Mapping], title: str = "") -> Figure:
@@ -49,8 +52,10 @@ def plot_loops(w_rad_s: Mapping[str, np.ndarray], response: Mapping[str, np.ndar
             if np.isfinite(m["gain_crossover_rad_s"]):
                 ax.axvline(m["gain_crossover_rad_s"], color="C3", lw=0.8, ls="--")
             _grid(ax)
-        ax_n.plot(L.real, L.imag, lw=1.1)
-        ax_n.plot(L.real, -L.imag, lw=0.8, ls=":", color="C0")
+        near = np.where(np.abs(L) < NYQUIST_CLIP, L, np.nan)  # the part near -1, no chords to far points
+        ax_n.plot(near.real, near.imag, lw=1.1, label="w > 0")
+        ax_n.plot(near.real, -near.imag, lw=0.8, ls=":", color="C0", label="w < 0")
+        ax_n.legend(fontsize=7, loc="upper right")
         ax_n.plot([-1.0], [0.0], "r+", ms=10)
         circle = np.exp(1j * np.linspace(0.0, 2.0 * np.pi, 200))
         ax_n.plot(circle.real, circle.imag, color="0.6", lw=0.6)
