@@ -324,7 +324,9 @@ def _margins_html(out, lin, st: _Steps) -> str:
             for label, ms in found.items() for ch, m in ms.items()]
     out.csv(pd.DataFrame(rows, columns=["loop", "channel", "gain_margin_db", "phase_margin_deg",
                                         "gain_crossover_rad_s", "delay_margin_ms"]), "table3_margins.csv")
-    out.record("margins", {label: {ch: m.as_dict() for ch, m in ms.items()} for label, ms in found.items()})
+    # report.json holds finite numbers only: an infinite gain margin (no phase crossover) is left out
+    out.record("margins", {label: {ch: {k: v for k, v in m.as_dict().items() if np.isfinite(v)}
+                                   for ch, m in ms.items()} for label, ms in found.items()})
     loops = {ch: channel_loop(lin.model, ctrls["PID"], ch) for ch in CHANNELS}
     w = {ch: frequency_grid(loops[ch])[::10] for ch in CHANNELS}
     out.figure(plot_loops(w, {ch: response(loops[ch], w[ch]) for ch in CHANNELS},
