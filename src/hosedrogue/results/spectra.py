@@ -15,8 +15,11 @@ import math
 
 import numpy as np
 
-__all__ = ["F_MAX_HZ", "MIN_SAMPLES", "SEGMENT_S", "displacement_spectrum", "spectrum_figure"]
+__all__ = ["F_MAX_HZ", "MIN_SAMPLES", "PREDICTION_KEY", "SEGMENT_S", "displacement_spectrum", "spectrum_figure"]
 
+#: The key of a run's ``meta`` that holds the covariance analysis's prediction
+#: (:func:`hosedrogue.scenarios.spectrum.spectrum_prediction`); run.json puts it in ``"spectrum"``.
+PREDICTION_KEY = "spectrum_prediction"
 #: Segment length of Welch's estimate [s]: resolution 0.025 Hz, finer than the half-power bandwidth
 #: of the hose's least damped modes (0.03 Hz for the paper's lateral mode, 0.245 Hz, damping 0.07).
 SEGMENT_S = 40.0
@@ -95,7 +98,7 @@ def spectrum_figure(result, title: str = ""):
     """
     from ..plotting.loop import plot_psd
 
-    spec = displacement_spectrum(result, result.meta.get("spectrum_prediction"))
+    spec = displacement_spectrum(result, result.meta.get(PREDICTION_KEY))
     if spec is None:
         return None
     pred = spec.get("predicted")

@@ -22,6 +22,7 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..errors import ParameterError
 from ..model.system import HoseModel
 from ..results.run import RunResult
+from ..results.spectra import PREDICTION_KEY
 from ..simulation import simulate
 from . import Scenario
 from .spectrum import spectrum_prediction
@@ -189,7 +190,7 @@ def run(scenario: Scenario) -> RunResult:
     extra = {}
     if scenario.engagement is None:
         result = _run_fixed_length(scenario)
-        extra["spectrum_prediction"] = spectrum_prediction(scenario, drogue_controller(scenario))
+        extra[PREDICTION_KEY] = spectrum_prediction(scenario, drogue_controller(scenario))
     else:
         result = _run_engagement(scenario)
     return dataclasses.replace(result, meta={**result.meta, **_meta(scenario), **extra})
