@@ -449,6 +449,18 @@ def test_paper_pid_reproduces_table3_on_the_papers_models(table3):
             assert ours == pytest.approx(TABLE3[("PID", ch)][key], rel=0.06), (ch, key)
 
 
+def test_table3_section_shows_the_loop_margins(table3):
+    """Beside Table 3: each loop's margins (the numbers of hosedrogue.controllers.margins, checked
+    there) in report.json and a table, and the PID's Bode and Nyquist figure. Sampling the PID at
+    10 ms adds half a sample of lag at its crossover, so it must lower its delay margin."""
+    headline, page = table3
+    m = headline["margins"]
+    assert set(m) == {"PID", "PID sampled 10 ms", "LQR"}
+    for ch in ("lateral", "vertical"):
+        assert m["PID"][ch]["stable"] and m["PID"][ch]["delay_margin_s"] > m["PID sampled 10 ms"][ch]["delay_margin_s"]
+    assert 'id="table-3-margins"' in page and "table3_pid_loops.png" in page
+
+
 def test_papers_lqr_reproduces_table3_lateral_row_on_the_papers_models(table3):
     """The report's "LQR" is the paper's LQR read on the balanced states: on the paper's models
     its lateral rise and settling times are the paper's (0.836 / 1.485 s vs 0.839 / 1.49 s). 3 %:

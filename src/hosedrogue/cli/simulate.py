@@ -102,6 +102,11 @@ def run(args) -> int:
         for p in paths:
             print(f"wrote {p}")
         print(result.headline())
+        spectrum = result.run_document().get("spectrum")
+        if spectrum and "predicted" in spectrum:
+            pred = spectrum["predicted"]["rms_m"]
+            print(f"linear prediction (covariance analysis) of the RMS offset: lateral {pred['lateral']:.4g} m, "
+                  f"vertical {pred['vertical']:.4g} m")
         if result.verification is not None:
             print(verification_text(result.verification))
     if not result.completed:
@@ -116,6 +121,7 @@ def _write(result, out: Path, args) -> list:
     created = not out.exists()
     try:
         paths = write(result, out, formats=("csv", args.format))
+        paths += write_spectrum(result, out)
         if args.view:
             from ..viewer import ViewRun, write_view
 
@@ -207,3 +213,26 @@ def _ensemble(args, scenario, out: Path) -> int:
               file=sys.stderr)
         return EXIT_INCOMPLETE
     return 0
+
+
+def write_spectrum(result, out: Path) -> list:
+    """Write ``spectrum.png`` (the drogue offset's PSD beside its linear prediction,
+    :func:`hosedrogue.results.spectra.spectrum_figure`) when the run has a spectrum.
+
+    Parameters
+    ----------
+    result : RunResult
+        The run.
+    out : Path
+        Its output folder.
+
+    Returns
+    -------
+    list of Path
+        The file written, or none.
+    """
+    from ..plotting.base import save_figure
+    from ..results.spectra import spectrum_figure
+
+    fig = spectrum_figure(result)
+    return [] if fig is None else [save_figure(fig, out / "spectrum.png")]

@@ -137,14 +137,18 @@ class RunResult:
     FIGURE = "displacement.png"
 
     def run_document(self) -> dict[str, Any]:
-        """The content of the run's ``run.json``: :func:`run_header`, then what was run (``meta``).
+        """The content of the run's ``run.json``: :func:`run_header`, the ``statistics``, the ``spectrum``
+        (:func:`hosedrogue.results.spectra.displacement_spectrum`), then what was run (``meta``).
 
         Returns
         -------
         dict
         """
-        return {**run_header(self), "statistics": _statistics_document(self),
-                "verification": verification_document(self), **self.meta}
+        from .spectra import PREDICTION_KEY, displacement_spectrum
+
+        meta = {k: v for k, v in self.meta.items() if k != PREDICTION_KEY}
+        return {**run_header(self), "statistics": _statistics_document(self), "spectrum": displacement_spectrum(
+            self, self.meta.get(PREDICTION_KEY)), "verification": verification_document(self), **meta}
 
     def plot(self, **kwargs):
         """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
