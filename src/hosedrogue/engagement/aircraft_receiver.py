@@ -86,6 +86,13 @@ class AircraftReceiver:
         v = c_nb @ (x[3:6] + np.cross(x[10:13], self.mount)) - np.array([self.V0, 0.0, 0.0])
         return p, v
 
+    def euler(self, x: np.ndarray) -> np.ndarray:
+        """The inner loop's Euler-angle state of x: north, east and altitude the probe tip's (NED, inertial)."""
+        xe = euler_state(x)
+        tip = x[0:3] + dcm_body_from_ned(x[6:10]).T @ self.mount
+        xe[9:12] = tip[0], tip[1], -tip[2]
+        return xe
+
     def wind_ned(self, x: np.ndarray, t: float) -> np.ndarray:
         """The wind at the centre of gravity [m/s] (NED: the tanker's S_p while it flies level, north)."""
         wx, wy, wz = still_air_velocity(x[0] - self.V0 * t, x[1], x[2] + self.altitude, t, self.env, self.gust)
@@ -113,7 +120,8 @@ class AircraftReceiver:
             self._design = self._trim(np.asarray(tip_m, dtype=np.float64), closure_m_s)
         x0, loop, ref = self._design
         self.x, self.loop = x0.copy(), loop
-        self.xe0, self.r = ref.copy(), np.array(x0[0:3])
+        self.xe0 = ref.copy()
+        self.r = np.array([ref[9], ref[10], -ref[11]])  # the tip's reference point, NED
         self.t, self.cmd0 = 0.0, np.array([closure_m_s, 0.0, 0.0])
         self.times, self.states, self.controls = [0.0], [self.x.copy()], [loop.trim.controls.copy()]
 
@@ -137,8 +145,8 @@ class AircraftReceiver:
         x[0:3] = cg[0], cg[1], cg[2] - self.altitude
         x[6:10] = q
         x[3:6] = c_bn @ np.array([self.V0 + closure, 0.0, 0.0])
-        loop = design_inner_loop(t, self.h)
-        return x, loop, euler_state(x)
+        loop = design_inner_loop(t, self.h, self.mount)
+        return x, loop, self.euler(x)
 
     # --- flying ------------------------------------------------------------------------------
     def reference(self, cmd: np.ndarray) -> np.ndarray:
@@ -159,7 +167,7 @@ class AircraftReceiver:
         h = self.h
         vel = cmd + np.array([self.V0, 0.0, 0.0])
         for _ in range(int(round(duration_s / h))):
-            u = self.loop.controls(euler_state(self.x), self.reference(cmd))
+            u = self.loop.controls(self.euler(self.x), self.reference(cmd))
             t, x = self.t, self.x
 
             def f(tt, xx):
