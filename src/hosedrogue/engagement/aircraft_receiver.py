@@ -9,7 +9,8 @@ record, ``uniform`` or ``frozen`` as the scenario says) - and the probe tip's pa
 then the cubic in time through the tip's position and velocity at both ends (cubic Hermite; the
 tip is the mount point ``probe_mount_m`` moved with the airframe), fed to the compiled engagement
 as the FMU's probe path is (``EP_FEED``). The bow wave's source keeps its offset from the tip in
-body axes, turned with the aircraft's attitude at the start of each step.
+body axes, turned with the aircraft's attitude: held over each step at the mean of the offsets at
+its two ends (second order in the step).
 
 The coupling is one way: the probe's load on the drogue is not applied to the aircraft (a
 1.5 kN probe load on the F-16's 91 kN weight is 1.6 % of it).
@@ -101,7 +102,7 @@ class AircraftReceiver:
     # --- the start ---------------------------------------------------------------------------
     def start(self, tip_m: np.ndarray, closure_m_s: float, env: np.ndarray, gust: np.ndarray, gravity: float) -> None:
         """Trim the aircraft at its start: the probe tip at ``tip_m`` in S_p, moving forward at the
-        closure speed, in the steady air there (the gust-free air: free stream and wake), and
+        closure speed, at its own altitude (the tanker's less its centre of gravity's depth in S_p), in the steady air there (the gust-free air: free stream and wake), and
         design the inner loop about that trim (once: the trim does not depend on the seed).
 
         Parameters
@@ -129,13 +130,13 @@ class AircraftReceiver:
         """(x0, inner loop, reference Euler state) of the start (see :meth:`start`)."""
         self.gust = np.zeros_like(self.gust)  # the steady air at the start
         cg = tip - self.mount
-        for _ in range(2):  # the centre of gravity depends on the attitude the trim finds
+        for _ in range(3):  # the centre of gravity depends on the attitude the trim finds (1 m, then 1e-6 m)
             x = np.zeros(14)
             x[0:3] = cg[0], cg[1], cg[2] - self.altitude
             wind = self.wind_ned(x, 0.0)
             v_air = np.array([self.V0 + closure, 0.0, 0.0]) - wind
             airspeed = float(np.linalg.norm(v_air))
-            t = trim(self.model, airspeed, self.altitude, climb_deg=math.degrees(math.asin(-v_air[2] / airspeed)),
+            t = trim(self.model, airspeed, self.altitude - cg[2], climb_deg=math.degrees(math.asin(-v_air[2] / airspeed)),
                      gravity=self.g)
             psi = math.atan2(v_air[1], v_air[0])
             q = quaternion_from_euler(t.bank_rad, t.theta_rad, psi)
@@ -222,20 +223,28 @@ class AircraftEngagementStepper(EngagementStepper):
         self.aircraft.start(tip, float(ep[LY.EP_VC]), self.model.env, self.model.gust_values,
                             float(self.model.ps[LY.PS_G]))
 
+    def _on_chain(self) -> None:
+        super()._on_chain()
+        # the recorded outputs read the tip from the receiver's states, which follow the fed path
+        # (RK4 integrates its quadratic velocity exactly), not from the record's copy of the
+        # parameters, whose fed cubic is that of the step the record began in
+        self._rec_ep[LY.EP_FEED] = 0.0
+
     def _advance(self) -> None:
         ac = self.aircraft
         h = min(self.spc, self.total_steps - self.step_index) * self.h
         t0 = self.t_s
         p0, v0 = ac.tip(ac.x, t0)
         ep = self.run.ep
-        if ep[LY.EP_BW] != LY.BW_OFF:
-            ep[[LY.EP_BW_DX, LY.EP_BW_DY, LY.EP_BW_DZ]] = dcm_body_from_ned(ac.x[6:10]).T @ self._bow_body
+        bow0 = dcm_body_from_ned(ac.x[6:10]).T @ self._bow_body
         try:
             ac.fly(self._commands[list(self._slots["receiver"])], h)
         except (FloatingPointError, ValueError, ZeroDivisionError, ParameterError) as exc:
             self._finish(False, f"stopped at t = {t0:.4f} s: the receiver aircraft: {exc}")
             return
         p1, v1 = ac.tip(ac.x, ac.t)
+        if ep[LY.EP_BW] != LY.BW_OFF:  # held over the step at the mean of its ends: second order in the step
+            ep[[LY.EP_BW_DX, LY.EP_BW_DY, LY.EP_BW_DZ]] = 0.5 * (bow0 + dcm_body_from_ned(ac.x[6:10]).T @ self._bow_body)
         a, j = hermite_cubic(p0, v0, p1, v1, h)
         self.move_receiver(v0, a, j)
         super()._advance()
