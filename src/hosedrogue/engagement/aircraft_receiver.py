@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from ..aircraft.autopilot import InnerLoop, design_inner_loop
+from ..aircraft.autopilot import design_inner_loop
 from ..aircraft.dynamics import derivative
 from ..aircraft.linear import euler_state
 from ..aircraft.model_file import load_model
@@ -204,7 +204,20 @@ class AircraftReceiver:
 class AircraftEngagementStepper(EngagementStepper):
     """:class:`~hosedrogue.engagement.stepper.EngagementStepper` whose probe is the aircraft's (see
     the module's docstring): :meth:`step`'s ``receiver`` command is the inner loop's velocity
-    command. Takes the stepper's arguments; ``receiver`` must have a ``model``."""
+    command.
+
+    Parameters
+    ----------
+    params : Params
+        Hose, drogue, flight and numerics (the flight straight and level).
+    duration_s : float
+        Length of the run [s].
+    receiver : Receiver
+        With a ``model``; ``aircraft_step_s`` [s] must divide the control step.
+    **options
+        The other keyword arguments of the stepper (``control_step_s``, ``reel``, ``probe``,
+        ``bow_wave``, ...), not ``receiver_pass_through``: the aircraft feeds the probe's path.
+    """
 
     def __init__(self, params: Params, duration_s: float, *, receiver: Receiver, **options):
         self.aircraft = AircraftReceiver(receiver, params)
