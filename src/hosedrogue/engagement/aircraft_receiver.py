@@ -37,6 +37,12 @@ from ..spec.sections import Receiver
 from .stepper import EngagementStepper
 
 
+#: The starts trimmed in this process (the trim and the inner loop's design, about a second of
+#: CPU), by everything they depend on: a campaign's runs differ only in their gusts, which the
+#: start leaves out, so they share one.
+_STARTS: dict = {}
+
+
 def hermite_cubic(p0, v0, p1, v1, h: float):
     """The cubic p(s) = p0 + v0 s + a s^2 / 2 + j s^3 / 6 through (p0, v0) at s = 0 and (p1, v1)
     at s = h: its acceleration a at 0 and its jerk j.
@@ -73,6 +79,7 @@ class AircraftReceiver:
             raise ParameterError(f"receiver.model = {receiver.model!r}: the aircraft receiver flies behind a tanker "
                                  "in straight and level flight; remove [tanker_motion]")
         self.model = dataclasses.replace(load_model(receiver.model), atmosphere="icao")
+        self.source = receiver.model
         self.mount = np.asarray(receiver.probe_mount_m, dtype=np.float64)
         self.h = receiver.aircraft_step_s
         self.vmax = np.asarray(receiver.max_speed_m_s, dtype=np.float64)
@@ -118,7 +125,15 @@ class AircraftReceiver:
         """
         self.env, self.gust, self.g = env, gust, gravity
         if self._design is None:
-            self._design = self._trim(np.asarray(tip_m, dtype=np.float64), closure_m_s)
+            tip = np.asarray(tip_m, dtype=np.float64)
+            key = (self.source, tuple(self.mount), self.h, self.V0, self.altitude, tuple(tip), float(closure_m_s),
+                   float(gravity), env.tobytes())
+            if key not in _STARTS:
+                if len(_STARTS) >= 8:
+                    _STARTS.pop(next(iter(_STARTS)))
+                _STARTS[key] = self._trim(tip, closure_m_s)
+            self._design = _STARTS[key]
+            self.gust = gust
         x0, loop, ref = self._design
         self.x, self.loop = x0.copy(), loop
         self.xe0 = ref.copy()
