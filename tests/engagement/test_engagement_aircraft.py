@@ -132,3 +132,23 @@ def test_bad_receiver_fields_are_one_line_errors(tmp_path):
     turning = SCENARIO.params.replace(tanker_motion={"bank_deg": 25.0})
     with pytest.raises(ParameterError, match=r"^receiver.model = 'f16': .*straight and level"):
         AircraftReceiver(ENG.receiver, turning)
+
+
+def test_the_aircraft_flies_in_the_hose_turbulence(coupled):
+    """approach-moderate's gusts are uniform: every point sees the tow point's gust. The aircraft's
+    wind less its steady part is the gust the hose's air carries at the same time (to round-off),
+    and moderate turbulence moves it by more than 0.5 m/s over the run."""
+    from hosedrogue.model.chain_loads import still_air_velocity
+
+    st = coupled[0.02]
+    ac, model = st.aircraft, st.model
+    calm = np.zeros_like(model.gust_values)
+    gusts = []
+    for x, t in zip(ac.flight()["state"][::10], ac.flight()["t_s"][::10]):
+        steady = still_air_velocity(x[0] - ac.V0 * t, x[1], x[2] + ac.altitude, t, model.env, calm)
+        hose = np.subtract(still_air_velocity(-3.0, 0.5, 4.0, t, model.env, model.gust_values),
+                           still_air_velocity(-3.0, 0.5, 4.0, t, model.env, calm))
+        gust = ac.wind_ned(x, t) - np.array(steady) - [ac.V0, 0.0, 0.0]
+        assert np.abs(gust - hose).max() < 1e-12
+        gusts.append(gust)
+    assert np.ptp(np.array(gusts), axis=0).max() > 0.5

@@ -12,8 +12,8 @@ as the FMU's probe path is (``EP_FEED``). The bow wave's source keeps its offset
 body axes, turned with the aircraft's attitude: held over each step at the mean of the offsets at
 its two ends (second order in the step).
 
-The coupling is one way: the probe's load on the drogue is not applied to the aircraft (a
-1.5 kN probe load on the F-16's 91 kN weight is 1.6 % of it).
+The coupling is one way: the probe's load on the drogue is not applied to the aircraft (the
+largest of 100 approaches in moderate turbulence, 1738 N, is 1.9 % of the F-16's 91.2 kN weight).
 """
 
 from __future__ import annotations
