@@ -109,8 +109,9 @@ class AircraftReceiver:
     # --- the start ---------------------------------------------------------------------------
     def start(self, tip_m: np.ndarray, closure_m_s: float, env: np.ndarray, gust: np.ndarray, gravity: float) -> None:
         """Trim the aircraft at its start: the probe tip at ``tip_m`` in S_p, moving forward at the
-        closure speed, at its own altitude (the tanker's less its centre of gravity's depth in S_p), in the steady air there (the gust-free air: free stream and wake), and
-        design the inner loop about that trim (once: the trim does not depend on the seed).
+        closure speed, at its own altitude (the tanker's less its centre of gravity's depth in
+        S_p), in the steady air there (the gust-free air: free stream and wake), and design the
+        inner loop about that trim (once per process and start: the trim does not depend on the seed).
 
         Parameters
         ----------
