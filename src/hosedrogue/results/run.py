@@ -292,14 +292,12 @@ class EngagementResult(WithSurfaces, RunResult):
     step_loads: np.ndarray | None = None
     #: elastic links: per output time, every link's tension [N] (n,), exit link first (None for rigid links)
     link_tensions_n: list | None = None
-    #: the hose's states and charts (``engagement.result._padded_states``): (N, 4 n_max) [q, qd] [rad,
-    #: rad/s], NaN beyond a row's links, and (N, n_max) each link's chart (0 standard, 1 alternative)
+    #: (N, 4 n_max) hose states [q, qd] [rad, rad/s], NaN beyond a row's links, and (N, n_max) charts
     hose_states: tuple | None = None
 
     def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
-        """The hose's states (N, 4 n_max) [rad, rad/s] with :func:`state_names` of the most links of
-        the run (NaN beyond a row's links; the number of links is the ``links`` column) and each
-        link's chart, for the MATLAB file."""
+        """The hose's states with :func:`state_names` of the run's most links (NaN beyond a row's
+        ``links``) and each link's chart (0 standard, 1 alternative), for the MATLAB file."""
         if self.hose_states is None:
             return {}
         x, chart = self.hose_states
