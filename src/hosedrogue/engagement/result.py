@@ -16,7 +16,7 @@ from ..model import drogue_actuator as DA, layout as LY
 from ..results.surfaces import surface_fields
 from ..model.engagement import chain as EC, outputs as EO
 from ..spec.params import Params
-from ..results.run import EngagementResult
+from ..results.run import EngagementResult, state_names
 from .chain import Chain, hose_mass_in_air
 
 #: Names of the energy terms, in the order of the columns of the energy kernel and the work states.
@@ -188,11 +188,23 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
     return cols, joints, jvel
 
 
-def _padded_states(pieces: list) -> tuple[np.ndarray, np.ndarray]:
-    """The hose's states ``[q, qd]`` of every segment, (N, 4 n_max) [rad, rad/s] with n_max the most
-    links of the run, a row of fewer links NaN beyond them (its q in columns 0..2n, its rates from
-    2 n_max); and (N, n_max) each link's chart (0 standard angles, 1 the alternative chart, NaN
-    beyond the row's links)."""
+def hose_state_matrices(pieces: list) -> dict:
+    """The MATLAB file's ``states`` and ``charts`` of an engagement from its segments' (hose states,
+    charts): ``states`` (N, 4 n_max) [q, qd] [rad, rad/s] named by :func:`state_names` with n_max the
+    most links of the run, a row of fewer links NaN beyond them (its q in columns 0..2n, its rates
+    from 2 n_max); ``charts`` (N, n_max) each link's chart (0 standard angles, 1 the alternative
+    chart, NaN beyond the row's links).
+
+    Parameters
+    ----------
+    pieces : list of (numpy.ndarray, numpy.ndarray)
+        Per segment its hose states (k, 4n) and its links' charts (n,).
+
+    Returns
+    -------
+    dict
+        name -> (array, column names).
+    """
     n_max = max(z.shape[1] // 4 for z, _ in pieces)
     rows = sum(z.shape[0] for z, _ in pieces)
     x, chart = np.full((rows, 4 * n_max), np.nan), np.full((rows, n_max), np.nan)
@@ -203,7 +215,7 @@ def _padded_states(pieces: list) -> tuple[np.ndarray, np.ndarray]:
         x[i:i + k, 2 * n_max:2 * n_max + 2 * n] = z[:, 2 * n:]
         chart[i:i + k, :n] = ch
         i += k
-    return x, chart
+    return {"states": (x, state_names(n_max)), "charts": (chart, [f"chart_{k}" for k in range(1, n_max + 1)])}
 
 
 def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float) -> dict:
@@ -297,7 +309,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         jvel_all.extend(list(jvel))
     link_tensions = [t for seg in cols.pop("links_t") for t in seg] if params.hose.elastic else None
     cols.pop("links_t", None)
-    hose_states = _padded_states([s for seg in cols.pop("hose_states") for s in seg])
+    hose_states = hose_state_matrices([s for seg in cols.pop("hose_states") for s in seg])
     cat = {k: np.concatenate(v) for k, v in cols.items()}
     surfaces = {} if "defl" not in cat else surface_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
