@@ -1,13 +1,13 @@
 """Pages generated from the code when the build starts, so that they cannot drift from it.
 
-* ``scenario-reference.md``: every table and key of a scenario file with its unit, default,
-  range and meaning (:func:`hosedrogue.scenarios.reference.scenario_reference_markdown`, from the field
-  metadata);
 * ``cli.md``: every command of ``hosedrogue`` with its purpose and its ``--help``
   (:func:`hosedrogue.cli.build_parser`).
 
-Both are written to ``hd_generated_dir`` (under ``out/``, not the source tree) and included by
-the pages of the same name (``{include}``), which Sphinx then reads again whenever they change.
+The scenario reference is checked in instead (docs/scenario-reference.md, written by ``hosedrogue
+reference --out``; ``tests/package/test_docs.py`` keeps it equal to the code's).
+
+It is written to ``hd_generated_dir`` (under ``out/``, not the source tree) and included by
+the page of the same name (``{include}``), which Sphinx then reads again whenever they change.
 """
 
 from __future__ import annotations
@@ -50,11 +50,8 @@ def _write_if_changed(path: Path, text: str) -> None:
 
 def generate(app) -> None:
     """Write the generated Markdown files (``builder-inited``)."""
-    from hosedrogue.scenarios.reference import scenario_reference_markdown
-
     folder = Path(app.config.hd_generated_dir)
     folder.mkdir(parents=True, exist_ok=True)
-    _write_if_changed(folder / "scenario-reference.md", scenario_reference_markdown())
     _write_if_changed(folder / "cli.md", cli_markdown())
 
 

@@ -364,7 +364,7 @@ BAD_DESIGN_ARGS = [
     (["design", "mpc"], "mpc"),
     (["design", "pid", "--rise-time", "0.1", "0.1", "--settling-time", "0.05", "1"], "--settling-time"),
     (["design", "pid", "--rise-time", "-0.1", "0.1"], "--rise-time"),
-    (["design", "pid", "--overshoot", "0", "4"], "--overshoot"),
+    (["design", "pid", "--overshoot", "-1", "4"], "--overshoot"),
     (["design", "pid", "--overshoot", "120", "4"], "--overshoot"),
     (["design", "pid", "--settling-time", "1"], "--settling-time"),
     (["design", "pid", "--min-damping", "1.5"], "--min-damping"),

@@ -1,6 +1,7 @@
-"""PID tuned to step targets (controllers/pid_tuning.py, ``hosedrogue design pid``): the targets met on
-the paper's plant and on another plant, checked by an independent evaluation of the step; the
-pole placement behind the one-parameter family; the MATLAB file; run.json's controller record."""
+"""PID tuned to step bounds (controllers/pid_tuning.py, ``hosedrogue design pid``): the bounds met on
+the paper's plant and on others (the issue's 24 m hose at 230 m/s, the engineer's wing-pod hose),
+checked by an independent evaluation of the step; the closest design written and marked when
+nothing meets them; the pole placement; the MATLAB file; run.json's controller record."""
 
 import json
 
@@ -24,11 +25,6 @@ from hosedrogue.paper import CHANNELS, TABLE3
 SAME_STEP_TIME = 5e-4
 #: ... and to this [percentage points] in the overshoot (the grid's peak sampling, measured 1.4e-5).
 SAME_STEP_OVERSHOOT_PP = 1e-3
-#: The issue's check: rise and settling time within 10 %, overshoot at most 1 pp above Table 3's.
-CHECK_TIME, CHECK_OVERSHOOT_PP = 0.10, 1.0
-
-#: A different tanker and hose: 20 m of hose at 120 m/s and 6000 m (the paper: 16 m, 150 m/s, 8000 m).
-OTHER_PLANT = ("--airspeed", "120", "--altitude", "6000")
 
 
 def _cli_json(capsys, *argv):
@@ -37,45 +33,70 @@ def _cli_json(capsys, *argv):
     return code, (json.loads(out) if out.strip().startswith("{") else out), err
 
 
-def _assert_meets_table3(d):
+def _assert_within(d, targets=None):
+    """Every design-model figure of ``design pid --json`` within its bound, read by Table 3's own step
+    code (control.step_response on its grid) from the printed gains, within that code's
+    interpolation error SAME_STEP_TIME (the tuner aims SEARCH_MARGIN = 2e-3 inside every bound)."""
+    lat, ver = _plants(d)
+    gains = {ch: PIDGains(d["controller"][ch]["kp_n_per_m"], d["controller"][ch]["ki_n_per_m_s"],
+                          d["controller"][ch]["kd_n_s_per_m"], d["controller"][ch]["n_filter_rad_s"]) for ch in CHANNELS}
+    steps = pid_steps(lat, ver, gains)
     for ch in CHANNELS:
-        ref = TABLE3[("PID", ch)]
-        assert abs(d[ch]["rise_time_s"] / ref["rise_time_s"] - 1.0) <= CHECK_TIME, (ch, d[ch])
-        assert abs(d[ch]["settling_time_s"] / ref["settling_time_s"] - 1.0) <= CHECK_TIME, (ch, d[ch])
-        assert d[ch]["overshoot_pct"] <= ref["overshoot_pct"] + CHECK_OVERSHOOT_PP, (ch, d[ch])
+        ref = (targets or {}).get(ch) or TABLE3[("PID", ch)]
+        m = steps[ch].metrics
+        assert d["controller"][ch]["met"] and d[ch]["rise_time_s"] <= ref["rise_time_s"], (ch, d[ch])
+        assert m.rise_time_s <= ref["rise_time_s"] * (1.0 + SAME_STEP_TIME), (ch, m)
+        assert m.settling_time_s <= ref["settling_time_s"] * (1.0 + SAME_STEP_TIME), (ch, m)
+        assert m.overshoot_pct <= ref["overshoot_pct"] + SAME_STEP_OVERSHOOT_PP, (ch, m)
+        for key in ("rise_time_s", "settling_time_s"):  # the table's figures are the exact step's
+            assert d[ch][key] == pytest.approx(getattr(m, key), rel=SAME_STEP_TIME)
+
+
+def _plants(d):
+    """The design models printed by ``design pid --json`` (its Table 2 form), as transfer functions."""
+    return tuple(control.tf(d["plant"][ch]["num"], d["plant"][ch]["den"]) for ch in CHANNELS)
 
 
 def test_design_pid_meets_table3_on_the_papers_plant(capsys):
-    """The issue's check on the paper's Table 2 models. The step figures printed come from
-    Table 3's own step code (control.step_response on its grid), not from the tuner."""
+    """Table 3's figures as bounds on the paper's Table 2 models: met, checked by Table 3's own step
+    code; the design is the least K_P + K_D N found, here 8 times less than Eq. 33's lateral one."""
     code, d, err = _cli_json(capsys, "design", "pid", "--plant", "paper", "--json")
     assert code == 0, err
     assert d["controller"]["source"] == "tuned" and d["controller"]["met"]
-    _assert_meets_table3(d)
-    for ch in CHANNELS:  # the tuner meets them to its MET, so the independent step agrees closely
-        for key in ("rise_time_s", "settling_time_s"):
-            assert d[ch][key] == pytest.approx(TABLE3[("PID", ch)][key], rel=SAME_STEP_TIME)
-        assert d[ch]["overshoot_pct"] == pytest.approx(TABLE3[("PID", ch)]["overshoot_pct"], abs=SAME_STEP_OVERSHOOT_PP)
-        assert d[ch]["full_order"]["stable"]  # closed around the paper's 6th-order models
+    _assert_within(d)
+    g = PAPER_PID["lateral"]
+    assert d["controller"]["lateral"]["high_frequency_gain_n_per_m"] < g.kp + g.kd * g.n_filter
 
 
-def test_design_pid_meets_table3_on_another_plant(capsys, tmp_path):
-    """The issue's check on another plant: a 20 m hose at 120 m/s, 6000 m. The paper's gains
-    miss the targets there (overshoot far above Table 3's); the tuned gains meet them."""
-    cfg = tmp_path / "hose20.toml"
-    cfg.write_text("[hose]\nlength_m = 20.0\n")
-    code, paper, err = _cli_json(capsys, "design", "pid", "--gains", "paper", "--config", str(cfg), *OTHER_PLANT, "--json")
+def test_design_pid_24m_hose_at_230_m_s_writes_the_mat(capsys, tmp_path):
+    """The issue's check: Table 3's targets on a 24 m hose at 230 m/s, 7600 m (the converged preset):
+    exit 0 and a .mat whose channels are marked as meeting the bounds."""
+    cfg = tmp_path / "hose24.toml"
+    cfg.write_text("[hose]\nlength_m = 24.0\n")
+    out = tmp_path / "pid.mat"
+    code, d, err = _cli_json(capsys, "design", "pid", "--config", "converged", "--config", str(cfg), "--airspeed", "230",
+                             "--altitude", "7600", "--json", "--format", "mat", "--out", str(out))
     assert code == 0, err
-    assert any(paper[ch]["overshoot_pct"] > TABLE3[("PID", ch)]["overshoot_pct"] + CHECK_OVERSHOOT_PP for ch in CHANNELS)
-    code, d, err = _cli_json(capsys, "design", "pid", "--config", str(cfg), *OTHER_PLANT, "--json")
+    assert d["plant"]["flight"]["hose_length_m"] == 24.0
+    _assert_within(d)
+    m = loadmat(out, squeeze_me=False)
+    assert all(bool(m[ch][0, 0]["targets_met"].squeeze()) for ch in CHANNELS)
+
+
+def test_design_pid_the_engineers_wing_pod_hose(capsys, tmp_path):
+    """The issue's engineer: a 22.9 m hose of 3.6 kg/m at 128 m/s, 6100 m, rise at most 1 s, settling
+    at most 2.5 s, overshoot at most 10 %: met."""
+    cfg = tmp_path / "pod.toml"
+    cfg.write_text("[hose]\nlength_m = 22.9\nmass_per_length_kg_m = 3.6\n")
+    bounds = {"rise_time_s": 1.0, "settling_time_s": 2.5, "overshoot_pct": 10.0}
+    code, d, err = _cli_json(capsys, "design", "pid", "--config", str(cfg), "--airspeed", "128", "--altitude", "6100",
+                             "--rise-time", "1", "1", "--settling-time", "2.5", "2.5", "--overshoot", "10", "10", "--json")
     assert code == 0, err
-    assert d["plant"]["flight"]["hose_length_m"] == 20.0 and d["plant"]["flight"]["airspeed_m_s"] == 120.0
-    _assert_meets_table3(d)
+    _assert_within(d, {ch: bounds for ch in CHANNELS})
 
 
 def test_pole_placement_recovers_the_papers_gains():
-    """The four closed-loop poles of the paper's PID loop give back its four gains (Eq. 33): the
-    linear solve behind 'three targets leave a one-parameter family'."""
+    """The four closed-loop poles of the paper's PID loop give back its four gains (Eq. 33)."""
     for ch in CHANNELS:
         plant = channel_models("paper", 2)[CHANNELS.index(ch)]
         g = PAPER_PID[ch]
@@ -98,57 +119,83 @@ def test_modal_step_agrees_with_table3s_step():
         assert m.overshoot_pct == pytest.approx(ref.overshoot_pct, abs=SAME_STEP_OVERSHOOT_PP)
 
 
-def test_the_family_meets_the_targets_and_the_choice_is_best_damped():
-    """Every design the tuner reports as meeting the targets does (independent step), the chosen
-    one is the best damped within the tie, and a second call gives the same bits."""
+def test_modal_settling_sees_an_extremum_between_samples():
+    """The cause of the issue's 'table 1.5446 s, message 0.7542 s': near the old tuner's lateral design
+    for the 22.9 m hose (K_P 223.06), the response pokes out of the 2 % band for a moment near
+    4.46 s, between two samples of the modal grid (the last sample outside it is at 3.74 s). The
+    exact settling time agrees with control.step_response on a 1 ms grid (an independent evaluation)."""
+    plant = control.tf([0.0008392, 0.0153], [1.0, 0.2361, 1.669])
+    g = PIDGains(223.0, 207.29, 114.123, 99.8536)
+    t = np.arange(0.0, 20.0, 1e-3)
+    ref = closed_loop_step(plant, g.transfer_function(), t).metrics
+    m = ModalStep(*plant_polynomials(plant), [g.kp, g.ki, g.kd, g.n_filter]).metrics()
+    assert ref.settling_time_s > 4.0  # the late excursion exists
+    assert m.settling_time_s == pytest.approx(ref.settling_time_s, rel=SAME_STEP_TIME)
+
+
+def test_the_choice_meets_the_bounds_at_least_cost_among_its_neighbours():
+    """The tuned design meets the bounds (independent step) and the same bits come twice; of 200
+    designs around it (gains within +-20 %) none that meets the bounds on the exact step has a
+    smaller K_P + K_D N by more than the search's tolerance (1 %, _DE_TOL)."""
     plant = channel_models("paper", 2)[1]
     target = paper_step_targets()["vertical"]
     tuning = tune_pid_to_step(plant, target)
     again = tune_pid_to_step(plant, target)
-    assert tuning.gains == again.gains
-    fam = tuning.family
-    assert fam.shape[0] > 10  # a curve, not a point
-    rows = fam[np.linspace(0, fam.shape[0] - 1, 4).astype(int)]
-    for row in rows:
-        g = PIDGains(*row[:4])
-        m = pid_steps(plant, plant, {"lateral": g, "vertical": g})["lateral"].metrics
-        assert m.rise_time_s == pytest.approx(target.rise_time_s, rel=SAME_STEP_TIME)
-        assert m.settling_time_s == pytest.approx(target.settling_time_s, rel=SAME_STEP_TIME)
-        assert m.overshoot_pct == pytest.approx(target.overshoot_pct, abs=SAME_STEP_OVERSHOOT_PP)
-    poles = control.feedback(tuning.gains.transfer_function() * plant, 1).poles()
-    zeta = np.min(-poles.real / np.abs(poles))
-    assert zeta == pytest.approx(tuning.min_damping, abs=1e-9)
-    assert zeta >= fam[:, 4].max() - 0.01  # DAMPING_TIE
+    assert tuning.gains == again.gains and tuning.met
+    g = tuning.gains
+    m = pid_steps(plant, plant, {"lateral": g, "vertical": g})["lateral"].metrics
+    assert m.rise_time_s <= target.rise_time_s * (1 + SAME_STEP_TIME)
+    assert m.settling_time_s <= target.settling_time_s * (1 + SAME_STEP_TIME)
+    assert m.overshoot_pct <= target.overshoot_pct + SAME_STEP_OVERSHOOT_PP
+    rng = np.random.default_rng(7)
+    num, den = plant_polynomials(plant)
+    base = np.array([g.kp, g.ki, g.kd, g.n_filter])
+    for _ in range(200):
+        x = base * np.exp(rng.uniform(-0.2, 0.2, 4))
+        st = ModalStep(num, den, x)
+        if not st.stable:
+            continue
+        mm = st.metrics()
+        if (mm.rise_time_s <= target.rise_time_s and mm.settling_time_s <= target.settling_time_s
+                and mm.overshoot_pct <= target.overshoot_pct):
+            assert x[0] + x[2] * x[3] >= 0.99 * tuning.high_frequency_gain_n_per_m
 
 
-def test_min_damping_is_honoured_or_refused():
-    """With a damping floor every closed-loop pole of the design is damped at least that much; a
-    floor no design meeting the targets reaches is refused with the closest design attached."""
+def test_min_damping_is_honoured_or_the_closest_is_given():
+    """With a damping floor every closed-loop pole of the design is damped at least that much; when
+    nothing meets the bounds the closest design comes with what it misses."""
     plant = channel_models("paper", 2)[0]
     target = paper_step_targets()["lateral"]
     tuning = tune_pid_to_step(plant, target, min_damping=0.8)
     poles = control.feedback(tuning.gains.transfer_function() * plant, 1).poles()
-    assert np.min(-poles.real / np.abs(poles)) >= 0.8
-    with pytest.raises(TargetsNotMet) as exc:  # 50 % overshoot settled 2 ms after a 0.068 s rise
-        tune_pid_to_step(plant, StepTargets(0.068, 0.07, 50.0))
-    assert exc.value.closest.residual > 1e-6
+    assert np.min(-poles.real / np.abs(poles)) >= 0.8 and tuning.met
+    slow = control.tf([-1.0, 1.0], [1.0, 2.0, 1.0])  # a zero at +1 rad/s bounds any loop's bandwidth to ~1 rad/s
+    with pytest.raises(TargetsNotMet) as exc:
+        tune_pid_to_step(slow, StepTargets(0.1, 1.0, 5.0))
+    closest = exc.value.closest
+    assert not closest.met and closest.shortfalls() and closest.shortfalls()[0] in str(exc.value)
 
 
 @pytest.mark.parametrize("args,field", [((0.0, 1.0, 4.0), "rise_time_s"), ((0.1, 0.1, 4.0), "settling_time_s"),
-                                        ((0.1, 1.0, 0.0), "overshoot_pct"), ((0.1, 1.0, float("nan")), "overshoot_pct")])
+                                        ((0.1, 1.0, -1.0), "overshoot_pct"), ((0.1, 1.0, 100.0), "overshoot_pct"), ((0.1, 1.0, float("nan")), "overshoot_pct")])
 def test_step_targets_validate(args, field):
     with pytest.raises(ValueError, match=field):
         StepTargets(*args)
 
 
-def test_unmeetable_targets_exit_3_nothing_written(capsys, tmp_path):
+def test_unmeetable_bounds_exit_3_the_closest_written_and_marked(capsys, tmp_path):
+    """On this model's 6th-order reduction no PID meets Table 3's lateral bounds: exit 3, one line on
+    stderr naming the channel and the figure missed with the same numbers as the JSON's table, and
+    the closest design written, marked targets_met = false."""
     out = tmp_path / "pid.mat"
-    code, d, err = _cli_json(capsys, "design", "pid", "--plant", "paper", "--rise-time", "0.068", "0.076",
-                             "--settling-time", "0.07", "1.31", "--overshoot", "50", "4.32", "--json",
+    code, d, err = _cli_json(capsys, "design", "pid", "--order", "6", "--json",
                              "--format", "mat", "--out", str(out))
-    assert code == 3 and not out.exists()
-    assert len(err.strip().splitlines()) == 1 and "targets not met" in err and "lateral" in err
+    assert code == 3 and out.exists()
+    assert len(err.strip().splitlines()) == 1 and "no design meets the bounds" in err and "lateral" in err
     assert d["controller"]["met"] is False and d["controller"]["lateral"]["met"] is False
+    assert f"settling {d['lateral']['settling_time_s']:.4g} s" in err
+    m = loadmat(out, squeeze_me=False)
+    assert not bool(m["lateral"][0, 0]["targets_met"].squeeze())
 
 
 def _cellstrs(a) -> list[str]:
@@ -226,20 +273,6 @@ def test_run_json_records_the_controller(tmp_path):
     assert rec["type"] == "lqr" and rec["design"] == "balanced"
     assert np.allclose(rec["gain_K"], design.gain, rtol=1e-9)
     assert np.allclose(rec["observer_gain_L"], design.observer_gain, rtol=1e-9)
-
-
-def test_the_family_passes_through_the_papers_lateral_design():
-    """From Table 3's printed lateral figures the tuner's family, read at the paper's N, gives back
-    Eq. 33's lateral gains: within 2 %. Eq. 33's own step misses Table 3's printed rise time by
-    0.4 % (0.0677 against 0.068 s: the paper prints two digits), and meeting the printed figure moves
-    the gains at that N by 1.1 % (measured, K_I)."""
-    tuning = tune_pid_to_step(channel_models("paper", 2)[0], paper_step_targets()["lateral"])
-    fam = tuning.family
-    assert np.all(np.diff(fam[:, 3]) > 0) or np.all(np.diff(fam[:, 3]) < 0)  # one branch, N monotone along it
-    fam = fam[np.argsort(fam[:, 3])]
-    g = PAPER_PID["lateral"]
-    at = [np.exp(np.interp(np.log(g.n_filter), np.log(fam[:, 3]), np.log(fam[:, j]))) for j in range(3)]
-    assert at == pytest.approx([g.kp, g.ki, g.kd], rel=0.02)
 
 
 def test_full_order_check_names_the_unstable_channel():

@@ -80,13 +80,14 @@ def test_stacking_and_splitting_the_joints_are_inverse(engaged):
 
 def test_write_adds_the_hose_file_and_keeps_the_others(fixed, tmp_path):
     """write() adds hose.npz after run.json; the time series and run.json are what they were
-    (the same text as to_csv and run_document give)."""
+    (the same text as to_csv and run_document give; run.json strict, an infinity as null)."""
     paths = hd.write(fixed, tmp_path / "run", plot=False)
     assert [p.name for p in paths] == ["timeseries.csv", "run.json", "hose.npz"]
     fixed.to_csv(tmp_path / "alone.csv")
     assert (tmp_path / "run" / "timeseries.csv").read_bytes() == (tmp_path / "alone.csv").read_bytes()
-    assert json.loads((tmp_path / "run" / "run.json").read_text()) == json.loads(
-        json.dumps(fixed.run_document(), default=float))
+    from hosedrogue.jsonio import dumps
+
+    assert json.loads((tmp_path / "run" / "run.json").read_text()) == json.loads(dumps(fixed.run_document()))
 
 
 def test_a_folder_reads_as_the_result_it_was_written_from(engaged, folders):

@@ -3,9 +3,8 @@ LQR, on a reduced model; the step metrics, the full-order check and the MATLAB f
 
 from __future__ import annotations
 
-import json
-
 from ..errors import ParameterError
+from ..jsonio import dumps
 from .options import EXIT_INCOMPLETE, add_flight_options, bounded_int, finite_float, params_from_args
 
 NAME = "design"
@@ -22,19 +21,19 @@ def add_parser(sub) -> None:
     sub : argparse._SubParsersAction
         The subparsers object of the ``hosedrogue`` parser.
     """
-    s = sub.add_parser(NAME, help="tune a PID to step targets (or use the paper's) or design the paper's LQR, "
+    s = sub.add_parser(NAME, help="tune a PID to step bounds (or use the paper's) or design the paper's LQR, "
                                   "on a reduced model, with step metrics",
                        description="Design a controller on a reduced model of each channel (lateral u_hor [N] -> "
                                    "P_ny [m], vertical u_ver [N] -> P_nz [m]) and print it with the unit reference "
                                    "step's rise time (10-90 %), settling time (2 %) and overshoot per channel, on the "
-                                   "design model and on the full-order model. PID (default 'tuned'): gains tuned so "
-                                   "that each channel's step meets the targets, Table 3's PID rows unless given "
-                                   "(docs/tuning.md: a global search, then the family of gains meeting the targets "
-                                   "followed and its best damped member taken); '--gains paper': the paper's Eq. 33 "
-                                   "gains. LQR 'balanced' (default): the paper's Q weighs the balanced states of "
+                                   "design model and on the full-order model. PID (default 'tuned'): the gains of least "
+                                   "high-frequency gain K_P + K_D N whose step rises, settles and overshoots at most "
+                                   "the targets (bounds; Table 3's PID rows unless given) and, with --min-damping, "
+                                   "whose closed-loop poles are damped at least that much (docs/tuning.md: a global "
+                                   "search on the exact step); '--gains paper': the paper's Eq. 33 gains. LQR 'balanced' (default): the paper's Q weighs the balanced states of "
                                    "each channel, u = -K x, prefilter for unit DC gain, Kalman observer; 'integral': "
-                                   "Q weighs the offsets and their integrals (Eq. 34). Exit 3 when the targets "
-                                   "cannot be met (the closest design is printed, no file written).")
+                                   "Q weighs the offsets and their integrals (Eq. 34). Exit 3 when no design meets "
+                                   "the bounds: the closest one is printed and written, marked as not meeting them.")
     s.add_argument("controller", choices=("pid", "lqr"), help="pid or lqr")
     s.add_argument("--plant", choices=("paper", "model"), default="model",
                    help="design model: 'paper' = the paper's Table 2 models (flight options not allowed), "
@@ -53,7 +52,7 @@ def add_parser(sub) -> None:
                    help="LQR force weights [1/N^2], the diagonal of R for u_hor, u_ver "
                         "(default the paper's 0.4 0.5)")
     s.add_argument("--gains", choices=("tuned", "paper"), default="tuned",
-                   help="PID gains: 'tuned' to the step targets (default) or 'paper' (Eq. 33, designed on the paper's "
+                   help="PID gains: 'tuned' to the step bounds (default) or 'paper' (Eq. 33, designed on the paper's "
                         "Table 2 models)")
     from ..paper import CHANNELS, TABLE3
 
@@ -61,21 +60,23 @@ def add_parser(sub) -> None:
         return " ".join(f"{TABLE3[('PID', ch)][key]:g}" for ch in CHANNELS)
 
     s.add_argument("--rise-time", metavar="S", nargs=2, type=finite_float("--rise-time", 1e-4, 1e4, "s"),
-                   help=f"PID targets: 10-90 %% rise time [s], lateral then vertical (default Table 3's "
+                   help=f"PID bounds: largest 10-90 %% rise time [s], lateral then vertical (default Table 3's "
                         f"{table3('rise_time_s')})")
     s.add_argument("--settling-time", metavar="S", nargs=2, type=finite_float("--settling-time", 1e-4, 1e5, "s"),
-                   help=f"PID targets: 2 %% settling time [s], lateral then vertical, each above its rise time "
+                   help=f"PID bounds: largest 2 %% settling time [s], lateral then vertical, each above its rise time "
                         f"(default Table 3's {table3('settling_time_s')})")
-    s.add_argument("--overshoot", metavar="PCT", nargs=2, type=finite_float("--overshoot", 0.01, 99.0, "%"),
-                   help=f"PID targets: overshoot [%%] of the step, lateral then vertical, 0.01-99 (default Table 3's "
+    s.add_argument("--overshoot", metavar="PCT", nargs=2, type=finite_float("--overshoot", 0.0, 99.0, "%"),
+                   help=f"PID bounds: largest overshoot [%%] of the step, lateral then vertical, 0-99 (default Table 3's "
                         f"{table3('overshoot_pct')})")
     s.add_argument("--min-damping", metavar="ZETA", type=finite_float("--min-damping", 0.0, 1.0, "[-]"), default=0.0,
-                   help="PID tuning: smallest damping ratio [-] every closed-loop pole must have, 0-1 (default 0)")
+                   help="PID bound: smallest damping ratio [-] every closed-loop pole must have, 0-1 (default 0: any "
+                        "stable loop)")
     s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     s.add_argument("--format", choices=("table", "json", "mat"), default="table",
                    help="'table' (default), 'json' (same as --json) or 'mat': also write --out FILE.mat for MATLAB "
-                        "(PID: K_P, K_I, K_D, N per channel; LQR: K, prefilter, observer gain; both: the controller's "
-                        "A, B, C, D with input, output and state names and units)")
+                        "(PID: K_P, K_I, K_D, N per channel, targets_met false for the closest design when the bounds "
+                        "are not met; LQR: K, prefilter, observer gain; both: the controller's A, B, C, D with input, "
+                        "output and state names and units)")
     s.add_argument("--out", metavar="FILE.mat", help="file written by --format mat (required with it)")
     s.set_defaults(func=run)
 
@@ -208,7 +209,8 @@ def _gains_json(g) -> dict:
 
 
 def _pid(args, lat, ver):
-    """The PID (tuned or the paper's): description, gains and whether the targets are met."""
+    """The PID (tuned or the paper's): description, gains, whether the bounds are met and, tuned,
+    each channel's exact step figures on the design model (what the table and the message show)."""
     from ..controllers.pid import PAPER_PID
     from ..paper import CHANNELS
 
@@ -216,28 +218,24 @@ def _pid(args, lat, ver):
         ctrl = {"type": "pid", "source": "paper Eq. 33"}
         for ch in CHANNELS:
             ctrl[ch] = _gains_json(PAPER_PID[ch])
-        return ctrl, dict(PAPER_PID), True
+        return ctrl, dict(PAPER_PID), True, None
     from ..controllers import pid_tuning as pt
 
     ctrl = {"type": "pid", "source": "tuned", "method": "docs/tuning.md", "min_damping_required": args.min_damping,
-            "rule": "best damped member of the gains meeting the targets, then least K_P + K_D N", "errors": {}}
-    gains = {}
+            "rule": "least K_P + K_D N among the designs whose step meets the bounds (rise, settling, overshoot at "
+                    "most the targets; every closed-loop pole damped at least min_damping_required)"}
+    gains, metrics = {}, {}
     for ch, g in zip(CHANNELS, (lat, ver)):
         try:
             tuning = pt.tune_pid_to_step(g, pt.StepTargets(**_targets(args)[ch]), min_damping=args.min_damping)
         except pt.TargetsNotMet as exc:
             tuning = exc.closest
-            ctrl["errors"][ch] = f"{ch}: {exc}"
-        gains[ch] = tuning.gains
-        fam = tuning.family
+        gains[ch], metrics[ch] = tuning.gains, tuning.metrics
         ctrl[ch] = {**_gains_json(tuning.gains), "targets": tuning.targets.as_dict(), "met": tuning.met,
-                    "closed_loop_poles_rad_s": _poles(tuning.poles_rad_s), "min_damping": tuning.min_damping,
-                    "high_frequency_gain_n_per_m": tuning.high_frequency_gain_n_per_m,
-                    "family": {"points": int(fam.shape[0]), "n_filter_range_rad_s": [float(fam[:, 3].min()),
-                                                                                    float(fam[:, 3].max())],
-                               "min_damping_range": [float(fam[:, 4].min()), float(fam[:, 4].max())]}}
-    ctrl["met"] = not ctrl["errors"]
-    return ctrl, gains, ctrl["met"]
+                    "shortfalls": tuning.shortfalls(), "closed_loop_poles_rad_s": _poles(tuning.poles_rad_s),
+                    "min_damping": tuning.min_damping, "high_frequency_gain_n_per_m": tuning.high_frequency_gain_n_per_m}
+    ctrl["met"] = all(ctrl[ch]["met"] for ch in CHANNELS)
+    return ctrl, gains, ctrl["met"], metrics
 
 
 def _lqr_balanced(lat, ver, Q, R):
@@ -288,19 +286,20 @@ def _lqr_integral(lat, ver, Q, R):
 
 
 def _controller(args, lat, ver):
-    """(description, design, step responses per channel, Table 3 row key, targets met) of the design."""
+    """(description, design, step responses per channel, Table 3 row key, bounds met, the tuned PID's
+    exact step figures per channel or None) of the design."""
     import numpy as np
 
     from ..controllers.lqr import PAPER_LQR_Q, PAPER_LQR_R
     from ..controllers.table3 import lqr_steps, pid_steps
 
     if args.controller == "pid":
-        ctrl, gains, met = _pid(args, lat, ver)
-        return ctrl, gains, pid_steps(lat, ver, gains), "PID", met
+        ctrl, gains, met, metrics = _pid(args, lat, ver)
+        return ctrl, gains, pid_steps(lat, ver, gains), "PID", met, metrics
     R = PAPER_LQR_R if args.r is None else np.diag(args.r)
     Q = PAPER_LQR_Q if args.q is None else np.diag(args.q)
     ctrl, d = (_lqr_balanced if args.design == "balanced" else _lqr_integral)(lat, ver, Q, R)
-    return ctrl, d, lqr_steps(d), "LQR", True
+    return ctrl, d, lqr_steps(d), "LQR", True, None
 
 
 def _full_order(design, design_models, full) -> dict:
@@ -343,15 +342,10 @@ def _print_channel(args, ch: str, p: dict, c: dict | None) -> None:
         print(f"    K_P {c['kp_n_per_m']:g} N/m, K_I {c['ki_n_per_m_s']:g} N/(m s), "
               f"K_D {c['kd_n_s_per_m']:g} N s/m, N {c['n_filter_rad_s']:g} rad/s")
         if "closed_loop_poles_rad_s" in c:
-            fam = c["family"]
             print(f"    closed-loop poles [rad/s]: {_pole_list(c['closed_loop_poles_rad_s'])}; smallest damping "
-                  f"ratio {c['min_damping']:.3f}")
+                  f"ratio {c['min_damping']:.3f}; K_P + K_D N {c['high_frequency_gain_n_per_m']:.6g} N/m")
             if not c["met"]:
-                print("    targets NOT met: the closest design found is shown")
-            else:
-                print(f"    designs found meeting the targets: {fam['points']}, N {fam['n_filter_range_rad_s'][0]:.4g}-"
-                      f"{fam['n_filter_range_rad_s'][1]:.4g} rad/s, smallest damping {fam['min_damping_range'][0]:.3f}-"
-                      f"{fam['min_damping_range'][1]:.3f}")
+                print(f"    bounds NOT met, the closest design found: {', '.join(c['shortfalls'])}")
             if c["min_damping"] < LIGHT_DAMPING:
                 print(f"    note: the least damped closed-loop pole (damping {c['min_damping']:.3f}) rings in the "
                       f"response to disturbances; --min-damping forbids it (docs/tuning.md)")
@@ -373,7 +367,7 @@ def _print_table(args, data: dict, order: int, paper_key: str) -> None:
              f"this model at {plant['flight']['airspeed_m_s']:g} m/s, {plant['flight']['altitude_m']:g} m, "
              f"{plant['flight']['hose_length_m']:g} m hose, wake {'on' if plant['flight']['wake'] else 'off'}")
     tuned = args.controller == "pid" and args.gains == "tuned"
-    what = ("PID tuned to step targets" if tuned else "PID (paper Eq. 33 gains)" if args.controller == "pid"
+    what = ("PID tuned to step bounds" if tuned else "PID (paper Eq. 33 gains)" if args.controller == "pid"
             else f"LQR ({args.design})")
     print(f"{what} on {where}, order {order} per channel")
     for ch in CHANNELS:
@@ -382,7 +376,7 @@ def _print_table(args, data: dict, order: int, paper_key: str) -> None:
         print(f"  K_x = {np.round(ctrl['gain_state'], 4).tolist()}, "
               f"K_z = {np.round(ctrl['gain_integral_n_per_m_s'], 4).tolist()} N/(m s)")
         print(f"  regulator poles [rad/s]: {_pole_list(ctrl['regulator_poles_rad_s'])}")
-    ref_name = "target" if tuned else f"paper Table 3 {paper_key}"
+    ref_name = "at most" if tuned else f"paper Table 3 {paper_key}"
     print(f"  unit step             rise [s]  settling [s]  overshoot [%]   ({ref_name})   "
           f"full order ({plant['full_order']})")
     for ch in CHANNELS:
@@ -391,7 +385,8 @@ def _print_table(args, data: dict, order: int, paper_key: str) -> None:
                 f"{_fmt(fo['overshoot_pct'], '.2f')}" if fo["stable"] else "unstable")
         print(f"    {ch:9s}           {_fmt(m['rise_time_s'], '8.4f')}  {_fmt(m['settling_time_s'], '12.4f')}  "
               f"{_fmt(m['overshoot_pct'], '13.2f')}   ({ref['rise_time_s']:g} / {ref['settling_time_s']:g} / "
-              f"{ref['overshoot_pct']:g})   {full}")
+              f"{ref['overshoot_pct']:g})   {full}"
+              + ("" if not tuned else "   meets the bounds" if ctrl[ch]["met"] else "   bounds NOT met"))
     if args.controller == "pid":
         rows = ", ".join(f"{ch} = [{ctrl[ch]['kp_n_per_m']:.6g}, {ctrl[ch]['ki_n_per_m_s']:.6g}, "
                          f"{ctrl[ch]['kd_n_s_per_m']:.6g}, {ctrl[ch]['n_filter_rad_s']:.6g}]" for ch in CHANNELS)
@@ -431,8 +426,8 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status (see :mod:`hosedrogue.cli`): 0, 2 for bad options, 3 when the PID targets
-        cannot be met (the closest design printed, no file written).
+        Exit status (see :mod:`hosedrogue.cli`): 0, 2 for bad options, 3 when no PID meets the
+        bounds (the closest design printed and written, marked as not meeting them).
     """
     import sys
 
@@ -443,7 +438,7 @@ def run(args) -> int:
     order = _check_args(args)
     (lat, ver), full, plant_info = _plant(args, order)
     try:
-        ctrl, design, steps, paper_key, met = _controller(args, lat, ver)
+        ctrl, design, steps, paper_key, met, tuned = _controller(args, lat, ver)
     except ValueError as exc:  # the closest design of a failed tuning can leave the loop unstable
         print(f"hosedrogue: design {args.controller}: no stable design found: {exc}", file=sys.stderr)
         return EXIT_INCOMPLETE
@@ -451,20 +446,23 @@ def run(args) -> int:
     full_order = _full_order(design, (lat, ver), full)
     for ch in CHANNELS:
         resp = steps[ch]
-        data[ch] = {**_metrics(resp.metrics), "peak_force_n_per_m": float(np.max(np.abs(resp.u))),
+        exact = None if tuned is None else tuned[ch]  # a tuned PID: the figures its bounds were checked on
+        data[ch] = {**_metrics(resp.metrics if exact is None else exact), "peak_force_n_per_m": float(np.max(np.abs(resp.u))),
                     "paper_table3": dict(TABLE3[(paper_key, ch)]), "full_order": full_order[ch]}
         if "targets" in ctrl.get(ch, {}):
             data[ch]["target"] = ctrl[ch]["targets"]
     if args.json or args.format == "json":
-        print(json.dumps(data))
+        print(dumps(data))
     else:
         _print_table(args, data, order, paper_key)
-    if not met:
-        print(f"hosedrogue: design pid: targets not met, nothing written: {'; '.join(ctrl['errors'].values())}",
-              file=sys.stderr)
-        return EXIT_INCOMPLETE
     if args.format == "mat":
-        _write_mat(args, data, design, {ch: {**data[ch], "targets": data[ch].get("target")} for ch in CHANNELS})
+        _write_mat(args, data, design, {ch: {**data[ch], "targets": data[ch].get("target"),
+                                             **({"targets_met": ctrl[ch]["met"]} if tuned else {})} for ch in CHANNELS})
         if not (args.json or args.format == "json"):
-            print(f"wrote {args.out}")
+            print(f"wrote {args.out}" + ("" if met else " (the closest design, marked targets_met = false)"))
+    if not met:
+        misses = "; ".join(f"{ch}: {', '.join(ctrl[ch]['shortfalls'])}" for ch in CHANNELS if not ctrl[ch]["met"])
+        print(f"hosedrogue: design pid: no design meets the bounds, the closest found is "
+              f"{'written' if args.format == 'mat' else 'printed'}: {misses}", file=sys.stderr)
+        return EXIT_INCOMPLETE
     return 0

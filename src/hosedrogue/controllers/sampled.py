@@ -308,9 +308,9 @@ def load_entry(entry, name: str = "entry") -> Callable:
     entry = check_entry(name, entry)
     if callable(entry):
         return entry
-    module_name, _, attr = entry.partition(":")
+    module_name, _, attr = entry.rpartition(":")
     try:
-        obj = importlib.import_module(module_name)
+        obj = _import_file(module_name) if module_name.endswith(".py") else importlib.import_module(module_name)
     except ImportError as exc:
         raise ParameterError(f"{name} = {entry!r}: cannot import module {module_name!r} ({one_line(exc)}); it must be "
                              "importable by that name here and on every Dask worker (docs: Your own controllers)") from None
@@ -324,6 +324,31 @@ def load_entry(entry, name: str = "entry") -> Callable:
     if not callable(obj):
         raise ParameterError(f"{name} = {entry!r}: {attr!r} is a {type(obj).__name__}, not a callable factory")
     return obj
+
+
+def _import_file(path: str):
+    """The module of a Python file, imported by its path (``importlib.util``, never ``eval``); once
+    per process, under a name made of the file's absolute path, so two files of one name differ."""
+    import hashlib
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    file = Path(path).resolve()
+    if not file.is_file():
+        raise ImportError(f"no such file {str(file)!r}")
+    name = f"hosedrogue_user_{file.stem}_{hashlib.sha256(str(file).encode()).hexdigest()[:12]}"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, file)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[name]
+        raise
+    return module
 
 
 def command_problem(role: str, value, size: int | None = None) -> tuple[str | None, tuple]:

@@ -16,7 +16,7 @@ from ..model import drogue_actuator as DA, layout as LY
 from ..results.surfaces import surface_fields
 from ..model.engagement import chain as EC, outputs as EO
 from ..spec.params import Params
-from ..results.run import EngagementResult
+from ..results.run import EngagementResult, state_names
 from .chain import Chain, hose_mass_in_air
 
 #: Names of the energy terms, in the order of the columns of the energy kernel and the work states.
@@ -175,7 +175,7 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
             "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, LY.O_TAU],
             "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
             "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [LY.O_UY, LY.O_UZ]], "drag": drag,
-            "links_t": list(links_t)}
+            "links_t": list(links_t), "hose_states": [(zs[:, :4 * n], np.asarray(chain.chart, dtype=float))]}
     if loop is not None and ep[LY.EP_CTRL] != 0.0 and DA.is_actuated(loop.act):
         ns = int(loop.act[DA.DA_NS])
         na = b + LY.Z_TAIL + int(ep[LY.EP_NPIL]) + loop.Ac.shape[0]
@@ -186,6 +186,36 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
         en = segment_energies(zs, chain, model, ep)
         cols["E"] = np.column_stack([en, zs[:, b + LY.Z_WM:b + LY.Z_WAX + 1]])
     return cols, joints, jvel
+
+
+def hose_state_matrices(pieces: list) -> dict:
+    """The MATLAB file's ``states`` and ``charts`` of an engagement from its segments' (hose states,
+    charts): ``states`` (N, 4 n_max) [q, qd] [rad, rad/s] named by :func:`state_names` with n_max the
+    most links of the run, a row of fewer links NaN beyond them (its q in columns 0..2n, its rates
+    from 2 n_max); ``charts`` (N, n_max) each link's chart (0 standard angles, 1 the alternative
+    chart, NaN beyond the row's links).
+
+    Parameters
+    ----------
+    pieces : list of (numpy.ndarray, numpy.ndarray)
+        Per segment its hose states (k, 4n) and its links' charts (n,).
+
+    Returns
+    -------
+    dict
+        name -> (array, column names).
+    """
+    n_max = max(z.shape[1] // 4 for z, _ in pieces)
+    rows = sum(z.shape[0] for z, _ in pieces)
+    x, chart = np.full((rows, 4 * n_max), np.nan), np.full((rows, n_max), np.nan)
+    i = 0
+    for z, ch in pieces:
+        n, k = z.shape[1] // 4, z.shape[0]
+        x[i:i + k, :2 * n] = z[:, :2 * n]
+        x[i:i + k, 2 * n_max:2 * n_max + 2 * n] = z[:, 2 * n:]
+        chart[i:i + k, :n] = ch
+        i += k
+    return {"states": (x, state_names(n_max)), "charts": (chart, [f"chart_{k}" for k in range(1, n_max + 1)])}
 
 
 def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float) -> dict:
@@ -279,6 +309,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         jvel_all.extend(list(jvel))
     link_tensions = [t for seg in cols.pop("links_t") for t in seg] if params.hose.elastic else None
     cols.pop("links_t", None)
+    hose_states = hose_state_matrices([s for seg in cols.pop("hose_states") for s in seg])
     cat = {k: np.concatenate(v) for k, v in cols.items()}
     surfaces = {} if "defl" not in cat else surface_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
@@ -300,6 +331,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         motor_torque_n_m=cat["tau"], control_force_n=cat["u"], miss_distance_series_m=cat["miss"], plane_distance_m=cat["dplane"],
         closure_speed_series_m_s=cat["vclose"],
         links=cat["links"], hose_mass_kg=cat["mass"], joints_m=joints_all, joint_velocities_m_s=jvel_all,
-        energy=en_dict, events=events, outcome=outcome, step_loads=record, link_tensions_n=link_tensions, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
+        energy=en_dict, events=events, outcome=outcome, step_loads=record, link_tensions_n=link_tensions,
+        hose_states=hose_states, equilibrium_m=np.asarray(drogue_eq, dtype=float).copy(),
         completed=completed, message=message, meta=meta, statistics_window_s=turbulence_window(params.turbulence),
         **surfaces)

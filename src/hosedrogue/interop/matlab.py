@@ -178,6 +178,8 @@ def _step_struct(step: dict | None) -> dict:
     out = {k: float("nan") if step.get(k) is None else float(step[k]) for k in keys}
     if step.get("targets"):
         out.update({f"target_{k}": float(step["targets"][k]) for k in keys})
+    if "targets_met" in step:  # a tuned design: whether its step meets the bounds (the closest otherwise)
+        out["targets_met"] = bool(step["targets_met"])
     return out
 
 
@@ -196,7 +198,8 @@ def pid_mat_dict(gains: dict, controller, *, source: str, plant: dict, steps: di
         The design plant: ``source``, ``order``, optional ``flight``, per channel ``num``/``den``.
     steps : dict, optional
         Per channel the unit step's ``rise_time_s`` [s], ``settling_time_s`` [s],
-        ``overshoot_pct`` [%] on the design model, and its ``targets`` (same keys) if tuned.
+        ``overshoot_pct`` [%] on the design model, and if tuned its ``targets`` (the bounds, same
+        keys) and ``targets_met`` (False: the closest design found, which misses them).
 
     Returns
     -------

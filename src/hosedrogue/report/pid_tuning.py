@@ -44,7 +44,7 @@ def _table(rows) -> str:
                      _cell(1e3 * r["peak_offset_m"], ".1f")))
     return html_table(["plant", "gains", "channel", "K_P [N/m] / K_I [N/(m s)] / K_D [N s/m] / N [rad/s]",
                        "smallest closed-loop damping [-]", "2nd order: rise [s] / settling [s] / overshoot [%]",
-                       "Table 3 (the targets)", "larger model: rise / settling / overshoot",
+                       "Table 3 (the bounds)", "larger model: rise / settling / overshoot",
                        "peak offset in turbulence [mm]"], body, table_id="table-pid-tuning")
 
 
@@ -59,13 +59,13 @@ def _html(study, rows, duration_s) -> str:
     return (
         '<section id="pid-tuning"><h2>PID tuned for the plant</h2>'
         "<p><code>hosedrogue design pid</code> tunes the PID of each channel so that its unit step on the "
-        "2nd-order design model meets the targets, Table 3's PID rows by default (docs/tuning.md: a global "
-        "search, the family of gains that meet the three targets followed, its best damped member with the "
-        "least high-frequency gain taken). On the paper's models the tuned gains meet Table 3 where Eq. 33 "
-        f"misses the vertical settling time by {miss:+.1f} %; they differ from Eq. 33 because three targets "
-        "leave one free parameter. On this model at "
+        "2nd-order design model meets the bounds (rise time, settling time and overshoot at most), Table 3's "
+        "PID rows by default (docs/tuning.md: a global search for the least high-frequency gain K_P + K_D N "
+        "that meets them). On the paper's models the tuned gains meet Table 3 where Eq. 33 "
+        f"misses the vertical settling time by {miss:+.1f} %; they differ from Eq. 33 because bounds leave a "
+        "region of gains and the cost picks its cheapest. On this model at "
         f"{p.flight.airspeed_m_s:g} m/s, {p.flight.altitude_m:g} m ({p.hose.length_m:g} m hose), where Eq. 33 "
-        f"overshoots {lat_p['overshoot_pct']:.1f} %, the tuned gains meet the targets too"
+        f"overshoots {lat_p['overshoot_pct']:.1f} %, the tuned gains meet the bounds too"
         + (f", but the lateral design's least damped closed-loop pole is damped only {lat_t['min_damping']:.3f}: "
            "the step's three figures do not show it, the response to gusts does."
            if lat_t["min_damping"] < LIGHT_DAMPING else ".")

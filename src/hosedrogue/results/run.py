@@ -173,9 +173,8 @@ class RunResult:
             ``t_s`` (N x 1) [s]; ``signals``, a struct of the time series' columns (each N x 1, SI
             units); ``signal_names`` and ``signal_units`` (cell arrays, same order); ``data`` (N x m,
             those columns side by side); the run's :meth:`matrices` with their ``<name>_names``
-            (the fixed-length hose: ``states`` (N x 4n) [rad, rad/s]); ``completed``, ``message``,
-            ``equilibrium_drogue_position_m`` (1 x 3) [m] and ``meta_json`` (the run's settings as
-            JSON text).
+            (``states`` [rad, rad/s]; an engagement's also ``charts``); ``completed``, ``message``,
+            ``equilibrium_drogue_position_m`` (1 x 3) [m], ``meta_json`` (the run's settings).
         """
         import json
 
@@ -300,6 +299,11 @@ class EngagementResult(WithSurfaces, RunResult):
     step_loads: np.ndarray | None = None
     #: elastic links: per output time, every link's tension [N] (n,), exit link first (None for rigid links)
     link_tensions_n: list | None = None
+    hose_states: dict | None = None  #: the MATLAB file's ``states`` and ``charts``: name -> (array, names)
+
+    def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
+        """The hose's states and charts (:func:`hosedrogue.engagement.result.hose_state_matrices`)."""
+        return dict(self.hose_states or {})
 
     def extra_columns(self) -> dict[str, np.ndarray]:
         """The engagement's columns after :data:`COLUMNS`: reel, tensions, probe, coupler-plane

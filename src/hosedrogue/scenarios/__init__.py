@@ -304,9 +304,29 @@ def merge_tables(parent: Mapping[str, Any], child: Mapping[str, Any]) -> dict[st
     return out
 
 
+def _anchor_entries(source: str, data: dict) -> dict:
+    """``data`` with each table's ``entry = "FILE.py:factory"`` made absolute: a relative path is
+    relative to the folder of the scenario file ``source`` that names it (a shipped scenario's
+    entries are left as they are)."""
+    from ..spec.fields import FILE_ENTRY_PATTERN
+
+    if source.startswith("scenarios/"):
+        return data
+    out = dict(data)
+    for key, table in data.items():
+        entry = table.get("entry") if isinstance(table, Mapping) else None
+        m = FILE_ENTRY_PATTERN.match(entry) if isinstance(entry, str) else None
+        if m and not Path(m["path"]).is_absolute():
+            path = (Path(source).parent / m["path"]).resolve()
+            out[key] = {**table, "entry": f"{path}{entry[m.end('path'):]}"}
+    return out
+
+
 def _read_with_parents(name_or_path: str | Path) -> tuple[str, dict]:
-    """The scenario's tables with its ``extends`` chain merged in (the chain's own keys dropped)."""
+    """The scenario's tables with its ``extends`` chain merged in (the chain's own keys dropped),
+    each file's relative controller files anchored at its own folder (:func:`_anchor_entries`)."""
     source, data = resolve(name_or_path)
+    data = _anchor_entries(source, data)
     chain = [source]
     while True:
         head = data.get("scenario", {})
@@ -320,6 +340,7 @@ def _read_with_parents(name_or_path: str | Path) -> tuple[str, dict]:
                                  f"({' -> '.join(chain)})")
         here = Path(chain[-1]).parent if not chain[-1].startswith("scenarios/") else None
         parent_source, parent = resolve(parent_name, relative_to=here)
+        parent = _anchor_entries(parent_source, parent)
         if parent_source in chain:
             raise ParameterError(f"scenario.extends = {parent_name!r}: a loop ({' -> '.join(chain + [parent_source])})")
         chain.append(parent_source)

@@ -4,7 +4,9 @@ from the code (the documentation's "Scenario reference" page is this module's ou
 
 * :func:`reference_tables` - the tables in the order of the page, each with its rows;
 * :func:`problems` - what the metadata lacks (a field without a unit, a range or a ``#:`` comment);
-* :func:`scenario_reference_markdown` - the page's body (Markdown).
+* :func:`scenario_reference_markdown` - the page's body (Markdown);
+* :func:`scenario_reference_page` - the whole page, as checked in at ``docs/scenario-reference.md``
+  and printed by ``hosedrogue reference``.
 
 The rows of the model's sections (:data:`hosedrogue.spec.params.SECTIONS`) and the run's sections
 (:data:`hosedrogue.spec.sections.LOOP_SECTIONS`, :data:`hosedrogue.spec.sections.ENGAGEMENT_SECTIONS`)
@@ -368,3 +370,31 @@ def reward_markdown() -> list[str]:
                 for r in section_rows(cls)]
         out.append("")
     return out
+
+
+#: The page's title and introduction (:func:`scenario_reference_page`).
+PAGE_INTRO = """# Scenario reference
+
+Every table and key a scenario file may hold, with its unit, default, allowed values and
+meaning. This page is generated from the code (the field metadata of the sections and their
+`#:` comments, `hosedrogue.scenarios.reference`): `hosedrogue reference` prints it, `hosedrogue
+reference --out docs/scenario-reference.md` writes it, and a test fails when the checked-in copy
+differs from what the code generates, or when a field lacks a unit, a range or a meaning.
+
+How the tables combine (`extends`, `[model] preset`, which hose model runs, what is refused) is
+in [](scenarios.md). A key not listed here is an error naming the table and the keys it allows.
+Defaults are the paper's case (Wu et al. 2018, Table 1 and Sec. 2.3); "inf" means no limit. In
+Python the same keys are the fields of `hosedrogue.spec.params.Params` (`PAPER.replace(hose={...})`)
+and of the classes of `hosedrogue.spec.sections` (`Reel(law="response")`).
+"""
+
+
+def scenario_reference_page() -> str:
+    """The whole scenario reference page: :data:`PAGE_INTRO` and :func:`scenario_reference_markdown`.
+
+    Returns
+    -------
+    str
+        Markdown (MyST), ending in one newline.
+    """
+    return PAGE_INTRO + "\n" + scenario_reference_markdown().rstrip("\n") + "\n"

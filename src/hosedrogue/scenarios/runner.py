@@ -20,6 +20,7 @@ import numpy as np
 from ..results import hose_file
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..errors import ParameterError
+from ..jsonio import dumps, plain
 from ..model.system import HoseModel
 from ..results.run import RunResult
 from ..results.spectra import PREDICTION_KEY
@@ -311,10 +312,10 @@ def _sampled_meta(scenario: Scenario) -> dict:
 
 
 def _json_value(value):
-    """A value json does not know: a number as a float (numpy scalars), anything else (an option of
-    a user's controller given from Python) as its text."""
+    """A value strict JSON does not know: a number as a float (null if not finite), anything else
+    (an option of a user's controller given from Python) as its text."""
     try:
-        return float(value)
+        return plain(float(value))
     except (TypeError, ValueError):
         return repr(value)
 
@@ -347,7 +348,7 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [result.to_csv(out_dir / "timeseries.csv")]
-    (out_dir / "run.json").write_text(json.dumps(result.run_document(), indent=2, default=_json_value) + "\n")
+    (out_dir / "run.json").write_text(dumps(result.run_document(), indent=2, default=_json_value) + "\n")
     paths.append(out_dir / "run.json")
     paths.append(hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *result.hose_shapes()))
     if plot and result.t_s.size > 1:

@@ -162,6 +162,9 @@ def table() -> dict:
 _DOTTED = r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*"
 #: An entry point: ``"package.module:factory"`` (dotted module path, a colon, a dotted attribute path).
 ENTRY_PATTERN = re.compile(f"^{_DOTTED}:{_DOTTED}$")
+#: An entry point in a file: ``"path/to/file.py:factory"`` (a scenario file's relative path is
+#: relative to its folder); the file is imported by its path, never evaluated as text.
+FILE_ENTRY_PATTERN = re.compile(f"^(?P<path>[^:]*[^:/\\\\]\\.py):{_DOTTED}$")
 
 
 def entry() -> dict:
@@ -333,9 +336,10 @@ def check_entry(name: str, value: Any) -> Any:
     """
     if callable(value) or value == "":
         return value
-    if not isinstance(value, str) or not ENTRY_PATTERN.match(value):
+    if not isinstance(value, str) or not (ENTRY_PATTERN.match(value) or FILE_ENTRY_PATTERN.match(value)):
         raise ParameterError(f'{name} = {value!r}: must be an entry point "package.module:factory" '
-                             "(a module importable by that name, a colon, the factory's name)")
+                             "(a module importable by that name, a colon, the factory's name) or "
+                             '"path/to/file.py:factory" (a Python file, relative to the scenario file\'s folder)')
     return value
 
 

@@ -1,0 +1,40 @@
+"""Every shipped scenario's run.json is strict JSON: a brief run of each (0.1 s, as the other tests
+shorten runs with --duration) parsed by a parser that refuses NaN and Infinity, the way
+JavaScript's JSON.parse does; and a value that is not finite is written as null."""
+
+import json
+import math
+
+import pytest
+
+from hosedrogue.cli import main
+from hosedrogue.scenarios import shipped_scenarios
+from hosedrogue.scenarios.runner import _json_value
+
+
+def _refuse(constant):
+    raise ValueError(f"not strict JSON: {constant}")
+
+
+def strict_loads(text: str):
+    """json.loads that refuses NaN, Infinity and -Infinity."""
+    return json.loads(text, parse_constant=_refuse)
+
+
+@pytest.mark.parametrize("name", shipped_scenarios())
+def test_every_shipped_scenarios_run_json_is_strict(name, tmp_path, capsys):
+    code = main(["simulate", name, "--duration", "0.1", "--out", str(tmp_path / "o")])
+    capsys.readouterr()
+    assert code in (0, 3)  # 3: a run that stopped early still writes its run.json, marked
+    doc = strict_loads((tmp_path / "o" / "run.json").read_text())
+    assert isinstance(doc, dict) and doc
+
+
+def test_a_value_that_is_not_finite_is_null():
+    import numpy as np
+
+    assert _json_value(np.float32("inf")) is None and _json_value(np.float64("nan")) is None
+    assert _json_value(np.float32(1.5)) == 1.5 and _json_value(object).startswith("<class")
+    with pytest.raises(ValueError):
+        strict_loads('{"a": Infinity}')
+    assert not math.isnan(strict_loads('{"a": 1.0}')["a"])
