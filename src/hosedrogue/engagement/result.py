@@ -16,8 +16,9 @@ from ..model import drogue_actuator as DA, layout as LY
 from ..results.surfaces import surface_fields
 from ..model.engagement import chain as EC, outputs as EO
 from ..spec.params import Params
-from ..results.run import EngagementResult, state_names
-from .chain import Chain, hose_mass_in_air
+from ..results.matlab_file import state_names
+from ..results.run import EngagementResult
+from .chain import Chain
 
 #: Names of the energy terms, in the order of the columns of the energy kernel and the work states.
 ENERGY_TERMS = ("kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe", "axial")

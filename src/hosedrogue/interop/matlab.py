@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..results.run import cellstr as _cellstr, save_mat as _save, state_names  # noqa: F401 - re-exported
+from ..results.matlab_file import cellstr as _cellstr, save_mat as _save, state_names  # noqa: F401 - re-exported
 from ..units import unit_of  # noqa: F401 - re-exported (the names' units)
 
 

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from .matlab_file import cellstr, save_mat, state_names
 from .convergence import PEAK_KEYS, UNVERIFIED_NOTE, unverified, verification_document, went_slack
 from .statistics import DEFAULT_CAPTURE_RADII_M, window_statistics
 from .surfaces import WithSurfaces
@@ -443,62 +444,3 @@ def _statistics_document(result: RunResult) -> dict:
     start, end = result.statistics_window_s
     stats = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in result.statistics().items()}
     return {"window_s": [start, None if math.isinf(end) else end], **stats}
-
-
-def save_mat(data: dict, path: str | Path) -> Path:
-    """Write ``data`` as a compressed version-5 .mat file, 1-D arrays as columns (MATLAB's time series).
-
-    Parameters
-    ----------
-    data : dict
-        Variable name -> array, string, bool or struct (dict).
-    path : str or pathlib.Path
-        File to write.
-
-    Returns
-    -------
-    pathlib.Path
-        ``path``.
-    """
-    from scipy.io import savemat
-
-    path = Path(path)
-    savemat(path, data, do_compression=True, oned_as="column")
-    return path
-
-
-def cellstr(items) -> np.ndarray:
-    """A MATLAB cell array of strings (a 1 x n object array).
-
-    Parameters
-    ----------
-    items : iterable of str
-        The strings.
-
-    Returns
-    -------
-    numpy.ndarray
-    """
-    items = list(items)
-    cell = np.empty((1, len(items)), dtype=object)
-    for i, s in enumerate(items):
-        cell[0, i] = str(s)
-    return cell
-
-
-def state_names(links: int) -> list[str]:
-    """Names of the state ``x = [q, qd]``: ``theta_1_1_rad`` (pitch), ``theta_1_2_rad`` (yaw), ...,
-    then the rates ``theta_1_1_rad_s``, ...
-
-    Parameters
-    ----------
-    links : int
-        Number of links n.
-
-    Returns
-    -------
-    list of str
-        4 n names in state order.
-    """
-    q = [f"theta_{k}_{j}_rad" for k in range(1, links + 1) for j in (1, 2)]
-    return q + [f"{name}_s" for name in q]
