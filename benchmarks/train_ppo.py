@@ -89,7 +89,7 @@ def flown(env, act, seeds) -> list[dict]:
                 break
         out.append({"seed": int(k), "outcome": info["outcome"], "return": total, "steps": steps,
                     "closure_speed_m_s": info.get("closure_speed_m_s"), "miss_distance_m": info.get("miss_distance_m"),
-                    "peak_load_n": info.get("peak_load_n")})
+                    "peak_load_n": info.get("peak_load_n"), "end_distance_m": info["distance_m"]})
     return out
 
 
@@ -108,6 +108,7 @@ def summary(episodes: list[dict]) -> dict:
             "median_closure_m_s": float(np.median(closures)) if closures else None,
             "median_miss_m": float(np.median(misses)) if misses else None,
             "mean_return": float(np.mean([e["return"] for e in episodes])),
+            "median_end_distance_m": float(np.median([e["end_distance_m"] for e in episodes])),
             "median_steps": float(np.median([e["steps"] for e in episodes]))}
 
 
@@ -116,7 +117,7 @@ def describe(name: str, s: dict) -> str:
     return (f"  {name:22s} captured {s['captured']}/{s['episodes']} = {s['capture_rate']:.3f} (Wilson 95 % "
             f"{s['ci95'][0]:.3f}-{s['ci95'][1]:.3f}); median closure {med(s['median_closure_m_s'], '.2f')} m/s, "
             f"median miss {med(s['median_miss_m'], '.3f')} m ({s['reached_plane']} at the plane); mean return "
-            f"{s['mean_return']:.2f}; {dict(sorted(s['outcomes'].items()))}")
+            f"{s['mean_return']:.2f}; probe-drogue distance at the end, median {s['median_end_distance_m']:.2f} m; {dict(sorted(s['outcomes'].items()))}")
 
 
 def ppo_model(env_seed: int, monitor: Path | None):
