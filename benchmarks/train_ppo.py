@@ -72,8 +72,10 @@ SETTINGS = {
 OUT = Path("ppo-docking-v1")
 
 
-def make_env(render_mode=None):
-    return gymnasium.make("hosedrogue/Docking-v1", render_mode=render_mode, **ENV_KWARGS)
+def make_env(reward=None):
+    """Docking-v1 as ENV_KWARGS say; ``reward``: weights of the training reward that differ from
+    the default (the curve and the evaluation fly the default reward)."""
+    return gymnasium.make("hosedrogue/Docking-v1", reward=reward, **ENV_KWARGS)
 
 
 def flown(env, act, seeds) -> list[dict]:
@@ -120,7 +122,7 @@ def describe(name: str, s: dict) -> str:
             f"{s['mean_return']:.2f}; probe-drogue distance at the end, median {s['median_end_distance_m']:.2f} m; {dict(sorted(s['outcomes'].items()))}")
 
 
-def ppo_model(env_seed: int, monitor: Path | None):
+def ppo_model(env_seed: int, monitor: Path | None, reward=None):
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.monitor import Monitor
@@ -128,7 +130,7 @@ def ppo_model(env_seed: int, monitor: Path | None):
 
     torch.set_num_threads(1)
     s = SETTINGS
-    factory = lambda: Monitor(make_env(), str(monitor) if monitor else None, info_keywords=("outcome",))  # noqa: E731
+    factory = lambda: Monitor(make_env(reward), str(monitor) if monitor else None, info_keywords=("outcome",))  # noqa: E731
     venv = DummyVecEnv([factory] * s["n_envs"])
     venv.seed(env_seed)  # sub-environment i: reset(seed=env_seed + i) at the first reset
     return PPO(s["policy"], venv, n_steps=s["n_steps"], batch_size=s["batch_size"], n_epochs=s["n_epochs"],
@@ -162,7 +164,7 @@ def train(args):
     from stable_baselines3.common.callbacks import BaseCallback
 
     args.out.mkdir(parents=True, exist_ok=True)
-    model = ppo_model(SETTINGS["env_seed"], args.out / "monitor.csv")
+    model = ppo_model(SETTINGS["env_seed"], args.out / "monitor.csv", args.reward)
     curve_env, curve = make_env(), []
     base = summary(flown(curve_env, he.PDFeedForward(curve_env), SETTINGS["curve_seeds"]))
     print(describe("scripted baseline", base), flush=True)
@@ -177,7 +179,8 @@ def train(args):
         s = summary(flown(curve_env, deterministic(model), SETTINGS["curve_seeds"]))
         curve.append({"timesteps": steps, "cpu_s": time.process_time() - cpu, **s})
         print(describe(f"{steps} steps", s), flush=True)
-        (args.out / "curve.json").write_text(dumps({"settings": SETTINGS, "env": ENV_KWARGS, "baseline": base,
+        (args.out / "curve.json").write_text(dumps({"settings": SETTINGS, "env": ENV_KWARGS, "train_reward": args.reward,
+                                                          "baseline": base,
                                                           "curve": curve}, indent=1))
 
     cpu = time.process_time()
@@ -247,6 +250,8 @@ def main(argv=None):
     p.add_argument("--timesteps", type=int, default=200_000, help="training budget [steps]")
     p.add_argument("--out", type=Path, default=OUT, help="where the run's files go")
     p.add_argument("--png", type=Path, help="the figure's file (figure)")
+    p.add_argument("--reward", type=json.loads, help="train: reward weights that differ from the default, as a "
+                   "JSON object, e.g. '{\"miss_penalty\": 0}' (the curve and the evaluation fly the default)")
     args = p.parse_args(argv)
     print(f"{args.section}: {ENV_KWARGS}, {SETTINGS['policy']}, n_steps {SETTINGS['n_steps']}, batch "
           f"{SETTINGS['batch_size']}, learning rate {SETTINGS['learning_rate']:g}, gamma {SETTINGS['gamma']:g}")

@@ -161,3 +161,12 @@ def test_bad_actions_and_options_are_refused(station, whip):
     for env in (station, whip):
         with pytest.raises(ParameterError, match="options"):
             env.reset(options={"gusts": 1})
+
+
+def test_whip_a_gust_record_whose_probe_misses_has_no_episode():
+    env = WhipSuppressionEnv()  # light turbulence: the prescribed probe misses in about 3 % of the records
+    missing = 2174860102631693136  # its probe misses by 0.308 m, beyond the capture radius 0.305 m
+    with pytest.raises(ParameterError, match="turbulence_seed = 2174860102631693136"):
+        env.reset(options={"turbulence_seed": missing})
+    obs, info = env.reset(seed=30)  # seed 30's generator draws that record first, then the next one
+    assert env.stepper.measurement.coupled and info["turbulence_seed"] != missing

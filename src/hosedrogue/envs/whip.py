@@ -42,6 +42,8 @@ WHIP_SCALE = np.array([s for _, _, s in WHIP_OBSERVATION])
 _BOUND = np.full(len(WHIP_OBSERVATION), 50.0)
 #: Steps of the registered spec's TimeLimit: the default 4 s after contact at the default 0.02 s control step.
 WHIP_STEPS = 200
+#: Gust records a reset draws at most for an episode in which the probe couples (a miss draws the next).
+MAX_DRAWS = 100
 #: How a whip episode ends (``info["outcome"]``); "coupled" while it runs.
 WHIP_OUTCOMES = ("coupled", "time-out", "diverged")
 
@@ -138,7 +140,9 @@ class WhipSuppressionEnv(gymnasium.Env):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         """Start an episode at contact: the run from the scenario's start (the reel holding its
         length) to the step the probe couples, with the turbulence of a seed drawn from the
-        environment's generator (or ``options["turbulence_seed"]``).
+        environment's generator (or ``options["turbulence_seed"]``). A gust record in which the
+        prescribed probe misses the drogue has no episode: the next seed is drawn (up to
+        :data:`MAX_DRAWS`; a given seed is refused in one line).
 
         Parameters
         ----------
@@ -157,16 +161,21 @@ class WhipSuppressionEnv(gymnasium.Env):
         turbulence_seed = options.pop("turbulence_seed", None)
         if options:
             raise ParameterError(f"options: unknown key(s) {', '.join(map(repr, options))}; allowed: 'turbulence_seed'")
-        if turbulence_seed is None:
-            turbulence_seed = int(self.np_random.integers(0, 2**63 - 1))
-        st = self.stepper
-        m = st.reset(seed=turbulence_seed)
-        self.turbulence_seed, self._outcome = int(turbulence_seed), "coupled"
-        while not m.coupled and not st.done:
-            m = st.step(reel=0.0)
+        given, st = turbulence_seed is not None, self.stepper
+        for _ in range(MAX_DRAWS):
+            if not given:
+                turbulence_seed = int(self.np_random.integers(0, 2**63 - 1))
+            m = st.reset(seed=turbulence_seed)
+            while not m.coupled and not st.done:
+                m = st.step(reel=0.0)
+            if m.coupled or given:
+                break
         if not m.coupled:
-            raise RuntimeError(f"turbulence seed {turbulence_seed}: the probe did not couple ({st.outcome['result']}, "
-                               f"{st.message}); this scenario has no episode")
+            raise ParameterError(f"turbulence_seed = {turbulence_seed}: the probe does not couple in its gusts "
+                                 f"({st.outcome['result']}); give another seed" if given else
+                                 f"the probe did not couple in {MAX_DRAWS} gust records of this scenario; lower "
+                                 "its turbulence")
+        self.turbulence_seed, self._outcome = int(turbulence_seed), "coupled"
         self._at_contact = (st.t_s, m.exit_tension_n, m.hose_length_m)
         return self._observe(m), self._info(m, {"slack": 0.0, "tension": 0.0, "control": 0.0, "terminal": 0.0}, 0.0)
 
