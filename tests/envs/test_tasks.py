@@ -170,3 +170,28 @@ def test_whip_a_gust_record_whose_probe_misses_has_no_episode():
         env.reset(options={"turbulence_seed": missing})
     obs, info = env.reset(seed=30)  # seed 30's generator draws that record first, then the next one
     assert env.stepper.measurement.coupled and info["turbulence_seed"] != missing
+
+
+def test_gym_task_command_json_is_the_episodes_flown_in_python(capsys):
+    import json
+
+    from hosedrogue.cli import main
+    from hosedrogue.envs.tasks import fly_task, task_policy
+
+    assert main(["gym-task", "station", "--episodes", "2", "--seed", "5", "--turbulence", "severe", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    env = gymnasium.make(he.STATION_ID, turbulence="severe")
+    rows = fly_task(env, task_policy("station", env, "baseline"), [5, 6])
+    assert doc["episodes_detail"] == rows and doc["mean_return"] == (rows[0]["return"] + rows[1]["return"]) / 2
+    assert doc["medians"]["rms_displacement_m"] == (rows[0]["rms_displacement_m"] + rows[1]["rms_displacement_m"]) / 2
+
+
+@pytest.mark.parametrize("argv, names", [(["gym-task", "dock"], ("dock",)),
+                                         (["gym-task", "whip", "--episodes", "0"], ("--episodes", "0"))])
+def test_gym_task_command_bad_input_is_one_line_exit_2(capsys, argv, names):
+    from hosedrogue.cli import main
+
+    with pytest.raises(SystemExit) as ex:
+        main(argv)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert ex.value.code == 2 and len(err) == 1 and all(n in err[0] for n in names)
