@@ -19,7 +19,9 @@ Sections (run in order; each reads what the one before wrote in --out):
 * ``evaluate`` - the trained policy (deterministic) and the scripted baseline on the evaluation
                  seeds: capture rate (in the window) with its Wilson 95 % interval, outcomes, median
                  closure speed and median radial miss at the coupler plane, mean return (``evaluation.json``);
-* ``figure``   - the learning curve as a PNG (--png, default OUT/learning_curve.png).
+* ``figure``   - the learning curves as a PNG (--png, default OUT/learning_curve.png), of --out's run
+                 and of the runs of --compare: the share of training episodes that reach the coupler
+                 plane, the capture rate of the curve's points, the training return.
 
 Run:  rlvenv/bin/python benchmarks/train_ppo.py rate|train|evaluate|figure [--timesteps N] [--out DIR]
 One core (torch.set_num_threads(1), NUMBA_NUM_THREADS=1): the figures are for that.
@@ -210,37 +212,45 @@ def evaluate(args):
 
 
 def figure(args):
+    """The learning curves of one run or more (--out, then --compare): per run, the share of
+    training episodes that reach the coupler plane, the deterministic policy's capture rate on the
+    curve's seeds, and the training return (the run's own reward)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import pandas as pd
 
-    doc = json.loads((args.out / "curve.json").read_text())
-    mon = pd.read_csv(args.out / "monitor.csv", skiprows=1)
-    mon["timesteps"] = mon["l"].cumsum()
     window = 50
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3.4), layout="constrained")
-    ax1.plot(mon["timesteps"], mon["r"].rolling(window, min_periods=1).mean(), color="C0")
-    ax1.set_xlabel("training steps [-]")
-    ax1.set_ylabel(f"return, mean of {window} episodes [-]")
-    ax1.set_title("training episodes (stochastic policy)", fontsize=9)
-    c = doc["curve"]
-    x = [p["timesteps"] for p in c]
-    rate_ = np.array([p["capture_rate"] for p in c])
-    ci = np.array([p["ci95"] for p in c])
-    ax2.errorbar(x, rate_, yerr=[rate_ - ci[:, 0], ci[:, 1] - rate_], color="C1", marker="o", ms=3, capsize=2,
-                 label=f"PPO, deterministic ({len(doc['settings']['curve_seeds'])} seeds)")
-    ax2.plot(mon["timesteps"], (mon["outcome"] == "captured").rolling(window, min_periods=1).mean(), color="C0",
-             lw=1, label=f"training episodes (mean of {window})")
-    ax2.axhline(doc["baseline"]["capture_rate"], color="k", ls="--", lw=1, label="scripted baseline (same seeds)")
-    ax2.set_ylim(-0.03, 1.03)
-    ax2.set_xlabel("training steps [-]")
-    ax2.set_ylabel("captured in the window [-]")
-    ax2.legend(fontsize=7, loc="best")
-    fig.suptitle("PPO on hosedrogue/Docking-v1, moderate turbulence, window 1.5-2.6 m/s", fontsize=10)
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.4), layout="constrained")
+    for k, out in enumerate([args.out, *args.compare]):
+        doc = json.loads((out / "curve.json").read_text())
+        mon = pd.read_csv(out / "monitor.csv", skiprows=1)
+        steps = mon["l"].cumsum()
+        label = "default reward" if not doc.get("train_reward") else \
+            "trained with " + ", ".join(f"{key} = {v:g}" for key, v in doc["train_reward"].items())
+        color = f"C{k}"
+        axes[0].plot(steps, (mon["outcome"] != "time-out").rolling(window, min_periods=1).mean(), color=color,
+                     label=label)
+        c = doc["curve"]
+        rate_ = np.array([p["capture_rate"] for p in c])
+        ci = np.array([p["ci95"] for p in c])
+        axes[1].errorbar([p["timesteps"] for p in c], rate_, yerr=[rate_ - ci[:, 0], ci[:, 1] - rate_], color=color,
+                         marker="o", ms=3, capsize=2, lw=1, label=label)
+        axes[2].plot(steps, mon["r"].rolling(window, min_periods=1).mean(), color=color, label=label)
+    axes[1].axhline(doc["baseline"]["capture_rate"], color="k", ls="--", lw=1, label="scripted baseline")
+    axes[0].set_ylabel(f"training episodes reaching the plane [-]\n(mean of {window})")
+    axes[1].set_ylabel(f"captured in the window [-]\n(deterministic, {len(doc['settings']['curve_seeds'])} seeds)")
+    axes[2].set_ylabel(f"training return [-] (mean of {window})")
+    for ax in axes:
+        ax.set_xlabel("training steps [-]")
+    for ax in axes[:2]:
+        ax.set_ylim(-0.03, 1.03)
+    axes[1].legend(fontsize=7, loc="center right")
+    fig.suptitle("PPO (stable-baselines3 defaults, gamma 0.99) on hosedrogue/Docking-v1, moderate turbulence, "
+                 "window 1.5-2.6 m/s", fontsize=10)
     png = args.png or args.out / "learning_curve.png"
-    fig.savefig(png, dpi=90)
+    fig.savefig(png, dpi=80)
     print(f"  {png}: {Path(png).stat().st_size / 1000:.0f} kB")
 
 
@@ -250,6 +260,7 @@ def main(argv=None):
     p.add_argument("--timesteps", type=int, default=200_000, help="training budget [steps]")
     p.add_argument("--out", type=Path, default=OUT, help="where the run's files go")
     p.add_argument("--png", type=Path, help="the figure's file (figure)")
+    p.add_argument("--compare", type=Path, nargs="*", default=[], help="figure: other runs' folders drawn beside --out's")
     p.add_argument("--reward", type=json.loads, help="train: reward weights that differ from the default, as a "
                    "JSON object, e.g. '{\"miss_penalty\": 0}' (the curve and the evaluation fly the default)")
     args = p.parse_args(argv)
