@@ -19,11 +19,13 @@ Sections (run in order; each reads what the one before wrote in --out):
 * ``evaluate`` - the trained policy (deterministic) and the scripted baseline on the evaluation
                  seeds: capture rate (in the window) with its Wilson 95 % interval, outcomes, median
                  closure speed and median radial miss at the coupler plane, mean return (``evaluation.json``);
+* ``returns``  - the undiscounted and discounted returns of three scripted policies (the baseline, no
+                 command, the straight line) on the curve's seeds: what a policy that holds off scores;
 * ``figure``   - the learning curves as a PNG (--png, default OUT/learning_curve.png), of --out's run
                  and of the runs of --compare: the share of training episodes that reach the coupler
                  plane, the capture rate of the curve's points, the training return.
 
-Run:  rlvenv/bin/python benchmarks/train_ppo.py rate|train|evaluate|figure [--timesteps N] [--out DIR]
+Run:  rlvenv/bin/python benchmarks/train_ppo.py rate|train|evaluate|returns|figure [--timesteps N] [--out DIR]
 One core (torch.set_num_threads(1), NUMBA_NUM_THREADS=1): the figures are for that.
 """
 
@@ -211,6 +213,30 @@ def evaluate(args):
     (args.out / "evaluation.json").write_text(dumps(doc, indent=1))
 
 
+def returns(args):
+    """Why a policy may learn to hold off: the undiscounted and the discounted (gamma) return of
+    three scripted policies on the curve's seeds: the baseline, no command (the probe slows and
+    holds off until the time limit) and the straight line at the window's middle."""
+    env, gamma = make_env(), SETTINGS["gamma"]
+    policies = {"scripted baseline": he.PDFeedForward(env), "no command (holds off)": lambda o: np.zeros(3, np.float32),
+                "straight line, 2.05 m/s": he.StraightLine(env, closure_speed_m_s=2.05)}
+    for name, policy in policies.items():
+        plain, discounted, outcomes = [], [], Counter()
+        for k in SETTINGS["curve_seeds"]:
+            obs, info = env.reset(seed=k)
+            u = d = 0.0
+            g = 1.0
+            while True:
+                obs, reward, terminated, truncated, info = env.step(policy(obs))
+                u, d, g = u + reward, d + g * reward, g * gamma
+                if terminated or truncated:
+                    break
+            plain.append(u), discounted.append(d)
+            outcomes[info["outcome"]] += 1
+        print(f"  {name:24s} return {np.mean(plain):6.2f}, discounted ({gamma:g}) {np.mean(discounted):5.2f}; "
+              f"{dict(outcomes)}")
+
+
 def figure(args):
     """The learning curves of one run or more (--out, then --compare): per run, the share of
     training episodes that reach the coupler plane, the deterministic policy's capture rate on the
@@ -256,7 +282,7 @@ def figure(args):
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("section", choices=("rate", "train", "evaluate", "figure"))
+    p.add_argument("section", choices=("rate", "train", "evaluate", "figure", "returns"))
     p.add_argument("--timesteps", type=int, default=200_000, help="training budget [steps]")
     p.add_argument("--out", type=Path, default=OUT, help="where the run's files go")
     p.add_argument("--png", type=Path, help="the figure's file (figure)")
