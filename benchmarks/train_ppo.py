@@ -269,7 +269,8 @@ def figure(args):
     axes[1].set_ylabel(f"captured in the window [-]\n(deterministic, {len(doc['settings']['curve_seeds'])} seeds)")
     axes[2].set_ylabel(f"training return [-] (mean of {window})")
     for ax in axes:
-        ax.set_xlabel("training steps [-]")
+        ax.set_xlabel("training steps [thousands]")
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v / 1000:g}"))
     for ax in axes[:2]:
         ax.set_ylim(-0.03, 1.03)
     axes[1].legend(fontsize=7, loc="center right")
