@@ -10,7 +10,6 @@ the integrator (the paper's Eq. 33 PD part on the measured displacement and velo
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import gymnasium
@@ -19,11 +18,12 @@ from gymnasium import spaces
 
 from ..controllers.pid import PAPER_PID
 from ..errors import ParameterError
-from ..scenarios import Scenario, scenario_from_dict, scenario_tables
+from ..scenarios import Scenario, scenario_from_dict
 from ..simulation.stepper import FixedLengthStepper
 from ..spec.rewards import StationKeepingReward
 from ..spec.sections import Actuator
 from .options import _positive, _set_turbulence, reward_weights
+from .task_common import checked_action, scaled, scenario_source, turbulence_seed_option
 
 #: The observation's components: (name, unit, scale); the observation is each divided by its scale.
 STATION_OBSERVATION = (
@@ -60,15 +60,7 @@ def station_scenario(scenario: str | Path | Scenario = "approach-moderate", turb
     Scenario
     """
     limit = _positive("time_limit_s", time_limit_s, 600.0)
-    if isinstance(scenario, Scenario):
-        source, tables, name = scenario.source, scenario.to_dict(), scenario.name
-    elif isinstance(scenario, (str, Path)):
-        source, tables = scenario_tables(scenario)
-        name = Path(source).stem
-    else:
-        raise ParameterError(f"scenario = {scenario!r}: must be a scenario name, a TOML path or a Scenario")
-    base = scenario_from_dict(tables, name=name, source=source)
-    tables = {k: (dict(v) if isinstance(v, dict) else v) for k, v in tables.items()}
+    base, source, tables, name = scenario_source(scenario)
     _set_turbulence(tables, turbulence, base, limit)
     tables["scenario"] = {**tables.get("scenario", {}), "duration_s": limit}
     out = scenario_from_dict(tables, name=name, source=source)
@@ -143,10 +135,7 @@ class StationKeepingEnv(gymnasium.Env):
         info : dict
         """
         super().reset(seed=seed)
-        options = dict(options or {})
-        turbulence_seed = options.pop("turbulence_seed", None)
-        if options:
-            raise ParameterError(f"options: unknown key(s) {', '.join(map(repr, options))}; allowed: 'turbulence_seed'")
+        turbulence_seed = turbulence_seed_option(options)
         if turbulence_seed is None:
             turbulence_seed = int(self.np_random.integers(0, 2**63 - 1))
         m = self.stepper.reset(seed=turbulence_seed)
@@ -174,13 +163,7 @@ class StationKeepingEnv(gymnasium.Env):
         """
         if self.stepper.done:
             raise RuntimeError(f"the episode has ended ({self._outcome}); call reset() to start another")
-        try:
-            a = np.asarray(action, dtype=np.float64).reshape(2)
-        except (TypeError, ValueError):
-            a = None
-        if a is None or not math.isfinite(a[0] + a[1]):
-            raise ParameterError(f"action = {action!r}: must be 2 finite numbers in [-1, 1]")
-        a = np.clip(a, -1.0, 1.0)
+        a = checked_action(action, 2)
         force = a * self.max_force_n
         m = self.stepper.step(drogue=force)
         st, w = self.stepper, self.reward_weights
@@ -194,10 +177,8 @@ class StationKeepingEnv(gymnasium.Env):
 
     def _observe(self, m) -> np.ndarray:
         """The scaled observation of a measurement; in a failed state the last valid one."""
-        obs = np.concatenate([np.asarray(m.drogue_position_m) - np.asarray(m.drogue_balance_m),
-                              m.drogue_velocity_m_s]) / STATION_SCALE
-        if math.isfinite(obs.sum()):
-            self._last = np.clip(obs, -_BOUND, _BOUND)
+        raw = np.concatenate([np.asarray(m.drogue_position_m) - np.asarray(m.drogue_balance_m), m.drogue_velocity_m_s])
+        self._last = scaled(raw, STATION_SCALE, _BOUND, self._last)
         return self._last.astype(np.float32)
 
     def _info(self, m, terms: dict, force: np.ndarray) -> dict:

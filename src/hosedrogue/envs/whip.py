@@ -22,9 +22,10 @@ from gymnasium import spaces
 
 from ..engagement.stepper import EngagementStepper
 from ..errors import ParameterError
-from ..scenarios import Scenario, scenario_from_dict, scenario_tables
+from ..scenarios import Scenario, scenario_from_dict
 from ..spec.rewards import WhipReward
 from .options import _positive, _set_turbulence, reward_weights
+from .task_common import checked_action, scaled, scenario_source, turbulence_seed_option
 
 #: The observation's components: (name, unit, scale); the observation is each divided by its scale.
 WHIP_OBSERVATION = (
@@ -68,21 +69,13 @@ def whip_scenario(scenario: str | Path | Scenario = "engage-response", turbulenc
     Scenario
     """
     after = _positive("after_contact_s", after_contact_s, 60.0)
-    if isinstance(scenario, Scenario):
-        source, tables, name = scenario.source, scenario.to_dict(), scenario.name
-    elif isinstance(scenario, (str, Path)):
-        source, tables = scenario_tables(scenario)
-        name = Path(source).stem
-    else:
-        raise ParameterError(f"scenario = {scenario!r}: must be a scenario name, a TOML path or a Scenario")
-    base = scenario_from_dict(tables, name=name, source=source)
+    base, source, tables, name = scenario_source(scenario)
     e = base.engagement
     if e is None or e.probe is None or not e.probe.enabled or (e.pilot is not None and e.pilot.enabled) \
             or e.receiver is not None:
         raise ParameterError(f"scenario = {name!r}: the probe must fly the scenario's prescribed path; give an "
                              "engagement with an enabled [probe] and no [pilot] or [receiver] (e.g. 'engage-response')")
     limit = e.probe.standoff_m / e.probe.closure_speed_m_s + after + 1.0
-    tables = {k: (dict(v) if isinstance(v, dict) else v) for k, v in tables.items()}
     _set_turbulence(tables, turbulence, base, limit)
     tables["reel"] = {k: v for k, v in tables.get("reel", {}).items() if k not in ("entry", "options")}
     tables["reel"]["law"] = "python"
@@ -157,10 +150,7 @@ class WhipSuppressionEnv(gymnasium.Env):
         info : dict
         """
         super().reset(seed=seed)
-        options = dict(options or {})
-        turbulence_seed = options.pop("turbulence_seed", None)
-        if options:
-            raise ParameterError(f"options: unknown key(s) {', '.join(map(repr, options))}; allowed: 'turbulence_seed'")
+        turbulence_seed = turbulence_seed_option(options)
         given, st = turbulence_seed is not None, self.stepper
         for _ in range(MAX_DRAWS):
             if not given:
@@ -201,13 +191,7 @@ class WhipSuppressionEnv(gymnasium.Env):
         st = self.stepper
         if self._outcome != "coupled":
             raise RuntimeError(f"the episode has ended ({self._outcome}); call reset() to start another")
-        try:
-            a = float(np.asarray(action, dtype=np.float64).reshape(1)[0])
-        except (TypeError, ValueError):
-            a = math.nan
-        if not math.isfinite(a):
-            raise ParameterError(f"action = {action!r}: must be 1 finite number in [-1, 1]")
-        a = min(max(a, -1.0), 1.0)
+        a = float(checked_action(action, 1)[0])
         command = a * self.max_takeup_m_s
         m = st.step(reel=command)
         failed = st.done and not st.completed
@@ -231,9 +215,7 @@ class WhipSuppressionEnv(gymnasium.Env):
         d = np.asarray(m.drogue_position_m) - np.asarray(m.drogue_balance_m)
         raw = np.concatenate([[self._slack(m), m.reel_speed_m_s, (m.exit_tension_n - self._at_contact[1]) / 1000.0,
                                m.hose_length_m - self._at_contact[2]], d, m.drogue_velocity_m_s])
-        obs = raw / WHIP_SCALE
-        if math.isfinite(obs.sum()):
-            self._last = np.clip(obs, -_BOUND, _BOUND)
+        self._last = scaled(raw, WHIP_SCALE, _BOUND, self._last)
         return self._last.astype(np.float32)
 
     def _info(self, m, terms: dict, command: float) -> dict:
