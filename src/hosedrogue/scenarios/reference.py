@@ -29,7 +29,7 @@ from ..spec.config import preset_names
 from ..constants import FT_TO_M
 from ..spec.fields import field_table
 from ..spec.params import SECTIONS, TURBULENCE_PRESET_KEY
-from ..spec.rewards import DockingReward, DockingRewardV1
+from ..spec.rewards import DockingReward, DockingRewardV1, StationKeepingReward, WhipReward
 from . import MAX_DURATION_S, MAX_OFFSET_DEG, SCENARIO_KEYS, Scenario
 from ..spec.sections import (CONTROLLER_KEYS, CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS,
                        LQR_DESIGNS, MAX_SAMPLE_TIME_S, Controller)
@@ -348,6 +348,12 @@ REWARDS = {
                               "costs its penalty."),
     "hosedrogue/Docking-v0": (DockingReward, "The distance closed on the drogue, less the control effort, plus the "
                               "capture bonus or minus a penalty at the end (kept unchanged; use v1)."),
+    "hosedrogue/StationKeeping-v0": (StationKeepingReward, "The drogue's squared lateral and vertical displacement "
+                                     "from its balance position and the force spent, per second; a failed state "
+                                     "costs its penalty."),
+    "hosedrogue/WhipSuppression-v0": (WhipReward, "The hose's slack and the exit tension's excursion from its value "
+                                      "at contact, per second, and the take-up command spent; a failed run costs its "
+                                      "penalty."),
 }
 
 

@@ -1,4 +1,4 @@
-"""The rewards of the docking environments (hosedrogue.envs, docs/gym.md "Reward"), as validated
+"""The rewards of the Gymnasium environments (hosedrogue.envs, docs/gym.md "Reward"), as validated
 sections so that the scenario reference page lists their fields with the scenario tables':
 
 * :class:`DockingReward` - ``hosedrogue/Docking-v0``'s: the distance closed, less the control
@@ -6,7 +6,11 @@ sections so that the scenario reference page lists their fields with the scenari
 * :class:`DockingRewardV1` - ``hosedrogue/Docking-v1``'s: a capture pays only inside an
   operational closure-speed window, less its radial miss and the probe's load after contact,
   with a potential-based shaping term (Ng, Harada and Russell 1999) that leaves the optimal
-  policy unchanged.
+  policy unchanged;
+* :class:`StationKeepingReward` - ``hosedrogue/StationKeeping-v0``'s: the drogue's squared
+  displacement from its balance position and the force spent;
+* :class:`WhipReward` - ``hosedrogue/WhipSuppression-v0``'s: the hose's slack and the exit
+  tension's excursion after contact, and the take-up command spent.
 
 They are the environments' ``reward=`` keyword (a table of weights), not tables of a scenario file.
 """
@@ -196,3 +200,48 @@ class DockingRewardV1(Section):
 def _penalty(reward, outcome: str) -> float:
     """Minus the penalty of a miss, a failed latch, a breakaway or a failed state; 0 for another outcome."""
     return -getattr(reward, _PENALTIES[outcome]) if outcome in _PENALTIES else 0.0
+
+
+@dataclass(frozen=True)
+class StationKeepingReward(Section):
+    """The reward of ``hosedrogue/StationKeeping-v0`` (docs/gym.md, "Station keeping"): the
+    drogue's squared displacement from its balance position and the force spent, per second::
+
+        r = -(position_per_m2 (dy^2 + dz^2) + control_penalty_1_s |a|^2) dt - terminal
+
+    with dy, dz the drogue's lateral and vertical displacement [m] (the axes its force acts on),
+    a the action (the force as fractions of the actuator's bound) and dt the control step [s];
+    ``terminal`` is ``failure_penalty`` when the simulation fails, else 0.
+    """
+
+    _section = "reward"
+    #: penalty per second of squared lateral and vertical displacement from the balance position [1/(m^2 s)]
+    position_per_m2: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False, unit="1/(m^2 s)"))
+    #: penalty per second of full-scale force on both axes, |a|^2 dt [1/s]
+    control_penalty_1_s: float = field(default=0.01, metadata=real(0.0, 1e6, lo_open=False, unit="1/s"))
+    #: penalty of a failed state (the simulation diverged) [-]
+    failure_penalty: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
+
+
+@dataclass(frozen=True)
+class WhipReward(Section):
+    """The reward of ``hosedrogue/WhipSuppression-v0`` (docs/gym.md, "Whip suppression"): the
+    hose's slack and the exit tension's excursion from the trail tension, per second::
+
+        r = -(slack_per_m s + tension_per_kn |T_0 - T_trail| / 1000 + control_penalty_1_s a^2) dt - terminal
+
+    with s the slack [m] (the hose length less the drogue's distance from the tow point, floored
+    at 0), T_0 the tension at the hose exit [N], T_trail its value at contact [N], a the action
+    (the take-up speed as a fraction of the reel's bound) and dt the control step [s];
+    ``terminal`` is ``failure_penalty`` when the run fails (a failed state or a drum end stop).
+    """
+
+    _section = "reward"
+    #: penalty per second of a metre of slack [1/(m s)]
+    slack_per_m: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False, unit="1/(m s)"))
+    #: penalty per second of a kN of exit tension away from the trail tension at contact [1/(kN s)]
+    tension_per_kn: float = field(default=1.0, metadata=real(0.0, 1e6, lo_open=False, unit="1/(kN s)"))
+    #: penalty per second of a full-scale take-up or payout command, a^2 dt [1/s]
+    control_penalty_1_s: float = field(default=0.01, metadata=real(0.0, 1e6, lo_open=False, unit="1/s"))
+    #: penalty of a failed run (a failed state or a drum end stop) [-]
+    failure_penalty: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
