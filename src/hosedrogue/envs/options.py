@@ -18,8 +18,9 @@ from typing import Any
 from ..spec.config import preset_names
 from ..errors import ParameterError
 from ..spec.rewards import DockingReward, DockingRewardV1
-from ..scenarios import Scenario, scenario_from_dict, scenario_tables
+from ..scenarios import Scenario, scenario_from_dict
 from ..spec.standards import INTENSITY_FT_S
+from .task_common import scenario_source
 
 #: Turbulence options besides a number [m/s]: off, or a MIL-F-8785C intensity at the altitude.
 TURBULENCE_CHOICES = ("none", *INTENSITY_FT_S)
@@ -92,19 +93,11 @@ def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, t
         cannot fly (no probe, a pilot, the user's controllers).
     """
     limit = _positive("time_limit_s", time_limit_s, MAX_TIME_LIMIT_S)
-    if isinstance(scenario, Scenario):
-        if model is not None:
-            raise ParameterError(f"model = {model!r}: a Scenario object carries its model's parameters resolved; "
-                                 "give the scenario by name or file to change its preset")
-        source, tables, name = scenario.source, scenario.to_dict(), scenario.name
-    elif isinstance(scenario, (str, Path)):
-        source, tables = scenario_tables(scenario)
-        name = Path(source).stem
-    else:
-        raise ParameterError(f"scenario = {scenario!r}: must be a scenario name, a TOML path or a Scenario")
-    base = scenario_from_dict(tables, name=name, source=source)
+    if isinstance(scenario, Scenario) and model is not None:
+        raise ParameterError(f"model = {model!r}: a Scenario object carries its model's parameters resolved; "
+                             "give the scenario by name or file to change its preset")
+    base, source, tables, name = scenario_source(scenario)
     _check_flyable(base)
-    tables = {k: (dict(v) if isinstance(v, dict) else v) for k, v in tables.items()}
     _set_turbulence(tables, turbulence, base, limit)
     if bow_wave is not None:
         if not isinstance(bow_wave, bool):

@@ -1,6 +1,7 @@
-"""What the station-keeping and whip-suppression environments share: the scenario's tables from
-a name, a file or a Scenario; the one reset option (the turbulence seed); the action's check;
-the observation of a measurement's numbers, scaled and clipped."""
+"""What the environments share: the scenario's tables from a name, a file or a Scenario (every
+environment); and, for the station-keeping and whip-suppression environments, the one reset option
+(the turbulence seed), the action's check and the observation of a measurement's numbers, scaled and
+clipped."""
 
 from __future__ import annotations
 
