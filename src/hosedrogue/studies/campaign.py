@@ -46,8 +46,6 @@ memory of a few dozen runs; only the final summary reads all rows back (about 20
 
 from __future__ import annotations
 
-import dataclasses
-import json
 import math
 import os
 import time
@@ -58,6 +56,7 @@ from typing import Any, Iterator, Sequence
 
 import numpy as np
 
+from .. import jsonio
 from ..errors import ParameterError
 from ..results.statistics import DEFAULT_CAPTURE_RADII_M, capture_column, turbulence_window, window_statistics
 from ..progress import progress_bar, progress_enabled
@@ -67,8 +66,9 @@ from . import executor
 from .executor import IN_FLIGHT_PER_WORKER, SYNCHRONOUS
 from .seeds import run_seed
 from .statistics import CampaignSummary, summarize_campaign
-from .store import (AppendLog, check_same_settings, make_settings, read_runs, read_settings, run_columns, todo,
-                    write_atomic)
+from .folder import FolderLock
+from .store import (AppendLog, check_rows, check_same_settings, make_settings, read_runs, read_settings, run_columns,
+                    todo, write_atomic)
 
 __all__ = ["CampaignSummary", "DEFAULT_CAPTURE_RADII_M", "RunTask", "SYNCHRONOUS", "run_campaign", "run_seed",
            "run_task", "statistics_window", "summarize_run"]
@@ -286,29 +286,30 @@ def run_campaign(
 
     out = Path(out_dir)
     settings = make_settings(scenario, runs, seed, radii, compare_controller, controllers, window)
-    old = _previous_settings(out, settings)
+    _previous_settings(out, settings)  # a folder of other settings: refused before it is locked
 
     engagement = scenario.engagement is not None
     actuated = scenario.loop.drogue_actuator is not None
-    pending = todo(read_runs(out / "runs.csv", radii, engagement, actuated) if old is not None else [], runs,
-                   controllers)
-    with executor.dask_client(client, workers, scheduler, use_dask and bool(pending)) as dask_client:
-        # nothing is written before this point: bad input and an unreachable scheduler leave no trace
-        out.mkdir(parents=True, exist_ok=True)
-        if old is None:
-            write_atomic(out / "campaign.json", json.dumps(settings, indent=2) + "\n")
-        log = AppendLog(out / "runs.csv", run_columns(radii, engagement, actuated), lock=True)
-        try:
-            # again under the lock: the rows are now final
-            remaining = todo(read_runs(out / "runs.csv", radii, engagement, actuated), runs, controllers)
-            series_dir = (out / "runs").resolve() if keep_timeseries else None
-            tasks = _tasks(scenario, remaining, seed, window, radii, series_dir, compare_controller)
+    with FolderLock(out):  # this campaign owns the folder until it returns; nothing is written before
+        # again, now that no other campaign can write: the settings and rows are final
+        old = _previous_settings(out, settings)
+        done = read_runs(out / "runs.csv", radii, engagement, actuated) if old is not None else []
+        check_rows(out / "runs.csv", done, settings)
+        remaining = todo(done, runs, controllers)
+        with executor.dask_client(client, workers, scheduler, use_dask and bool(remaining)) as dask_client:
+            # bad input and an unreachable scheduler leave no trace (the lock file goes with the folder it made)
+            if old is None:
+                write_atomic(out / "campaign.json", jsonio.dumps(settings, indent=2) + "\n")
             if remaining:
+                series_dir = (out / "runs").resolve() if keep_timeseries else None
+                tasks = _tasks(scenario, remaining, seed, window, radii, series_dir, compare_controller)
                 total = runs * len(controllers)
-                _execute(tasks, log, out, total, total - len(remaining), progress, dask_client)
-        finally:
-            log.close()
-    return summarize_campaign(out, settings, new_runs=len(remaining))
+                log = AppendLog(out / "runs.csv", run_columns(radii, engagement, actuated))
+                try:
+                    _execute(tasks, log, out, total, total - len(remaining), progress, dask_client)
+                finally:
+                    log.close()
+        return summarize_campaign(out, settings, new_runs=len(remaining))
 
 
 def _controllers(scenario, compare_controller: bool) -> tuple[str, ...]:
