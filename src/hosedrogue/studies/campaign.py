@@ -201,6 +201,32 @@ def run_task(task: RunTask) -> dict:
     return row
 
 
+def lost_row(task: RunTask, columns: Sequence[str], reason: str) -> dict:
+    """The ``runs.csv`` row of a run whose worker died under it: not completed, no statistics.
+
+    Parameters
+    ----------
+    task : RunTask
+        The run.
+    columns : sequence of str
+        The columns of runs.csv (:func:`hosedrogue.studies.store.run_columns`).
+    reason : str
+        Why, in one line.
+
+    Returns
+    -------
+    dict
+        Column -> value: the run's index, controller and seed, ``completed`` false, ``result``
+        "stopped" (an engagement), NaN elsewhere, and the message.
+    """
+    row = {c: math.nan for c in columns}
+    row.update({"run": task.index, "controller": task.controller, "seed": task.seed, "completed": False,
+                "message": f"stopped: {reason} (user code that ends its process, os._exit or a crash, does this)"})
+    if "result" in row:
+        row["result"] = "stopped"
+    return row
+
+
 def _write_series(result, path: str | None) -> None:
     """Write the run's time series to ``path`` atomically (nothing if None)."""
     if path:
@@ -279,7 +305,8 @@ def run_campaign(
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario)
     scenario = scenario.with_overrides(duration_s=duration_s)
-    sampled_controllers(scenario)  # every entry imports here, or a one-line error before any run starts
+    for spec in sampled_controllers(scenario).values():
+        spec.build()  # every entry imports and its factory builds here, or a one-line error before any run starts
     window = statistics_window(scenario)
     controllers = _controllers(scenario, compare_controller)
     use_dask = _use_dask(workers, scheduler, client)
@@ -380,15 +407,19 @@ def _execute(tasks: Iterator[RunTask], log: AppendLog, out: Path, total: int, in
     def on_result(row: dict) -> None:
         wall = row.pop("_wall_s", math.nan)
         log.append(row)
-        timings.append({"run": row["run"], "controller": row["controller"], "wall_s": round(wall, 6)})
+        if math.isfinite(wall):
+            timings.append({"run": row["run"], "controller": row["controller"], "wall_s": round(wall, 6)})
         bar.update(1)
+
+    def on_lost(task: RunTask, reason: str) -> None:
+        on_result(lost_row(task, log.columns, reason))
 
     try:
         if client is None:
             executor.execute_synchronous(tasks, run_task, on_result)
         else:
             executor.execute_dask(client, tasks, run_task, IN_FLIGHT_PER_WORKER * executor.total_threads(client),
-                                  on_result)
+                                  on_result, on_lost)
     finally:
         bar.close()
         timings.close()
