@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 from ..errors import ParameterError
-from .options import add_flight_options, params_from_args, parse_order, steady_flight_text
+from .options import add_flight_options, params_from_args, parse_order, prepare_out_file, steady_flight_text
 
 NAME = "linearize"
 
@@ -112,3 +112,4 @@ def prepare_mat_out(out: str) -> None:
     path = Path(out)
     if path.suffix != ".mat" or path.is_dir():
         raise ParameterError(f"--out = {out!r}: must be a file name ending in .mat")
+    prepare_out_file(path)  # its folder can be made and written: a one-line error before the work

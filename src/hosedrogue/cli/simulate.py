@@ -6,7 +6,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
+from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out, remove_earlier_run
 
 NAME = "simulate"
 
@@ -61,6 +61,7 @@ def run(args) -> int:
     result = run_scenario(scenario)
     created = not out.exists()
     try:
+        remove_earlier_run(out)  # no file of an earlier run stays beside this one
         paths = write(result, out, formats=("csv", args.format))
         if args.view:
             from ..viewer import ViewRun, write_view
