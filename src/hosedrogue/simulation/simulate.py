@@ -28,6 +28,7 @@ from ..spec.params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..spec.sections import Controller
 from ..results.statistics import turbulence_window
 from ..results.run import SimulationResult
+from .budget import check_run
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
 
@@ -99,6 +100,7 @@ def simulate(
     """
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
         raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
+    check_run(params, duration_s)  # its step and output grids reach duration_s; its output fits in memory
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
     if model is None:

@@ -25,6 +25,7 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
+from .budget import GRID_TOLERANCE, check_run
 from ..model import chain_dynamics as CD, drogue_actuator as DA, layout as LY
 from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
@@ -36,7 +37,7 @@ from ..results.surfaces import surface_fields
 from ..spec.params import PAPER, Actuator, Params, Sensor
 
 #: Relative tolerance of "a whole multiple" of the RK4 step [-] (round-off of the decimal times).
-MULTIPLE_RTOL = 1e-9
+MULTIPLE_RTOL = GRID_TOLERANCE
 
 _STATUS_TEXT = {
     LY.NONFINITE: "the state became non-finite (numerical divergence)",
@@ -372,7 +373,7 @@ class FixedLengthStepper(StepperBase):
         if seed is not None:
             params = params.replace(turbulence={"seed": int(seed)})
         self.params = params
-        self.h, self.total_steps = params.numerics.steps(duration_s)
+        self.h, self.total_steps = check_run(params, duration_s)  # the grids reach duration_s; the output fits
         self.every = params.numerics.output_every
         self.duration_s = float(duration_s)
         if model is None or not model.gusts_cover(duration_s):
