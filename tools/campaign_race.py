@@ -1,6 +1,7 @@
 """Two campaigns started together on one folder, REPEATS times: does exactly one run each time?
 
-Each repetition starts ``hosedrogue montecarlo SCENARIO --seed 0`` and the same with ``--seed 5``
+Each repetition starts ``hosedrogue montecarlo paper-turbulence --duration 11 --seed 0`` (the
+shipped case, 1 s of its turbulence, 20 links) and the same with ``--seed 5``
 as two processes at once on one empty ``--out`` folder (run in this machine's processes, without
 dask), waits for both and checks: one exits 0, the other exits 2 with one line on stderr ("another
 campaign ... is using it" or "different settings"), and the folder's campaign.json, runs.csv,
@@ -17,43 +18,26 @@ import sys
 import tempfile
 from pathlib import Path
 
-#: 6 links, 3 s, turbulence on from 0.5 s for 2 s: a run takes ~25 ms once compiled.
-TINY = """\
-[scenario]
-name = "tiny-turbulence"
-duration_s = 3.0
-
-[turbulence]
-enabled = true
-start_s = 0.5
-duration_s = 2.0
-
-[hose]
-links = 6
-"""
-
 FILES = ("campaign.json", "runs.csv", "summary.json", "summary.csv")
 SEEDS = (0, 5)
 
 
-def command(scenario: Path, runs: int, seed: int, out: Path) -> list[str]:
-    return [sys.executable, "-m", "hosedrogue", "montecarlo", str(scenario), "--runs", str(runs), "--seed", str(seed),
-            "--scheduler", "synchronous", "--quiet", "--out", str(out)]
+def command(runs: int, seed: int, out: Path) -> list[str]:
+    return [sys.executable, "-m", "hosedrogue", "montecarlo", "paper-turbulence", "--duration", "11", "--runs",
+            str(runs), "--seed", str(seed), "--scheduler", "synchronous", "--quiet", "--out", str(out)]
 
 
 def main(repeats: int = 20, runs: int = 40) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        scenario = tmp / "tiny.toml"
-        scenario.write_text(TINY)
         refs = {}
         for seed in SEEDS:
             refs[seed] = tmp / f"ref{seed}"
-            subprocess.run(command(scenario, runs, seed, refs[seed]), check=True, capture_output=True)
+            subprocess.run(command(runs, seed, refs[seed]), check=True, capture_output=True)
         good = 0
         for k in range(repeats):
             out = tmp / f"race{k}"
-            procs = {s: subprocess.Popen(command(scenario, runs, s, out), stdout=subprocess.PIPE,
+            procs = {s: subprocess.Popen(command(runs, s, out), stdout=subprocess.PIPE,
                                          stderr=subprocess.PIPE, text=True) for s in SEEDS}
             done = {s: (p.wait(), p.stdout.read(), p.stderr.read()) for s, p in procs.items()}
             winners = [s for s, (code, _, _) in done.items() if code == 0]

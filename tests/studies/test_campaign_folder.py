@@ -21,21 +21,7 @@ import pytest
 from hosedrogue.errors import ParameterError
 from hosedrogue.studies.campaign import run_campaign
 from hosedrogue.studies.seeds import run_seed
-
-#: 6 links, 3 s, turbulence on from 0.5 s for 2 s: a run takes ~25 ms once compiled.
-TINY = """\
-[scenario]
-name = "tiny-turbulence"
-duration_s = 3.0
-
-[turbulence]
-enabled = true
-start_s = 0.5
-duration_s = 2.0
-
-[hose]
-links = 6
-"""
+from test_campaign import TINY  # 6 links, 3 s, turbulence on from 0.5 s for 2 s
 
 RUNS = 6
 

@@ -36,9 +36,6 @@ from ..results.statistics import turbulence_window
 from ..results.surfaces import surface_fields
 from ..spec.params import PAPER, Actuator, Params, Sensor
 
-#: Relative tolerance of "a whole multiple" of the RK4 step [-] (round-off of the decimal times).
-MULTIPLE_RTOL = GRID_TOLERANCE
-
 _STATUS_TEXT = {
     LY.NONFINITE: "the state became non-finite (numerical divergence)",
     LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
@@ -46,7 +43,7 @@ _STATUS_TEXT = {
 
 
 def whole_multiple(value_s: float, unit_s: float, name: str, unit_name: str) -> int:
-    """``value_s / unit_s`` when it is a whole number >= 1 (to :data:`MULTIPLE_RTOL`).
+    """``value_s / unit_s`` when it is a whole number >= 1 (to :data:`hosedrogue.simulation.budget.GRID_TOLERANCE`).
 
     Parameters
     ----------
@@ -68,7 +65,7 @@ def whole_multiple(value_s: float, unit_s: float, name: str, unit_name: str) -> 
     """
     ratio = value_s / unit_s
     count = int(round(ratio))
-    if count < 1 or abs(ratio - count) > MULTIPLE_RTOL * max(ratio, 1.0):
+    if count < 1 or abs(ratio - count) > GRID_TOLERANCE * max(ratio, 1.0):
         raise ParameterError(f"{name} = {value_s!r}: must be a whole multiple of {unit_name} = {unit_s!r} s")
     return count
 
