@@ -9,7 +9,7 @@ drops; :func:`read_runs` reads the rows back, :func:`check_rows` refuses a row t
 campaign's (run index outside the campaign, another controller, a seed that is not the run's, a
 run twice), :func:`todo` lists what a resumed campaign still has to run. campaign.json and the
 summary are strict JSON (:mod:`hosedrogue.jsonio`): an infinite value of the scenario (``inf``: no
-limit, rigid links) is written ``null``, and :func:`scenario_tables` reads it back as ``inf``.
+limit, rigid links) is written ``null``, which the scenario's sections read back as ``inf``.
 Summary files are replaced atomically (:func:`write_atomic`). Floats are written as the shortest
 string that reads back to the same double.
 """
@@ -107,33 +107,6 @@ def _json_normal(value: Any) -> Any:
     """The value as it reads back from strict JSON (tuples become lists, NaN and infinities None),
     for comparisons."""
     return json.loads(jsonio.dumps(value))
-
-
-def scenario_tables(settings: dict) -> dict:
-    """The scenario's tables of campaign settings, ``null`` read back as ``inf``.
-
-    campaign.json is strict JSON, so an infinite field (``inf``: no limit, rigid links) is written
-    ``null``; no other field of a scenario can be null (a field left out is omitted), so every
-    null of the scenario is an ``inf``.
-
-    Parameters
-    ----------
-    settings : dict
-        Content of campaign.json (:func:`make_settings`).
-
-    Returns
-    -------
-    dict
-        ``{table: {field: value}}`` for :func:`hosedrogue.scenarios.scenario_from_dict`.
-    """
-    def restore(value: Any) -> Any:
-        if isinstance(value, dict):
-            return {k: restore(v) for k, v in value.items()}
-        if isinstance(value, list):
-            return [restore(v) for v in value]
-        return math.inf if value is None else value
-
-    return restore(settings["scenario"])
 
 
 def _scenario_content(scenario) -> dict:

@@ -75,9 +75,8 @@ def rerun(settings: dict, seed: int, controller: str):
     """
     from ..scenarios import scenario_from_dict
     from ..scenarios.runner import run
-    from ..studies.store import scenario_tables
 
-    scenario = scenario_from_dict(scenario_tables(settings)).with_overrides(seed=seed).with_controller(controller)
+    scenario = scenario_from_dict(settings["scenario"]).with_overrides(seed=seed).with_controller(controller)
     return run(scenario)
 
 
