@@ -86,23 +86,29 @@ def speed():
               f"target >= 5000, Air Force Arcade Refueling-v0: 140)")
     env = he.DockingEnv()
     policy = he.PDFeedForward(env)
+    share = compiled_share(episodes, env, policy, 40)
+    print(f"  the compiled loop (eng_advance) is {share * 100:.0f} % of a step's CPU time: one compiled "
+          f"call for many environments could save at most the other {100 - share * 100:.0f} %")
+
+
+def compiled_share(run, *args):
+    """The share of ``run(*args)``'s CPU time spent in the compiled control step (eng_advance)."""
     original, spent = ES.eng_advance, [0.0]
 
-    def timed(*args):
+    def timed(*a):
         t = time.process_time()
-        out = original(*args)
+        out = original(*a)
         spent[0] += time.process_time() - t
         return out
 
     ES.eng_advance = timed
     try:
         c = time.process_time()
-        episodes(env, policy, 40)
+        run(*args)
         c = time.process_time() - c
     finally:
         ES.eng_advance = original
-    print(f"  the compiled loop (eng_advance) is {spent[0] / c * 100:.0f} % of a step's CPU time: one compiled "
-          f"call for many environments could save at most the other {100 - spent[0] / c * 100:.0f} %")
+    return spent[0] / c
 
 
 def vector():

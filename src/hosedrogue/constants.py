@@ -26,3 +26,9 @@ H_MAX_ATMOSPHERE = 20000.0
 
 #: Feet to metres (exact, international foot).
 FT_TO_M = 0.3048
+
+#: Pound-force to newtons (exact: 0.45359237 kg x 9.80665 m/s^2; NIST SP 811, 2008, B.8).
+LBF_TO_N = 4.4482216152605
+
+#: Slug to kilograms: 1 lbf s^2/ft (exact from the foot and the pound-force; NIST SP 811, B.8).
+SLUG_TO_KG = LBF_TO_N / FT_TO_M

@@ -17,7 +17,7 @@ from hosedrogue.model import chain_loads as CL, layout as LY
 from hosedrogue.model.engagement import evaluation as EV
 from hosedrogue.model.chain_dynamics import WS_DRAG, WS_R, WS_V, make_workspace
 from hosedrogue.spec.params import PAPER
-from hosedrogue.plotting.bow_wave import plot_bow_wave
+from hosedrogue.studies.bow_wave_figures import plot_bow_wave
 
 # the paper's flight condition (150 m/s, 8000 m, wake on); 20 links: the displacements below
 # change by < 0.2 % from 20 to 40 links (0.04958 vs 0.04965 m at 0.5 m, 2.605 vs 2.626 mm at 10 m)

@@ -206,7 +206,7 @@ def test_long_runs_study_and_figure():
     """The study's data and figure on a short cap (the full study runs for minutes)."""
     from matplotlib.figure import Figure
 
-    from hosedrogue.plotting.long_runs import plot_long_runs
+    from hosedrogue.studies.long_runs_figures import plot_long_runs
     from hosedrogue.studies.long_runs import LongRunStudy, long_runs_study
 
     st = long_runs_study(intensities=("light", "severe"), seeds=(2018,), cap_s=20.0, hour_duration_s=20.0)

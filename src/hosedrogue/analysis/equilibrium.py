@@ -10,6 +10,9 @@ Method (no hand-tuned starting guesses):
    forces ``Q(q) = 0`` (wake, bending, everything), with a central-difference Jacobian.
 3. *Continuation.* If the direct solve fails (strong wake at low dynamic pressure), the wake's
    circulation is raised from 0 to its full value in steps, each solve starting from the last.
+4. *Elastic links.* From the rigid balance position, each link stretched by its tension, chord
+   iterations with the rigid solve's Jacobian for the angles and the axial spring for the lengths
+   (no Jacobian of the 3n elastic unknowns); MINPACK's Newton where they do not converge.
 
 The solver's own result is returned with the answer so a failure can be diagnosed.
 """
@@ -165,7 +168,53 @@ def _newton(model: HoseModel, env: np.ndarray, q0: np.ndarray, scale: float):
     return sol, res
 
 
-def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) -> Equilibrium:
+#: The banded chord (:func:`_banded_chord`): half-bandwidth of its Jacobian [-] (the bending
+#: couples neighbouring links, the drag of a joint the links on either side; what lies beyond,
+#: the drag and the wake of the joints further aft, is 4 % of the Jacobian's norm at 160 links and
+#: slows the iteration only), its refresh interval and its most iterations [-] (measured: 37 at
+#: 160 links, each cutting the residual about 2.3 times).
+BAND, BAND_REFRESH, BAND_ITERATIONS = 5, 10, 200
+
+
+def _band_jacobian(fun, q: np.ndarray, w: int, h: float = 1e-7) -> np.ndarray:
+    """The Jacobian's band (half-width w) in LAPACK's banded storage, by central differences of
+    2 w + 1 groups of columns (every (2 w + 1)-th column perturbed together)."""
+    m, g = q.size, 2 * w + 1
+    ab = np.zeros((g, m))
+    for c in range(g):
+        d = np.zeros(m)
+        d[c::g] = h
+        col = (fun(q + d) - fun(q - d)) / (2 * h)
+        for j in range(c, m, g):
+            lo, hi = max(0, j - w), min(m, j + w + 1)
+            ab[w + lo - j: w + hi - j, j] = col[lo:hi]
+    return ab
+
+
+def _banded_chord(fun, jac, q0: np.ndarray, scale: float):
+    """The rigid balance position by chord iterations on the banded part of the Jacobian
+    (:data:`BAND`), refreshed every :data:`BAND_REFRESH` iterations: 22 residual evaluations per
+    Jacobian instead of MINPACK's 4n. Returns a scipy ``OptimizeResult`` (``x``, ``residual``,
+    ``band``: the last banded Jacobian) once the residual is below 1e-2 of
+    :data:`RESIDUAL_TOLERANCE`, or None (diverged, or not converged in :data:`BAND_ITERATIONS`)."""
+    import scipy.linalg
+
+    q = q0.copy()
+    for it in range(BAND_ITERATIONS):
+        if it % BAND_REFRESH == 0:
+            ab = _band_jacobian(fun, q, BAND)
+        r = fun(q)
+        res = float(np.max(np.abs(r))) / scale
+        if not np.isfinite(res):
+            return None
+        if res < 1e-2 * RESIDUAL_TOLERANCE:
+            return scipy.optimize.OptimizeResult(x=q, success=True, nit=it, residual=res, band=ab,
+                                                 message=f"chord iterations on a banded Jacobian converged in {it}")
+        q = q - scipy.linalg.solve_banded((BAND, BAND), ab, r)
+    return None
+
+
+def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, banded: bool = False) -> Equilibrium:
     """Balance position for steady air (free stream and, if enabled, the tanker wake), in the
     tanker's initial steady flight: level, or a steady coordinated turn or climb
     (``params.tanker_motion``, docs/model.md §9; the frame's apparent forces are loads of the
@@ -177,6 +226,10 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) ->
         Parameter set (the paper's case by default); turbulence is ignored.
     model : HoseModel, optional
         A model of ``params`` to reuse (built if not given).
+    banded : bool, optional
+        Solve the angles first by chord iterations on a banded Jacobian (:func:`_banded_chord`;
+        MINPACK's Newton as before where they do not converge): the engagement's, about ten times
+        faster; the balance position moves within the residual tolerance.
 
     Returns
     -------
@@ -192,7 +245,11 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) ->
     scale = model.S[0] * G0 * model.l[0]
     q = towed_cable_guess(model)
     env_full = model.steady_env
-    sol, res = _newton(model, env_full, q, scale)
+    sol = _banded_chord(*_residual_fn(model, env_full), q, scale) if banded else None
+    if sol is not None:
+        res = sol.residual
+    else:
+        sol, res = _newton(model, env_full, q, scale)
     if not (res < RESIDUAL_TOLERANCE):
         # continuation in the wake's circulation
         q_c = q
@@ -212,7 +269,7 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) ->
     q = sol.x.copy()
     lengths = None
     if model.elastic:
-        sol, res, q, lengths = _elastic_newton(model, env_full, q, scale)
+        sol, res, q, lengths = _elastic_newton(model, env_full, q, scale, sol)
     # angles are only defined modulo 2 pi; report the principal values
     q = (q + np.pi) % (2 * np.pi) - np.pi
     rest = np.concatenate([q, np.zeros_like(q)])
@@ -235,10 +292,56 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None) ->
     )
 
 
-def _elastic_newton(model: HoseModel, env: np.ndarray, q_rigid: np.ndarray, scale: float):
+#: The elastic chord iteration stops when its last correction moved no angle [rad] and no length
+#: [m, over the link length] by more than this (MINPACK's xtol of the Newton it replaces), at most
+#: CHORD_ITERATIONS times (measured: 7 for the shipped engagements' 160 links with the rigid
+#: solve's full Jacobian, each reducing the residual by 25-50 times; 26 with its band, 67-83 for
+#: the 22.9 m hose of benchmarks/scenarios/wing-pod-response.toml).
+CHORD_XTOL, CHORD_ITERATIONS = 1e-13, 200
+
+
+def _elastic_chord(fun, n: int, y0: np.ndarray, rigid, EA: float, scale: float):
+    """The elastic balance position by chord iterations (no Jacobian of its own): the angles'
+    correction from the rigid balance position's Jacobian (MINPACK's factorization ``Q R`` at its
+    solution, ``rigid.fjac`` and ``rigid.r``: the elastic angles' Jacobian but for the links'
+    stretch, T / EA ~ 1e-3), the lengths' from their spring ``-EA`` (the length entry is ``l (e.G -
+    T)`` with ``T = EA (lam - l) / l``). The neglected couplings are of the order of the stretch and
+    the drag's share, so each iteration cuts the residual by a constant factor. Returns (y, residual,
+    iterations) or None if it did not converge. It stops when the last correction is below
+    :data:`CHORD_XTOL` or the residual below 1e-2 of :data:`RESIDUAL_TOLERANCE`. With the rigid
+    solve's band (``rigid.band``, :func:`_banded_chord`) instead of its factorization the angles'
+    correction leaves out the couplings beyond the band too, and the iteration converges slower."""
+    import scipy.linalg
+
+    m = 2 * n
+    band = getattr(rigid, "band", None)
+    if band is None:
+        R = np.zeros((m, m))
+        R[np.triu_indices(m)] = rigid.r
+    y = y0.copy()
+    for it in range(1, CHORD_ITERATIONS + 1):
+        r = fun(y)
+        if not np.all(np.isfinite(r)):
+            return None
+        if band is None:
+            dq = -scipy.linalg.solve_triangular(R, rigid.fjac @ r[:m])
+        else:
+            dq = -scipy.linalg.solve_banded((BAND, BAND), band, r[:m])
+        dlam = r[m:] / EA
+        y = y + np.concatenate([dq, dlam])
+        small = max(np.max(np.abs(dq)), np.max(np.abs(dlam / y0[m:]))) <= CHORD_XTOL
+        if small or float(np.max(np.abs(r))) / scale < 1e-2 * RESIDUAL_TOLERANCE:
+            res = float(np.max(np.abs(fun(y)))) / scale
+            return (y, res, it) if res < RESIDUAL_TOLERANCE else None
+    return None
+
+
+def _elastic_newton(model: HoseModel, env: np.ndarray, q_rigid: np.ndarray, scale: float, rigid=None):
     """The elastic chain's balance position from the rigid one: each link stretched by its rigid
-    tension (``lam = l (1 + T / EA)``), then MINPACK's hybrid Newton on the elastic static
-    generalized forces of angles and lengths (:func:`hosedrogue.model.elastic.elastic_static_residual`).
+    tension (``lam = l (1 + T / EA)``), then chord iterations on the rigid solve's Jacobian
+    (:func:`_elastic_chord`), or where they do not converge (or without ``rigid``, the rigid
+    solver's result) MINPACK's hybrid Newton with a central-difference Jacobian, on the elastic
+    static generalized forces of angles and lengths (:func:`hosedrogue.model.elastic.elastic_static_residual`).
     Returns the solver result, the scaled residual, the angles [rad] and the lengths [m]."""
     n, l = model.n, model.l
     gust = model.gust_values
@@ -247,6 +350,23 @@ def _elastic_newton(model: HoseModel, env: np.ndarray, q_rigid: np.ndarray, scal
     def fun(y):
         E.elastic_static_residual(np.ascontiguousarray(y), l, model.M, model.J, model.ps, env, gust, 0.0, Q)
         return Q.copy()
+
+    tension = fun(np.concatenate([q_rigid, l]))[2 * n:] / l  # at lam = l the residual is l T_rigid
+    y0 = np.concatenate([q_rigid, l * (1.0 + tension / model.ps[LY.PS_EA])])
+    if rigid is not None and (getattr(rigid, "r", None) is not None or getattr(rigid, "band", None) is not None):
+        chord = _elastic_chord(fun, n, y0, rigid, float(model.ps[LY.PS_EA]), scale)
+        if chord is not None:
+            y, res, it = chord
+            how = "its band" if getattr(rigid, "band", None) is not None else "its factorization"
+            sol = scipy.optimize.OptimizeResult(x=y, success=True, nit=it, nfev=it + 1, message=(
+                f"chord iterations on the rigid balance position's Jacobian ({how}) converged in {it}"))
+            return sol, res, y[: 2 * n].copy(), y[2 * n:].copy()
+    return _elastic_minpack(fun, y0, n, scale)
+
+
+def _elastic_minpack(fun, y0: np.ndarray, n: int, scale: float):
+    """MINPACK's hybrid Newton with a central-difference Jacobian on the elastic residual ``fun``
+    from ``y0`` (the fallback of :func:`_elastic_newton`)."""
 
     def jac(y, h=1e-9):
         m = y.size
@@ -262,8 +382,6 @@ def _elastic_newton(model: HoseModel, env: np.ndarray, q_rigid: np.ndarray, scal
             Jm[:, i] = (fp - fm) / (2 * step)
         return Jm
 
-    tension = fun(np.concatenate([q_rigid, l]))[2 * n:] / l  # at lam = l the residual is l T_rigid
-    y0 = np.concatenate([q_rigid, l * (1.0 + tension / model.ps[LY.PS_EA])])
     sol = scipy.optimize.root(fun, y0, jac=jac, method="hybr", options={"xtol": 1e-14})
     res = float(np.max(np.abs(fun(sol.x)))) / scale
     if not (res < RESIDUAL_TOLERANCE):

@@ -12,12 +12,13 @@ import argparse
 import sys
 
 from ..errors import EquilibriumError, IncompleteError, ParameterError
-from . import bow_wave, design, export_fmu, fly, gym, linearize, montecarlo, reproduce, simulate, steady, study, sweep, view
+from . import (bow_wave, design, export_fmu, fly, gym, linearize, margins, montecarlo, reproduce, simulate, steady, study,
+               sweep, trim_receiver, view)
 from .options import EXIT_BAD_INPUT, EXIT_INCOMPLETE, Parser
 
 #: The sub-commands, in the order ``--help`` lists them. A new command is a module here plus a line.
-COMMANDS = (steady, simulate, view, fly, sweep, linearize, design, reproduce, montecarlo, study, bow_wave, gym,
-            export_fmu)
+COMMANDS = (steady, simulate, view, fly, sweep, linearize, margins, design, reproduce, montecarlo, study, bow_wave, gym,
+            export_fmu, trim_receiver)
 
 __all__ = ["main", "build_parser", "COMMANDS", "EXIT_BAD_INPUT", "EXIT_INCOMPLETE"]
 

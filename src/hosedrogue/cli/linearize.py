@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..jsonio import dumps
+from .margins import add_loop_options, loop_controller
 from .options import add_flight_options, params_from_args, parse_order, prepare_out_file, steady_flight_text
 
 NAME = "linearize"
@@ -27,6 +28,12 @@ def add_parser(sub) -> None:
     add_flight_options(s)
     s.add_argument("--order", default="2", metavar="full|N",
                    help="'full' or the reduced order per channel [-], >= 1 (default 2, as the paper's design model)")
+    s.add_argument("--turbulence", choices=("light", "moderate", "severe"),
+                   help="also predict the drogue's RMS offset [m] in this standard turbulence (MIL-F-8785C intensity "
+                        "at the altitude) by covariance analysis, open loop and, with --controller, closed loop "
+                        "(JSON: predicted_rms_m, predicted_rms_closed_loop_m); a config's enabled [turbulence] "
+                        "is predicted without it (docs/loop-analysis.md)")
+    add_loop_options(s, "none")
     s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     s.add_argument("--format", choices=("table", "json", "mat"), default="table",
                    help="'table' (default), 'json' (same as --json) or 'mat': write --out FILE.mat for MATLAB "
@@ -61,6 +68,7 @@ def run(args) -> int:
         prepare_mat_out(args.out)
     params = params_from_args(args)
     lm = linearize(params)
+    ctrl = loop_controller(args, params, lm)
     ch = reduced_channels(lm, order)
     data = {}
     for name, sys_ in (("lateral", ch.lateral), ("vertical", ch.vertical)):
@@ -73,8 +81,9 @@ def run(args) -> int:
                       **({} if params.tanker_motion.is_level else {"bank_deg": params.tanker_motion.bank_deg,
                                                                      "flight_path_deg": params.tanker_motion.flight_path_deg}),
                       "wake": params.wake.enabled, "links": params.hose.links}
+    data.update(predicted_rms(args, params, lm, ctrl))
     if args.json or args.format == "json":
-        print(json.dumps(data))
+        print(dumps(data))
         return 0
     if args.format == "mat":
         from ..interop.matlab import write_linear_mat
@@ -93,7 +102,56 @@ def run(args) -> int:
         print(f"    G(s) = {format_tf(np.array(data[name]['num']), np.array(data[name]['den']))}")
         poles = ", ".join(f"{re:.4g}{im:+.4g}j" for re, im in data[name]["poles"])
         print(f"    poles [rad/s]: {poles}")
+    if "predicted_rms_m" in data:
+        t = data["turbulence"]
+        print(f"  predicted RMS offset in {t['level']} turbulence (sigma {t['sigma_m_s'][1]:.4g} m/s, covariance "
+              f"analysis): open loop lateral {data['predicted_rms_m']['lateral']:.4g} m, vertical "
+              f"{data['predicted_rms_m']['vertical']:.4g} m")
+        if "predicted_rms_closed_loop_m" in data:
+            c = data["predicted_rms_closed_loop_m"]
+            print(f"    with the {args.controller} (sample time {args.sample_time:g} s, sensor delay "
+                  f"{args.sensor_delay:g} s): lateral {c['lateral']:.4g} m, vertical {c['vertical']:.4g} m")
     return 0
+
+
+def predicted_rms(args, params, lm, ctrl) -> dict:
+    """The JSON keys of the covariance analysis: ``turbulence``, ``predicted_rms_m`` (open loop) and,
+    with a controller, ``predicted_rms_closed_loop_m`` [m]; none without turbulence to predict.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line (--turbulence and the loop options).
+    params : Params
+        The model and flight condition.
+    lm : LinearModel
+        Its linearization.
+    ctrl : LinearController or None
+        The controller of the loop options.
+
+    Returns
+    -------
+    dict
+    """
+    from ..controllers.covariance import disturbance_model, predict, with_standard_turbulence
+
+    if args.turbulence is None and not params.turbulence.enabled:
+        if ctrl is not None:
+            raise ParameterError(f"--controller = {args.controller!r}: a controller is analysed in turbulence; "
+                                 "give --turbulence light|moderate|severe (or a config with [turbulence])")
+        return {}
+    p = with_standard_turbulence(params, args.turbulence) if args.turbulence else params
+    dm = disturbance_model(p, lm=lm)
+    t = p.turbulence
+    out = {"turbulence": {"level": args.turbulence or "config", "model": t.model, "sigma_m_s": list(t.sigma_m_s),
+                          "scale_length_m": list(t.scale_length_m), "distribution": t.distribution},
+           "predicted_rms_m": predict(p, dm=dm).as_dict()}
+    if ctrl is not None:
+        closed = predict(p, ctrl, args.sample_time, args.sensor_delay, dm=dm)
+        out["predicted_rms_closed_loop_m"] = closed.as_dict()
+        out["controller"] = {"type": args.controller, "sample_time_s": args.sample_time,
+                             "sensor_delay_s": args.sensor_delay}
+    return out
 
 
 def prepare_mat_out(out: str) -> None:

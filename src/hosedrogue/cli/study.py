@@ -86,8 +86,9 @@ def _add_whip_loads(studies) -> None:
             "[N] (its axial damping at the shipped loss factor 0.1 of the first axial mode) and the probe's "
             "closure speed [m/s], one run per point (no turbulence: deterministic). Prints per run the peak exit "
             "tension [N], its rise above the trail tension [N], the drogue-end tension [N], the probe load [N] "
-            "and the slack [m], a * where the run does not call the peak converged. docs/engagement.md, "
-            "'Whip loads'."))
+            "and the slack [m]; with --verify N, N of the runs are run again on twice the links at half the step "
+            "and their peaks flagged: * not converged (a peak of a row not verified is unverified). "
+            "docs/engagement.md, 'Whip loads'."))
     w.add_argument("--stiffness", metavar="EA", nargs="+", type=finite_float("--stiffness", 1e3, 1e10, "N"),
                    default=list(STIFFNESSES_N), help="axial stiffnesses [N] (default 1e5 1e6 1e7 1e8)")
     w.add_argument("--closure-speeds", metavar="V", nargs="+", type=finite_float("--closure-speeds", 0.3, 3.0, "m/s"),
@@ -99,6 +100,14 @@ def _add_whip_loads(studies) -> None:
                    help="links of every run [-] (default the scenarios' 160)")
     w.add_argument("--step", metavar="H", type=finite_float("--step", 1e-5, 0.01, "s"),
                    help="integration step with --links [s] (default the scenarios')")
+    w.add_argument("--verify", metavar="N", type=bounded_int("--verify", 0, 10_000), default=0,
+                   help="verify N of the runs, spread over the grid (each run again on twice the links at half "
+                        "the step; docs/convergence.md); default 0")
+    w.add_argument("--tolerance", metavar="REL", type=finite_float("--tolerance", 1e-6, 0.5, "-"), default=0.03,
+                   help="relative change within which a verified peak is converged [-] (default 0.03)")
+    w.add_argument("--ensemble", metavar="N", type=bounded_int("--ensemble", 2, 100_000),
+                   help="the locked reel's rows (a chaotic flail): also N copies with the probe displaced by up to "
+                        "1 um, each peak's median and 5-95 %% range")
     w.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     w.set_defaults(func=run_whip_loads)
 
@@ -116,22 +125,32 @@ def run_whip_loads(args) -> int:
     int
         Exit status (see :mod:`hosedrogue.cli`).
     """
+    from ..jsonio import dumps
     from ..studies.whip_loads import PEAKS, whip_load_study
 
     if args.step is not None and args.links is None:
         raise ParameterError(f"--step = {args.step:g}: applies with --links only (the scenarios keep their own step)")
-    rows = whip_load_study(args.stiffness, args.closure_speeds, args.scenarios, args.links, args.step)
+    rows = whip_load_study(args.stiffness, args.closure_speeds, args.scenarios, args.links, args.step,
+                           verify=args.verify, tolerance=args.tolerance, ensemble=args.ensemble or 0)
     if args.json:
-        print(json.dumps({"rows": [r.to_dict() for r in rows]}, indent=2))
+        print(dumps({"rows": [r.to_dict() for r in rows]}, indent=2))
     else:
-        print("scenario (law), EA [N], closure [m/s]: " + ", ".join(PEAKS) + " (* not converged)")
+        print("scenario (law), EA [N], closure [m/s]: " + ", ".join(PEAKS) + " (* not converged, ? unverified)")
         for r in rows:
-            vals = ", ".join(f"{r.peaks[k]:.4g}{'' if r.converged[k] else '*'}" for k in PEAKS)
+            vals = ", ".join(f"{r.peaks[k]:.4g}{_flag(r.converged[k])}" for k in PEAKS)
             print(f"{r.scenario} ({r.law}), {r.stiffness_n:g}, {r.closure_speed_m_s:g}: {vals}; {r.result}")
+            for k, d in (r.distributions or {}).items():
+                print(f"    {k} over {d['copies']} perturbed copies: median {d['median']:.4g} "
+                      f"[5 %: {d['p05']:.4g}, 95 %: {d['p95']:.4g}]")
     if not all(r.completed for r in rows):
         print(f"hosedrogue: {sum(not r.completed for r in rows)} runs stopped early", file=sys.stderr)
         return EXIT_INCOMPLETE
     return 0
+
+
+def _flag(converged) -> str:
+    """A verified peak's mark in the whip-load table: '' converged, '*' not, '?' unverified."""
+    return "" if converged is True else ("*" if converged is False else "?")
 
 
 def _specs(args) -> tuple[list, list, list]:

@@ -38,6 +38,13 @@ def add_study_parser(studies) -> None:
             "limits [-], and where the paper's 'within 1 cm' holds; with --runs, the capture rate [-] (Wilson 95 %) "
             "of the approach scenarios against the deflection limit and the servo bandwidth (docking campaigns in "
             "DIR/<cell>/). docs/model.md, 'Actuated drogue'."))
+    a.add_argument("--scenario", metavar="NAME|FILE",
+                   help="your fixed-length scenario for the claims cases and the margins: its model, flight condition, "
+                        "turbulence (level 'paper' keeps it) and [drogue_actuator] (the actuated variants start from it), "
+                        "flown with each controller (default the paper's turbulence case)")
+    a.add_argument("--approach", metavar="NAME|FILE",
+                   help="your approach (an engagement scenario) for the capture cells, flown in each level's turbulence "
+                        "(default the shipped approach-LEVEL)")
     a.add_argument("--seeds", metavar="N", type=bounded_int("--seeds", 0, MAX_RUNS), default=1,
                    help="turbulence realisations per claims case [-] (0: no claims; default 1)")
     a.add_argument("--levels", metavar="LEVEL", nargs="+", choices=LEVELS, default=list(LEVELS),
@@ -98,14 +105,24 @@ def run_actuator(args) -> int:
     int
         Exit status (see :mod:`hosedrogue.cli`).
     """
+    from ..scenarios import load_scenario
     from ..studies import drogue_actuator as study
+    from ..studies.docking_grid import level_scenario
 
+    base = approach = None
+    if args.scenario is not None:  # both checked before anything runs
+        base = load_scenario(args.scenario)
+        study.claims_scenario(args.levels[0], study.CONTROLLERS[0], base=base)
+    if args.approach is not None:
+        approach = load_scenario(args.approach)
+        for level in args.capture_levels:
+            level_scenario(approach, level)
     if args.runs:
         prepare_out(args.out)
-    margins = study.servo_margins(tuple(args.margins))
+    margins = study.servo_margins(tuple(args.margins), params=None if base is None else base.params)
     claims = one_cm = capture = None
     if args.seeds:
-        claims = study.claims_table(study.claims_runs(args.seeds, levels=tuple(args.levels)))
+        claims = study.claims_table(study.claims_runs(args.seeds, levels=tuple(args.levels), base=base))
         one_cm = study.within_one_cm(claims)
     stopped = 0
     if args.runs:
@@ -114,7 +131,7 @@ def run_actuator(args) -> int:
         from ..studies.docking_statistics import actuator_table
 
         specs = actuator_specs(tuple(args.deflections), tuple(args.bandwidths), tuple(args.capture_levels))
-        cells = run_grid(specs, args.runs, args.out, workers=args.workers)
+        cells = run_grid(specs, args.runs, args.out, workers=args.workers, base=approach)
         capture = actuator_table(specs, cells)
         stopped = int(capture.drop_duplicates("campaign")["stopped"].sum())
     if args.json:

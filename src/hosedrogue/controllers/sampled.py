@@ -107,6 +107,11 @@ class Measurement:
     def __setattr__(self, name, value):
         raise AttributeError(f"Measurement.{name}: a measurement is read-only")
 
+    def __reduce__(self):
+        """Copied and pickled as a measurement reading its buffer (``copy.deepcopy`` and pickle
+        copy the buffer once, so a copied run's measurement reads the copied run's buffer)."""
+        return Measurement.reading, (self._buf,)
+
     @classmethod
     def reading(cls, buf: np.ndarray) -> "Measurement":
         """A measurement that reads ``buf`` in place (no copy): the run writes the buffer, every

@@ -399,7 +399,9 @@ def chain_equilibrium(params: Params, chain: Chain, duration_s: float | None = N
         The model it was solved on (:func:`chain_model`).
     """
     model = chain_model(params, chain, duration_s)
-    return solve_equilibrium(model.params, model=model), model
+    # elastic links: the banded chord, the balance position within its residual tolerance, a
+    # third of the time (rigid links keep MINPACK's, their results unchanged to the bit)
+    return solve_equilibrium(model.params, model=model, banded=model.elastic), model
 
 
 @functools.lru_cache(maxsize=32)

@@ -13,6 +13,7 @@ from ..spec.sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.drive import control_step, drive
 from ..simulation.simulate import sampled_controller
 from . import driver
+from .aircraft_receiver import AircraftEngagementStepper
 from .result import EngagementResult
 from .stepper import EngagementStepper
 
@@ -132,14 +133,16 @@ def sampled_stepper(params: Params, duration_s: float, controllers: dict, *, con
     Returns
     -------
     stepper : EngagementStepper
-        Reset, its control step the greatest common divisor of the controllers' sample times.
+        Reset (an :class:`~.aircraft_receiver.AircraftEngagementStepper` when the receiver is an aircraft), its control step the greatest common divisor of the controllers' sample times.
     controllers : dict
         ``controllers``.
     built : dict
         Role -> the controller object its factory made (a bad entry is an error before the run).
     """
     built = {role: c.build() for role, c in controllers.items()}
-    stepper = EngagementStepper(params, duration_s, control_step_s=control_step(controllers, params.numerics.step_s),
+    receiver = options.get("receiver")
+    kind = AircraftEngagementStepper if receiver is not None and receiver.model else EngagementStepper
+    stepper = kind(params, duration_s, control_step_s=control_step(controllers, params.numerics.step_s),
                                 control=None if "drogue" in controllers else control,
                                 drogue_command="drogue" in controllers, **options)
     return stepper, controllers, built

@@ -109,6 +109,10 @@ class EngagementStepper(StepperBase):
                                  or probe_start_velocity_m_s is not None):
             raise ParameterError("receiver_pass_through, probe_start_m, probe_start_velocity_m_s: only with a receiver "
                                  "(the probe it flies)")
+        if receiver is not None and receiver.model and not receiver_pass_through:
+            raise ParameterError(f"receiver.model = {receiver.model!r}: an aircraft receiver is flown by "
+                                 "hosedrogue.engagement.aircraft_receiver.AircraftEngagementStepper (simulate, "
+                                 "montecarlo, fly), not by this stepper or what builds on it (the environment, the FMU)")
         if drogue_command:
             control = held_command(drogue_actuator)
         elif drogue_actuator is not None:

@@ -41,14 +41,21 @@ class PDFeedForward:
         Derivative gain on the offset's rate [-].
     feedforward : float
         Fraction of the drogue's lateral and vertical velocity fed forward [-].
-    closure_speed_m_s : float
-        Forward speed relative to the tanker [m/s] (the latch needs 0.5-3 m/s at the coupler).
+    closure_speed_m_s : float, optional
+        Forward speed relative to the tanker [m/s] (the latch needs 0.5-3 m/s at the coupler);
+        default 1 m/s, and on Docking-v1 the middle of its reward's closure window (2.05 m/s).
     """
 
     def __init__(self, env, kp_1_s: float = 2.0, kd: float = 0.2, feedforward: float = 1.0,
-                 closure_speed_m_s: float = 1.0):
-        self.max_speed_m_s = np.array(env.unwrapped.max_speed_m_s, dtype=np.float64)
+                 closure_speed_m_s: float | None = None):
+        base = env.unwrapped
+        self.max_speed_m_s = np.array(base.max_speed_m_s, dtype=np.float64)
+        #: the observation's unit per component (Docking-v1's observation is normalized)
+        self.scale = np.asarray(base.observation_scale, dtype=np.float64)
         self.kp, self.kd, self.ff = float(kp_1_s), float(kd), float(feedforward)
+        if closure_speed_m_s is None:
+            w = base.reward_weights
+            closure_speed_m_s = (w.min_closure_m_s + w.max_closure_m_s) / 2 if hasattr(w, "min_closure_m_s") else 1.0
         self.closure = float(closure_speed_m_s)
 
     def command(self, obs) -> np.ndarray:
@@ -63,6 +70,7 @@ class PDFeedForward:
         -------
         numpy.ndarray (3,)
         """
+        obs = np.asarray(obs, dtype=np.float64) * self.scale
         e, de, vd = obs[0:3], obs[3:6], obs[9:12]
         return np.array([self.closure,
                          self.ff * vd[1] + self.kp * e[1] + self.kd * de[1],
@@ -93,7 +101,8 @@ class StraightLine:
     env : gymnasium.Env
         The docking environment (its speed bounds; the closure speed of its scenario's probe).
     closure_speed_m_s : float, optional
-        Forward speed [m/s]; default the scenario's ``probe.closure_speed_m_s``.
+        Forward speed [m/s]; default the scenario's ``probe.closure_speed_m_s`` (1 m/s in the
+        approach scenarios: below Docking-v1's closure window, so give it there).
     """
 
     def __init__(self, env, closure_speed_m_s: float | None = None):
@@ -120,7 +129,7 @@ class StraightLine:
 POLICIES = {"baseline": PDFeedForward, "straight": StraightLine}
 
 
-def fly(env, policy, turbulence_seeds) -> list[dict]:
+def fly(env, policy, turbulence_seeds, seed: int | None = None) -> list[dict]:
     """Fly one episode per turbulence seed; the last ``info`` of each.
 
     Parameters
@@ -131,6 +140,9 @@ def fly(env, policy, turbulence_seeds) -> list[dict]:
         Observation -> action.
     turbulence_seeds : sequence of int
         One episode per seed (``reset(options={"turbulence_seed": seed})``), >= 0.
+    seed : int, optional
+        Seeds the environment's generator at the first episode (``reset(seed=seed)``): what a
+        randomized environment draws besides the turbulence seed.
 
     Returns
     -------
@@ -139,8 +151,8 @@ def fly(env, policy, turbulence_seeds) -> list[dict]:
         with ``steps`` (actions taken) and ``return`` (the sum of its rewards) added.
     """
     out = []
-    for seed in turbulence_seeds:
-        obs, info = env.reset(options={"turbulence_seed": int(seed)})
+    for k, turbulence_seed in enumerate(turbulence_seeds):
+        obs, info = env.reset(seed=seed if k == 0 else None, options={"turbulence_seed": int(turbulence_seed)})
         steps, total = 0, 0.0
         while True:
             obs, reward, terminated, truncated, info = env.step(policy(obs))

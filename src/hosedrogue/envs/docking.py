@@ -11,6 +11,7 @@ and ``render()`` draws an RGB array (matplotlib's Agg canvas, no display).
 
 from __future__ import annotations
 
+import copy
 import math
 from pathlib import Path
 
@@ -92,6 +93,12 @@ class DockingEnv(gymnasium.Env):
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
+    _reward_kind = DockingReward
+    #: what :meth:`get_state` keeps: every attribute an episode changes
+    _STATE = ("scenario", "receiver", "stepper", "max_speed_m_s", "turbulence_seed", "_distance", "_last_obs",
+              "_command", "_outcome", "_np_random", "_np_random_seed")
+    #: the observation's unit per component (v0: 1, the observation in m and m/s)
+    observation_scale = np.ones(len(OBSERVATION))
 
     def __init__(self, render_mode: str | None = None, *, scenario: str | Path | Scenario = "approach-moderate",
                  turbulence: str | float | None = None, bow_wave: bool | None = None, reel: str | None = None,
@@ -108,17 +115,10 @@ class DockingEnv(gymnasium.Env):
             raise ParameterError(f"breakaway_distance_m = {breakaway_distance_m!r}: must be a finite number in "
                                  f"(0, {MAX_BREAKAWAY_M:g}] m")
         self.breakaway_distance_m = float(breakaway_distance_m)
-        self.reward_weights = reward_weights(reward)
-        sc, e = self.scenario, self.scenario.engagement
-        self.receiver = episode_receiver(sc)
-        self.stepper = EngagementStepper(
-            sc.params, sc.duration_s, control_step_s=control_step_s, reel=e.reel, probe=e.probe,
-            bow_wave=e.bow_wave, receiver=self.receiver, control=design_drogue_controller(sc), actuator=sc.loop.actuator,
-            sensor=sc.loop.sensor, drogue_actuator=sc.loop.drogue_actuator, record=False)
+        self.reward_weights = reward_weights(reward, self._reward_kind)
+        self._build(self.scenario, control_step_s)
         self.control_step_s = self.stepper.control_step_s
         self.metadata = {**self.metadata, "render_fps": 1.0 / self.control_step_s}
-        #: the receiver's speed bounds [m/s]: an action of 1 commands them
-        self.max_speed_m_s = np.array(self.receiver.max_speed_m_s, dtype=np.float64)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(3,), dtype=np.float64)
         bound = np.array([POSITION_BOUND_M] * 3 + [VELOCITY_BOUND_M_S] * 9 + [POSITION_BOUND_M] * 3)
         self.observation_space = spaces.Box(-bound, bound, dtype=np.float64)
@@ -130,6 +130,49 @@ class DockingEnv(gymnasium.Env):
         self._command = np.zeros(3)
         self._outcome = "approaching"
         self._renderer = None
+
+    def _build(self, scenario: Scenario, control_step_s: float) -> None:
+        """The stepper of a scenario, the receiver and its speed bounds."""
+        sc, e = scenario, scenario.engagement
+        self.scenario = sc
+        self.receiver = episode_receiver(sc)
+        self.stepper = EngagementStepper(
+            sc.params, sc.duration_s, control_step_s=control_step_s, reel=e.reel, probe=e.probe,
+            bow_wave=e.bow_wave, receiver=self.receiver, control=design_drogue_controller(sc), actuator=sc.loop.actuator,
+            sensor=sc.loop.sensor, drogue_actuator=sc.loop.drogue_actuator, record=False)
+        #: the receiver's speed bounds [m/s]: an action of 1 commands them
+        self.max_speed_m_s = np.array(self.receiver.max_speed_m_s, dtype=np.float64)
+
+    # --- snapshots -------------------------------------------------------------------------------------
+    def get_state(self) -> dict:
+        """A snapshot of everything that evolves: the run, the episode's bookkeeping and the
+        environment's generator (docs/gym.md, "Snapshots"). :meth:`set_state` of it, on this
+        environment or on another made with the same arguments, continues bit for bit as this one
+        does from here. The snapshot is a deep copy (about 0.1 MB): keep it, pickle it, restore it
+        as often as wanted.
+
+        Returns
+        -------
+        dict
+        """
+        return copy.deepcopy({name: self.__dict__[name] for name in self._STATE if name in self.__dict__})
+
+    def set_state(self, state: dict) -> None:
+        """Restore a snapshot of :meth:`get_state` (copied, so it can be restored again).
+
+        Parameters
+        ----------
+        state : dict
+            From :meth:`get_state` of an environment made with the same arguments.
+        """
+        if not isinstance(state, dict) or set(state) - set(self._STATE) or "stepper" not in state:
+            raise ParameterError("state: must be a dict from get_state() of this kind of environment")
+        self.__dict__.update(copy.deepcopy(state))
+        self._renderer = None
+
+    def __getstate__(self) -> dict:
+        """Pickled and deep-copied without the picture's figure (drawn again on the next render)."""
+        return {**self.__dict__, "_renderer": None}
 
     # --- the episode -------------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):
@@ -187,23 +230,8 @@ class DockingEnv(gymnasium.Env):
             ``closure_speed_m_s``, ``contact_time_s``, ``t_s``, ``distance_m``, ``command_m_s``,
             ``reward_terms``, ``turbulence_seed`` and the ``measurement`` (its attributes).
         """
-        st = self.stepper
-        if st.done or self._outcome != "approaching":
-            raise RuntimeError(f"the episode has ended ({self._outcome}); call reset() to start another")
-        try:
-            a = np.clip(np.asarray(action, dtype=np.float64).reshape(3), -1.0, 1.0)
-        except (TypeError, ValueError):
-            a = None
-        if a is None or not math.isfinite(a[0] + a[1] + a[2]):
-            raise ParameterError(f"action = {action!r}: must be 3 finite numbers in [-1, 1]")
-        self._command = a * self.max_speed_m_s
-        m = st.step(receiver=self._command)
-        buf = m.as_array()
-        obs = self._observe(buf)
-        distance = math.hypot(buf[M_REL], buf[M_REL + 1], buf[M_REL + 2])
-        if not math.isfinite(distance):
-            distance = self._distance  # a failed state: no progress counted
-        outcome = self._classify(distance)
+        a = self._action(action)
+        buf, obs, distance, outcome = self._advance(a)
         w = self.reward_weights
         terms = {"progress": w.progress_per_m * (self._distance - distance),
                  "control": -w.control_penalty_1_s * float(a @ a) * self.control_step_s,
@@ -214,6 +242,30 @@ class DockingEnv(gymnasium.Env):
         truncated = outcome == "time-out"
         return obs, terms["progress"] + terms["control"] + terms["terminal"], terminated, truncated, \
             self._info(buf, terms)
+
+    def _advance(self, a: np.ndarray) -> tuple:
+        """One control step of the command of action ``a``: the measurement's array, the
+        observation, the probe-drogue distance (the last one in a failed state: no progress
+        counted) and the outcome."""
+        self._command = a * self.max_speed_m_s
+        buf = self.stepper.step(receiver=self._command).as_array()
+        obs = self._observe(buf)
+        distance = math.hypot(buf[M_REL], buf[M_REL + 1], buf[M_REL + 2])
+        if not math.isfinite(distance):
+            distance = self._distance
+        return buf, obs, distance, self._classify(distance)
+
+    def _action(self, action) -> np.ndarray:
+        """The action as 3 float64 numbers clipped to [-1, 1]; an episode that has ended refused."""
+        if self.stepper.done or self._outcome != "approaching":
+            raise RuntimeError(f"the episode has ended ({self._outcome}); call reset() to start another")
+        try:
+            a = np.clip(np.asarray(action, dtype=np.float64).reshape(3), -1.0, 1.0)
+        except (TypeError, ValueError):
+            a = None
+        if a is None or not math.isfinite(a[0] + a[1] + a[2]):
+            raise ParameterError(f"action = {action!r}: must be 3 finite numbers in [-1, 1]")
+        return a
 
     def _classify(self, distance: float) -> str:
         """The outcome after a step: the capture test first, then a failed state, a breakaway, the time limit."""

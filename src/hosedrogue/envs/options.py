@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from ..spec.config import preset_names
 from ..errors import ParameterError
-from ..spec.fields import Section, real
+from ..spec.rewards import DockingReward, DockingRewardV1
 from ..scenarios import Scenario, scenario_from_dict, scenario_tables
 from ..spec.standards import INTENSITY_FT_S
 
@@ -34,69 +33,28 @@ PAPER_MODEL = "paper"
 MAX_TIME_LIMIT_S = 600.0
 
 
-@dataclass(frozen=True)
-class DockingReward(Section):
-    """The reward of one control step (docs/gym.md, "Reward"): the distance the probe closed on
-    the drogue, less the control effort, plus a bonus or a penalty when the episode ends::
-
-        r = progress_per_m (d_before - d_after) - control_penalty_1_s |a|^2 dt + terminal
-
-    with d the measured distance from the probe tip to the drogue [m], a the action (the velocity
-    command as fractions of the receiver's speed bounds) and dt the control step [s]; ``terminal``
-    is ``capture_bonus`` at a capture and minus the penalty of a miss, a failed latch, a breakaway
-    or a failed state (a time-out adds nothing: it is a truncation, not an outcome).
-    """
-
-    _section = "reward"
-    #: reward per metre the probe-drogue distance closes (negative when it opens) [1/m]
-    progress_per_m: float = field(default=1.0, metadata=real(0.0, 1e6, lo_open=False, unit="1/m"))
-    #: penalty per second of full-scale command on all three axes, |a|^2 dt [1/s]
-    control_penalty_1_s: float = field(default=0.01, metadata=real(0.0, 1e6, lo_open=False, unit="1/s"))
-    #: bonus of a capture: the probe in the basket within the capture radius and latch window [-]
-    capture_bonus: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
-    #: penalty of a miss: the coupler plane crossed beyond the capture radius [-]
-    miss_penalty: float = field(default=5.0, metadata=real(0.0, 1e6, lo_open=False))
-    #: penalty of a failed latch: within the radius, the closure speed outside the window [-]
-    failed_latch_penalty: float = field(default=5.0, metadata=real(0.0, 1e6, lo_open=False))
-    #: penalty of a breakaway: the probe strayed beyond the breakaway distance from the drogue [-]
-    breakaway_penalty: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
-    #: penalty of a failed state (the simulation diverged) [-]
-    failure_penalty: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
-
-    def terminal(self, outcome: str) -> float:
-        """The end-of-episode term of an outcome.
-
-        Parameters
-        ----------
-        outcome : str
-            One of :data:`hosedrogue.envs.docking.OUTCOMES`.
-
-        Returns
-        -------
-        float
-        """
-        return {"captured": self.capture_bonus, "miss": -self.miss_penalty,
-                "failed latch": -self.failed_latch_penalty, "breakaway": -self.breakaway_penalty,
-                "diverged": -self.failure_penalty}.get(outcome, 0.0)
-
-
-def reward_weights(reward: DockingReward | dict | None) -> DockingReward:
-    """A :class:`DockingReward` from one, a ``{weight: value}`` table (the rest default) or None.
+def reward_weights(reward: DockingReward | DockingRewardV1 | dict | None, kind: type = DockingReward):
+    """A reward section of class ``kind`` from one, a ``{weight: value}`` table (the rest default) or None.
 
     Parameters
     ----------
-    reward : DockingReward, dict or None
+    reward : DockingReward, DockingRewardV1, dict or None
         The weights.
+    kind : type
+        :class:`DockingReward` (Docking-v0) or :class:`DockingRewardV1` (Docking-v1).
 
     Returns
     -------
-    DockingReward
+    DockingReward or DockingRewardV1
     """
     if reward is None:
-        return DockingReward()
-    if isinstance(reward, DockingReward):
+        return kind()
+    if isinstance(reward, kind):
         return reward
-    return DockingReward.from_mapping(reward)
+    if isinstance(reward, (DockingReward, DockingRewardV1)):
+        raise ParameterError(f"reward = {type(reward).__name__}(...): this environment's weights are a "
+                             f"{kind.__name__} or a dict")
+    return kind.from_mapping(reward)
 
 
 def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, turbulence: str | float | None = None,

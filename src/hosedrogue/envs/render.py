@@ -39,17 +39,21 @@ class DockingRenderer:
         w = BEHIND_HALF_WIDTH_M
         behind.set(xlim=(b[1] - w, b[1] + w), ylim=(b[2] + w, b[2] - w), aspect="equal",
                    xlabel="y, right [m]", ylabel="z, down [m]", title="from behind")
-        behind.plot([b[1]], [b[2]], "+", color="0.5", ms=8)
-        self.circle = Circle((b[1], b[2]), capture_radius_m, fill=False, color="tab:blue", lw=1.5)
+        behind.plot([b[1]], [b[2]], "+", color="0.5", ms=8, label="drogue's balance position")
+        self.circle = Circle((b[1], b[2]), capture_radius_m, fill=False, color="tab:blue", lw=1.5,
+                             label=f"capture radius ({capture_radius_m:g} m)")
         behind.add_patch(self.circle)
-        self.tip_behind, = behind.plot([], [], "o", color="tab:red", ms=6)
+        self.tip_behind, = behind.plot([], [], "o", color="tab:red", ms=6, label="probe tip")
         x_aft = b[0] - standoff_m - PROBE_DRAWN_M - 0.5
         side.set(xlim=(x_aft, 0.5), ylim=(b[2] + 2.0, -1.0), xlabel="x, forward [m]", ylabel="z, down [m]",
                  title="from the side")
-        side.plot([0.0], [0.0], "s", color="0.3", ms=6)  # the hose's exit at the tow point
-        self.hose, = side.plot([], [], "-", color="0.2", lw=1.5)
-        self.drogue, = side.plot([], [], "o", color="tab:blue", ms=7)
-        self.probe, = side.plot([], [], "-", color="tab:red", lw=2.5)
+        side.plot([0.0], [0.0], "s", color="0.3", ms=6, label="tanker's hose exit")
+        self.hose, = side.plot([], [], "-", color="0.2", lw=1.5, label="hose")
+        self.drogue, = side.plot([], [], "o", color="tab:blue", ms=7, label="drogue")
+        self.probe, = side.plot([], [], "-", color="tab:red", lw=2.5, label="receiver's probe")
+        # one legend for both views, in the side view's empty corner (above the probe, aft of the hose)
+        handles = [*behind.get_legend_handles_labels()[0], *side.get_legend_handles_labels()[0]]
+        side.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.8, ncols=2)
         for ax in (behind, side):
             ax.grid(True, alpha=0.3)
         self.title = fig.suptitle("")
@@ -81,4 +85,6 @@ class DockingRenderer:
         self.probe.set_data([probe_m[0] - PROBE_DRAWN_M, probe_m[0]], [probe_m[2], probe_m[2]])
         self.title.set_text(f"t = {t_s:5.2f} s   {outcome}")
         self.canvas.draw()
+        # the layout of the first picture serves every later one: the axes' limits are fixed
+        self.figure.set_layout_engine("none")
         return np.asarray(self.canvas.buffer_rgba())[:, :, :3].copy()

@@ -16,14 +16,14 @@ Conventions shared by the functions below:
 
 This module gathers the figure functions, which live by topic in :mod:`.base` (figure creation
 and saving), :mod:`.steady` (Figs. 3-4), :mod:`.linear` (Figs. 5-8, 10-11), :mod:`.nonlinear`
-(Figs. 12-13, 3-D view), :mod:`.convergence` and :mod:`.animation`.
+(Figs. 12-13, 3-D view) and :mod:`.animation`; a study's own figures are beside it in
+:mod:`hosedrogue.studies` (``<study>_figures``).
 """
 
 from __future__ import annotations
 
 from .animation import animate_hose
 from .base import CHANNELS, new_figure, save_figure
-from .convergence import plot_convergence
 from .linear import plot_bode_compare, plot_closed_loop_steps, plot_linear_steps, plot_pole_zero, plot_step_compare
 from .nonlinear import plot_control_forces, plot_controller_on_off, plot_hose_3d
 from .steady import plot_displacement, plot_sweep, plot_turbulence_speeds
@@ -32,5 +32,5 @@ __all__ = [
     "new_figure", "save_figure", "plot_displacement", "plot_sweep", "plot_turbulence_speeds",
     "plot_linear_steps", "plot_pole_zero", "plot_bode_compare", "plot_step_compare",
     "plot_closed_loop_steps", "plot_controller_on_off", "plot_control_forces", "plot_hose_3d",
-    "plot_convergence", "animate_hose", "CHANNELS",
+    "animate_hose", "CHANNELS",
 ]

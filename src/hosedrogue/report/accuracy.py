@@ -264,7 +264,7 @@ def build(out: ReportFolder, settings: ReportSettings, *, convergence: Convergen
     AccuracyResult
         Headline numbers.
     """
-    from ..plotting.accuracy import plot_accuracy
+    from ..studies.accuracy_figures import plot_accuracy
 
     cont, lumps, step, fewest = _studies(settings)
     _write_csv(out, cont, lumps, step)

@@ -304,7 +304,47 @@ def _integral_html(st: _Steps, rows) -> str:
     )
 
 
-def _table3_html(st: _Steps, rows, integral_rows, s0, c0) -> str:
+#: The loops whose margins stand beside Table 3: label -> (controller, sample time [s]); the PID also
+#: sampled at 10 ms (zero-order hold), the rate a flight computer might run it at.
+_MARGIN_LOOPS = {"PID": ("PID", 0.0), "PID sampled 10 ms": ("PID", 0.01), "LQR": ("LQR", 0.0)}
+
+
+def _margins_html(out, lin, st: _Steps) -> str:
+    """Gain, phase and delay margins of each loop on our full model (:mod:`hosedrogue.controllers.margins`),
+    a table and the PID's Bode and Nyquist figure; records them in report.json."""
+    import pandas as pd
+
+    from ..controllers.design import paper_pid
+    from ..controllers.margins import channel_loop, frequency_grid, loop_margins, response
+    from ..plotting.loop import plot_loops
+
+    ctrls = {"PID": paper_pid(), "LQR": st.lqr_ours.controller}
+    found = {label: loop_margins(lin.model, ctrls[c], T) for label, (c, T) in _MARGIN_LOOPS.items()}
+    rows = [[label, ch, m.gain_margin_db, m.phase_margin_deg, m.crossover_rad_s, 1e3 * m.delay_margin_s]
+            for label, ms in found.items() for ch, m in ms.items()]
+    out.csv(pd.DataFrame(rows, columns=["loop", "channel", "gain_margin_db", "phase_margin_deg",
+                                        "gain_crossover_rad_s", "delay_margin_ms"]), "table3_margins.csv")
+    # report.json holds finite numbers only: an infinite gain margin (no phase crossover) is left out
+    out.record("margins", {label: {ch: {k: v for k, v in m.as_dict().items() if np.isfinite(v)}
+                                   for ch, m in ms.items()} for label, ms in found.items()})
+    loops = {ch: channel_loop(lin.model, ctrls["PID"], ch) for ch in CHANNELS}
+    w = {ch: frequency_grid(loops[ch])[::10] for ch in CHANNELS}
+    out.figure(plot_loops(w, {ch: response(loops[ch], w[ch]) for ch in CHANNELS},
+                          {ch: m.as_dict() for ch, m in found["PID"].items()}), "table3_pid_loops.png")
+    dm = min(m.delay_margin_s for m in found["PID"].values())
+    return ('<h3 id="table3-margins">Loop margins on our full model</h3>'
+            "<p>Each channel's loop broken at its force input, the other channel closed (docs/loop-analysis.md). "
+            f"The paper's PID crosses over near {found['PID']['lateral'].crossover_rad_s:.3g} rad/s: its delay "
+            f"margin is {1e3 * dm:.3g} ms, and sampling it at 10 ms (a zero-order hold, half a sample of lag) "
+            "takes most of it.</p>"
+            + html_table(["loop", "channel", "gain margin [dB]", "phase margin [deg]", "gain crossover [rad/s]",
+                          "delay margin [ms]"], rows, table_id="table-3-margins")
+            + figure_html("table3-pid-loops", "table3_pid_loops.png", "Loops of the paper's PID",
+                          "Bode magnitude and phase and Nyquist plot of each channel's loop, continuous, on our "
+                          "full model.", ("table3_margins.csv",)))
+
+
+def _table3_html(st: _Steps, rows, integral_rows, s0, c0, margins: str = "") -> str:
     """The Table 3 section; ``s0`` |S(0)| [-] and ``c0`` |C(0)| [N/m] of the LQR on our full model."""
     return (
         '<section id="table3"><h2>Table 3: closed-loop step responses (PID and LQR)</h2>'
@@ -318,7 +358,7 @@ def _table3_html(st: _Steps, rows, integral_rows, s0, c0) -> str:
                       "ratio", "on paper's 6th-order model", "on our 2nd-order model", "ratio",
                       "on our 6th-order model", "on our full model"], rows, table_id="table-3")
         + '<p class=data>Data: <a href="table3.csv">table3.csv</a>.</p>'
-        + _integral_html(st, integral_rows) + "</section>"
+        + _integral_html(st, integral_rows) + margins + "</section>"
     )
 
 
@@ -387,7 +427,7 @@ def build(out: ReportFolder, settings: ReportSettings, *, linear: LinearResult) 
     out.csv(pd.DataFrame(t3_csv), "table3.csv")
     out.csv(pd.DataFrame(int_csv), "table3_lqr_integral.csv")
     _fig10_11(out, st)
-    out.section("table3", "Table 3", _table3_html(st, t3_rows, int_rows, s0, c0))
+    out.section("table3", "Table 3", _table3_html(st, t3_rows, int_rows, s0, c0, _margins_html(out, linear, st)))
     out.section("fig10-11", "Figs. 10-11", _figures_html(st))
     out.summarize(_summary(st))
     out.record("table3", t3_head)

@@ -196,7 +196,7 @@ def build(out: ReportFolder, settings: ReportSettings, *, parameters: Parameters
     ConvergenceResult
         The link-count finding.
     """
-    from ..plotting.figures import plot_convergence
+    from ..studies.convergence_figures import plot_convergence
 
     studies, link_studies = _studies(settings)
     finding = _link_finding(link_studies)

@@ -8,8 +8,8 @@ force limit (:mod:`.docking_force`; docs/engagement.md, "Bow wave",
 The computations are the docking studies' (:mod:`hosedrogue.studies.docking`, the cells of
 :mod:`hosedrogue.studies.docking_grid`, the tables and findings of
 :mod:`hosedrogue.studies.docking_statistics`, :mod:`hosedrogue.studies.bow_wave`); this module
-writes the CSVs, the figures (through :mod:`hosedrogue.plotting.bow_wave` and
-:mod:`hosedrogue.plotting.docking`), the HTML section with every number read from the results, and
+writes the CSVs, the figures (through :mod:`hosedrogue.studies.bow_wave_figures` and
+:mod:`hosedrogue.studies.docking_figures`), the HTML section with every number read from the results, and
 ``report.json["docking"]``. The campaigns are kept in ``docking/campaigns/<cell>/`` of the report
 folder (each a campaign folder: campaign.json with the cell's scenario, runs.csv, summary.json),
 rewritten at every build. Runs per cell, the dask workers and the two studies' cells are the
@@ -94,7 +94,7 @@ def _bow_wave_outputs(out, bw) -> None:
 def _approach_outputs(out, paths: dict, radius: float) -> None:
     import pandas as pd
 
-    from ..plotting.docking import plot_approach_from_behind
+    from ..studies.docking_figures import plot_approach_from_behind
 
     rows = [pd.DataFrame(dict(controller=c, t_s=p["t_s"], probe_y_m=p["probe_yz_m"][:, 0],
                               probe_z_m=p["probe_yz_m"][:, 1], drogue_y_m=p["drogue_yz_m"][:, 0],
@@ -312,7 +312,7 @@ def _study(out, settings) -> _Study:
 
 def _figures(out, st: _Study) -> float:
     """The section's CSVs and figures and the approaches' viewer page; returns the page's size [MB]."""
-    from ..plotting.docking import plot_capture_rates, plot_miss_cdfs
+    from ..studies.docking_figures import plot_capture_rates, plot_miss_cdfs
 
     _bow_wave_outputs(out, st.bow)
     out.csv(st.table, "docking_capture.csv")

@@ -160,7 +160,7 @@ def write_force_outputs(out, df, specs, cells) -> None:
     """
     import pandas as pd
 
-    from ..plotting.docking import plot_force_limit
+    from ..studies.docking_figures import plot_force_limit
 
     out.csv(df, TABLE_CSV)
     frames = []

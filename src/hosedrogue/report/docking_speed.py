@@ -152,7 +152,7 @@ def write_speed_outputs(out, df, specs, cells, min_latch_m_s: float) -> None:
     """
     import pandas as pd
 
-    from ..plotting.docking import plot_closure_speed
+    from ..studies.docking_figures import plot_closure_speed
 
     out.csv(df, TABLE_CSV)
     frames = []

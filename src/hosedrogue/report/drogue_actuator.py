@@ -6,7 +6,7 @@ The computations are :mod:`hosedrogue.studies.drogue_actuator`'s (servo margins,
 ideal force, the claims cases) and the docking cells of
 :func:`hosedrogue.studies.docking_grid.actuator_specs` (capture rate against deflection limit and
 servo bandwidth, :func:`hosedrogue.studies.docking_statistics.actuator_table`); this module writes
-the CSVs, the figures (:mod:`hosedrogue.plotting.drogue_actuator`), the HTML with the statement of
+the CSVs, the figures (:mod:`hosedrogue.studies.drogue_actuator_figures`), the HTML with the statement of
 where the paper's "within 1 cm" holds, the comparison rows and ``report.json["drogue_actuator"]``.
 The campaigns are kept in ``drogue_actuator/campaigns/<cell>/``, rewritten at every build.
 """
@@ -222,7 +222,7 @@ def _study(out, settings) -> dict:
 def _write(out, st: dict) -> None:
     import pandas as pd
 
-    from ..plotting.drogue_actuator import plot_actuated_run, plot_capture_vs_surfaces, plot_claims
+    from ..studies.drogue_actuator_figures import plot_actuated_run, plot_capture_vs_surfaces, plot_claims
 
     ideal, act = st["paper_runs"]["ideal"], st["paper_runs"]["actuated"]
     cols = {"t_s": act.t_s, **{f"ideal_{k}": v for k, v in ideal.columns().items() if k in ("drogue_dy_m", "drogue_dz_m",

@@ -5,7 +5,7 @@ the bank angle and the flight-path angle and a 25-degree turn taken apart term b
 entry ``turn-entry-30`` open loop and with the paper's PID, and the capture rate of the approach
 in moderate turbulence in a 25-degree turn against level flight (Monte Carlo campaigns with Wilson
 intervals, kept in ``manoeuvres/<scenario>/`` of the report folder). This module writes their
-CSVs, figures (:mod:`hosedrogue.plotting.manoeuvres`), the HTML section and
+CSVs, figures (:mod:`hosedrogue.studies.manoeuvres_figures`), the HTML section and
 ``report.json["manoeuvres"]``. Grids and run counts are the settings' ``manoeuvre_*`` fields.
 """
 
@@ -184,7 +184,7 @@ def build(out: ReportFolder, settings: ReportSettings) -> ManoeuvresResult:
     -------
     ManoeuvresResult
     """
-    from ..plotting.manoeuvres import plot_turn_capture, plot_turn_entry
+    from ..studies.manoeuvres_figures import plot_turn_capture, plot_turn_entry
     from ..studies.manoeuvres import steady_flight_study, turn_capture_study, turn_entry_study
 
     out.status("manoeuvres: steady flight")

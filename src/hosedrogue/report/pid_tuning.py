@@ -11,9 +11,8 @@ from typing import TYPE_CHECKING
 
 import math
 
-import numpy as np
-
-from ..paper import CHANNELS, TABLE3
+from ..paper import TABLE3
+from ..studies.pid_tuning import PLANTS
 from .markup import figure_html, html_table
 
 if TYPE_CHECKING:
@@ -22,26 +21,8 @@ if TYPE_CHECKING:
 
 __all__ = ["build"]
 
-#: The figure's time axis [s] (logarithmic: rises near 0.05 s, settling up to ~8 s on the full model).
-_T_S = np.concatenate([[0.0], np.logspace(-3.0, 1.0, 800)])
-_PLANT = {"paper": "paper's Table 2 models", "model": "this model"}
 #: Below this smallest damping ratio [-] the text points at the lightly damped pole (as the CLI's note).
 LIGHT_DAMPING = 0.2
-_LARGER = {"paper": "6th order", "model": "full order"}
-
-
-def _curves(study):
-    """Rows {plant: {label: {channel: y}}} of the 2nd-order steps and the larger model's (dashed)."""
-    rows, dashed = {}, {}
-    for case in study.cases:
-        label = "tuned" if case.source == "tuned" else "Eq. 33"
-        name = _PLANT[case.plant]
-        rows.setdefault(name, {})[f"{label}, 2nd order"] = {
-            ch: np.interp(_T_S, case.design_steps[ch].t_s, case.design_steps[ch].y) for ch in CHANNELS}
-        if case.larger_steps:
-            dashed.setdefault(name, {})[f"{label}, {_LARGER[case.plant]}"] = {
-                ch: np.interp(_T_S, case.larger_steps[ch].t_s, case.larger_steps[ch].y) for ch in CHANNELS}
-    return rows, dashed
 
 
 def _cell(v, spec):
@@ -52,7 +33,7 @@ def _table(rows) -> str:
     body = []
     for r in rows:
         ref = TABLE3[("PID", r["channel"])]
-        body.append((_PLANT[r["plant"]], r["gains"], r["channel"],
+        body.append((PLANTS[r["plant"]], r["gains"], r["channel"],
                      f"{r['kp_n_per_m']:.5g} / {r['ki_n_per_m_s']:.5g} / {r['kd_n_s_per_m']:.5g} / "
                      f"{r['n_filter_rad_s']:.4g}",
                      _cell(r["min_damping"], ".3f"),
@@ -122,14 +103,12 @@ def build(out: ReportFolder, settings: ReportSettings) -> None:
     """
     import pandas as pd
 
-    from ..plotting.figures import plot_closed_loop_steps
     from ..studies.pid_tuning import pid_tuning_study
 
     study = pid_tuning_study(duration_s=settings.run_duration_s)
     rows = study.rows()
     out.csv(pd.DataFrame(rows), "pid_tuning.csv")
-    curves, dashed = _curves(study)
-    out.figure(plot_closed_loop_steps(_T_S, curves, log_time=True, reference_rows=dashed), "pid_tuning_steps.png")
+    out.figure(study.figures()["steps"], "pid_tuning_steps.png")
     duration = settings.run_duration_s or 60.0
     out.section("pid-tuning", "PID tuning", _html(study, rows, duration))
     # report.json holds finite numbers only: a figure that does not exist (no turbulence run on the

@@ -2,7 +2,7 @@
 probe's closure speed for the three reel laws (:mod:`hosedrogue.studies.whip_loads`).
 
 The study runs in the library (:func:`hosedrogue.studies.whip_loads.whip_load_study`); this module
-writes its rows as CSV, the figure through :func:`hosedrogue.plotting.engagement.plot_whip_loads`,
+writes its rows as CSV, the figure through :func:`hosedrogue.studies.whip_loads_figures.plot_whip_loads`,
 the HTML with the numbers read from the rows and ``report.json["whip_loads"]``. The fast version
 runs a smaller grid on the report settings' coarser mesh (``whip_*`` fields) and says so.
 """
@@ -93,7 +93,7 @@ def build(out, settings) -> WhipLoadsResult:
     """
     import pandas as pd
 
-    from ..plotting.engagement import plot_whip_loads
+    from ..studies.whip_loads_figures import plot_whip_loads
     from ..studies.whip_loads import whip_load_study
 
     rows = whip_load_study(settings.whip_stiffnesses_n, settings.whip_closure_speeds_m_s,

@@ -1,31 +1,53 @@
-"""Which peak loads of an engagement run are converged with the link count, and why the others
-are not (docs/engagement.md, "Link-count convergence"): the rule behind ``run.json``'s
-``"converged"``, ``peak_tension_converged`` and ``notes``
-(:meth:`hosedrogue.results.run.EngagementResult.summary`).
+"""Whether a run's headline figures are converged with the mesh, measured on that run
+(docs/convergence.md, "Verifying a run"): never decided by a rule.
 
-The rule is physical, read from a run's own histories, and was established by doubling the
-links of the shipped engagement scenarios (160 -> 320 links of 0.1 m):
+:func:`headline_figures` reads the figures of a run that ``run.json`` leads with (the engagement's
+peak loads and their rise, the slack, the drogue's excursion, the miss distance and closure speed;
+the drogue displacement statistics of every run); :func:`compare_figures` sets each against the
+same figure of the run repeated on twice the links at the refined step
+(:func:`hosedrogue.studies.verify.verify_run` runs it) and says, for each, the change, a
+Richardson estimate of the discretization error and ``converged``: the change within the
+tolerance. A run that was not verified says so (:func:`unverified`): its figures are neither
+converged nor not.
 
-* rigid links: when the hose went slack (:func:`went_slack`) its tension peaks are the
-  discretization-set impulses of an inextensible chain; the probe load and the slack converge;
-* elastic links on links no longer than :data:`RESOLVED_LINK_M`: a hose still slack at the end
-  of the run (:func:`flailing`: a loop flailing in the air stream, chaotic) has only its slack
-  converged: a micrometre's change of the probe's path moves its peak exit tension by 40 % and its
-  probe load by 8.5 %, its slack by 0.17 % (``benchmarks/locked_reel_chaos.py``); a hose that went slack and snapped taut has its exit tension, its rise and the probe
-  load converged (the axial damping smooths the snap's wave on its way to the exit), not its
-  drogue-end tension (made where the last slack goes out); otherwise every peak is converged;
-* elastic links on longer links: none is claimed converged.
+:func:`went_slack` and :func:`flailing` describe a run's hose (gone slack; still slack at the end,
+the locked reel's chaotic loop); they explain a figure that does not converge, they never flag one.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-__all__ = ["PEAK_KEYS", "SLACK_TENSION_FRACTION", "RESOLVED_LINK_M", "FLAIL_SLACK_M", "FLAIL_WINDOW_S",
-           "went_slack", "flailing", "converged_peaks"]
+__all__ = ["PEAK_KEYS", "ENGAGEMENT_FIGURES", "SLACK_TENSION_FRACTION", "FLAIL_SLACK_M", "FLAIL_WINDOW_S",
+           "DEFAULT_TOLERANCE", "ASSUMED_ORDER", "UNVERIFIED", "UNVERIFIED_NOTE", "went_slack", "flailing",
+           "headline_figures", "absolute_floor", "compare_figures", "unverified", "verification_document"]
 
-#: The peaks whose convergence with the link count a run reports (``"converged"`` in its summary).
+#: The engagement's peaks (units in the names) whose flags the run's summary gives (``"converged"``).
 PEAK_KEYS = ("peak_exit_tension_n", "peak_tension_rise_n", "peak_drogue_tension_n", "peak_probe_load_n", "peak_slack_m")
+
+#: The engagement's headline figures a verification compares (run.json's ``"engagement"``), after
+#: :data:`PEAK_KEYS`; every run adds its displacement statistics (``statistics.<name>``).
+ENGAGEMENT_FIGURES = PEAK_KEYS + ("peak_drogue_excursion_m", "miss_distance_m", "closure_speed_m_s",
+                                  "peak_control_force_n")
+
+#: The relative change [-] within which a figure is called converged unless told otherwise: 3 %,
+#: the bound of the engagements' link-doubling checks (docs/engagement.md, "Link-count convergence").
+DEFAULT_TOLERANCE = 0.03
+
+#: The order [-] in the refinement ratio 2 that the Richardson estimate assumes: the link count's
+#: (the balance position and the modes converge at second order in 1/links, docs/convergence.md)
+#: and the SDIRK's (second order in the step); RK4's fourth-order step error is then the smaller
+#: part. The peaks of a snap wave are not smooth functions of the mesh, so for them the estimate
+#: is indicative; ``converged`` uses the measured change only.
+ASSUMED_ORDER = 2
+
+#: A figure's value where a run was not verified.
+UNVERIFIED = "unverified"
+#: ``notes`` entry of a run that was not verified.
+UNVERIFIED_NOTE = ("unverified: no figure of this run was checked against a finer mesh; run it with --verify "
+                   "(hosedrogue.studies.verify.verify_run) to measure which are converged (docs/convergence.md)")
 
 #: The hose counts as gone slack when its exit tension falls below this fraction of the steady
 #: trail tension (the exit tension at the start, at the balance position) [-].
@@ -36,27 +58,31 @@ SLACK_TENSION_FRACTION = 0.1
 #: FLAIL_WINDOW_S [s].
 FLAIL_SLACK_M, FLAIL_WINDOW_S = 0.1, 1.0
 
-#: Elastic links: the longest link [m] at which the peaks were shown to converge (the shipped
-#: engagements, 160 -> 320 links of a 16 m hose); a coarser run claims none.
-RESOLVED_LINK_M = 0.1
+#: Absolute changes below which a figure is converged whatever its relative change, by the unit
+#: at the end of its name: a figure near zero (the miss distance of a capture, 1e-10 m; a control
+#: force of a run without controller) has no meaningful relative change. 1 mm is 1/300 of the
+#: capture radius and far below a drogue's size; 1 N is below 1e-3 of the trail tensions (1.5-5
+#: kN); 1 mm/s of the closure speed's 0.5-2.5 m/s; 0.005 of a time fraction (half a percentage point).
+ABSOLUTE_FLOORS = (("_m_s", 1e-3), ("_frac", 5e-3), ("_n", 1.0), ("_m", 1e-3))
 
-#: ``notes`` entry of a rigid run in which the hose went slack.
-SLACK_NOTE = ("the hose went slack (exit tension below 10 % of the steady trail tension): peak_exit_tension_n "
-              "and min_exit_tension_n are snap spikes of an inextensible link chain and are not converged "
-              "with the link count (docs/engagement.md). The peak probe load and the peak slack of the shipped "
-              "scenarios change by less than 5 % when their links are doubled")
-#: ``notes`` entry of an elastic run whose hose is still slack at its end.
-FLAIL_NOTE = ("the hose is still slack at the end of the run (a loop flailing in the air stream): a chaotic "
-              "motion whose tension and probe load peaks change with every change of the mesh, the step or the "
-              "probe's path (a micrometre moves the peak exit tension by 40 %); of the peaks only peak_slack_m "
-              "is converged (docs/engagement.md, \"Link-count convergence\")")
-#: ``notes`` entry of an elastic run whose hose went slack and snapped taut again.
-SNAP_NOTE = ("the hose went slack and snapped taut: the snap's tension wave is smoothed by the axial damping on "
-             "its way to the exit, so peak_exit_tension_n, peak_tension_rise_n and the probe load are converged "
-             "with the link count, peak_drogue_tension_n (the snap at the drogue end) is not (docs/engagement.md)")
-#: ``notes`` entry of an elastic run on links longer than :data:`RESOLVED_LINK_M`.
-COARSE_NOTE = ("the links are longer than the 0.1 m at which the engagements' peaks were shown to converge "
-               "(docs/engagement.md, \"Link-count convergence\"): no peak is claimed converged")
+
+def absolute_floor(key: str) -> float:
+    """The change [in the figure's unit] below which figure ``key`` is converged
+    (:data:`ABSOLUTE_FLOORS`, by the unit at the end of its name; 0 for a name without one).
+
+    Parameters
+    ----------
+    key : str
+        The figure's name (``statistics.`` prefix allowed).
+
+    Returns
+    -------
+    float
+    """
+    for suffix, floor in ABSOLUTE_FLOORS:
+        if key.endswith(suffix):
+            return floor
+    return 0.0
 
 
 def went_slack(exit_tension_n) -> bool:
@@ -95,32 +121,109 @@ def flailing(t_s, slack_m) -> bool:
     return bool(t.size and np.min(np.asarray(slack_m)[t >= t[-1] - FLAIL_WINDOW_S]) > FLAIL_SLACK_M)
 
 
-def converged_peaks(t_s, exit_tension_n, slack_m, link_length_m: float, elastic: bool) -> tuple[dict, list]:
-    """Which peaks of :data:`PEAK_KEYS` are converged with the link count, and the notes on why the
-    others are not (the module's rule).
+def _number(value):
+    if value is None or isinstance(value, (bool, np.bool_, str)):
+        return None
+    v = float(value)
+    return v if math.isfinite(v) else None
+
+
+def headline_figures(result) -> dict:
+    """The figures of a run that a verification compares: for an engagement
+    :data:`ENGAGEMENT_FIGURES` of its summary, then for every run its displacement statistics
+    (``statistics.<name>``, :meth:`hosedrogue.results.run.RunResult.statistics`).
 
     Parameters
     ----------
-    t_s, exit_tension_n, slack_m : array (N,)
-        Output times [s], exit tension [N] and slack [m].
-    link_length_m : float
-        The run's link length [m] (hose length over links at the start).
-    elastic : bool
-        Elastic links (finite axial stiffness).
+    result : hosedrogue.results.run.RunResult
+        The run.
 
     Returns
     -------
-    converged : dict
-        Peak key -> bool.
-    notes : list of str
+    dict
+        Name (unit in it) -> float, or None where the run has no such figure (no contact: no miss
+        distance) or it is not finite.
     """
-    slack = went_slack(exit_tension_n)
-    if not elastic:
-        return {k: not slack or k in PEAK_KEYS[3:] for k in PEAK_KEYS}, [SLACK_NOTE] if slack else []
-    if link_length_m > RESOLVED_LINK_M * (1.0 + 1e-9):
-        return {k: False for k in PEAK_KEYS}, [COARSE_NOTE]
-    if flailing(t_s, slack_m):
-        return {k: k == "peak_slack_m" for k in PEAK_KEYS}, [FLAIL_NOTE]
-    flags = {k: True for k in PEAK_KEYS}
-    flags["peak_drogue_tension_n"] = not slack
-    return flags, [SNAP_NOTE] if slack else []
+    out = {}
+    if hasattr(result, "outcome"):
+        o = result.outcome
+        out.update({k: _number(o.get(k)) for k in ENGAGEMENT_FIGURES})
+    out.update({f"statistics.{k}": _number(v) for k, v in result.statistics().items()})
+    return out
+
+
+def _one(key: str, a, b, tolerance: float, order: int) -> dict:
+    """One figure's comparison (:func:`compare_figures`)."""
+    if a is None or b is None:
+        return {"value": a, "refined_value": b, "change": None, "relative_change": None, "error_estimate": None,
+                "converged": False}
+    change = b - a
+    scale = max(abs(a), abs(b))
+    rel = abs(change) / scale if scale > 0 else 0.0
+    ratio = 2.0**order
+    return {"value": a, "refined_value": b, "change": change, "relative_change": rel,
+            # Richardson: the run's own error, and the refined run's, at the assumed order
+            "error_estimate": -change * ratio / (ratio - 1.0), "refined_error_estimate": -change / (ratio - 1.0),
+            "converged": bool(abs(change) <= tolerance * scale or abs(change) <= absolute_floor(key))}
+
+
+def compare_figures(base: dict, refined: dict, tolerance: float = DEFAULT_TOLERANCE,
+                    order: int = ASSUMED_ORDER) -> dict:
+    """Each figure of a run against the same of its refined run.
+
+    ``converged`` is True when the change is within ``tolerance`` of the larger of the two
+    magnitudes, or within the figure's :func:`absolute_floor`; a figure missing from either run
+    (None) is not converged. ``error_estimate`` is Richardson's estimate of the run's own
+    discretization error at ``order`` in the refinement ratio 2, ``(value - refined) 2^p / (2^p - 1)``
+    (the value minus the estimated limit), ``refined_error_estimate`` the refined run's.
+
+    Parameters
+    ----------
+    base, refined : dict
+        :func:`headline_figures` of the run and of its refined run.
+    tolerance : float
+        Relative tolerance [-].
+    order : int
+        Assumed order of convergence [-] (:data:`ASSUMED_ORDER`).
+
+    Returns
+    -------
+    dict
+        Name -> {value, refined_value, change, relative_change, error_estimate,
+        refined_error_estimate, converged}.
+    """
+    return {k: _one(k, base[k], refined.get(k), tolerance, order) for k in base}
+
+
+def unverified(keys=PEAK_KEYS) -> dict:
+    """The flags of a run that was not verified: :data:`UNVERIFIED` for every figure.
+
+    Parameters
+    ----------
+    keys : sequence of str
+        The figures.
+
+    Returns
+    -------
+    dict
+    """
+    return {k: UNVERIFIED for k in keys}
+
+
+def verification_document(result) -> dict:
+    """run.json's ``"verification"``: the run's ``verification``
+    (:attr:`hosedrogue.results.run.RunResult.verification`), or ``{"status": "unverified"}`` with
+    the note saying how to verify it.
+
+    Parameters
+    ----------
+    result : hosedrogue.results.run.RunResult
+        The run.
+
+    Returns
+    -------
+    dict
+    """
+    if result.verification is None:
+        return {"status": "unverified", "notes": [UNVERIFIED_NOTE]}
+    return result.verification

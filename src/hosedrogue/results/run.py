@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .convergence import converged_peaks, went_slack
+from .convergence import PEAK_KEYS, UNVERIFIED_NOTE, unverified, verification_document, went_slack
 from .statistics import DEFAULT_CAPTURE_RADII_M, window_statistics
 from .surfaces import WithSurfaces
 from ..version import __version__
@@ -53,6 +53,9 @@ class RunResult:
     meta: dict[str, Any] = field(default_factory=dict)  #: what was run (scenario, seed, parameters)
     #: window [start, end) [s] of :meth:`statistics`: the turbulence window, or the whole run without turbulence
     statistics_window_s: tuple = (0.0, math.inf)
+    #: the run's figures against the same run on a finer mesh (:func:`hosedrogue.studies.verify.verify_run`,
+    #: docs/convergence.md "Verifying a run"); None: not verified
+    verification: dict | None = None
 
     @property
     def drogue_offset_m(self) -> np.ndarray:
@@ -134,13 +137,18 @@ class RunResult:
     FIGURE = "displacement.png"
 
     def run_document(self) -> dict[str, Any]:
-        """The content of the run's ``run.json``: :func:`run_header`, then what was run (``meta``).
+        """The content of the run's ``run.json``: :func:`run_header`, the ``statistics``, the ``spectrum``
+        (:func:`hosedrogue.results.spectra.displacement_spectrum`), then what was run (``meta``).
 
         Returns
         -------
         dict
         """
-        return {**run_header(self), "statistics": _statistics_document(self), **self.meta}
+        from .spectra import PREDICTION_KEY, displacement_spectrum
+
+        meta = {k: v for k, v in self.meta.items() if k != PREDICTION_KEY}
+        return {**run_header(self), "statistics": _statistics_document(self), "spectrum": displacement_spectrum(
+            self, self.meta.get(PREDICTION_KEY)), "verification": verification_document(self), **meta}
 
     def plot(self, **kwargs):
         """The run's figure (see hosedrogue.plotting); returns a matplotlib Figure."""
@@ -325,7 +333,7 @@ class EngagementResult(WithSurfaces, RunResult):
         meta = dict(self.meta)
         events = meta.pop("events", [])
         return {**run_header(self), "statistics": _statistics_document(self), "engagement": self.summary(),
-                "events": events, **meta}
+                "verification": verification_document(self), "events": events, **meta}
 
     def capture_category(self) -> str:
         """The capture test's result in a word: "captured", "miss", "failed latch", "no contact"
@@ -374,8 +382,9 @@ class EngagementResult(WithSurfaces, RunResult):
 
     def summary(self) -> dict[str, Any]:
         """The run's ``"engagement"`` object: :data:`SUMMARY_KEYS` first, then the supporting
-        figures, ``peak_tension_converged``, ``converged`` (which peaks are converged with the link
-        count) and ``notes`` (why the others are not; :func:`hosedrogue.results.convergence.converged_peaks`).
+        figures, ``peak_tension_converged`` and ``converged`` (each peak of
+        :data:`~hosedrogue.results.convergence.PEAK_KEYS`: True or False as measured by the run's
+        :attr:`verification`, ``"unverified"`` without one) and ``notes``.
 
         Returns
         -------
@@ -385,8 +394,11 @@ class EngagementResult(WithSurfaces, RunResult):
         o = self.outcome
         out = {k: o.get(k) for k in SUMMARY_KEYS}
         out.update({k: v for k, v in o.items() if k not in out})
-        converged, notes = converged_peaks(self.t_s, self.exit_tension_n, self.slack_m,
-                                           self.hose_length_m[0] / self.links[0], self.step_loads is not None)
+        if self.verification is None:
+            converged, notes = unverified(), [UNVERIFIED_NOTE]
+        else:
+            figures = self.verification["figures"]
+            converged, notes = {k: figures[k]["converged"] for k in PEAK_KEYS}, list(self.verification["notes"])
         out["peak_tension_converged"] = converged["peak_exit_tension_n"]
         out["converged"] = converged
         out["notes"] = notes

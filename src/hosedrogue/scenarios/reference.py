@@ -27,6 +27,7 @@ from ..spec.config import preset_names
 from ..constants import FT_TO_M
 from ..spec.fields import field_table
 from ..spec.params import SECTIONS, TURBULENCE_PRESET_KEY
+from ..spec.rewards import DockingReward, DockingRewardV1
 from . import MAX_DURATION_S, MAX_OFFSET_DEG, SCENARIO_KEYS, Scenario
 from ..spec.sections import (CONTROLLER_KEYS, CONTROLLER_OPTIONS, CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS,
                        LQR_DESIGNS, MAX_SAMPLE_TIME_S, Controller)
@@ -333,4 +334,37 @@ def scenario_reference_markdown() -> str:
             out.append(f"| `{r['key']}` | {_cell(r['unit'])} | {default} | {_cell(r['allowed'])} | "
                        f"{_cell(r['meaning'])} |")
         out.append("")
-    return "\n".join(out)
+    return "\n".join(out + reward_markdown())
+
+
+#: The rewards of the Gymnasium environments (hosedrogue.envs, docs/gym.md): environment id -> (its
+#: section, what it pays).
+REWARDS = {
+    "hosedrogue/Docking-v1": (DockingRewardV1, "A capture pays only inside the closure window, less its radial miss "
+                              "and the probe's peak load after contact; potential-based shaping (the optimal policy "
+                              "unchanged) guides the approach; a miss, a failed latch, a breakaway or a failed state "
+                              "costs its penalty."),
+    "hosedrogue/Docking-v0": (DockingReward, "The distance closed on the drogue, less the control effort, plus the "
+                              "capture bonus or minus a penalty at the end (kept unchanged; use v1)."),
+}
+
+
+def reward_markdown() -> list[str]:
+    """The reference page's lines of the Gymnasium environments' reward weights (their
+    ``reward=`` keyword, a table like a scenario file's, though not in one).
+
+    Returns
+    -------
+    list of str
+        Markdown lines: a ``##`` heading, per environment a ``###`` heading and a table.
+    """
+    out = ["## Rewards of the Gymnasium environments", "",
+           "Not tables of a scenario file: the `reward=` keyword of `gymnasium.make(ID, reward={...})` "
+           "(a dict of these keys, the rest default; docs/gym.md, \"Reward\").", ""]
+    for env_id, (cls, what) in REWARDS.items():
+        out += [f"### `reward` of `{env_id}`", "", what, "",
+                "| key | unit | default | allowed | meaning |", "|---|---|---|---|---|"]
+        out += [f"| `{r['key']}` | {_cell(r['unit'])} | `{r['default']}` | {_cell(r['allowed'])} | {_cell(r['meaning'])} |"
+                for r in section_rows(cls)]
+        out.append("")
+    return out

@@ -22,8 +22,10 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..errors import ParameterError
 from ..model.system import HoseModel
 from ..results.run import RunResult
+from ..results.spectra import PREDICTION_KEY
 from ..simulation import simulate
 from . import Scenario
+from .spectrum import spectrum_prediction
 
 #: Output formats of :func:`write`: the CSV time series (always), and a MATLAB file.
 FORMATS = ("csv", "mat")
@@ -185,11 +187,13 @@ def run(scenario: Scenario) -> RunResult:
     if not isinstance(scenario, Scenario):
         raise ParameterError(f"scenario = {scenario!r}: must be a hosedrogue.scenarios.Scenario "
                              "(load_scenario(name) or Scenario(...))")
+    extra = {}
     if scenario.engagement is None:
         result = _run_fixed_length(scenario)
+        extra[PREDICTION_KEY] = spectrum_prediction(scenario, drogue_controller(scenario))
     else:
         result = _run_engagement(scenario)
-    return dataclasses.replace(result, meta={**result.meta, **_meta(scenario)})
+    return dataclasses.replace(result, meta={**result.meta, **_meta(scenario), **extra})
 
 
 def _drogue(scenario: Scenario, controllers: dict, model=None, eq=None):

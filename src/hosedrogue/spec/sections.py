@@ -20,6 +20,7 @@ from typing import Any, Mapping
 from ..errors import ParameterError
 from .drogue_surfaces import DrogueActuator
 from .fields import Section, check_entry, choice, entry, entry_name, flag, real, table, vec3
+from .receiver import Receiver
 
 
 @dataclass(frozen=True)
@@ -400,36 +401,6 @@ class Pilot(Section):
     max_speed_m_s: float = field(default=1.0, metadata=real(0.0, 20.0, unit="m/s"))
     #: bound on the lateral and vertical acceleration [m/s^2] (each axis)
     max_acceleration_m_s2: float = field(default=2.0, metadata=real(0.0, 50.0, unit="m/s^2"))
-
-
-@dataclass(frozen=True)
-class Receiver(Section):
-    """The receiver flown by the user's sampled-data docking controller (``entry``): every
-    ``sample_time_s`` it returns the probe tip's velocity command (v_x, v_y, v_z) [m/s] in the
-    tanker frame, which the receiver follows per axis through a first-order lag with bounded
-    speed and acceleration (the pilot model's response, docs/engagement.md, "Pilot model"). The
-    probe starts at the ``[probe]`` start point moving forward at its closure speed; the
-    ``[probe]`` capture test and coupling apply, its prescribed path does not
-    (docs/controllers.md)."""
-
-    _section = "receiver"
-    #: the docking controller's factory "package.module:factory" (docs/controllers.md); needed
-    #: to run the scenario ("" when the stepping API flies the receiver)
-    entry: Any = field(default="", metadata=entry())
-    #: time between the controller's calls [s]; the command is held in between
-    sample_time_s: float = field(default=0.02, metadata=real(0.0, 10.0, unit="s"))
-    #: keyword options of the factory
-    options: dict = field(default_factory=dict, hash=False, metadata=table())
-    #: time constant tau_v [s] of the receiver's speed following the command (the pilot model's)
-    velocity_time_constant_s: float = field(default=0.1, metadata=real(0.0, 10.0, unit="s"))
-    #: bound on the commanded speed per axis [m/s] (forward: up to the latch's 3 m/s; lateral and
-    #: vertical: the pilot model's 1 m/s)
-    max_speed_m_s: tuple = field(default=(3.0, 1.0, 1.0),
-                                 metadata=vec3(0.0, 20.0, lo_open=True, unit="m/s", labels=("forward", "right", "down")))
-    #: bound on the acceleration per axis [m/s^2] (the pilot model's 2 m/s^2)
-    max_acceleration_m_s2: tuple = field(default=(2.0, 2.0, 2.0),
-                                         metadata=vec3(0.0, 50.0, lo_open=True, unit="m/s^2",
-                                                       labels=("forward", "right", "down")))
 
 
 #: The engagement's sections by table name.

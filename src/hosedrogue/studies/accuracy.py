@@ -15,7 +15,7 @@ each end) and a list of link counts this measures
 with observed orders ``log2(e(n) / e(2n))`` for errors against a known limit, and
 ``log2(|f(n) - f(2n)| / |f(2n) - f(4n)|)`` for quantities whose limit is unknown.
 
-Library functions return dataclasses; :mod:`hosedrogue.plotting.accuracy` draws them.
+Library functions return dataclasses; :mod:`hosedrogue.studies.accuracy_figures` draws them.
 """
 
 from __future__ import annotations
@@ -366,6 +366,18 @@ class ScenarioStepStudy:
     reference_step_s: float  #: RK4 step of the reference run [s]
     reading_change_m: float  #: max |drogue(scenario reading) - drogue(paper's reading)|, both at the reference step [m]
     duration_s: float  #: length of the runs [s]
+
+    def figures(self) -> dict:
+        """The study's figure (:func:`hosedrogue.studies.accuracy_figures.plot_scenario_steps`).
+
+        Returns
+        -------
+        dict
+            ``{"steps": matplotlib.figure.Figure}``.
+        """
+        from .accuracy_figures import plot_scenario_steps
+
+        return {"steps": plot_scenario_steps(self)}
 
 
 def scenario_step_study(scenario="paper-turbulence", steps_s=(0.01, 0.02, 0.025),

@@ -73,14 +73,14 @@ class BowWaveStudy:
 
     def figures(self) -> dict:
         """The study's figure: the field around the probe, the displacement against the distance
-        and against the forebody radius (:func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
+        and against the forebody radius (:func:`hosedrogue.studies.bow_wave_figures.plot_bow_wave`).
 
         Returns
         -------
         dict
             ``{"bow_wave": matplotlib.figure.Figure}``.
         """
-        from ..plotting.bow_wave import plot_bow_wave
+        from .bow_wave_figures import plot_bow_wave
 
         return {"bow_wave": plot_bow_wave(
             self.x_m, self.z_m, self.velocity_m_s, self.distances_m, self.displacement_m, outline_m=self.outline_m,

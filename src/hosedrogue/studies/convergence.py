@@ -138,14 +138,14 @@ class ConvergenceStudy:
     links: LinkStudy  #: the link count's
 
     def figures(self) -> dict:
-        """The study's figure (:func:`hosedrogue.plotting.convergence.plot_convergence`).
+        """The study's figure (:func:`hosedrogue.studies.convergence_figures.plot_convergence`).
 
         Returns
         -------
         dict
             ``{"convergence": matplotlib.figure.Figure}``.
         """
-        from ..plotting.convergence import plot_convergence
+        from .convergence_figures import plot_convergence
 
         return {"convergence": plot_convergence(list(self.steps), self.links)}
 

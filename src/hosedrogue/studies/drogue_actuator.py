@@ -122,8 +122,10 @@ def authority_n(section: DrogueActuator, params=None) -> float:
     return float(per * math.radians(section.max_deflection_deg) / t.max(axis=0).max())
 
 
-def claims_scenario(level: str, controller: str, variant: str = "ideal", duration_s: float | None = None):
-    """The scenario of one claims case: ``paper-turbulence-<controller>`` in the level's turbulence.
+def claims_scenario(level: str, controller: str, variant: str = "ideal", duration_s: float | None = None,
+                    base=None):
+    """The scenario of one claims case: ``paper-turbulence-<controller>`` (or the user's ``base``
+    with that controller) in the level's turbulence.
 
     Parameters
     ----------
@@ -137,7 +139,12 @@ def claims_scenario(level: str, controller: str, variant: str = "ideal", duratio
         ``[drogue_actuator]`` defaults, i.e. ``paper-turbulence-pid-actuated`` for the paper's PID
         case). Every variant runs at the RK4 step the default surfaces need (2.5 ms).
     duration_s : float, optional
-        Run length [s] (default the scenario's 60 s).
+        Run length [s] (default the scenario's, 60 s for the paper's).
+    base : hosedrogue.scenarios.Scenario, optional
+        The user's fixed-length scenario: its model, flight condition, turbulence (level "paper"
+        keeps it; the others set its intensity) and its ``[drogue_actuator]`` (the actuated
+        variants start from it instead of the defaults), flown with ``controller`` (the scenario's
+        own options if it is that type). Named ``<base name>-<controller>[-<level>]``.
 
     Returns
     -------
@@ -148,18 +155,27 @@ def claims_scenario(level: str, controller: str, variant: str = "ideal", duratio
     if level not in LEVELS or controller not in CONTROLLERS or variant not in VARIANTS:
         raise ParameterError(f"level, controller, variant = {level!r}, {controller!r}, {variant!r}: must be one of "
                              f"{LEVELS}, {CONTROLLERS} and {tuple(VARIANTS)}")
-    sc = load_scenario(f"paper-turbulence-{controller}").with_overrides(duration_s=duration_s)
-    params = resolved_params(sc.params, DrogueActuator())  # every drogue at the defaults' step: like with like
+    if base is None:
+        sc, surfaces = load_scenario(f"paper-turbulence-{controller}"), DrogueActuator()
+    else:
+        base.require_model("fixed-length", "--scenario", "the actuator study's claims cases fly the fixed-length "
+                           "hose (an approach for the capture cells goes to --approach)")
+        surfaces = base.loop.drogue_actuator or DrogueActuator()
+        sc = base.with_controller(controller)
+        sc = dataclasses.replace(sc, name=f"{base.name}-{controller}",
+                                 loop=dataclasses.replace(sc.loop, drogue_actuator=None))
+    sc = sc.with_overrides(duration_s=duration_s)
+    params = resolved_params(sc.params, surfaces)  # every drogue at the surfaces' step: like with like
     if level != "paper":
         params = params.replace(turbulence={"intensity": level})
         sc = dataclasses.replace(sc, name=f"{sc.name}-{level}")
     sc = dataclasses.replace(sc, params=params)
     fields = VARIANTS[variant]
-    return sc if fields is None else with_surfaces(sc, DrogueActuator(**fields))
+    return sc if fields is None else with_surfaces(sc, dataclasses.replace(surfaces, **fields))
 
 
 def claims_runs(seeds: int = 1, duration_s: float | None = None, levels=LEVELS, controllers=CONTROLLERS,
-                variants=tuple(VARIANTS), status=None):
+                variants=tuple(VARIANTS), status=None, base=None):
     """One row per run of the claims cases: level x controller x drogue (:data:`VARIANTS`) x seed.
 
     Seed i is the scenario's seed (2018) plus i, the same record for every case of a level (common
@@ -175,6 +191,8 @@ def claims_runs(seeds: int = 1, duration_s: float | None = None, levels=LEVELS, 
         Subsets of :data:`LEVELS`, :data:`CONTROLLERS` and the keys of :data:`VARIANTS`.
     status : callable, optional
         ``status(text)`` is told which case runs.
+    base : hosedrogue.scenarios.Scenario, optional
+        The user's fixed-length scenario instead of the paper's (:func:`claims_scenario`).
 
     Returns
     -------
@@ -193,11 +211,11 @@ def claims_runs(seeds: int = 1, duration_s: float | None = None, levels=LEVELS, 
     for level in levels:
         for c in controllers:
             for variant in variants:
-                base = claims_scenario(level, c, variant, duration_s)
+                case = claims_scenario(level, c, variant, duration_s, base)
                 if status:
-                    status(f"actuated drogue: {base.name}, {variant}")
+                    status(f"actuated drogue: {case.name}, {variant}")
                 for i in range(seeds):
-                    sc = base.with_overrides(seed=base.params.turbulence.seed + i)
+                    sc = case.with_overrides(seed=case.params.turbulence.seed + i)
                     r = run(sc)
                     rows.append({"level": level, "controller": c, "force": variant, "seed": sc.params.turbulence.seed,
                                  "completed": bool(r.completed), **r.statistics()})

@@ -11,7 +11,7 @@ module measures that and shows the remedy:
 * an hour-long run of the ``converged`` model in severe turbulence (the shipped scenario
   ``long-turbulence-severe``).
 
-:func:`long_runs_study` returns a :class:`LongRunStudy`; :mod:`hosedrogue.plotting.long_runs`
+:func:`long_runs_study` returns a :class:`LongRunStudy`; :mod:`hosedrogue.studies.long_runs_figures`
 draws it.
 """
 
@@ -202,14 +202,14 @@ class LongRunStudy:
     cap_s: float
 
     def figures(self) -> dict:
-        """The study's figure (:func:`hosedrogue.plotting.long_runs.plot_long_runs`).
+        """The study's figure (:func:`hosedrogue.studies.long_runs_figures.plot_long_runs`).
 
         Returns
         -------
         dict
             ``{"long_runs": matplotlib.figure.Figure}``.
         """
-        from ..plotting.long_runs import plot_long_runs
+        from .long_runs_figures import plot_long_runs
 
         return {"long_runs": plot_long_runs(self)}
 

@@ -53,14 +53,14 @@ class SteadyFlightStudy:
     breakdown: TurnBreakdown  #: the turn of :data:`BREAKDOWN_BANK_DEG` taken apart (continuous hose)
 
     def figures(self) -> dict:
-        """The study's figure (:func:`hosedrogue.plotting.manoeuvres.plot_steady_flight`).
+        """The study's figure (:func:`hosedrogue.studies.manoeuvres_figures.plot_steady_flight`).
 
         Returns
         -------
         dict
             ``{"steady_flight": matplotlib.figure.Figure}``.
         """
-        from ..plotting.manoeuvres import plot_steady_flight
+        from .manoeuvres_figures import plot_steady_flight
 
         return {"steady_flight": plot_steady_flight(self.bank, self.flight_path)}
 

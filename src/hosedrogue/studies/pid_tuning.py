@@ -19,7 +19,14 @@ import numpy as np
 from ..controllers.pid import PAPER_PID
 from ..paper import CHANNELS
 
-__all__ = ["GainsCase", "PIDTuningStudy", "pid_tuning_study"]
+__all__ = ["GainsCase", "PIDTuningStudy", "pid_tuning_study", "PLANTS"]
+
+#: The plants by name, as the table and the figure label them.
+PLANTS = {"paper": "paper's Table 2 models", "model": "this model"}
+#: The larger model of each plant, whose steps the figure draws dashed.
+_LARGER = {"paper": "6th order", "model": "full order"}
+#: The figure's time axis [s] (logarithmic: rises near 0.05 s, settling up to ~8 s on the full model).
+_T_S = np.concatenate([[0.0], np.logspace(-3.0, 1.0, 800)])
 
 
 @dataclass(frozen=True, eq=False)
@@ -94,6 +101,28 @@ class PIDTuningStudy:
                 row["peak_offset_m"] = case.peak_offsets_m[k] if case.peak_offsets_m else float("nan")
                 out.append(row)
         return out
+
+    def figures(self) -> dict:
+        """The study's figure: each plant's unit steps, tuned and Eq. 33, on the 2nd-order design
+        model and (dashed) on the larger model.
+
+        Returns
+        -------
+        dict
+            ``{"steps": matplotlib.figure.Figure}``.
+        """
+        from ..plotting.figures import plot_closed_loop_steps
+
+        rows, dashed = {}, {}
+        for case in self.cases:
+            label = "tuned" if case.source == "tuned" else "Eq. 33"
+            name = PLANTS[case.plant]
+            rows.setdefault(name, {})[f"{label}, 2nd order"] = {
+                ch: np.interp(_T_S, case.design_steps[ch].t_s, case.design_steps[ch].y) for ch in CHANNELS}
+            if case.larger_steps:
+                dashed.setdefault(name, {})[f"{label}, {_LARGER[case.plant]}"] = {
+                    ch: np.interp(_T_S, case.larger_steps[ch].t_s, case.larger_steps[ch].y) for ch in CHANNELS}
+        return {"steps": plot_closed_loop_steps(_T_S, rows, log_time=True, reference_rows=dashed)}
 
 
 def _min_damping(gains, models) -> dict:

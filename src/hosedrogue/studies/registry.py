@@ -217,7 +217,9 @@ STUDIES: dict[str, Study] = {s.name: s for s in (
           "whip_loads", "whip_loads", "engage-locked, engage-constant-tension, engage-response",
           "engagement scenarios (--scenarios NAME|FILE ...)", custom_cli=True),
     Study("actuator", "the paper's controllers through the drogue's control surfaces, against the ideal force",
-          "drogue_actuator", "drogue_actuator", "paper-turbulence, approach-LEVEL", "", custom_cli=True),
+          "drogue_actuator", "drogue_actuator", "paper-turbulence, approach-LEVEL",
+          "a fixed-length scenario for the claims and margins (--scenario), an approach for the capture cells "
+          "(--approach)", custom_cli=True),
     Study("pid-tuning", "a PID tuned to Table 3's step figures on the paper's plant and this model's, in turbulence",
           "pid_tuning", "pid_tuning", "paper-turbulence-pid", "its model and flight condition (the plant tuned)", "fixed-length",
           (Setting("duration_s", "float", None, "length of the turbulence runs [s] (default 60)", 1.0, 3600.0, "s"),),

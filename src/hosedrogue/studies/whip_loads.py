@@ -10,7 +10,9 @@ of its slowest axial wave (docs/model.md §11). The probe's latch window is open
 :data:`MIN_CLOSURE_SPEED_M_S` so that the slowest probe couples (the coupler sees the closure
 speed along the inclined last link, 0.48 m/s of 0.5 m/s), and each run lasts until
 :data:`SETTLE_S` after the probe stops. Each row reports the peaks of :mod:`hosedrogue.results.run`
-(taken at every step) and which of them the run calls converged.
+(taken at every step) and, for the rows verified (``verify``: a sample of the grid run again on
+twice the links at half the step, :mod:`hosedrogue.studies.verify`), which of them are converged;
+the other rows' peaks are "unverified".
 
 ``hosedrogue study whip-loads`` runs it from the command line; the report's section "Whip loads"
 presents it.
@@ -98,13 +100,19 @@ class WhipLoadRow:
     result: str  #: the capture's outcome
     completed: bool  #: the run reached its end
     peaks: dict  #: PEAKS -> value (N or m)
-    converged: dict  #: PEAKS -> bool (the run summary's)
+    converged: dict  #: PEAKS -> True/False as measured by the row's verification, or "unverified"
+    #: the locked reel with ``ensemble``: PEAKS -> the peak's distribution over the perturbed copies
+    #: (:func:`hosedrogue.studies.ensemble.distribution`: median, 5 % and 95 % points, bootstrap intervals)
+    distributions: dict | None = None
 
     def to_dict(self) -> dict:
-        """The row as a flat dict (``converged_<peak>`` flags after the peaks)."""
-        d = {k: v for k, v in dataclasses.asdict(self).items() if k not in ("peaks", "converged")}
+        """The row as a flat dict (``converged_<peak>`` flags after the peaks; with distributions,
+        ``<peak>_median``, ``_p05``, ``_p95``)."""
+        d = {k: v for k, v in dataclasses.asdict(self).items() if k not in ("peaks", "converged", "distributions")}
         d.update(self.peaks)
         d.update({f"converged_{k}": v for k, v in self.converged.items()})
+        for k, dist in (self.distributions or {}).items():
+            d.update({f"{k}_{q}": dist[q] for q in ("median", "p05", "p95")})
         return d
 
 
@@ -173,13 +181,24 @@ def study_scenario(scenario, stiffness_n: float, closure_speed_m_s: float, links
 
 
 def run_point(scenario, stiffness_n: float, closure_speed_m_s: float, links: int | None = None,
-              step_s: float | None = None) -> WhipLoadRow:
+              step_s: float | None = None, verify: bool = False, tolerance: float = 0.03, ensemble: int = 0,
+              perturb: str = "probe-offset=1e-6") -> WhipLoadRow:
     """Run one grid point (:func:`study_scenario`) and read its row.
 
     Parameters
     ----------
     scenario, stiffness_n, closure_speed_m_s, links, step_s
         See :func:`study_scenario` (EA [N], closure speed [m/s], step [s]).
+    verify : bool
+        Also run it on twice the links at the refined step and flag each peak converged or not
+        (:func:`hosedrogue.studies.verify.verify_run`); otherwise its peaks are "unverified".
+    tolerance : float
+        Relative tolerance of the verification [-].
+    ensemble : int
+        The locked reel (a chaotic flail): also this many perturbed copies (0: none) and each
+        peak's distribution (:func:`hosedrogue.studies.ensemble.run_ensemble`).
+    perturb : str
+        The copies' perturbation (:func:`hosedrogue.studies.ensemble.parse_perturbation`).
 
     Returns
     -------
@@ -188,18 +207,30 @@ def run_point(scenario, stiffness_n: float, closure_speed_m_s: float, links: int
     from ..scenarios.runner import run
 
     sc = study_scenario(scenario, stiffness_n, closure_speed_m_s, links, step_s)
-    r = run(sc)
+    dist = None
+    if ensemble and sc.engagement.reel.law == "locked":
+        from .ensemble import run_ensemble
+
+        dist = {k: v for k, v in run_ensemble(sc, ensemble, perturb).distributions.items() if k in PEAKS}
+    if verify:
+        from .verify import verify_run
+
+        r = verify_run(sc, tolerance)
+    else:
+        r = run(sc)
     s = r.summary()
     return WhipLoadRow(scenario=sc.name, law=sc.engagement.reel.law, stiffness_n=float(stiffness_n),
                        damping_n_s=sc.params.hose.axial_damping_n_s, closure_speed_m_s=float(closure_speed_m_s),
                        links=sc.params.hose.links, result=s["result"], completed=r.completed,
-                       peaks={k: s[k] for k in PEAKS}, converged=dict(s["converged"]))
+                       peaks={k: s[k] for k in PEAKS}, converged=dict(s["converged"]), distributions=dist)
 
 
 def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEEDS_M_S, scenarios=SCENARIOS,
-                    links: int | None = None, step_s: float | None = None, progress=None) -> list[WhipLoadRow]:
+                    links: int | None = None, step_s: float | None = None, progress=None, verify: int = 0,
+                    tolerance: float = 0.03, ensemble: int = 0, perturb: str = "probe-offset=1e-6") -> list[WhipLoadRow]:
     """The grid: every scenario x stiffness x closure speed, one run each (deterministic: no
-    turbulence, so no seeds).
+    turbulence, so no seeds); ``verify`` of its rows, spread evenly over the grid (the first and
+    the last among them), verified.
 
     Parameters
     ----------
@@ -216,20 +247,54 @@ def whip_load_study(stiffnesses_n=STIFFNESSES_N, closure_speeds_m_s=CLOSURE_SPEE
         Integration step with ``links`` [s].
     progress : callable, optional
         Called with a short text before each run.
+    verify : int
+        How many rows to verify [-] (:func:`run_point`; 0: none, the grid's size or more: all).
+    tolerance : float
+        Relative tolerance of the verification [-].
+    ensemble : int
+        Perturbed copies of every locked-reel row (0: none): its peaks as distributions (:func:`run_point`).
+    perturb : str
+        Their perturbation ("probe-offset=SIZE_M" or "seed").
 
     Returns
     -------
     list of WhipLoadRow
     """
+    from .verify import check_tolerance
+
+    tolerance = check_tolerance(tolerance)
     loaded = [engagement_scenario(sc) for sc in scenarios]
+    points = [(sc, ea, v) for sc in loaded for ea in stiffnesses_n for v in closure_speeds_m_s]
+    sample = verified_rows(len(points), verify)
     rows = []
-    for sc in loaded:
-        for ea in stiffnesses_n:
-            for v in closure_speeds_m_s:
-                if progress is not None:
-                    progress(f"{sc.name}, EA {ea:g} N, {v:g} m/s")
-                rows.append(run_point(sc, ea, v, links, step_s))
+    for i, (sc, ea, v) in enumerate(points):
+        if progress is not None:
+            progress(f"{sc.name}, EA {ea:g} N, {v:g} m/s{' (verified)' if i in sample else ''}")
+        rows.append(run_point(sc, ea, v, links, step_s, i in sample, tolerance, ensemble, perturb))
     return rows
+
+
+def verified_rows(rows: int, verify: int) -> set:
+    """The indices of the ``verify`` rows of ``rows`` that a study verifies: spread evenly, the
+    first and the last among them.
+
+    Parameters
+    ----------
+    rows : int
+        Rows of the grid [-].
+    verify : int
+        Rows to verify [-] (at most all).
+
+    Returns
+    -------
+    set of int
+    """
+    from ..errors import ParameterError
+
+    if isinstance(verify, bool) or not isinstance(verify, (int, np.integer)) or verify < 0:
+        raise ParameterError(f"verify = {verify!r}: must be a whole number of rows >= 0")
+    k = min(int(verify), rows)
+    return set(np.round(np.linspace(0, rows - 1, k)).astype(int).tolist()) if k else set()
 
 
 def snap_scale_n(params: Params, speed_m_s: float) -> float:

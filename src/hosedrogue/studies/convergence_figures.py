@@ -9,7 +9,7 @@ import numpy as np
 import matplotlib.ticker
 from matplotlib.figure import Figure
 
-from .base import _grid, new_figure
+from ..plotting.base import _grid, new_figure
 
 
 def _plain_log_ticks(ax, values):

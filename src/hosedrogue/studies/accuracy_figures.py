@@ -1,4 +1,5 @@
-"""Figure of the link-count convergence study (:mod:`hosedrogue.studies.accuracy`)."""
+"""Figures of the accuracy studies (:mod:`hosedrogue.studies.accuracy`): the link-count convergence and a
+scenario's RK4 step error."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from typing import Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from .base import _grid, new_figure
+from ..plotting.base import _grid, new_figure
 
 
 def plot_accuracy(studies: Sequence, tolerances_m=(1e-2, 1e-3)) -> Figure:
@@ -60,4 +61,37 @@ def plot_accuracy(studies: Sequence, tolerances_m=(1e-2, 1e-3)) -> Figure:
             ax.minorticks_off()
         _grid(ax)
         ax.legend(fontsize=7)
+    return fig
+
+
+def plot_scenario_steps(study) -> Figure:
+    """A turbulence scenario's RK4 step error: the largest drogue difference from the reference
+    step against the step, with RK4's fourth-order slope through the finest step and the change the
+    gust reading makes (the paper's linear, unsmoothed reading against the scenario's) for scale.
+
+    Parameters
+    ----------
+    study : hosedrogue.studies.accuracy.ScenarioStepStudy
+        Steps [s], their largest errors [m], the reference step [s] and the reading change [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel; units on both axes.
+    """
+    fig, axes = new_figure(1, 1, size=(6.0, 4.2))
+    ax = axes
+    h = np.asarray(study.steps_s, float)
+    err_mm = np.asarray(study.max_error_m, float) * 1e3
+    order = np.argsort(h)
+    ax.loglog(h[order], err_mm[order], "o-", label="largest drogue difference from the reference")
+    h_ref = h[order][0]
+    ax.loglog(h[order], err_mm[order][0] * (h[order] / h_ref) ** 4, "k:", lw=0.8, label="order 4 (RK4)")
+    ax.axhline(study.reading_change_m * 1e3, color="0.5", lw=0.8, ls="--",
+               label="change of gust reading (paper's against the scenario's)")
+    ax.set_xlabel("RK4 step [s]")
+    ax.set_ylabel(f"drogue position error vs step {study.reference_step_s:g} s [mm]")
+    ax.set_title(f"{study.duration_s:g} s of turbulence", fontsize=9)
+    _grid(ax)
+    ax.legend(fontsize=7)
     return fig

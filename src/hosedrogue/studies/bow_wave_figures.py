@@ -12,7 +12,7 @@ from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-from .base import new_figure
+from ..plotting.base import new_figure
 
 
 def _field_panel(fig, ax, x_m, z_m, velocity_m_s, probe_tip_m, outline_m, stagnation_m) -> None:

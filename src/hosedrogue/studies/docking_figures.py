@@ -1,7 +1,7 @@
 """Figures of the report's "Docking" section: capture rate against turbulence intensity, the
 miss-distance CDFs per intensity, one approach seen from behind and the capture rate against the
 closure speed and against the actuator's force limit (the bow-wave figure is
-:func:`hosedrogue.plotting.bow_wave.plot_bow_wave`).
+:func:`hosedrogue.studies.bow_wave_figures.plot_bow_wave`).
 
 ``table`` is the section's capture table (a pandas DataFrame, one row per campaign) with the
 columns ``level``, ``sigma_m_s``, ``controller``, ``bow_wave`` (bool), ``rate``, ``ci95_low`` and
@@ -14,8 +14,8 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from .base import new_figure
-from .campaign import draw_miss_cdf
+from ..plotting.base import new_figure
+from ..plotting.campaign import draw_miss_cdf
 
 #: Line style per bow-wave setting.
 _BOW_STYLE = {True: "-", False: "--"}

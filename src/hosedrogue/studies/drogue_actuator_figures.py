@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import _grid, _shade_window, new_figure
+from ..plotting.base import _grid, _shade_window, new_figure
 
 __all__ = ["plot_actuated_run", "plot_claims", "plot_capture_vs_surfaces"]
 

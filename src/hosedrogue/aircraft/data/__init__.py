@@ -1,0 +1,1 @@
+"""Shipped receiver-model files (TOML), read by :func:`hosedrogue.aircraft.model_file.load_model`."""

@@ -1,0 +1,115 @@
+"""Lookup tables of a receiver model: linear in each axis, extrapolated linearly beyond the ends.
+
+This is the interpolation of the F-16 routines of Stevens, Lewis & Johnson (2015, Appendix A.8):
+the cell is found by the breakpoints, clamped to the first and last cell, and the value is linear
+in each axis within it (bilinear for two axes), so beyond the table it continues the end cell's
+slope. Scalar arithmetic, a few microseconds a lookup: the trim and the linearization call each
+table thousands of times. ``tests/aircraft/test_tables.py`` compares it with
+:class:`scipy.interpolate.RegularGridInterpolator` (``fill_value=None``), the same interpolation
+written independently.
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass
+
+import numpy as np
+
+
+def _cell(axis: tuple[float, ...], x: float) -> tuple[int, float]:
+    """Index of the cell of ``axis`` holding ``x`` (clamped to the end cells) and the fraction in it."""
+    i = min(max(bisect.bisect_right(axis, x) - 1, 0), len(axis) - 2)
+    return i, (x - axis[i]) / (axis[i + 1] - axis[i])
+
+
+@dataclass(frozen=True)
+class Table:
+    """A table of one or two axes.
+
+    Attributes
+    ----------
+    name : str
+        Its name in the model file.
+    axes : tuple of str
+        The variables it is a function of, outer index first.
+    breakpoints : tuple of tuple of float
+        Each axis's breakpoints, strictly increasing.
+    values : numpy.ndarray
+        The values, shape ``(len(breakpoints[0]), ...)``.
+    odd_in : str or None
+        An axis the table is odd in: given for that variable >= 0, evaluated at its absolute value
+        and multiplied by its sign (the book's CL and CN in sideslip).
+    """
+
+    name: str
+    axes: tuple[str, ...]
+    breakpoints: tuple[tuple[float, ...], ...]
+    values: np.ndarray
+    odd_in: str | None = None
+
+    def __call__(self, variables: dict[str, float]) -> float:
+        """The table's value at ``variables`` (a mapping holding every name in :attr:`axes`).
+
+        Parameters
+        ----------
+        variables : dict
+            Variable name to value (degrees for angles, as the tables are).
+
+        Returns
+        -------
+        float
+        """
+        sign = 1.0
+        xs = []
+        for name in self.axes:
+            x = variables[name]
+            if name == self.odd_in:
+                sign = 1.0 if x >= 0.0 else -1.0
+                x = abs(x)
+            xs.append(x)
+        v = self.values
+        if len(xs) == 1:
+            i, f = _cell(self.breakpoints[0], xs[0])
+            return sign * (v[i] + f * (v[i + 1] - v[i]))
+        i, f = _cell(self.breakpoints[0], xs[0])
+        j, g = _cell(self.breakpoints[1], xs[1])
+        lo = v[i, j] + g * (v[i, j + 1] - v[i, j])
+        hi = v[i + 1, j] + g * (v[i + 1, j + 1] - v[i + 1, j])
+        return sign * (lo + f * (hi - lo))
+
+
+@dataclass(frozen=True)
+class Term:
+    """One term of a coefficient: ``gain * table(variables) * product of variables[times]``.
+
+    Attributes
+    ----------
+    table : Table or None
+        The table (None: a constant gain).
+    gain : float
+        The factor.
+    times : tuple of str
+        Variables multiplied in.
+    """
+
+    table: Table | None
+    gain: float
+    times: tuple[str, ...]
+
+    def __call__(self, variables: dict[str, float]) -> float:
+        """The term's value at ``variables``.
+
+        Parameters
+        ----------
+        variables : dict
+            Variable name to value.
+
+        Returns
+        -------
+        float
+        """
+        value = self.gain if self.table is None else self.gain * self.table(variables)
+        for name in self.times:
+            value *= variables[name]
+        return value
