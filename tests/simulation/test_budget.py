@@ -25,9 +25,9 @@ LATE = ('[scenario]\nname = "late"\nduration_s = 1.0\n[turbulence]\nenabled = tr
         'duration_s = 2.0\n')
 
 CASES = {
-    "24 hours at every step": (DAY, ["duration_s = 86400.0", "numerics.step_s = 1e-05", "numerics.output_every = 1",
+    "24 hours at every step": (DAY, ["scenario.duration_s = 86400.0", "numerics.step_s = 1e-05", "numerics.output_every = 1",
                                      "GB"]),
-    "duration off the step grid": (GRID, ["duration_s = 0.1", "numerics.step_s = 0.03", "0.09 or 0.12"]),
+    "duration off the step grid": (GRID, ["scenario.duration_s = 0.1", "numerics.step_s = 0.03", "0.09 or 0.12"]),
     "output_every past the end": (EVERY, ["numerics.output_every = 1000000", "output_every <= 20"]),
     "turbulence window after the run": (LATE, ["turbulence.start_s = 5.0", "[0, 1] s"]),
 }
@@ -49,9 +49,10 @@ def test_a_run_that_cannot_be_done_is_refused_in_one_line(tmp_path, capsys, case
 def test_the_grid_check_accepts_decimal_steps():
     """0.3 / 0.1 is 2.9999999999999996 in binary: whole to the stated tolerance."""
     params = PAPER.replace(numerics={"step_s": 0.1, "output_every": 1})
-    assert budget.check_run(params, 0.3) == (0.1, 3)
+    assert budget.check_run(params, 0.3, on_grid=True) == (0.1, 3)
     with pytest.raises(ParameterError, match="not a whole number of steps"):
-        budget.check_run(params, 0.35)
+        budget.check_run(params, 0.35, on_grid=True)
+    assert budget.check_run(params, 0.35) == (0.1, 4)  # a library run: to the nearest step
 
 
 def test_the_memory_estimate_counts_state_joints_and_signals():

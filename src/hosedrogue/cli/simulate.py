@@ -73,6 +73,7 @@ def run(args) -> int:
     """
     from ..errors import ParameterError
     from ..scenarios import load_scenario
+    from ..simulation.budget import check_run
 
     scenario = load_scenario(args.scenario).with_overrides(duration_s=args.duration, seed=args.seed)
     out = Path(args.out)
@@ -85,6 +86,7 @@ def run(args) -> int:
             raise ParameterError("--ensemble: writes DIR/ensemble.json only; leave out --view and --format")
         return _ensemble(args, scenario, out)
     prepare_out(out)
+    check_run(scenario.params, scenario.duration_s, "scenario.duration_s", on_grid=True)  # before the work
     if args.verify:
         from ..studies.verify import verify_run
 
