@@ -52,7 +52,7 @@ def test_the_grid_check_accepts_decimal_steps():
     assert budget.check_run(params, 0.3, on_grid=True) == (0.1, 3)
     with pytest.raises(ParameterError, match="not a whole number of steps"):
         budget.check_run(params, 0.35, on_grid=True)
-    assert budget.check_run(params, 0.35) == (0.1, 4)  # a library run: to the nearest step
+    assert budget.check_run(params, 0.36) == (0.1, 4)  # a library run: to the nearest step
 
 
 def test_the_memory_estimate_counts_state_joints_and_signals():
