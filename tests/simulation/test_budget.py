@@ -49,9 +49,9 @@ def test_a_run_that_cannot_be_done_is_refused_in_one_line(tmp_path, capsys, case
 def test_the_grid_check_accepts_decimal_steps():
     """0.3 / 0.1 is 2.9999999999999996 in binary: whole to the stated tolerance."""
     params = PAPER.replace(numerics={"step_s": 0.1, "output_every": 1})
-    assert budget.check_run(params, 0.3, on_grid=True) == (0.1, 3)
+    assert budget.check_run(params, 0.3, command=True) == (0.1, 3)
     with pytest.raises(ParameterError, match="not a whole number of steps"):
-        budget.check_run(params, 0.35, on_grid=True)
+        budget.check_run(params, 0.35, command=True)
     assert budget.check_run(params, 0.36) == (0.1, 4)  # a library run: to the nearest step
 
 

@@ -86,7 +86,7 @@ def run(args) -> int:
             raise ParameterError("--ensemble: writes DIR/ensemble.json only; leave out --view and --format")
         return _ensemble(args, scenario, out)
     prepare_out(out)
-    check_run(scenario.params, scenario.duration_s, "scenario.duration_s", on_grid=True)  # before the work
+    check_run(scenario.params, scenario.duration_s, "scenario.duration_s", command=True)  # before the work
     if args.verify:
         from ..studies.verify import verify_run
 

@@ -1,13 +1,13 @@
 """What a run can do, checked before it starts: reach its duration on its step grid, save at least
 one sample after its start, and keep its output within a share of the machine's memory.
 
-* **Step grid** (``on_grid``, asked by the commands for the user's duration). A run takes
+* **Step grid** (``command``: asked by the commands for the user's run). A run takes
   ``duration_s / step_s`` steps: that must be a whole number (to :data:`GRID_TOLERANCE`), or the
   run would end a fraction of a step early or late (``duration_s = 0.1`` at ``step_s = 0.03``
   ended at 0.09 s).
 * **Output grid.** It saves every ``output_every`` steps: a run of fewer steps than that would
   keep its start only.
-* **Statistics window.** A turbulent run's statistics are taken over the turbulence window, which
+* **Statistics window** (``command``). A turbulent run's statistics are taken over the turbulence window, which
   must overlap the run (else they would be of no sample).
 * **Memory.** What a run keeps (its saved samples: state, joints and their velocities, some 64
   signals, in float64) is estimated by :func:`output_bytes` and refused beyond
@@ -97,7 +97,7 @@ def output_bytes(links: int, samples: float) -> float:
     return 8.0 * samples * (8 * links + 6 * (links + 1) + SIGNALS_PER_SAMPLE)
 
 
-def check_run(params, duration_s: float, name: str = "duration_s", on_grid: bool = False) -> tuple[float, int]:
+def check_run(params, duration_s: float, name: str = "duration_s", command: bool = False) -> tuple[float, int]:
     """Refuse, before it starts, a run that cannot reach its duration on its step grid, would save
     nothing after its start, or would keep more output than the machine's memory allows.
 
@@ -109,10 +109,11 @@ def check_run(params, duration_s: float, name: str = "duration_s", on_grid: bool
         Simulated time [s], finite and > 0.
     name : str
         How the messages name the duration (``scenario.duration_s`` in a scenario).
-    on_grid : bool
-        Also refuse a duration that is not a whole number of steps. The commands ask for it on the
-        user's duration; the library's runs do not, since studies derive durations from physics
-        (the whip-load study's ``(standoff + push) / closure speed``) and run to the nearest step.
+    command : bool
+        Also refuse a duration that is not a whole number of steps and a turbulence (statistics)
+        window outside the run. The commands ask for it on the user's run; the library's runs do not,
+        since studies derive durations from physics (the whip-load study's ``(standoff + push) /
+        closure speed``, run to the nearest step) and short runs of turbulent scenarios serve tests.
 
     Returns
     -------
@@ -128,7 +129,7 @@ def check_run(params, duration_s: float, name: str = "duration_s", on_grid: bool
     params.numerics.steps(duration_s, name)  # at most Numerics.MAX_STEPS
     ratio = duration_s / h
     steps = round(ratio)
-    if steps < 1 or (on_grid and abs(ratio - steps) > GRID_TOLERANCE * max(ratio, 1.0)):
+    if steps < 1 or (command and abs(ratio - steps) > GRID_TOLERANCE * max(ratio, 1.0)):
         below, above = math.floor(ratio) * h, math.ceil(ratio) * h
         raise ParameterError(f"{name} = {duration_s!r}: not a whole number of steps of numerics.step_s = {h!r} s "
                              f"({ratio:.6g} steps; the run would not end at {duration_s!r} s); give {name} = "
@@ -138,7 +139,7 @@ def check_run(params, duration_s: float, name: str = "duration_s", on_grid: bool
                              f"{duration_s!r} s at numerics.step_s = {h!r} s), so nothing after its start would be "
                              f"saved; give output_every <= {steps}")
     start, end = turbulence_window(params.turbulence)
-    if start >= duration_s or end <= start:  # the statistics would be of no sample ("peak nan m")
+    if command and (start >= duration_s or end <= start):  # the statistics would be of no sample ("peak nan m")
         raise ParameterError(f"turbulence.start_s = {start!r}: the turbulence window [{start:g}, {end:g}) s, over which "
                              f"the run's statistics are taken, must overlap the run [0, {duration_s:g}] s; give "
                              f"turbulence.start_s < {duration_s:g} or a longer {name}")

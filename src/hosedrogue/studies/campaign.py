@@ -316,7 +316,7 @@ def run_campaign(
         spec.build()  # every entry imports and its factory builds here, or a one-line error before any run starts
     window = statistics_window(scenario)
     controllers = _controllers(scenario, compare_controller)
-    check_run(scenario.params, scenario.duration_s, on_grid=True)  # each run's grids and memory, before any run
+    check_run(scenario.params, scenario.duration_s, command=True)  # each run's grids and memory, before any run
     check_memory(runs * len(controllers) * ROW_BYTES, f"runs = {runs}",
                  f"the summary reads {runs * len(controllers)} rows of runs.csv back", "run fewer")
     use_dask = _use_dask(workers, scheduler, client)
