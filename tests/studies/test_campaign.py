@@ -177,7 +177,7 @@ def test_resuming_with_other_settings_is_rejected(reference, tiny, tmp_path):
 
 def test_a_second_writer_is_locked_out(reference, tiny, tmp_path):
     out = shutil.copytree(reference[0], tmp_path / "out")
-    with open(Path(out) / "runs.csv", "a") as fh:
+    with open(Path(out) / ".lock", "a") as fh:
         fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
         with pytest.raises(ParameterError, match="another campaign"):
             run_campaign(tiny, 8, out, scheduler="synchronous", progress=False)

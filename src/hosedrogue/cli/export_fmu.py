@@ -10,7 +10,7 @@ import tempfile
 from pathlib import Path
 
 from ..errors import ParameterError
-from .options import EXIT_BAD_INPUT, bounded_int, finite_float, params_from_args
+from .options import EXIT_BAD_INPUT, bounded_int, finite_float, params_from_args, prepare_out_file
 
 NAME = "export-fmu"
 
@@ -120,6 +120,7 @@ def run(args) -> int:
         raise ParameterError("--json: only with --check")
     if args.out is not None:
         check_out_path(args.out, "--out")
+        prepare_out_file(args.out)  # its folder can be made and written: a one-line error before the build
     model = _model(args)
     with tempfile.TemporaryDirectory(prefix="hosedrogue_check_") as tmp:
         name = "engagement.fmu" if args.engagement else "hose.fmu"

@@ -7,7 +7,7 @@ from pathlib import Path
 from ..errors import ParameterError
 from ..jsonio import dumps
 from .margins import add_loop_options, loop_controller
-from .options import add_flight_options, params_from_args, parse_order, steady_flight_text
+from .options import add_flight_options, params_from_args, parse_order, prepare_out_file, steady_flight_text
 
 NAME = "linearize"
 
@@ -170,3 +170,4 @@ def prepare_mat_out(out: str) -> None:
     path = Path(out)
     if path.suffix != ".mat" or path.is_dir():
         raise ParameterError(f"--out = {out!r}: must be a file name ending in .mat")
+    prepare_out_file(path)  # its folder can be made and written: a one-line error before the work

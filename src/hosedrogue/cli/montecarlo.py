@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..studies.executor import SYNCHRONOUS
-from .options import EXIT_INCOMPLETE
+from .options import EXIT_INCOMPLETE, prepare_out
 
 NAME = "montecarlo"
 
@@ -80,6 +80,7 @@ def run(args) -> int:
     from ..results.statistics import DEFAULT_CAPTURE_RADII_M, capture_column
     from ..studies.campaign import run_campaign
 
+    prepare_out(args.out)  # exists or can be made, writable: one line before any run
     radii = DEFAULT_CAPTURE_RADII_M if args.capture_radii is None else args.capture_radii
     summary = run_campaign(
         args.scenario, args.runs, args.out, workers=args.workers, scheduler=args.scheduler, seed=args.seed,

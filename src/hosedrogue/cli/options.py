@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
+import tempfile
 from pathlib import Path
 
 from ..errors import ParameterError
@@ -189,16 +191,101 @@ def steady_flight_text(params: Params) -> str:
     return "".join(", " + p for p in parts)
 
 
-def prepare_out(out: Path) -> None:
-    """Refuse an output path that exists and is not a folder (before anything is computed).
+def _writable_folder(folder: Path, shown: Path, name: str) -> None:
+    """ParameterError unless ``folder`` exists or can be made, and a file can be made in it."""
+    existing = folder
+    while not existing.exists():  # the nearest folder that exists is where the first one is made
+        if existing.parent == existing:
+            break
+        existing = existing.parent
+    if not existing.is_dir():
+        raise ParameterError(f"{name} = {str(shown)!r}: cannot be made ({str(existing)!r} is a file, not a folder)")
+    try:
+        with tempfile.TemporaryFile(dir=existing):  # what a write will meet: permissions, a read-only disk
+            pass
+    except OSError as exc:
+        raise ParameterError(f"{name} = {str(shown)!r}: cannot be written ({exc.strerror or exc} in "
+                             f"{str(existing)!r})") from None
+
+
+def prepare_out(out: Path, name: str = "--out") -> None:
+    """Check an output folder before anything is computed: it exists or can be made, and can be
+    written; a file of that name is refused. Nothing is created.
 
     Parameters
     ----------
     out : Path
         The --out folder.
+    name : str
+        The option, for the message.
+
+    Raises
+    ------
+    ParameterError
+        One line naming the option, the path and why.
     """
+    out = Path(out)
     if out.exists() and not out.is_dir():
-        raise ParameterError(f"--out = {str(out)!r}: exists and is not a directory")
+        raise ParameterError(f"{name} = {str(out)!r}: exists and is not a directory")
+    _writable_folder(out, out, name)
+
+
+def prepare_out_file(path: str | Path, name: str = "--out") -> Path:
+    """Check an output file before anything is computed: not a folder, its folder exists or can be
+    made and can be written, and the file itself, if it exists, can be replaced. Nothing is created.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write.
+    name : str
+        The option, for the message.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ParameterError
+        One line naming the option, the path and why.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise ParameterError(f"{name} = {str(path)!r}: is a folder; give the file to write")
+    _writable_folder(path.parent, path, name)
+    if path.exists() and not os.access(path, os.W_OK):
+        raise ParameterError(f"{name} = {str(path)!r}: cannot be written (the file is read-only)")
+    return path
+
+
+#: The files ``simulate`` (and ``view`` of a run folder) may write into a run folder: removed before
+#: a new run is written into a reused folder, so no file of the earlier run stays beside it.
+RUN_FOLDER_FILES = ("timeseries.csv", "run.json", "hose.npz", "displacement.png", "engagement.png",
+                    "timeseries.mat", "view.html")
+
+
+def remove_earlier_run(out: Path) -> list[Path]:
+    """Remove the files of an earlier run from a run folder about to be written again
+    (:data:`RUN_FOLDER_FILES`; anything else in it is left).
+
+    Parameters
+    ----------
+    out : Path
+        The run folder.
+
+    Returns
+    -------
+    list of Path
+        The files removed.
+    """
+    removed = []
+    for file in RUN_FOLDER_FILES:
+        path = Path(out) / file
+        if path.is_file():
+            path.unlink()
+            removed.append(path)
+    return removed
 
 
 def parse_order(text: str) -> int | None:

@@ -6,7 +6,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
+from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out, remove_earlier_run
 
 NAME = "simulate"
 
@@ -73,6 +73,7 @@ def run(args) -> int:
     """
     from ..errors import ParameterError
     from ..scenarios import load_scenario
+    from ..simulation.budget import check_run
 
     scenario = load_scenario(args.scenario).with_overrides(duration_s=args.duration, seed=args.seed)
     out = Path(args.out)
@@ -85,6 +86,7 @@ def run(args) -> int:
             raise ParameterError("--ensemble: writes DIR/ensemble.json only; leave out --view and --format")
         return _ensemble(args, scenario, out)
     prepare_out(out)
+    check_run(scenario.params, scenario.duration_s, "scenario.duration_s", command=True)  # before the work
     if args.verify:
         from ..studies.verify import verify_run
 
@@ -120,6 +122,7 @@ def _write(result, out: Path, args) -> list:
 
     created = not out.exists()
     try:
+        remove_earlier_run(out)  # no file of an earlier run stays beside this one
         paths = write(result, out, formats=("csv", args.format))
         paths += write_spectrum(result, out)
         if args.view:

@@ -9,6 +9,7 @@ import json
 import sys
 from pathlib import Path
 
+from ..errors import ParameterError
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 from .study_actuator import add_study_parser
 from .study_registry import add_registry_studies
@@ -127,6 +128,8 @@ def run_whip_loads(args) -> int:
     from ..jsonio import dumps
     from ..studies.whip_loads import PEAKS, whip_load_study
 
+    if args.step is not None and args.links is None:
+        raise ParameterError(f"--step = {args.step:g}: applies with --links only (the scenarios keep their own step)")
     rows = whip_load_study(args.stiffness, args.closure_speeds, args.scenarios, args.links, args.step,
                            verify=args.verify, tolerance=args.tolerance, ensemble=args.ensemble or 0)
     if args.json:

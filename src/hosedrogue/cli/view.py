@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 from ..errors import ParameterError
-from .options import finite_float
+from .options import finite_float, prepare_out_file
 
 NAME = "view"
 
@@ -87,9 +87,7 @@ def run(args) -> int:
 
     from ..viewer import read_run, write_view
 
-    out = Path(args.out)
-    if out.is_dir():
-        raise ParameterError(f"--out = {args.out!r}: is a folder; give the HTML file to write")
+    out = prepare_out_file(args.out)  # a folder, or one that cannot be written: one line before the work
     if args.start is not None and args.end is not None and args.end <= args.start:
         raise ParameterError(f"--end = {args.end:g}: must be after --start = {args.start:g} [s]")
     runs = [read_run(folder) for folder in args.runs]

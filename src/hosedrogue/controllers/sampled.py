@@ -18,13 +18,18 @@ The interface
 
 A controller that raises, returns a non-finite value or one of the wrong shape stops the run
 (:class:`ControllerError`, a one-line reason naming the controller and the time); the run keeps
-what it computed and is marked incomplete.
+what it computed and is marked incomplete. "Raises" means any exception, ``SystemExit``
+(``sys.exit``) and a ``KeyboardInterrupt`` it raises itself included: only the user's own Ctrl-C
+(:class:`CtrlC`) still interrupts the run. A factory, or an import of its module, that raises any
+of them is a one-line :class:`~hosedrogue.errors.ParameterError` before the run.
 """
 
 from __future__ import annotations
 
 import importlib
 import math
+import signal
+import threading
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -259,15 +264,59 @@ class SampledController:
             The entry cannot be imported, the factory raised, or it returned no controller.
         """
         factory = self.factory()
-        try:
-            controller = factory(**self.options)
-        except Exception as exc:
-            raise ParameterError(f"{self.table}.options = {self.options!r}: the factory {self.name!r} raised "
-                                 f"{type(exc).__name__}: {one_line(exc)}") from None
+        with CtrlC() as ctrl_c:
+            try:
+                controller = factory(**self.options)
+            except BaseException as exc:  # sys.exit and the code's own KeyboardInterrupt too
+                if ctrl_c.is_ctrl_c(exc):
+                    raise
+                raise ParameterError(f"{self.table}.options = {self.options!r}: the factory {self.name!r} raised "
+                                     f"{type(exc).__name__}: {one_line(exc)}") from None
         if not callable(controller) or not callable(getattr(controller, "reset", None)):
             raise ParameterError(f"{self.table}.entry = {self.name!r}: the factory returned {type(controller).__name__}"
                                  ", not a controller with reset(m) and __call__(t, m)")
         return controller
+
+
+class CtrlC:
+    """Tells the user's own Ctrl-C from a ``KeyboardInterrupt`` raised by the user's code.
+
+    While it is entered in the main thread with Python's default SIGINT handler, a handler of its
+    own records the signal and raises ``KeyboardInterrupt`` as the default one does. Outside the
+    main thread no signal raises there, so every ``KeyboardInterrupt`` is the code's; in the main
+    thread under another program's handler the two cannot be told apart, and it counts as Ctrl-C.
+    """
+
+    def __init__(self):
+        self.pressed = False
+        self._old = None
+        self._main = threading.current_thread() is threading.main_thread()
+
+    def __enter__(self) -> "CtrlC":
+        if self._main and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            self._old = signal.signal(signal.SIGINT, self._handler)
+        return self
+
+    def _handler(self, signum, frame):
+        self.pressed = True
+        raise KeyboardInterrupt
+
+    def __exit__(self, *exc) -> None:
+        if self._old is not None:
+            signal.signal(signal.SIGINT, self._old)
+
+    def is_ctrl_c(self, exc: BaseException) -> bool:
+        """Whether ``exc``, raised out of the user's code, is the user's Ctrl-C (to let through).
+
+        Parameters
+        ----------
+        exc : BaseException
+
+        Returns
+        -------
+        bool
+        """
+        return isinstance(exc, KeyboardInterrupt) and (self.pressed or (self._main and self._old is None))
 
 
 def one_line(exc: BaseException) -> str:
@@ -309,14 +358,18 @@ def load_entry(entry, name: str = "entry") -> Callable:
     if callable(entry):
         return entry
     module_name, _, attr = entry.rpartition(":")
-    try:
-        obj = _import_file(module_name) if module_name.endswith(".py") else importlib.import_module(module_name)
-    except ImportError as exc:
-        raise ParameterError(f"{name} = {entry!r}: cannot import module {module_name!r} ({one_line(exc)}); it must be "
-                             "importable by that name here and on every Dask worker (docs: Your own controllers)") from None
-    except Exception as exc:
-        raise ParameterError(f"{name} = {entry!r}: importing {module_name!r} raised {type(exc).__name__}: "
-                             f"{one_line(exc)}") from None
+    with CtrlC() as ctrl_c:
+        try:
+            obj = _import_file(module_name) if module_name.endswith(".py") else importlib.import_module(module_name)
+        except ImportError as exc:
+            raise ParameterError(f"{name} = {entry!r}: cannot import module {module_name!r} ({one_line(exc)}); it must "
+                                 "be importable by that name here and on every Dask worker (docs: Your own controllers)"
+                                 ) from None
+        except BaseException as exc:  # sys.exit and the module's own KeyboardInterrupt too
+            if ctrl_c.is_ctrl_c(exc):
+                raise
+            raise ParameterError(f"{name} = {entry!r}: importing {module_name!r} raised {type(exc).__name__}: "
+                                 f"{one_line(exc)}") from None
     for part in attr.split("."):
         if not hasattr(obj, part):
             raise ParameterError(f"{name} = {entry!r}: {module_name!r} has no attribute {attr!r}")

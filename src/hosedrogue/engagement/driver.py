@@ -20,6 +20,7 @@ from ..environment.bow_wave import BowWaveField
 from ..model import layout as LY
 from ..model.engagement import chain as EC, steps as ES
 from ..spec.params import Actuator, ParameterError, Params, Sensor
+from ..simulation.budget import check_run
 from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
                     initial_equilibrium)
 from .events import contact_event, remesh_event, switch_event
@@ -304,6 +305,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     """
     _check_duration(duration_s)
     params.numerics.steps(duration_s)
+    check_run(params, duration_s)  # its step and output grids reach duration_s; its output fits in memory
     _check_integrator(params)
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})

@@ -244,8 +244,11 @@ def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float)
 def _step_peaks(record: np.ndarray) -> dict:
     """The peaks of the per-step load record (t [s], exit tension [N], drogue-end tension [N],
     probe load [N], slack [m]), which replace those of the saved outputs: a whip's tension pulse
-    lasts a few milliseconds, shorter than the output interval."""
+    lasts a few milliseconds, shorter than the output interval; none when the run stopped before its
+    first step."""
     record = record[np.all(np.isfinite(record), axis=1)]  # a diverged run's last state aside
+    if not record.size:  # stopped before its first step (a controller failing at t = 0): the outputs' peaks stay
+        return {}
     return {"peak_probe_load_n": float(np.max(record[:, 3])),
             "peak_exit_tension_n": float(np.max(record[:, 1])),
             "peak_tension_rise_n": float(np.max(record[:, 1]) - record[0, 1]),

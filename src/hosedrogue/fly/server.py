@@ -61,11 +61,26 @@ def is_loopback(host: str) -> bool:
         return False
 
 
+#: A client that went away while it was answered: a line in the log, not an error.
+GONE = (BrokenPipeError, ConnectionResetError, ConnectionAbortedError, TimeoutError)
+
+
 def _server_class(family: int):
     class Server(http.server.ThreadingHTTPServer):
         address_family = family
         daemon_threads = True
         allow_reuse_address = True  # a port left in TIME_WAIT is free; one with a listener is not
+
+        def handle_error(self, request, client_address):
+            """One line for what a request's handler did not catch (socketserver prints a traceback)."""
+            import sys
+
+            exc = sys.exc_info()[1]
+            log = getattr(getattr(self, "fly", None), "log", print)
+            if isinstance(exc, GONE):
+                log(f"fly: a page at {client_address[0]} left before its answer ({type(exc).__name__})")
+            else:
+                log(f"fly: a request from {client_address[0]} failed ({type(exc).__name__}: {exc})")
 
     return Server
 
@@ -149,16 +164,28 @@ class _Handler(http.server.BaseHTTPRequestHandler):
     def log_message(self, format, *args):  # noqa: A002 - the base class's name
         pass  # quiet: the command prints what matters
 
+    def log_error(self, format, *args):  # noqa: A002 - the base class's name
+        """One line for a request http.server refuses itself (a malformed request line or header)."""
+        self._log(f"{self.address_string()}: " + (format % args))
+
+    def _log(self, line: str) -> None:
+        getattr(getattr(self.server, "fly", None), "log", print)(f"fly: {line}"[:300])
+
+    def _refuse(self, code: int, why: str) -> None:
+        """Answer ``code`` with ``why`` and log it in one line."""
+        self._log(f"{self.command} {self.path[:80]}: {code} ({why})")
+        self._send(code, {"error": why})
+
     # --- guards ----------------------------------------------------------------------------------
     def _allowed(self) -> bool:
         fly = self.server.fly
         host = self.headers.get("Host", "")
         if fly.check_host and host not in fly.hosts:
-            self._send(403, {"error": f"Host {host!r}: this server answers only as {sorted(fly.hosts)[0]}"})
+            self._refuse(403, f"Host {host!r}: this server answers only as {sorted(fly.hosts)[0]}")
             return False
         origin = self.headers.get("Origin")
         if self.command == "POST" and origin is not None and origin != f"http://{host}":
-            self._send(403, {"error": f"Origin {origin!r}: requests come from the server's own page only"})
+            self._refuse(403, f"Origin {origin!r}: requests come from the server's own page only")
             return False
         return True
 
@@ -181,9 +208,14 @@ class _Handler(http.server.BaseHTTPRequestHandler):
         if not 0 <= size <= MAX_BODY:
             raise ParameterError(f"request body of {size} bytes: at most {MAX_BODY}")
         try:
-            return json.loads(self.rfile.read(size) or b"{}")
+            body = json.loads(self.rfile.read(size) or b"{}")
         except ValueError:
             raise ParameterError("request body: not JSON") from None
+        except RecursionError:  # the parser's stack: arrays nested thousands deep
+            raise ParameterError("request body: JSON nested too deeply") from None
+        if not isinstance(body, dict):
+            raise ParameterError(f"request body: a JSON {type(body).__name__}, expected an object")
+        return body
 
     # --- routes ------------------------------------------------------------------------------------
     def do_GET(self):  # noqa: N802 - the base class's name
@@ -200,8 +232,10 @@ class _Handler(http.server.BaseHTTPRequestHandler):
         elif (m := re.fullmatch(r"/flights/(\d+)/view\.html", path)) and int(m.group(1)) in fly.flight.folders:
             page = Path(fly.flight.folders[int(m.group(1))]) / "view.html"
             self._send(200, page.read_bytes(), "text/html; charset=utf-8")
-        else:
+        elif path == "/favicon.ico":  # browsers ask for it unbidden: not worth a line
             self._send(404, {"error": f"{path}: not found"})
+        else:
+            self._refuse(404, f"{path[:80]}: not found")
 
     def do_POST(self):  # noqa: N802 - the base class's name
         if not self._allowed():
@@ -215,7 +249,7 @@ class _Handler(http.server.BaseHTTPRequestHandler):
             elif path == "/control":
                 action = body.get("action")
                 act = {"start": fly.flight.start, "pause": fly.flight.pause, "resume": fly.flight.resume,
-                       "end": fly.flight.end, "again": fly.flight.again}.get(action)
+                       "end": fly.flight.end, "again": fly.flight.again}.get(action) if isinstance(action, str) else None
                 if act is None:
                     raise ParameterError(f"action = {action!r}: must be start, pause, resume, end or again")
                 self._send(200, {"ok": act(), "state": fly.flight.state})
@@ -223,9 +257,9 @@ class _Handler(http.server.BaseHTTPRequestHandler):
                 fly.page_left()
                 self._send(200, {"ok": True})
             else:
-                self._send(404, {"error": f"{path}: not found"})
-        except (ParameterError, AttributeError) as exc:
-            self._send(400, {"error": str(exc)})
+                self._refuse(404, f"{path[:80]}: not found")
+        except ParameterError as exc:
+            self._refuse(400, str(exc))
 
     def _events(self):
         """The Server-Sent Events stream: the latest status and frame whenever they change, a

@@ -244,8 +244,8 @@ class LiveFlight:
         """
         try:
             vx, vy, vz = (float(x) for x in v)
-        except (TypeError, ValueError):
-            raise ParameterError(f"command = {v!r}: must be three numbers (v_x, v_y, v_z) [m/s]") from None
+        except (TypeError, ValueError, OverflowError):
+            raise ParameterError(f"command = {repr(v)[:60]}: must be three numbers (v_x, v_y, v_z) [m/s]") from None
         if not all(math.isfinite(x) for x in (vx, vy, vz)):
             raise ParameterError(f"command = {v!r}: must be finite [m/s]")
         with self._cv:

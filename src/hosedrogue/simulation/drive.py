@@ -4,8 +4,10 @@
 Every control step of the stepper (the greatest common divisor of the controllers' sample
 times, :func:`control_step`), each controller whose sample is due is called with the
 measurement and its command is held by the stepper until its next call. A controller that
-raises or returns a bad command stops the run there with a one-line message naming it, the time
-and the problem; the stepper keeps what was computed (``completed`` False). A controller that
+raises (any exception, ``sys.exit`` and a ``KeyboardInterrupt`` of its own included: only the
+user's Ctrl-C interrupts, :class:`~hosedrogue.controllers.sampled.CtrlC`), in ``reset`` or any call,
+or returns a bad command stops the run there with a one-line message naming it, the time and the
+problem; the stepper keeps what was computed (``completed`` False). A controller that
 holds the stepper may end the run itself in its call (``stepper.stop(message)``, e.g. the pilot
 of a live flight ending it): nothing is integrated after that.
 """
@@ -15,7 +17,7 @@ from __future__ import annotations
 import math
 from typing import Mapping
 
-from ..controllers.sampled import SampledController, one_line
+from ..controllers.sampled import CtrlC, SampledController, one_line
 from .stepper import StepperBase, whole_multiple
 
 
@@ -66,13 +68,22 @@ def drive(stepper: StepperBase, controllers: Mapping[str, SampledController], bu
     built = dict(built) if built is not None else {role: spec.build() for role, spec in controllers.items()}
     plan = [(role, built[role], round(spec.sample_time_s / stepper.control_step_s), spec.name)
             for role, spec in controllers.items()]
+    with CtrlC() as ctrl_c:
+        _loop(stepper, plan, ctrl_c)
+    return stepper.result()
+
+
+def _loop(stepper: StepperBase, plan: list, ctrl_c: CtrlC) -> None:
+    """Reset the controllers and run them on the stepper until it is done or one of them fails."""
     m = stepper.measurement
     for role, ctrl, _, name in plan:
         try:
             ctrl.reset(m)
-        except Exception as exc:
+        except BaseException as exc:
+            if ctrl_c.is_ctrl_c(exc):
+                raise
             stepper.stop(_failure(role, name, 0.0, "reset", f"raised {type(exc).__name__}: {one_line(exc)}"))
-            return stepper.result()
+            return
     k = 0
     dt_steps, h, advance = stepper.spc, stepper.h, stepper._advance
     plan = [(role, ctrl, every, name, stepper.holder(role)) for role, ctrl, every, name in plan]
@@ -83,10 +94,11 @@ def drive(stepper: StepperBase, controllers: Mapping[str, SampledController], bu
                 continue
             try:
                 value = ctrl(t, m)
-            except Exception as exc:
-                stepper.stop(_failure(role, name, t, "call", f"raised {type(exc).__name__}: {one_line(exc)}"))
-                break
-            problem = hold(value)
+                problem = hold(value)  # a command's own __float__ or __iter__ is user code too
+            except BaseException as exc:
+                if ctrl_c.is_ctrl_c(exc):
+                    raise
+                problem = f"raised {type(exc).__name__}: {one_line(exc)}"
             if problem is not None:
                 stepper.stop(_failure(role, name, t, "call", problem))
                 break
@@ -95,7 +107,6 @@ def drive(stepper: StepperBase, controllers: Mapping[str, SampledController], bu
                 break
             advance()
             k += 1
-    return stepper.result()
 
 
 def _failure(role: str, name: str, t: float, when: str, problem: str) -> str:

@@ -28,16 +28,28 @@ from ..spec.params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..spec.sections import Controller
 from ..results.statistics import turbulence_window
 from ..results.run import SimulationResult
+from .budget import check_run
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
 
 _STATUS_TEXT = {
     LY.NONFINITE: "the state became non-finite (numerical divergence)",
-    LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular (likely the paper's almost undamped zigzag modes growing in turbulence; for long runs use the model preset: --config converged or [model] preset = \"converged\", docs/long-runs.md)",
+    LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
     LY.STEP_LIMIT: "the adaptive integrator could not meet its tolerance (step size limit)",
     LY.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is too "
                    "long for the hose's motion: shorten numerics.step_s)",
 }
+
+
+def _status_text(status: int, params: Params) -> str:
+    """Why a run stopped; a yaw past the limit of the paper's hose (its bending) adds the likely
+    cause, its almost undamped zigzag modes (in turbulence, when it is on), and the cure."""
+    text = _STATUS_TEXT[status]
+    if status == LY.YAW_LIMIT and params.hose.bending == "paper":
+        where = " in turbulence" if params.turbulence.enabled else ""
+        text += (f" (likely the paper's almost undamped zigzag modes growing{where}; for long runs use the model "
+                 "preset: --config converged or [model] preset = \"converged\", docs/long-runs.md)")
+    return text
 
 
 def simulate(
@@ -99,6 +111,7 @@ def simulate(
     """
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
         raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
+    check_run(params, duration_s)  # its step and output grids reach duration_s; its output fits in memory
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
     if model is None:
@@ -142,7 +155,7 @@ def simulate(
     if outs is None:
         outs = _derived_outputs(model, ts, xs, us)
     completed = status == LY.OK
-    message = "completed" if completed else f"stopped at t = {t_stop:.4f} s: {_STATUS_TEXT[status]}"
+    message = "completed" if completed else f"stopped at t = {t_stop:.4f} s: {_status_text(status, params)}"
     return SimulationResult(
         t_s=ts,
         states=xs,

@@ -25,6 +25,7 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
+from .budget import GRID_TOLERANCE, check_run
 from ..model import chain_dynamics as CD, drogue_actuator as DA, layout as LY
 from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
@@ -35,9 +36,6 @@ from ..results.statistics import turbulence_window
 from ..results.surfaces import surface_fields
 from ..spec.params import PAPER, Actuator, Params, Sensor
 
-#: Relative tolerance of "a whole multiple" of the RK4 step [-] (round-off of the decimal times).
-MULTIPLE_RTOL = 1e-9
-
 _STATUS_TEXT = {
     LY.NONFINITE: "the state became non-finite (numerical divergence)",
     LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
@@ -45,7 +43,7 @@ _STATUS_TEXT = {
 
 
 def whole_multiple(value_s: float, unit_s: float, name: str, unit_name: str) -> int:
-    """``value_s / unit_s`` when it is a whole number >= 1 (to :data:`MULTIPLE_RTOL`).
+    """``value_s / unit_s`` when it is a whole number >= 1 (to :data:`hosedrogue.simulation.budget.GRID_TOLERANCE`).
 
     Parameters
     ----------
@@ -67,7 +65,7 @@ def whole_multiple(value_s: float, unit_s: float, name: str, unit_name: str) -> 
     """
     ratio = value_s / unit_s
     count = int(round(ratio))
-    if count < 1 or abs(ratio - count) > MULTIPLE_RTOL * max(ratio, 1.0):
+    if count < 1 or abs(ratio - count) > GRID_TOLERANCE * max(ratio, 1.0):
         raise ParameterError(f"{name} = {value_s!r}: must be a whole multiple of {unit_name} = {unit_s!r} s")
     return count
 
@@ -372,7 +370,7 @@ class FixedLengthStepper(StepperBase):
         if seed is not None:
             params = params.replace(turbulence={"seed": int(seed)})
         self.params = params
-        self.h, self.total_steps = params.numerics.steps(duration_s)
+        self.h, self.total_steps = check_run(params, duration_s)  # the grids reach duration_s; the output fits
         self.every = params.numerics.output_every
         self.duration_s = float(duration_s)
         if model is None or not model.gusts_cover(duration_s):

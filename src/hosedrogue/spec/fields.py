@@ -39,7 +39,7 @@ def real(lo: float, hi: float = INF, *, lo_open: bool = True, hi_open: bool = Fa
         The field's unit ("m", "m/s", "N", ...; "" for none).
     inf_ok : bool or str
         Whether ``inf`` is allowed (as "no limit", or what the string says it means); then ``hi``
-        must be ``inf``.
+        must be ``inf``. ``None`` (``null`` in a strict JSON file the package wrote) reads as ``inf``.
     optional : bool
         Whether the field may be left out (``None``: its meaning is the section's to say, e.g.
         "unchanged"); a scenario file then simply omits the key.
@@ -225,6 +225,8 @@ def describe(meta: Mapping[str, Any]) -> str:
 
 
 def _check_real(name: str, value: Any, meta: Mapping[str, Any]) -> float:
+    if value is None and meta.get("inf_ok"):  # strict JSON (jsonio) writes inf as null
+        return INF
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ParameterError(f"{name} = {value!r}: must be {describe({**meta, 'kind': 'float'})}")
     v = float(value)

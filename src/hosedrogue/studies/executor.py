@@ -20,9 +20,16 @@ SYNCHRONOUS = "synchronous"
 IN_FLIGHT_PER_WORKER = 4
 
 
-def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_result: Callable) -> int:
+def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_result: Callable,
+                 on_lost: Callable | None = None) -> int:
     """Run ``fn(task)`` for every task on a dask client, at most ``max_in_flight`` at a time, calling
     ``on_result(result)`` in completion order.
+
+    A task whose worker died under it on every try (dask's ``KilledWorker``: user code that ended
+    its process, ``os._exit`` or a crash) is tried once more alone at the end (a task queued on the
+    worker of one that killed it is innocent), and if its worker dies again goes to
+    ``on_lost(task, reason)``; the others go on. Without ``on_lost`` it ends the execution as any
+    other error does.
 
     A lost scheduler raises :class:`~hosedrogue.errors.IncompleteError` (one line; exit 3 on the
     command line) after the results already passed to ``on_result`` are kept.
@@ -41,6 +48,9 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
         Largest number of submitted, unfinished tasks.
     on_result : callable
         Called with each result in this process.
+    on_lost : callable, optional
+        ``on_lost(task, reason)``: called in this process for a task whose worker died (``reason``
+        one line).
 
     Returns
     -------
@@ -49,11 +59,12 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
     """
     from concurrent.futures import CancelledError
 
-    from distributed import as_completed
+    from distributed import KilledWorker, as_completed
     from distributed.comm.core import CommClosedError
 
     pending = iter(tasks)
-    outstanding: set = set()
+    outstanding: dict = {}  # future -> its task
+    suspects: list = []  # tasks whose worker died while they ran or waited on it
     queue = as_completed()
     peak = 0
 
@@ -62,7 +73,7 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
         task = next(pending, None)
         if task is not None:
             future = client.submit(fn, task, pure=False)
-            outstanding.add(future)
+            outstanding[future] = task
             queue.add(future)
             peak = max(peak, len(outstanding))
 
@@ -70,11 +81,28 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
         submit_next()
     try:
         for future in queue:
-            outstanding.discard(future)
-            result = future.result()
+            task = outstanding.pop(future)
+            try:
+                result = future.result()
+            except KilledWorker:
+                if on_lost is None:
+                    raise
+                suspects.append(task)  # or a task beside it killed the worker: tried again alone below
+            else:
+                on_result(result)
             future.release()
-            on_result(result)
             submit_next()
+        for task in suspects:  # one at a time: a worker that dies now died of this task
+            future = client.submit(fn, task, pure=False)
+            outstanding[future] = task
+            try:
+                result = future.result()
+            except KilledWorker:
+                on_lost(task, "the worker process running it died on every try (dask KilledWorker)")
+            else:
+                on_result(result)
+            del outstanding[future]
+            future.release()
     except (CancelledError, CommClosedError) as exc:
         # a lost scheduler shows up as cancelled futures or, while a result is fetched, as a
         # closed connection; anything else cancelled is not ours to explain
@@ -157,11 +185,22 @@ def local_cluster(workers: int):
     """
     import logging
 
+    import dask
     from distributed import Client, LocalCluster
 
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           silence_logs=logging.ERROR, env=dict(WORKER_ENVIRON), **_NO_DASHBOARD)
+    # logs at CRITICAL only: a task's error reaches the client, which ends in one line or records the
+    # run's failure (a worker's "Compute Failed" traceback or the scheduler's report of a worker that
+    # died would only repeat it on the terminal)
+    with dask.config.set(LOCAL_SCHEDULER_CONFIG):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               silence_logs=logging.CRITICAL, env=dict(WORKER_ENVIRON), **_NO_DASHBOARD)
     return cluster, Client(cluster)
+
+
+#: A local cluster's scheduler gives a task whose worker died one more try (a passing fault), not
+#: dask's three: its workers are alike, and a run whose user code ends its process would end each.
+LOCAL_SCHEDULER_CONFIG = {"distributed.scheduler.allowed-failures": 1}
+
 
 
 def connect(scheduler: str):

@@ -10,7 +10,6 @@ index first, so the statistics do not depend on the order in which runs finished
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,11 +17,12 @@ from typing import Any
 
 import numpy as np
 
+from .. import jsonio
 from ..errors import ParameterError
 from ..results.statistics import statistic_units
 from ..plotting.campaign import plot_cdf, plot_histograms, plot_miss_cdf
 from ..plotting.figures import save_figure
-from .store import csv_line, is_actuated, is_engagement, read_runs, read_settings, run_columns, write_atomic
+from .store import check_rows, csv_line, is_actuated, is_engagement, read_runs, read_settings, run_columns, write_atomic
 
 #: Order of the engagement results in ``by_result`` (:meth:`hosedrogue.results.run.EngagementResult.capture_category`)
 RESULTS = ("captured", "miss", "failed latch", "no contact", "stopped")
@@ -210,9 +210,9 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     engagement = is_engagement(settings)
     actuated = is_actuated(settings)
     rows = read_runs(out / "runs.csv", radii, engagement, actuated)
+    check_rows(out / "runs.csv", rows, settings)  # a row not of this campaign is named, never counted
     order = {c: k for k, c in enumerate(controllers)}
-    rows.sort(key=lambda r: (order.get(r["controller"], len(order)), r["run"]))
-    rows = _first_row_per_run(rows)
+    rows.sort(key=lambda r: (order[r["controller"]], r["run"]))
     table = pd.DataFrame(rows, columns=run_columns(radii, engagement, actuated))
 
     statistics, completed = {}, {}
@@ -232,7 +232,7 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     files = []
     capture = capture_summary(table["result"]) if engagement else None
     summary = CampaignSummary(out, settings, table, statistics, completed, (), new_runs, capture)
-    write_atomic(out / "summary.json", json.dumps(summary.to_dict(), indent=2) + "\n")
+    write_atomic(out / "summary.json", jsonio.dumps(summary.to_dict(), indent=2) + "\n")
     files.append(out / "summary.json")
     columns = list(csv_rows[0]) if csv_rows else []
     text = csv_line(columns) + "".join(
@@ -257,14 +257,3 @@ def _miss_figure(table, settings: dict, capture: dict):
     title = (f"capture rate {capture['rate']:.3f} (Wilson 95 %: {lo:.3f}-{hi:.3f}) over {capture['runs']} runs"
              if capture["runs"] else "")
     return plot_miss_cdf(table["miss_distance_m"].to_numpy(dtype=np.float64), radius, title)
-
-
-def _first_row_per_run(rows: list[dict]) -> list[dict]:
-    """Drop repeated (run, controller) rows, which only copying files by hand could create."""
-    seen, unique = set(), []
-    for r in rows:
-        key = (r["run"], r["controller"])
-        if key not in seen:
-            seen.add(key)
-            unique.append(r)
-    return unique

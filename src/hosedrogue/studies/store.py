@@ -1,11 +1,17 @@
 """A campaign's files: ``campaign.json`` (the settings) and ``runs.csv`` (one row per finished run).
 
-``runs.csv`` is appended one flushed line per finished run (:class:`AppendLog`), under an
-exclusive lock against a second writer, so an interrupted campaign loses at most the runs in
-flight and at most one partial last line, which reopening drops; :func:`read_runs` reads the rows
-back, :func:`todo` lists what a resumed campaign still has to run. Summary files are replaced
-atomically (:func:`write_atomic`). Floats are written as the shortest string that reads back to
-the same double.
+A campaign owns its folder for its whole life (:class:`hosedrogue.studies.folder.FolderLock`: ``fcntl.flock`` on
+``DIR/.lock``, which the kernel releases when the owner ends, however it ends, so a crashed
+campaign never leaves the folder stuck); a second campaign on the folder is refused in one line.
+``runs.csv`` is appended one flushed line per finished run (:class:`AppendLog`), so an interrupted
+campaign loses at most the runs in flight and at most one partial last line, which reopening
+drops; :func:`read_runs` reads the rows back, :func:`check_rows` refuses a row that is not this
+campaign's (run index outside the campaign, another controller, a seed that is not the run's, a
+run twice), :func:`todo` lists what a resumed campaign still has to run. campaign.json and the
+summary are strict JSON (:mod:`hosedrogue.jsonio`): an infinite value of the scenario (``inf``: no
+limit, rigid links) is written ``null``, which the scenario's sections read back as ``inf``.
+Summary files are replaced atomically (:func:`write_atomic`). Floats are written as the shortest
+string that reads back to the same double.
 """
 
 from __future__ import annotations
@@ -18,11 +24,12 @@ import os
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
+from .. import jsonio
 from ..version import __version__
 from ..errors import ParameterError
 from ..results.statistics import DEFAULT_CAPTURE_RADII_M, statistic_units
 from ..results.surfaces import SURFACE_STATISTICS
-from .seeds import SEED_RULE
+from .seeds import SEED_RULE, run_seed
 
 #: Format tag of campaign.json (2: the typed scenario, with its hose "model").
 FORMAT = "hosedrogue-montecarlo/2"
@@ -97,8 +104,9 @@ def is_actuated(settings: dict) -> bool:
 
 # --- campaign.json -------------------------------------------------------------------------------
 def _json_normal(value: Any) -> Any:
-    """The value as it reads back from JSON (tuples become lists), for comparisons."""
-    return json.loads(json.dumps(value))
+    """The value as it reads back from strict JSON (tuples become lists, NaN and infinities None),
+    for comparisons."""
+    return json.loads(jsonio.dumps(value))
 
 
 def _scenario_content(scenario) -> dict:
@@ -198,9 +206,13 @@ def read_settings(out: Path) -> dict | None:
             raise ParameterError(f"out = {str(out)!r}: holds runs.csv but no campaign.json; use another out folder")
         return None
     try:
-        return json.loads(path.read_text())
+        # plain: a campaign.json of an earlier version wrote infinities as Infinity
+        settings = jsonio.plain(json.loads(path.read_bytes().decode("utf-8")))
     except (OSError, ValueError) as exc:
         raise ParameterError(f"out = {str(out)!r}: campaign.json is not readable JSON ({exc})") from None
+    if not isinstance(settings, dict) or not isinstance(settings.get("scenario"), dict):
+        raise ParameterError(f"out = {str(out)!r}: campaign.json is not a campaign's settings; use another out folder")
+    return settings
 
 
 def write_atomic(path: Path, text: str) -> None:
@@ -291,9 +303,14 @@ def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTU
     """
     path = Path(path)
     columns = run_columns(capture_radii_m, engagement, actuated)
-    data = path.read_text() if path.exists() else ""
-    if data and not data.endswith("\n"):
-        data = data[: data.rfind("\n") + 1]
+    raw = path.read_bytes() if path.exists() else b""
+    raw = raw[: raw.rfind(b"\n") + 1]  # a partial last line (a write cut by a kill) is not a row
+    try:
+        data = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise ParameterError(f"{path}, line {line}: not a valid run row (not UTF-8 text); remove the line or use "
+                             "another out folder") from None
     lines = list(csv.reader(io.StringIO(data)))
     if not lines:
         return []
@@ -310,8 +327,44 @@ def read_runs(path: str | Path, capture_radii_m: Sequence[float] = DEFAULT_CAPTU
     return rows
 
 
+def check_rows(path: str | Path, rows: list[dict], settings: dict) -> None:
+    """Raise ParameterError naming the first row of ``rows`` that is not one of the campaign's runs.
+
+    A row is the campaign's when its run index is in ``[0, runs)``, its controller one of the
+    campaign's, its seed the run's (:func:`~hosedrogue.studies.seeds.run_seed` of the campaign seed
+    and the index) and no earlier row has its (run, controller).
+
+    Parameters
+    ----------
+    path : str or Path
+        The runs.csv file the rows were read from, in file order (:func:`read_runs`; for the message).
+    rows : list of dict
+        Its rows.
+    settings : dict
+        The campaign's settings (:func:`make_settings`): ``runs``, ``seed``, ``controllers``.
+    """
+    runs, seed, controllers = settings["runs"], settings["seed"], settings["controllers"]
+    seen: set = set()
+    for number, row in enumerate(rows, start=2):  # line 1 is the header; one line per row
+        run, controller = row["run"], row["controller"]
+        if not 0 <= run < runs:
+            why = f"run = {run} is not a run of this campaign (0 to {runs - 1})"
+        elif controller not in controllers:
+            why = f"controller = {controller!r} is not one of this campaign's {controllers!r}"
+        elif (run, controller) in seen:
+            why = f"run {run} ({controller}) has a row already"
+        elif row["seed"] != run_seed(seed, run):
+            why = f"seed = {row['seed']} is not run {run}'s seed {run_seed(seed, run)} (campaign seed {seed})"
+        else:
+            seen.add((run, controller))
+            continue
+        raise ParameterError(f"{path}, line {number}: not a row of this campaign ({why}); remove the line or use "
+                             "another out folder")
+
+
 class AppendLog:
-    """A CSV file appended one flushed line at a time, header once, locked against a second writer.
+    """A CSV file appended one flushed line at a time, header once (its writer holds the folder's
+    :class:`~hosedrogue.studies.folder.FolderLock`).
 
     Opening drops a partial last line (a write interrupted by a kill).
 
@@ -321,15 +374,11 @@ class AppendLog:
         The CSV file (created if missing).
     columns : sequence of str
         Its columns; :meth:`append` writes a row's values in this order.
-    lock : bool
-        Take an exclusive lock (ParameterError if another process holds it).
     """
 
-    def __init__(self, path: Path, columns: Sequence[str], lock: bool = False):
+    def __init__(self, path: Path, columns: Sequence[str]):
         self.columns = list(columns)
         self.fh = path.open("a", newline="")
-        if lock:
-            _lock_or_fail(self.fh, path)
         _drop_partial_line(path)  # O_APPEND: the next write goes to the new end
         if path.stat().st_size == 0:
             self._write(self.columns)
@@ -345,18 +394,6 @@ class AppendLog:
     def close(self) -> None:
         """Close the file (and release the lock)."""
         self.fh.close()
-
-
-def _lock_or_fail(fh, path: Path) -> None:
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - not POSIX: no protection against two writers
-        return
-    try:
-        fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        fh.close()
-        raise ParameterError(f"out = {str(path.parent)!r}: another campaign is writing to it") from None
 
 
 def todo(done_rows: list[dict], runs: int, controllers: Sequence[str]) -> list[tuple[int, str]]:

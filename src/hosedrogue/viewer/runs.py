@@ -173,6 +173,10 @@ def read_run(folder: str | Path, label: str | None = None) -> ViewRun:
     if t_hose.shape != columns["t_s"].shape or not np.allclose(t_hose, columns["t_s"], rtol=1e-9, atol=1e-12):
         raise ParameterError(f"RUN_DIR = {str(folder)!r}: hose.npz has {t_hose.size} output times and "
                              f"timeseries.csv {columns['t_s'].size}, or their times differ: files of different runs")
+    t_end = doc.get("t_end_s")
+    if not isinstance(t_end, (int, float)) or not t_hose.size or not np.isclose(t_end, t_hose[-1], rtol=1e-9, atol=1e-12):
+        raise ParameterError(f"RUN_DIR = {str(folder)!r}: run.json ends at t_end_s = {t_end!r} and timeseries.csv at "
+                             f"{float(t_hose[-1]) if t_hose.size else None!r} s: files of different runs")
     columns["t_s"] = t_hose  # the full-precision times
     return ViewRun(label=label or str(doc.get("scenario") or path.resolve().name), columns=columns,
                    joint_count=counts, joints_m=joints, document=doc, source=str(path))

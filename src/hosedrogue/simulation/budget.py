@@ -1,0 +1,151 @@
+"""What a run can do, checked before it starts: reach its duration on its step grid, save at least
+one sample after its start, and keep its output within a share of the machine's memory.
+
+* **Step grid** (``command``: asked by the commands for the user's run). A run takes
+  ``duration_s / step_s`` steps: that must be a whole number (to :data:`GRID_TOLERANCE`), or the
+  run would end a fraction of a step early or late (``duration_s = 0.1`` at ``step_s = 0.03``
+  ended at 0.09 s).
+* **Output grid.** It saves every ``output_every`` steps: a run of fewer steps than that would
+  keep its start only.
+* **Statistics window** (``command``). A turbulent run's statistics are taken over the turbulence window, which
+  must overlap the run (else they would be of no sample).
+* **Memory.** What a run keeps (its saved samples: state, joints and their velocities, some 64
+  signals, in float64) is estimated by :func:`output_bytes` and refused beyond
+  :data:`MEMORY_SHARE` of the machine's physical memory (:func:`machine_memory_bytes`), in one
+  line naming the fields to change. The estimate is a lower bound: writing the files copies part of
+  it again.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+from ..errors import ParameterError
+from ..results.statistics import turbulence_window
+
+__all__ = ["GRID_TOLERANCE", "MEMORY_SHARE", "check_memory", "check_run", "machine_memory_bytes", "output_bytes"]
+
+#: Share of the machine's physical memory that one run's (or campaign's) kept output may take [-].
+MEMORY_SHARE = 0.5
+#: Relative distance of ``duration_s / step_s`` from a whole number accepted as whole [-]: decimal
+#: durations and steps are not exact binary numbers (0.3 / 0.1 = 2.9999999999999996).
+GRID_TOLERANCE = 1e-9
+#: Signals saved per sample beside the state and the joints (times, forces, tensions, probe,
+#: controller, surfaces): an upper bound over the models [-].
+SIGNALS_PER_SAMPLE = 64
+
+
+def machine_memory_bytes() -> int:
+    """The machine's physical memory [bytes] (``os.sysconf``; 16 GiB assumed where unknown).
+
+    Returns
+    -------
+    int
+    """
+    try:
+        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+        return 16 * 2**30
+
+
+def _gb(n: float) -> str:
+    return f"{n / 1e9:.3g} GB"
+
+
+def check_memory(needed_bytes: float, fields: str, what: str, advice: str) -> None:
+    """Refuse work whose kept output exceeds :data:`MEMORY_SHARE` of the machine's memory.
+
+    Parameters
+    ----------
+    needed_bytes : float
+        The estimate [bytes].
+    fields : str
+        The fields that set it, with their values (``"runs = 10**20"``).
+    what : str
+        What needs it ("the run would keep 8.64e+09 samples of 20 links").
+    advice : str
+        Which fields to change, and how.
+
+    Raises
+    ------
+    ParameterError
+        One line: the fields, the estimate, the share of the machine's memory, the advice.
+    """
+    limit = MEMORY_SHARE * machine_memory_bytes()
+    if not needed_bytes <= limit:
+        raise ParameterError(f"{fields}: {what}, about {_gb(needed_bytes)}, more than {MEMORY_SHARE:.0%} of this "
+                             f"machine's {_gb(machine_memory_bytes())} of memory; {advice}")
+
+
+def output_bytes(links: int, samples: float) -> float:
+    """The memory [bytes] a run's saved output takes (a lower bound, see the module).
+
+    Parameters
+    ----------
+    links : int
+        Links of the hose.
+    samples : float
+        Saved samples.
+
+    Returns
+    -------
+    float
+    """
+    # state (at most 8 numbers per link: angles, rates, elastic stretch and its rate), the joints and
+    # their velocities (3 + 3 per joint), the other signals
+    return 8.0 * samples * (8 * links + 6 * (links + 1) + SIGNALS_PER_SAMPLE)
+
+
+def check_run(params, duration_s: float, name: str = "duration_s", command: bool = False) -> tuple[float, int]:
+    """Refuse, before it starts, a run that cannot reach its duration on its step grid, would save
+    nothing after its start, or would keep more output than the machine's memory allows.
+
+    Parameters
+    ----------
+    params : hosedrogue.spec.params.Params
+        The run's parameters (``numerics.step_s``, ``numerics.output_every``, ``hose.links``).
+    duration_s : float
+        Simulated time [s], finite and > 0.
+    name : str
+        How the messages name the duration (``scenario.duration_s`` in a scenario).
+    command : bool
+        Also refuse a duration that is not a whole number of steps and a turbulence (statistics)
+        window outside the run. The commands ask for it on the user's run; the library's runs do not,
+        since studies derive durations from physics (the whip-load study's ``(standoff + push) /
+        closure speed``, run to the nearest step) and short runs of turbulent scenarios serve tests.
+
+    Returns
+    -------
+    (float, int)
+        The step [s] and the number of steps (:meth:`hosedrogue.spec.params.Numerics.steps`).
+
+    Raises
+    ------
+    ParameterError
+        One line naming the fields to change and values that would do.
+    """
+    h, every = params.numerics.step_s, params.numerics.output_every
+    params.numerics.steps(duration_s, name)  # at most Numerics.MAX_STEPS
+    ratio = duration_s / h
+    steps = round(ratio)
+    if steps < 1 or (command and abs(ratio - steps) > GRID_TOLERANCE * max(ratio, 1.0)):
+        below, above = math.floor(ratio) * h, math.ceil(ratio) * h
+        raise ParameterError(f"{name} = {duration_s!r}: not a whole number of steps of numerics.step_s = {h!r} s "
+                             f"({ratio:.6g} steps; the run would not end at {duration_s!r} s); give {name} = "
+                             f"{below:.6g} or {above:.6g}, or a step that divides it")
+    if steps < every:
+        raise ParameterError(f"numerics.output_every = {every!r}: more than the run's {steps} steps ({name} = "
+                             f"{duration_s!r} s at numerics.step_s = {h!r} s), so nothing after its start would be "
+                             f"saved; give output_every <= {steps}")
+    start, end = turbulence_window(params.turbulence)
+    if command and (start >= duration_s or end <= start):  # the statistics would be of no sample ("peak nan m")
+        raise ParameterError(f"turbulence.start_s = {start!r}: the turbulence window [{start:g}, {end:g}) s, over which "
+                             f"the run's statistics are taken, must overlap the run [0, {duration_s:g}] s; give "
+                             f"turbulence.start_s < {duration_s:g} or a longer {name}")
+    samples = steps // every + 1
+    check_memory(output_bytes(params.hose.links, samples),
+                 f"{name} = {duration_s!r}, numerics.step_s = {h!r}, numerics.output_every = {every!r}",
+                 f"the run would keep {samples:.3g} samples of {params.hose.links} links",
+                 "raise step_s or output_every, or shorten the run")
+    return h, steps

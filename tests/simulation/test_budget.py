@@ -1,0 +1,87 @@
+"""Runs refused before they start: one that cannot reach its duration on its step grid, one that
+would save nothing after its start, one whose statistics window misses it, and one (or a
+campaign) whose kept output would exceed the stated share of the machine's memory; each in one
+line naming the fields, with nothing allocated or written.
+
+"Nothing allocated" is measured: the refused command's peak memory (``ru_maxrss`` of a child
+process) stays below a bound far under what the run would keep.
+"""
+
+import resource
+import subprocess
+import sys
+
+import pytest
+
+from hosedrogue import cli
+from hosedrogue.errors import ParameterError
+from hosedrogue.simulation import budget
+from hosedrogue.spec.params import PAPER
+
+DAY = '[scenario]\nname = "day"\nduration_s = 86400.0\n[hose]\nlinks = 20\n[numerics]\nstep_s = 1e-5\noutput_every = 1\n'
+GRID = '[scenario]\nname = "grid"\nduration_s = 0.1\n[numerics]\nstep_s = 0.03\n'
+EVERY = '[scenario]\nname = "every"\nduration_s = 0.1\n[numerics]\noutput_every = 1000000\n'
+LATE = ('[scenario]\nname = "late"\nduration_s = 1.0\n[turbulence]\nenabled = true\nstart_s = 5.0\n'
+        'duration_s = 2.0\n')
+
+CASES = {
+    "24 hours at every step": (DAY, ["scenario.duration_s = 86400.0", "numerics.step_s = 1e-05", "numerics.output_every = 1",
+                                     "GB"]),
+    "duration off the step grid": (GRID, ["scenario.duration_s = 0.1", "numerics.step_s = 0.03", "0.09 or 0.12"]),
+    "output_every past the end": (EVERY, ["numerics.output_every = 1000000", "output_every <= 20"]),
+    "turbulence window after the run": (LATE, ["turbulence.start_s = 5.0", "[0, 1] s"]),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_a_run_that_cannot_be_done_is_refused_in_one_line(tmp_path, capsys, case):
+    text, words = CASES[case]
+    path = tmp_path / "case.toml"
+    path.write_text(text)
+    out = tmp_path / "out"
+    code = cli.main(["simulate", str(path), "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "\n" not in err, err
+    assert all(w in err for w in words), err
+    assert not out.exists()
+
+
+def test_the_grid_check_accepts_decimal_steps():
+    """0.3 / 0.1 is 2.9999999999999996 in binary: whole to the stated tolerance."""
+    params = PAPER.replace(numerics={"step_s": 0.1, "output_every": 1})
+    assert budget.check_run(params, 0.3, command=True) == (0.1, 3)
+    with pytest.raises(ParameterError, match="not a whole number of steps"):
+        budget.check_run(params, 0.35, command=True)
+    assert budget.check_run(params, 0.36) == (0.1, 4)  # a library run: to the nearest step
+
+
+def test_the_memory_estimate_counts_state_joints_and_signals():
+    """Independent count for 20 links: 8 per link of state + 6 per joint (21) + 64 signals = 350
+    float64 per sample."""
+    assert budget.output_bytes(20, 1000) == 1000 * 350 * 8
+    params = PAPER.replace(hose={"links": 20}, numerics={"step_s": 1e-5, "output_every": 1})
+    with pytest.raises(ParameterError, match="8.64e\\+09 samples of 20 links"):
+        budget.check_run(params, 86400.0)
+
+
+@pytest.mark.subprocess
+def test_the_day_long_run_is_refused_before_allocating(tmp_path):
+    """The refused command's peak resident memory stays under 1 GB, against the 24 TB it would
+    keep (and the 64 GiB of one array that failed to allocate before)."""
+    path = tmp_path / "day.toml"
+    path.write_text(DAY)
+    code = ("import resource, sys\nfrom hosedrogue import cli\n"
+            f"code = cli.main(['simulate', {str(path)!r}, '--out', {str(tmp_path / 'out')!r}])\n"
+            "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, code)")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    peak_kb, status = (int(x) for x in proc.stdout.split())
+    assert status == 2 and peak_kb < 1_000_000, (peak_kb, proc.stderr)
+    assert resource  # ru_maxrss is in kB on Linux
+
+
+def test_a_campaign_of_too_many_runs_is_refused_before_any_run(tmp_path, capsys):
+    out = tmp_path / "out"
+    code = cli.main(["montecarlo", "paper-turbulence", "--runs", "73786976294838206464", "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "\n" not in err and "runs = 73786976294838206464" in err and "GB" in err, err
+    assert not out.exists()
