@@ -79,6 +79,7 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
 
     for _ in range(max_in_flight):
         submit_next()
+    watchdog = _NoWorkerWatchdog(client, outstanding)
     try:
         for future in queue:
             task = outstanding.pop(future)
@@ -104,6 +105,9 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
             del outstanding[future]
             future.release()
     except (CancelledError, CommClosedError) as exc:
+        if watchdog.fired:
+            raise IncompleteError(f"no dask worker was alive for {NO_WORKER_TIMEOUT_S:g} s (they died and were not "
+                                  "restarted); the finished runs are kept: run the same command again to resume") from None
         # a lost scheduler shows up as cancelled futures or, while a result is fetched, as a
         # closed connection; anything else cancelled is not ours to explain
         if isinstance(exc, CancelledError) and getattr(exc, "reason", None) != "scheduler-connection-lost":
@@ -115,7 +119,49 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
     except BaseException:
         client.cancel(list(outstanding))
         raise
+    finally:
+        watchdog.stop()
     return peak
+
+
+#: How long a campaign waits with no dask worker alive before it stops, its finished runs kept [s]:
+#: a worker that user code killed is restarted by its nanny within seconds, even on a loaded machine.
+NO_WORKER_TIMEOUT_S = 120.0
+
+
+class _NoWorkerWatchdog:
+    """Cancels the outstanding futures when the cluster has had no worker for
+    :data:`NO_WORKER_TIMEOUT_S` (every worker died and none was restarted), so a campaign waiting on
+    them stops instead of waiting for ever; :attr:`fired` tells why they were cancelled."""
+
+    def __init__(self, client, outstanding: dict, poll_s: float = 2.0):
+        import threading
+
+        self.fired = False
+        self._client, self._outstanding, self._poll_s = client, outstanding, poll_s
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._watch, name="hosedrogue-no-worker-watchdog", daemon=True)
+        self._thread.start()
+
+    def _watch(self) -> None:
+        import time
+
+        since = None
+        while not self._stop.wait(self._poll_s):
+            try:
+                alive = bool(self._client.nthreads())
+            except Exception:  # a lost scheduler: the main loop says so
+                return
+            now = time.monotonic()
+            since = None if alive else (now if since is None else since)
+            if since is not None and now - since >= NO_WORKER_TIMEOUT_S:
+                self.fired = True
+                self._client.cancel(list(self._outstanding))
+                return
+
+    def stop(self) -> None:
+        """End the watch (the execution finished or failed)."""
+        self._stop.set()
 
 
 def _close_quietly(client) -> None:
