@@ -81,24 +81,19 @@
     return { n, frame: w >= 0.5 ? k1 : k, w };
   }
 
-  function probeAt(run, time, out) {
-    if (!run.probe) return false;
+  /** Row `time` of a per-frame array of `width` columns into `out` (linear between frames); false without one. */
+  function rowAt(run, values, width, time, out) {
+    if (!values) return false;
     const k = locate(run.t, time);
     const k1 = Math.min(k + 1, run.t.length - 1);
     const w = k1 > k && time > run.t[k] ? (time - run.t[k]) / (run.t[k1] - run.t[k]) : 0;
-    for (let i = 0; i < 3; i++) out[i] = run.probe[3 * k + i] + w * (run.probe[3 * k1 + i] - run.probe[3 * k + i]);
+    for (let i = 0; i < width; i++) out[i] = values[width * k + i] + w * (values[width * k1 + i] - values[width * k + i]);
     return true;
   }
 
-  /** The receiver aircraft's x, y, z [m] and roll, pitch, yaw [rad] at `time` into `out` (linear between frames). */
-  function aircraftAt(run, time, out) {
-    if (!run.aircraft) return false;
-    const k = locate(run.t, time);
-    const k1 = Math.min(k + 1, run.t.length - 1);
-    const w = k1 > k && time > run.t[k] ? (time - run.t[k]) / (run.t[k1] - run.t[k]) : 0;
-    for (let i = 0; i < 6; i++) out[i] = run.aircraft[6 * k + i] + w * (run.aircraft[6 * k1 + i] - run.aircraft[6 * k + i]);
-    return true;
-  }
+  const probeAt = (run, time, out) => rowAt(run, run.probe, 3, time, out);
+  /** The receiver aircraft's x, y, z [m] and roll, pitch, yaw [rad] at `time`. */
+  const aircraftAt = (run, time, out) => rowAt(run, run.aircraft, 6, time, out);
 
   /** The series sample nearest `time` (the last one at or before it). */
   function sampleAt(run, name, time) {
