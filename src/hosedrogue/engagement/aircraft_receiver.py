@@ -24,14 +24,16 @@ import math
 import numpy as np
 
 from ..aircraft.autopilot import design_inner_loop
-from ..aircraft.dynamics import derivative
+from ..aircraft.dynamics import derivative, wind_angles
 from ..aircraft.linear import euler_state
 from ..aircraft.model_file import load_model
-from ..aircraft.rigid_body import dcm_body_from_ned, normalized, quaternion_from_euler
+from ..aircraft.rigid_body import dcm_body_from_ned, euler_from_quaternion, normalized, quaternion_from_euler
 from ..aircraft.trim import trim
 from ..errors import ParameterError
+from ..jsonio import plain
 from ..model import layout as LY
 from ..model.chain_loads import still_air_velocity
+from ..results.run import EngagementResult
 from ..spec.params import Params
 from ..spec.sections import Receiver
 from .stepper import EngagementStepper
@@ -146,7 +148,11 @@ class AircraftReceiver:
         """(x0, inner loop, reference Euler state) of the start (see :meth:`start`)."""
         self.gust = np.zeros_like(self.gust)  # the steady air at the start
         cg = tip - self.mount
-        for _ in range(3):  # the centre of gravity depends on the attitude the trim finds (1 m, then 1e-6 m)
+        # the centre of gravity depends on the attitude the trim finds, and the air there on it: a
+        # fixed point that converges about 25 times per pass behind the tanker (1.4 m, 0.06 m, ...;
+        # three passes left 9e-5 m, the start 6e-5 m/s off its trimmed airspeed in the wake's
+        # gradient); to 1e-9 m, seven passes
+        for _ in range(20):
             x = np.zeros(14)
             x[0:3] = cg[0], cg[1], cg[2] - self.altitude
             wind = self.wind_ned(x, 0.0)
@@ -157,7 +163,12 @@ class AircraftReceiver:
             psi = math.atan2(v_air[1], v_air[0])
             q = quaternion_from_euler(t.bank_rad, t.theta_rad, psi)
             c_bn = dcm_body_from_ned(q)
-            cg = tip - c_bn.T @ self.mount
+            cg, moved = tip - c_bn.T @ self.mount, cg
+            if np.abs(cg - moved).max() < 1e-9:
+                break
+        else:
+            raise ParameterError(f"receiver.model = {self.source!r}: no trimmed start with the probe tip at {tip.tolist()} m "
+                                 f"(its centre of gravity still moves {np.abs(cg - moved).max():.3g} m after 20 passes)")
         x = t.state.copy()
         x[0:3] = cg[0], cg[1], cg[2] - self.altitude
         x[6:10] = q
@@ -205,8 +216,8 @@ class AircraftReceiver:
 
     def flight(self) -> dict:
         """The aircraft's flight so far: ``t_s`` (n,), ``state`` (n, 14)
-        (:data:`hosedrogue.aircraft.dynamics.STATE_NAMES`), ``controls`` (n, 4) (held from each time on),
-        ``probe_tip_m`` (n, 3) in S_p.
+        (:data:`hosedrogue.aircraft.dynamics.STATE_NAMES`), ``controls`` (n, 4) (row 0 the trim's,
+        row k > 0 those held over the step that ends at ``t_s[k]``), ``probe_tip_m`` (n, 3) in S_p.
 
         Returns
         -------
@@ -215,6 +226,80 @@ class AircraftReceiver:
         t, x = np.array(self.times), np.array(self.states)
         return {"t_s": t, "state": x, "controls": np.array(self.controls),
                 "probe_tip_m": np.array([self.tip(xi, ti)[0] for xi, ti in zip(x, t)])}
+
+
+    def columns(self, t_s: np.ndarray) -> dict[str, np.ndarray]:
+        """The aircraft's time series at the run's output times ``t_s`` (:data:`COLUMNS`): the
+        state interpolated linearly between the aircraft's steps (the quaternion normalized
+        again; at an output time on the aircraft's grid, the state itself), the controls those
+        the inner loop holds from that time on (the last step's at the end).
+
+        Parameters
+        ----------
+        t_s : numpy.ndarray
+            (N,) output times [s] within the flight so far.
+
+        Returns
+        -------
+        dict
+            Column name -> (N,) array, in :data:`COLUMNS` order.
+        """
+        t, x, u = np.array(self.times), np.array(self.states), np.array(self.controls)
+        xs = np.column_stack([np.interp(t_s, t, x[:, i]) for i in range(x.shape[1])])
+        # the step that starts at each output time (a millionth of a step's slack for the sum of steps' round-off)
+        k = np.minimum(np.searchsorted(t, np.asarray(t_s) + 1e-6 * self.h, side="right"), len(t) - 1)
+        rows = []
+        for xi, ti in zip(xs, t_s):
+            xi = normalized(xi)
+            att = euler_from_quaternion(xi[6:10])
+            air = wind_angles(xi[3:6] - dcm_body_from_ned(xi[6:10]) @ self.wind_ned(xi, ti))
+            rows.append((*(xi[0:3] - np.array([self.V0 * ti, 0.0, -self.altitude])), *att, *air))
+        a = np.array(rows).reshape(-1, 9)
+        cols = dict(zip(COLUMNS[:9], a.T))
+        cols["aircraft_throttle"] = u[k, 0]
+        for i, name in enumerate(COLUMNS[10:], start=1):
+            cols[name] = np.radians(u[k, i])
+        return cols
+
+    def summary(self, cols: dict[str, np.ndarray]) -> dict:
+        """What ``run.json`` records of the aircraft (``"aircraft"``): its model, the trim it
+        started from (:meth:`hosedrogue.aircraft.trim.Trim.as_dict`, degrees) and the largest
+        departure of its attitude, airspeed, angle of attack and throttle from their values at
+        the start over the run's output times (``cols``, :meth:`columns`).
+
+        Returns
+        -------
+        dict
+            Strict-JSON ready (:func:`hosedrogue.jsonio.plain`).
+        """
+        peaks = {}
+        for stem, unit in (("roll", "_rad"), ("pitch", "_rad"), ("yaw", "_rad"), ("airspeed", "_m_s"),
+                           ("alpha", "_rad"), ("beta", "_rad"), ("throttle", "")):
+            c = cols[f"aircraft_{stem}{unit}"]
+            peaks[f"peak_{stem}_change{unit}"] = float(np.max(np.abs(c - c[0])))
+        return plain({"model": self.source, "probe_mount_m": self.mount.tolist(), "step_s": self.h,
+                      "trim": self.loop.trim.as_dict(), **peaks})
+
+
+#: The aircraft's columns after the engagement's (timeseries.csv; SI, the units in the names): its
+#: centre of gravity in S_p, its attitude (roll, pitch, yaw from S_p's axes), airspeed, angle of
+#: attack and sideslip in the air there, the throttle (0-1) and the surfaces' deflections (signed
+#: as the model's tables define them).
+COLUMNS = ("aircraft_x_m", "aircraft_y_m", "aircraft_z_m", "aircraft_roll_rad", "aircraft_pitch_rad",
+           "aircraft_yaw_rad", "aircraft_airspeed_m_s", "aircraft_alpha_rad", "aircraft_beta_rad",
+           "aircraft_throttle", "aircraft_elevator_rad", "aircraft_aileron_rad", "aircraft_rudder_rad")
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class AircraftEngagementResult(EngagementResult):
+    """An :class:`~hosedrogue.results.run.EngagementResult` whose receiver was an aircraft: its
+    time series after the engagement's (:data:`COLUMNS`), its summary in ``meta["aircraft"]``."""
+
+    aircraft_columns: dict  #: column name -> (N,) array at ``t_s`` (:data:`COLUMNS`)
+
+    def extra_columns(self) -> dict[str, np.ndarray]:
+        """The engagement's columns, then the aircraft's."""
+        return {**super().extra_columns(), **self.aircraft_columns}
 
 
 class AircraftEngagementStepper(EngagementStepper):
@@ -277,3 +362,16 @@ class AircraftEngagementStepper(EngagementStepper):
         a, j = hermite_cubic(p0, v0, p1, v1, h)
         self.move_receiver(v0, a, j)
         super()._advance()
+
+    def result(self) -> AircraftEngagementResult:
+        """The run so far (:meth:`EngagementStepper.result`) with the aircraft's time series and summary.
+
+        Returns
+        -------
+        AircraftEngagementResult
+        """
+        res = super().result()
+        cols = self.aircraft.columns(res.t_s)
+        fields = {f.name: getattr(res, f.name) for f in dataclasses.fields(res)}
+        fields["meta"] = {**res.meta, "aircraft": self.aircraft.summary(cols)}
+        return AircraftEngagementResult(**fields, aircraft_columns=cols)

@@ -90,6 +90,10 @@ class DockingEnv(gymnasium.Env):
         The episode ends (breakaway) when the measured probe-drogue distance exceeds this [m].
     reward : DockingReward or dict, optional
         The reward's weights (:class:`~hosedrogue.envs.options.DockingReward`).
+    receiver_model : str, optional
+        The receiver as an aircraft: "f16" or a receiver model file (docs/receiver.md), trimmed behind
+        the tanker, the action its inner loop's velocity command (None: the scenario's ``[receiver]
+        model``; "" the point receiver).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
@@ -104,12 +108,13 @@ class DockingEnv(gymnasium.Env):
                  turbulence: str | float | None = None, bow_wave: bool | None = None, reel: str | None = None,
                  drogue_controller: str | None = None, model: str | None = None, control_step_s: float = 0.02,
                  time_limit_s: float = 10.0, breakaway_distance_m: float = 6.0,
-                 reward: DockingReward | dict | None = None):
+                 reward: DockingReward | dict | None = None, receiver_model: str | None = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ParameterError(f"render_mode = {render_mode!r}: must be None or 'rgb_array'")
         self.render_mode = render_mode
         self.scenario = docking_scenario(scenario, turbulence=turbulence, bow_wave=bow_wave, reel=reel,
-                                         drogue_controller=drogue_controller, model=model, time_limit_s=time_limit_s)
+                                         drogue_controller=drogue_controller, model=model, time_limit_s=time_limit_s,
+                                         receiver_model=receiver_model)
         if isinstance(breakaway_distance_m, bool) or not isinstance(breakaway_distance_m, (int, float)) or not (
                 0 < breakaway_distance_m <= MAX_BREAKAWAY_M):
             raise ParameterError(f"breakaway_distance_m = {breakaway_distance_m!r}: must be a finite number in "
@@ -136,7 +141,10 @@ class DockingEnv(gymnasium.Env):
         sc, e = scenario, scenario.engagement
         self.scenario = sc
         self.receiver = episode_receiver(sc)
-        self.stepper = EngagementStepper(
+        kind = EngagementStepper
+        if self.receiver.model:  # the aircraft: the action is its inner loop's velocity command
+            from ..engagement.aircraft_receiver import AircraftEngagementStepper as kind
+        self.stepper = kind(
             sc.params, sc.duration_s, control_step_s=control_step_s, reel=e.reel, probe=e.probe,
             bow_wave=e.bow_wave, receiver=self.receiver, control=design_drogue_controller(sc), actuator=sc.loop.actuator,
             sensor=sc.loop.sensor, drogue_actuator=sc.loop.drogue_actuator, record=False)

@@ -63,6 +63,8 @@ class DockingEnvV1(DockingEnv):
     randomize : bool or dict, optional
         The episodes' randomization (:mod:`hosedrogue.envs.randomize`): True for its default
         ranges, or ``{name: (low, high) or value}``; None: every episode the scenario's.
+    receiver_model : str, optional
+        The receiver as an aircraft ("f16" or a model file; v0's option).
     """
 
     _reward_kind = DockingRewardV1
@@ -73,11 +75,13 @@ class DockingEnvV1(DockingEnv):
                  turbulence: str | float | None = None, bow_wave: bool | None = None, reel: str | None = None,
                  drogue_controller: str | None = None, model: str | None = None, control_step_s: float = 0.02,
                  time_limit_s: float = 10.0, breakaway_distance_m: float = 6.0,
-                 reward: DockingRewardV1 | dict | None = None, randomize: bool | dict | None = None):
+                 reward: DockingRewardV1 | dict | None = None, randomize: bool | dict | None = None,
+                 receiver_model: str | None = None):
         self._ranges = RZ.ranges(randomize)
         super().__init__(render_mode, scenario=scenario, turbulence=turbulence, bow_wave=bow_wave, reel=reel,
                          drogue_controller=drogue_controller, model=model, control_step_s=control_step_s,
-                         time_limit_s=time_limit_s, breakaway_distance_m=breakaway_distance_m, reward=reward)
+                         time_limit_s=time_limit_s, breakaway_distance_m=breakaway_distance_m, reward=reward,
+                         receiver_model=receiver_model)
         self.base_scenario = self.scenario
         RZ.check_start(self._ranges, self.scenario.engagement.probe, self.breakaway_distance_m)
         high = np.concatenate([[POSITION_BOUND_M] * 3, [VELOCITY_BOUND_M_S] * 9, [POSITION_BOUND_M] * 3])

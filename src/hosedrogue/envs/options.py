@@ -60,7 +60,7 @@ def reward_weights(reward: DockingReward | DockingRewardV1 | dict | None, kind: 
 
 def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, turbulence: str | float | None = None,
                      bow_wave: bool | None = None, reel: str | None = None, drogue_controller: str | None = None,
-                     model: str | None = None, time_limit_s: float = 10.0) -> Scenario:
+                     model: str | None = None, time_limit_s: float = 10.0, receiver_model: str | None = None) -> Scenario:
     """The scenario an episode runs: ``scenario`` with the options applied (None: the scenario's own).
 
     Parameters
@@ -81,6 +81,9 @@ def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, t
         by name or file only (a Scenario object carries its model's parameters resolved).
     time_limit_s : float
         The episode's length [s] (the run's duration), in (0, 600].
+    receiver_model : str, optional
+        The receiver as an aircraft: "f16" or the path of a receiver model file (``[receiver]
+        model``, docs/receiver.md), flown through its built-in inner loop; "" the point receiver.
 
     Returns
     -------
@@ -114,6 +117,11 @@ def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, t
         tables.pop("model", None)
         if model != PAPER_MODEL:
             tables["model"] = {"preset": model}
+    if receiver_model is not None:
+        if not isinstance(receiver_model, str):
+            raise ParameterError(f"receiver_model = {receiver_model!r}: must be \"f16\", a receiver model file's path, "
+                                 "\"\" (the point receiver) or None (the scenario's)")
+        tables["receiver"] = {**tables.get("receiver", {}), "model": receiver_model}
     tables["scenario"] = {**tables.get("scenario", {}), "duration_s": limit}
     out = scenario_from_dict(tables, name=name, source=source)
     _check_flyable(out)

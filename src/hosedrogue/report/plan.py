@@ -16,8 +16,8 @@ from typing import Callable
 
 from ..errors import ParameterError
 from . import (accuracy, closed_loop, controllers, convergence, differences, docking, docking_env, drogue_actuator,
-               engagement, hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, sweep,
-               turbulence_speeds, whip_loads)
+               engagement, hose_views, linear, long_runs, manoeuvres, paper_table, parameters, pid_tuning, receiver,
+               sweep, turbulence_speeds, whip_loads)
 from .settings import ReportSettings
 from .writer import ReportFolder
 
@@ -65,6 +65,7 @@ SECTIONS: tuple[Section, ...] = (
     Section("whip_loads", "whip loads", whip_loads.build),
     Section("docking", "docking statistics and bow wave", docking.build),
     Section("docking_env", "docking environment (Gymnasium)", docking_env.build, needs=("docking",)),
+    Section("receiver", "receiver aircraft (F-16 trim, docking campaign)", receiver.build),
     Section("manoeuvres", "manoeuvres", manoeuvres.build),
     Section("drogue_actuator", "actuated drogue", drogue_actuator.build),
 )
@@ -77,6 +78,9 @@ COST_HINT_S: dict[str, float] = {
     "long_runs": 42.0, "manoeuvres": 35.0, "convergence": 32.0, "pid_tuning": 23.0, "controllers": 13.0,
     "sweep": 10.0, "accuracy": 10.0, "linear": 5.0, "closed_loop": 4.0, "animation": 4.0,
     "turbulence_speeds": 1.0, "parameters": 0.3, "hose_3d": 0.2,
+    # not yet from a full build: 84 trims at 0.33 s, 200 F-16 runs at 0.33 s and 200 point runs at
+    # 0.03 s of CPU (docs/receiver.md) on the two docking workers, 2026-12-03
+    "receiver": 70.0,
 }
 
 #: Sections built after all of :data:`SECTIONS`, in the page step, untimed.

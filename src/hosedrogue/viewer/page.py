@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..results.hose_file import split_joints
 from ..version import __version__
-from .runs import SERIES, ViewRun
+from .runs import AIRCRAFT, SERIES, ViewRun
 
 __all__ = ["view_html", "write_view", "frame_indices", "envelope_indices", "LAYOUTS", "MAX_SERIES_POINTS"]
 
@@ -99,7 +99,8 @@ def _b64(array: np.ndarray, dtype: str) -> str:
 
 
 def _frames(run: ViewRun, rate_hz: float | None) -> dict:
-    """The run's 3D frames: times [s], joints per frame, positions [m], probe tip [m], coupled flag."""
+    """The run's 3D frames: times [s], joints per frame, positions [m], probe tip [m], coupled flag,
+    the receiver aircraft's position [m] and attitude [rad] (runs with one)."""
     t = run.t_s
     keep = frame_indices(t, rate_hz)
     if run.joint_count.max(initial=0) > MAX_JOINTS:
@@ -113,6 +114,8 @@ def _frames(run: ViewRun, rate_hz: float | None) -> dict:
         out["probe"] = _b64(probe, "<f4")
     if "coupled" in cols:
         out["coupled"] = _b64(np.asarray(cols["coupled"])[keep] != 0, "u1")
+    if all(c in cols for c in AIRCRAFT):  # the receiver aircraft: x, y, z [m], roll, pitch, yaw [rad] per frame
+        out["aircraft"] = _b64(np.column_stack([cols[c] for c in AIRCRAFT])[keep], "<f4")
     return out
 
 

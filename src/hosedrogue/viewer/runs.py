@@ -20,7 +20,7 @@ from ..errors import ParameterError
 from ..results.hose_file import FILE as HOSE_FILE, read_hose_npz, split_joints
 from ..results.run import RunResult
 
-__all__ = ["ViewRun", "read_run", "SERIES", "RUN_FILES"]
+__all__ = ["ViewRun", "read_run", "SERIES", "AIRCRAFT", "RUN_FILES"]
 
 #: The files that make a folder a run's folder: the time series, what was run, the hose's shape.
 RUN_FILES = ("timeseries.csv", "run.json", HOSE_FILE)
@@ -29,6 +29,11 @@ RUN_FILES = ("timeseries.csv", "run.json", HOSE_FILE)
 #: [m], exit tension [N], probe load [N], probe tip [m], coupled flag [-] and links [-].
 SERIES = ("drogue_dx_m", "drogue_dy_m", "drogue_dz_m", "exit_tension_n", "probe_load_n", "probe_x_m", "probe_y_m",
           "probe_z_m", "coupled", "links")
+
+#: The receiver aircraft's columns the page draws it from (a run whose receiver is an aircraft,
+#: docs/receiver.md): its centre of gravity [m] and attitude [rad] in S_p.
+AIRCRAFT = ("aircraft_x_m", "aircraft_y_m", "aircraft_z_m", "aircraft_roll_rad", "aircraft_pitch_rad",
+            "aircraft_yaw_rad")
 
 
 @dataclass(frozen=True)
@@ -125,8 +130,9 @@ class ViewRun:
 
 
 def _series(columns) -> dict:
-    """``t_s`` and the charted columns the run has, as float64 arrays."""
-    return {name: np.asarray(columns[name], dtype=np.float64) for name in ("t_s", *SERIES) if name in columns}
+    """``t_s``, the charted columns and the aircraft's the run has, as float64 arrays."""
+    return {name: np.asarray(columns[name], dtype=np.float64) for name in ("t_s", *SERIES, *AIRCRAFT)
+            if name in columns}
 
 
 def read_run(folder: str | Path, label: str | None = None) -> ViewRun:

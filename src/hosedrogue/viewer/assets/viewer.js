@@ -37,6 +37,7 @@
     return Object.assign({}, r, {
       index: i, color: COLORS[i % COLORS.length], t, count, offset, maxCount, joints: f32(fr.joints),
       probe: fr.probe ? f32(fr.probe) : null, coupled: fr.coupled ? bytes(fr.coupled) : null, series,
+      aircraft: fr.aircraft ? f32(fr.aircraft) : null,
     });
   }
   const runs = DATA.runs.map(prepare);
@@ -80,14 +81,19 @@
     return { n, frame: w >= 0.5 ? k1 : k, w };
   }
 
-  function probeAt(run, time, out) {
-    if (!run.probe) return false;
+  /** Row `time` of a per-frame array of `width` columns into `out` (linear between frames); false without one. */
+  function rowAt(run, values, width, time, out) {
+    if (!values) return false;
     const k = locate(run.t, time);
     const k1 = Math.min(k + 1, run.t.length - 1);
     const w = k1 > k && time > run.t[k] ? (time - run.t[k]) / (run.t[k1] - run.t[k]) : 0;
-    for (let i = 0; i < 3; i++) out[i] = run.probe[3 * k + i] + w * (run.probe[3 * k1 + i] - run.probe[3 * k + i]);
+    for (let i = 0; i < width; i++) out[i] = values[width * k + i] + w * (values[width * k1 + i] - values[width * k + i]);
     return true;
   }
+
+  const probeAt = (run, time, out) => rowAt(run, run.probe, 3, time, out);
+  /** The receiver aircraft's x, y, z [m] and roll, pitch, yaw [rad] at `time`. */
+  const aircraftAt = (run, time, out) => rowAt(run, run.aircraft, 6, time, out);
 
   /** The series sample nearest `time` (the last one at or before it). */
   function sampleAt(run, name, time) {
@@ -142,6 +148,12 @@
     for (const r of runs) {
       for (let i = 0; i < r.joints.length; i += 3) take(r.joints[i], r.joints[i + 1], r.joints[i + 2]);
       if (r.probe) for (let i = 0; i < r.probe.length; i += 3) take(r.probe[i], r.probe[i + 1], r.probe[i + 2]);
+      if (r.aircraft) { // the aircraft's centre of gravity and its tail, 7.5 m behind it
+        for (let i = 0; i < r.aircraft.length; i += 6) {
+          take(r.aircraft[i], r.aircraft[i + 1], r.aircraft[i + 2]);
+          take(r.aircraft[i] - 7.5, r.aircraft[i + 1], r.aircraft[i + 2]);
+        }
+      }
     }
     return { lo: new H.Vector3(...lo), hi: new H.Vector3(...hi) };
   }
@@ -199,8 +211,63 @@
       probe.add(mast, tip);
       group.add(probe);
     }
+    const aircraft = run.aircraft ? aircraftShape() : null;
+    if (aircraft) group.add(aircraft);
     scene.add(group);
-    return { group, hose, tow, drogue, probe, tip, shape: new Float32Array(3 * run.maxCount), p: new Float32Array(3) };
+    return { group, hose, tow, drogue, probe, tip, aircraft, shape: new Float32Array(3 * run.maxCount),
+      p: new Float32Array(3), a: new Float32Array(6) };
+  }
+  /** A low-poly F-16-like receiver in body axes (x forward from the centre of gravity, y right, z
+   * down; built in the scene's axes as toThree maps them): 15 m long, the nose 6.5 m ahead, 9.4 m
+   * span, drawn translucent so the drogue stays visible through it. A picture, not the model's geometry. */
+  function aircraftShape() {
+    const g = new H.Group();
+    g.matrixAutoUpdate = false;
+    const skin = material("#5d6774", { transparent: true, opacity: 0.4, depthWrite: false, side: H.DoubleSide });
+    const body = (geometry, x, rotZ) => {
+      const m = new H.Mesh(geometry, skin);
+      m.position.x = x;
+      m.rotation.z = rotZ;
+      g.add(m);
+    };
+    body(new H.CylinderGeometry(0.55, 0.5, 11.0, 16), -1.0, Math.PI / 2); // fuselage, x -6.5 .. 4.5
+    body(new H.ConeGeometry(0.55, 2.0, 16), 5.5, -Math.PI / 2); // nose, its apex forward at 6.5 m
+    // flat surfaces as quads of body-axis corners (x forward, y right, z down) [m]
+    const quads = [];
+    for (const side of [1, -1]) {
+      quads.push([[1.5, 0.5, 0], [-2.5, 4.7, 0], [-3.6, 4.7, 0], [-3.5, 0.5, 0]].map(([x, y, z]) => [x, side * y, z]));
+      quads.push([[-5.0, 0.5, 0], [-6.6, 2.8, 0], [-7.4, 2.8, 0], [-7.0, 0.5, 0]].map(([x, y, z]) => [x, side * y, z]));
+    }
+    quads.push([[-4.2, 0, -0.5], [-6.6, 0, -3.4], [-7.4, 0, -3.4], [-7.0, 0, -0.5]]); // the fin, above
+    const xyz = [];
+    const v = new H.Vector3();
+    for (const q of quads) {
+      for (const k of [0, 1, 2, 0, 2, 3]) {
+        toThree(v, q[k][0], q[k][1], q[k][2]);
+        xyz.push(v.x, v.y, v.z);
+      }
+    }
+    const plates = new H.BufferGeometry();
+    plates.setAttribute("position", new H.BufferAttribute(new Float32Array(xyz), 3));
+    plates.computeVertexNormals();
+    g.add(new H.Mesh(plates, skin));
+    return g;
+  }
+  // the scene's axes from S_p's (toThree) as a rotation, for the aircraft's attitude
+  const SP_TO_THREE = new H.Matrix4().set(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1);
+  const THREE_TO_SP = SP_TO_THREE.clone().transpose();
+  const tmpEuler = { x: 0, y: 0, z: 0, order: "ZYX" }, tmpR = new H.Matrix4(), tmpP = new H.Vector3();
+
+  /** Place the aircraft: its centre of gravity at (x, y, z) in S_p, body axes turned by yaw, pitch,
+   * roll (Z-Y-X, the aircraft's Euler angles from S_p's axes): M C(yaw, pitch, roll) M^T in the scene. */
+  function placeAircraft(g, a) {
+    tmpEuler.x = a[3]; tmpEuler.y = a[4]; tmpEuler.z = a[5]; // three.js reads only x, y, z and order
+    tmpR.makeRotationFromEuler(tmpEuler);
+    tmpR.premultiply(SP_TO_THREE).multiply(THREE_TO_SP);
+    toThree(tmpP, a[0], a[1], a[2]);
+    tmpR.setPosition(tmpP);
+    g.matrix.copy(tmpR);
+    g.matrixWorldNeedsUpdate = true;
   }
   const objects = runs.map(runObjects);
   const COUPLED = new H.Color("#1f9d55"), FREE = new H.Color("#d0342c");
@@ -229,6 +296,7 @@
       const coupled = run.coupled ? run.coupled[frame] : 0;
       obj.tip.material.color.copy(coupled ? COUPLED : FREE);
     }
+    if (obj.aircraft && aircraftAt(run, time, obj.a)) placeAircraft(obj.aircraft, obj.a);
     return { n, frame };
   }
 
