@@ -183,6 +183,7 @@ def train(args):
         s = summary(flown(curve_env, deterministic(model), SETTINGS["curve_seeds"]))
         curve.append({"timesteps": steps, "cpu_s": time.process_time() - cpu, **s})
         print(describe(f"{steps} steps", s), flush=True)
+        model.save(args.out / "ppo.zip")  # the policy of the curve's last point: a run cut short keeps it
         (args.out / "curve.json").write_text(dumps({"settings": SETTINGS, "env": ENV_KWARGS, "train_reward": args.reward,
                                                           "baseline": base,
                                                           "curve": curve}, indent=1))
@@ -217,7 +218,7 @@ def returns(args):
     """Why a policy may learn to hold off: the undiscounted and the discounted (gamma) return of
     three scripted policies on the curve's seeds: the baseline, no command (the probe slows and
     holds off until the time limit) and the straight line at the window's middle."""
-    env, gamma = make_env(), SETTINGS["gamma"]
+    env, gamma = make_env(args.reward), SETTINGS["gamma"]
     policies = {"scripted baseline": he.PDFeedForward(env), "no command (holds off)": lambda o: np.zeros(3, np.float32),
                 "straight line, 2.05 m/s": he.StraightLine(env, closure_speed_m_s=2.05)}
     for name, policy in policies.items():
