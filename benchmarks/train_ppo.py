@@ -256,6 +256,7 @@ def figure(args):
         steps = mon["l"].cumsum()
         label = "default reward" if not doc.get("train_reward") else \
             "trained with " + ", ".join(f"{key} = {v:g}" for key, v in doc["train_reward"].items())
+        label = args.labels[k] if k < len(args.labels) else label
         color = f"C{k}"
         axes[0].plot(steps, (mon["outcome"] != "time-out").rolling(window, min_periods=1).mean(), color=color,
                      label=label)
@@ -268,7 +269,7 @@ def figure(args):
     axes[1].axhline(doc["baseline"]["capture_rate"], color="k", ls="--", lw=1, label="scripted baseline")
     axes[0].set_ylabel(f"training episodes reaching the plane [-]\n(mean of {window})")
     axes[1].set_ylabel(f"captured in the window [-]\n(deterministic, {len(doc['settings']['curve_seeds'])} seeds)")
-    axes[2].set_ylabel(f"training return [-] (mean of {window})")
+    axes[2].set_ylabel(f"training return [-] (mean of {window},\neach run's own reward)")
     for ax in axes:
         ax.set_xlabel("training steps [thousands]")
         ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v / 1000:g}"))
@@ -289,9 +290,14 @@ def main(argv=None):
     p.add_argument("--out", type=Path, default=OUT, help="where the run's files go")
     p.add_argument("--png", type=Path, help="the figure's file (figure)")
     p.add_argument("--compare", type=Path, nargs="*", default=[], help="figure: other runs' folders drawn beside --out's")
+    p.add_argument("--labels", nargs="*", default=[], help="figure: the runs' names in the legend, --out's first "
+                   "(default: the training reward's weights that differ from the default)")
     p.add_argument("--reward", type=json.loads, help="train: reward weights that differ from the default, as a "
                    "JSON object, e.g. '{\"miss_penalty\": 0}' (the curve and the evaluation fly the default)")
+    p.add_argument("--seed", type=int, help="train: PPO's seed instead of SETTINGS' 0 (recorded in curve.json)")
     args = p.parse_args(argv)
+    if args.seed is not None:
+        SETTINGS["seed"] = args.seed
     print(f"{args.section}: {ENV_KWARGS}, {SETTINGS['policy']}, n_steps {SETTINGS['n_steps']}, batch "
           f"{SETTINGS['batch_size']}, learning rate {SETTINGS['learning_rate']:g}, gamma {SETTINGS['gamma']:g}")
     globals()[args.section](args)
