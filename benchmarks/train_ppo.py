@@ -76,10 +76,12 @@ SETTINGS = {
 OUT = Path("ppo-docking-v1")
 
 
-def make_env(reward=None):
+def make_env(reward=None, turbulence=None):
     """Docking-v1 as ENV_KWARGS say; ``reward``: weights of the training reward that differ from
-    the default (the curve and the evaluation fly the default reward)."""
-    return gymnasium.make("hosedrogue/Docking-v1", reward=reward, **ENV_KWARGS)
+    the default (the curve and the evaluation fly the default reward); ``turbulence``: another
+    intensity than the training's (evaluate --turbulence)."""
+    kwargs = {**ENV_KWARGS, **({"turbulence": turbulence} if turbulence else {})}
+    return gymnasium.make("hosedrogue/Docking-v1", reward=reward, **kwargs)
 
 
 def flown(env, act, seeds) -> list[dict]:
@@ -202,16 +204,18 @@ def evaluate(args):
 
     torch.set_num_threads(1)
     model = PPO.load(args.out / "ppo.zip", device="cpu")
-    env = make_env()
+    env = make_env(turbulence=args.turbulence)
     rows = {"PPO (deterministic)": flown(env, deterministic(model), SETTINGS["eval_seeds"]),
             "scripted baseline": flown(env, he.PDFeedForward(env), SETTINGS["eval_seeds"])}
-    doc = {"settings": SETTINGS, "env": ENV_KWARGS, "summary": {}, "episodes": rows}
+    doc = {"settings": SETTINGS, "env": {**ENV_KWARGS, **({"turbulence": args.turbulence} if args.turbulence else {})},
+           "summary": {}, "episodes": rows}
     for name, eps in rows.items():
         doc["summary"][name] = summary(eps)
         print(describe(name, doc["summary"][name]))
     both = sum(a["outcome"] == b["outcome"] == "captured" for a, b in zip(*rows.values()))
     print(f"  captured by both on the same seed: {both}")
-    (args.out / "evaluation.json").write_text(dumps(doc, indent=1))
+    (args.out / (f"evaluation-{args.turbulence}.json" if args.turbulence else "evaluation.json")).write_text(
+        dumps(doc, indent=1))
 
 
 def returns(args):
@@ -294,6 +298,8 @@ def main(argv=None):
                    "(default: the training reward's weights that differ from the default)")
     p.add_argument("--reward", type=json.loads, help="train: reward weights that differ from the default, as a "
                    "JSON object, e.g. '{\"miss_penalty\": 0}' (the curve and the evaluation fly the default)")
+    p.add_argument("--turbulence", help="evaluate: fly this turbulence intensity instead of the training's "
+                   "(written to evaluation-<intensity>.json)")
     p.add_argument("--seed", type=int, help="train: PPO's seed instead of SETTINGS' 0 (recorded in curve.json)")
     args = p.parse_args(argv)
     if args.seed is not None:
