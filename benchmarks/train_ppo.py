@@ -279,7 +279,7 @@ def figure(args):
         ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v / 1000:g}"))
     for ax in axes[:2]:
         ax.set_ylim(-0.03, 1.03)
-    axes[1].legend(fontsize=7, loc="center right")
+    axes[0].legend(*axes[1].get_legend_handles_labels(), fontsize=7, loc="center right")  # where no curve runs
     fig.suptitle("PPO (stable-baselines3 defaults, gamma 0.99) on hosedrogue/Docking-v1, moderate turbulence, "
                  "window 1.5-2.6 m/s", fontsize=10)
     png = args.png or args.out / "learning_curve.png"
