@@ -4,7 +4,8 @@
 * a reward that cannot be gamed by speed (:class:`~hosedrogue.spec.rewards.DockingRewardV1`):
   a capture pays only inside an operational closure-speed window, less its radial miss and the
   probe's peak load after contact; a potential-based shaping term makes a slow, precise approach
-  learnable without changing the optimal policy; every term in ``info["reward_terms"]``;
+  learnable without changing the optimal policy, and a time penalty makes waiting cost more
+  than an attempt; every term in ``info["reward_terms"]``;
 * Gymnasium's conventions: float32 spaces, the observation divided by :data:`OBSERVATION_SCALE`,
   the time limit in the registered spec (``max_episode_steps``, Gymnasium's TimeLimit);
 * randomized episodes and curricula (:mod:`hosedrogue.envs.randomize`) through the constructor's
