@@ -185,7 +185,8 @@ class DockingEnvV1(DockingEnv):
     @staticmethod
     def _terms(**given) -> dict:
         """Every term of v1's reward, zero unless given."""
-        return {"shaping": 0.0, "time": 0.0, "control": 0.0, "terminal": 0.0, "capture": 0.0, "miss": 0.0, "load": 0.0, **given}
+        return {"shaping": 0.0, "time": 0.0, "control": 0.0, "terminal": 0.0, "capture": 0.0, "miss": 0.0, "load": 0.0,
+                **given}
 
     def _phi(self, buf: np.ndarray) -> float:
         """The shaping potential of a measurement (0 for a failed one)."""

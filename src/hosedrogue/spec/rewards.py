@@ -150,7 +150,8 @@ class DockingRewardV1(Section):
         float
         """
         outside = max(self.min_closure_m_s - closure_m_s, closure_m_s - self.max_closure_m_s, 0.0)
-        return self.potential_offset - (self.radial_per_m * radial_m + self.axial_per_m * abs(axial_m) + self.speed_per_m_s * outside)
+        cost = self.radial_per_m * radial_m + self.axial_per_m * abs(axial_m) + self.speed_per_m_s * outside
+        return self.potential_offset - cost
 
     def in_window(self, closure_m_s: float) -> bool:
         """Whether a closure speed [m/s] is inside the operational window.
