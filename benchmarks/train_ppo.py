@@ -76,10 +76,12 @@ SETTINGS = {
 OUT = Path("ppo-docking-v1")
 
 
-def make_env(reward=None):
+def make_env(reward=None, turbulence=None):
     """Docking-v1 as ENV_KWARGS say; ``reward``: weights of the training reward that differ from
-    the default (the curve and the evaluation fly the default reward)."""
-    return gymnasium.make("hosedrogue/Docking-v1", reward=reward, **ENV_KWARGS)
+    the default (the curve and the evaluation fly the default reward); ``turbulence``: another
+    intensity than the training's (evaluate --turbulence)."""
+    kwargs = {**ENV_KWARGS, **({"turbulence": turbulence} if turbulence else {})}
+    return gymnasium.make("hosedrogue/Docking-v1", reward=reward, **kwargs)
 
 
 def flown(env, act, seeds) -> list[dict]:
@@ -183,6 +185,7 @@ def train(args):
         s = summary(flown(curve_env, deterministic(model), SETTINGS["curve_seeds"]))
         curve.append({"timesteps": steps, "cpu_s": time.process_time() - cpu, **s})
         print(describe(f"{steps} steps", s), flush=True)
+        model.save(args.out / "ppo.zip")  # the policy of the curve's last point: a run cut short keeps it
         (args.out / "curve.json").write_text(dumps({"settings": SETTINGS, "env": ENV_KWARGS, "train_reward": args.reward,
                                                           "baseline": base,
                                                           "curve": curve}, indent=1))
@@ -201,23 +204,25 @@ def evaluate(args):
 
     torch.set_num_threads(1)
     model = PPO.load(args.out / "ppo.zip", device="cpu")
-    env = make_env()
+    env = make_env(turbulence=args.turbulence)
     rows = {"PPO (deterministic)": flown(env, deterministic(model), SETTINGS["eval_seeds"]),
             "scripted baseline": flown(env, he.PDFeedForward(env), SETTINGS["eval_seeds"])}
-    doc = {"settings": SETTINGS, "env": ENV_KWARGS, "summary": {}, "episodes": rows}
+    doc = {"settings": SETTINGS, "env": {**ENV_KWARGS, **({"turbulence": args.turbulence} if args.turbulence else {})},
+           "summary": {}, "episodes": rows}
     for name, eps in rows.items():
         doc["summary"][name] = summary(eps)
         print(describe(name, doc["summary"][name]))
     both = sum(a["outcome"] == b["outcome"] == "captured" for a, b in zip(*rows.values()))
     print(f"  captured by both on the same seed: {both}")
-    (args.out / "evaluation.json").write_text(dumps(doc, indent=1))
+    (args.out / (f"evaluation-{args.turbulence}.json" if args.turbulence else "evaluation.json")).write_text(
+        dumps(doc, indent=1))
 
 
 def returns(args):
     """Why a policy may learn to hold off: the undiscounted and the discounted (gamma) return of
     three scripted policies on the curve's seeds: the baseline, no command (the probe slows and
     holds off until the time limit) and the straight line at the window's middle."""
-    env, gamma = make_env(), SETTINGS["gamma"]
+    env, gamma = make_env(args.reward), SETTINGS["gamma"]
     policies = {"scripted baseline": he.PDFeedForward(env), "no command (holds off)": lambda o: np.zeros(3, np.float32),
                 "straight line, 2.05 m/s": he.StraightLine(env, closure_speed_m_s=2.05)}
     for name, policy in policies.items():
@@ -255,6 +260,7 @@ def figure(args):
         steps = mon["l"].cumsum()
         label = "default reward" if not doc.get("train_reward") else \
             "trained with " + ", ".join(f"{key} = {v:g}" for key, v in doc["train_reward"].items())
+        label = args.labels[k] if k < len(args.labels) else label
         color = f"C{k}"
         axes[0].plot(steps, (mon["outcome"] != "time-out").rolling(window, min_periods=1).mean(), color=color,
                      label=label)
@@ -267,13 +273,13 @@ def figure(args):
     axes[1].axhline(doc["baseline"]["capture_rate"], color="k", ls="--", lw=1, label="scripted baseline")
     axes[0].set_ylabel(f"training episodes reaching the plane [-]\n(mean of {window})")
     axes[1].set_ylabel(f"captured in the window [-]\n(deterministic, {len(doc['settings']['curve_seeds'])} seeds)")
-    axes[2].set_ylabel(f"training return [-] (mean of {window})")
+    axes[2].set_ylabel(f"training return [-] (mean of {window},\neach run's own reward)")
     for ax in axes:
         ax.set_xlabel("training steps [thousands]")
         ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v / 1000:g}"))
     for ax in axes[:2]:
         ax.set_ylim(-0.03, 1.03)
-    axes[1].legend(fontsize=7, loc="center right")
+    axes[0].legend(*axes[1].get_legend_handles_labels(), fontsize=7, loc="center right")  # where no curve runs
     fig.suptitle("PPO (stable-baselines3 defaults, gamma 0.99) on hosedrogue/Docking-v1, moderate turbulence, "
                  "window 1.5-2.6 m/s", fontsize=10)
     png = args.png or args.out / "learning_curve.png"
@@ -288,9 +294,16 @@ def main(argv=None):
     p.add_argument("--out", type=Path, default=OUT, help="where the run's files go")
     p.add_argument("--png", type=Path, help="the figure's file (figure)")
     p.add_argument("--compare", type=Path, nargs="*", default=[], help="figure: other runs' folders drawn beside --out's")
+    p.add_argument("--labels", nargs="*", default=[], help="figure: the runs' names in the legend, --out's first "
+                   "(default: the training reward's weights that differ from the default)")
     p.add_argument("--reward", type=json.loads, help="train: reward weights that differ from the default, as a "
                    "JSON object, e.g. '{\"miss_penalty\": 0}' (the curve and the evaluation fly the default)")
+    p.add_argument("--turbulence", help="evaluate: fly this turbulence intensity instead of the training's "
+                   "(written to evaluation-<intensity>.json)")
+    p.add_argument("--seed", type=int, help="train: PPO's seed instead of SETTINGS' 0 (recorded in curve.json)")
     args = p.parse_args(argv)
+    if args.seed is not None:
+        SETTINGS["seed"] = args.seed
     print(f"{args.section}: {ENV_KWARGS}, {SETTINGS['policy']}, n_steps {SETTINGS['n_steps']}, batch "
           f"{SETTINGS['batch_size']}, learning rate {SETTINGS['learning_rate']:g}, gamma {SETTINGS['gamma']:g}")
     globals()[args.section](args)

@@ -167,24 +167,84 @@ def test_a_bad_option_is_one_line_naming_it(kwargs, names):
         DockingEnvV1().reset(options={"seed": 3})
 
 
-def test_the_shaping_telescopes_to_minus_the_start_potential():
-    """With discount 1 the shaping terms of an episode sum to -Phi(s_0) (Phi = 0 at the end),
-    Phi computed here from the reset's observation by the formula of docs/gym.md; tolerance: the
-    round-off of about 80 additions of terms of order 1 (1e-12)."""
-    env = DockingEnvV1(reward={"discount": 1.0})
-    w = env.reward_weights
-    obs, _ = env.reset(seed=4)
-    x, y, z, vx = (obs[:4] * OBSERVATION_SCALE[:4]).astype(np.float64)
+def phi(w, obs):
+    """The shaping potential of an observation by the formula of docs/gym.md, "Reward" (not the
+    environment's code): the offset less the weighted radial offset, axial distance and closure
+    speed's distance outside the window."""
+    x, y, z, vx = (np.asarray(obs[:4]) * OBSERVATION_SCALE[:4]).astype(np.float64)
     closure = -vx  # the drogue minus the probe closes: its rate is minus the closure speed
     outside = max(w.min_closure_m_s - closure, closure - w.max_closure_m_s, 0.0)
-    phi0 = -(w.radial_per_m * math.hypot(y, z) + w.axial_per_m * abs(x) + w.speed_per_m_s * outside)
-    env.last_obs = obs
-    _, rewards, infos, terminated, _ = fly(env, PDFeedForward(env))
-    assert terminated and infos[-1]["outcome"] == "captured"
+    return w.potential_offset - (w.radial_per_m * math.hypot(y, z) + w.axial_per_m * abs(x) + w.speed_per_m_s * outside)
+
+
+@pytest.mark.parametrize("turbulence, seed, policy, outcome", [
+    ("moderate", 4, lambda env: PDFeedForward(env), "captured"),
+    ("moderate", 1, lambda env: he.StraightLine(env, closure_speed_m_s=2.05), "miss"),
+    ("none", 0, lambda env: PDFeedForward(env, closure_speed_m_s=3.0), ("outside window", "failed latch")),
+])
+def test_the_shaping_telescopes_to_minus_the_start_potential(turbulence, seed, policy, outcome):
+    """With discount 1 the shaping terms of an episode that ends in an outcome (a capture, a
+    miss, a ram) sum to -Phi(s_0) (Phi = 0 at the end): what the path was does not count, only
+    the other terms. Tolerance: Phi(s_0) from the float32 observation, good to 3e-7 m (or m/s)
+    times weights of order 1, with the round-off of about 80 additions (1e-12)."""
+    env = DockingEnvV1(turbulence=turbulence, reward={"discount": 1.0})
+    w = env.reward_weights
+    env.last_obs, _ = env.reset(seed=seed)
+    phi0 = phi(w, env.last_obs)
+    assert phi0 > 0.0  # the offset keeps the start's potential positive
+    _, rewards, infos, terminated, _ = fly(env, policy(env))
+    assert terminated and infos[-1]["outcome"] in ((outcome,) if isinstance(outcome, str) else outcome)
     shaping = sum(i["reward_terms"]["shaping"] for i in infos)
-    # the observation is float32: Phi(s_0) from it is good to 3e-7 m x the weights
     assert shaping == pytest.approx(-phi0, abs=1e-5)
     assert sum(rewards) == pytest.approx(sum(sum(i["reward_terms"].values()) for i in infos), abs=1e-12)
+
+
+def test_a_probe_that_waits_pays_for_it():
+    """No command from the start: the probe holds off until the 10 s time-out (a truncation, Phi
+    of the last state kept). Each step's shaping is discount Phi(s') - Phi(s) with Phi from the
+    observations, Phi > 0 all along (the offset), so the waiting costs (1 - discount) Phi a step:
+    the episode's shaping is Phi(s_T) - Phi(s_0) - (1 - discount) sum Phi(s_t), below the
+    telescoped Phi(s_T) - Phi(s_0); the time penalty adds -time_penalty_1_s x 10 s."""
+    env = DockingEnvV1()
+    w = env.reward_weights
+    env.last_obs, _ = env.reset(seed=2)
+    phis = [phi(w, env.last_obs)]
+    observations, _, infos, terminated, truncated = fly(env, lambda o: np.zeros(3, np.float32))
+    phis += [phi(w, o) for o in observations]
+    assert truncated and not terminated and infos[-1]["outcome"] == "time-out" and len(infos) == 500
+    assert min(phis) > 0.0
+    # float32 observations: each Phi good to about 1e-6 (weights of order 1 times 3e-7 m), 500 of them
+    for info, a, b in zip(infos, phis, phis[1:]):
+        assert info["reward_terms"]["shaping"] == pytest.approx(w.discount * b - a, abs=1e-5)
+    shaping = sum(i["reward_terms"]["shaping"] for i in infos)
+    waiting = (1.0 - w.discount) * sum(phis[1:])
+    assert shaping == pytest.approx(phis[-1] - phis[0] - waiting, abs=5e-4)
+    assert waiting > 0.0
+    # the time penalty: every step's -time_penalty_1_s dt, 10 s in all (round-off of 500 additions)
+    assert sum(i["reward_terms"]["time"] for i in infos) == pytest.approx(-w.time_penalty_1_s * 10.0, abs=1e-9)
+
+
+def test_holding_off_ranks_below_the_baseline_and_below_an_attempt():
+    """The finding that changed the reward (docs/gym.md, "A trained baseline (PPO)"): on the
+    same seeds, holding off (no command, a time-out) scores below the scripted baseline in the
+    undiscounted and in the discounted (0.99) return, and, discounted, below a straight line
+    at 2.05 m/s that misses (so an attempt that misses is not worse than waiting)."""
+    env = DockingEnvV1(turbulence="moderate")
+    gamma = env.reward_weights.discount
+    policies = {"baseline": PDFeedForward(env), "hold": lambda o: np.zeros(3, np.float32),
+                "line": he.StraightLine(env, closure_speed_m_s=2.05)}
+    scores = {}
+    for name, policy in policies.items():
+        env.last_obs, _ = env.reset(seed=1)
+        _, rewards, infos, _, _ = fly(env, policy)
+        scores[name] = (sum(rewards), sum(r * gamma**k for k, r in enumerate(rewards)), infos[-1]["outcome"])
+    assert [scores[k][2] for k in policies] == ["captured", "time-out", "miss"]
+    # measured 2026-12-03 (seed 1): undiscounted -57.3 against -11.5, discounted -12.43 against -6.89 and
+    # -12.08 (the miss); the margins 5 and 1 are a tenth of the time penalty's 24.9 between 500 and 85 steps
+    # and of the capture's discounted bonus (10 x 0.99^85 = 4.3); the old reward (no offset, no time
+    # penalty) fails the first (22.7 > 12.0), the offset alone the last (-8.74 < -6.47)
+    assert scores["hold"][0] < scores["baseline"][0] - 5.0 and scores["hold"][1] < scores["baseline"][1] - 1.0
+    assert scores["hold"][1] < scores["line"][1]
 
 
 def test_the_closure_window_changes_the_score_not_the_flight():

@@ -4,7 +4,8 @@
 * a reward that cannot be gamed by speed (:class:`~hosedrogue.spec.rewards.DockingRewardV1`):
   a capture pays only inside an operational closure-speed window, less its radial miss and the
   probe's peak load after contact; a potential-based shaping term makes a slow, precise approach
-  learnable without changing the optimal policy; every term in ``info["reward_terms"]``;
+  learnable without changing the optimal policy, and a time penalty makes waiting cost more
+  than an attempt; every term in ``info["reward_terms"]``;
 * Gymnasium's conventions: float32 spaces, the observation divided by :data:`OBSERVATION_SCALE`,
   the time limit in the registered spec (``max_episode_steps``, Gymnasium's TimeLimit);
 * randomized episodes and curricula (:mod:`hosedrogue.envs.randomize`) through the constructor's
@@ -154,7 +155,8 @@ class DockingEnvV1(DockingEnv):
         a = self._action(action)
         buf, obs, distance, outcome = self._advance(a)
         w = self.reward_weights
-        terms = self._terms(control=-w.control_penalty_1_s * float(a @ a) * self.control_step_s)
+        terms = self._terms(control=-w.control_penalty_1_s * float(a @ a) * self.control_step_s,
+                            time=-w.time_penalty_1_s * self.control_step_s)
         t_s = self.stepper.t_s  # the step's time, before the load window's steps
         if outcome == "captured":
             out = self.stepper.outcome
@@ -187,7 +189,8 @@ class DockingEnvV1(DockingEnv):
     @staticmethod
     def _terms(**given) -> dict:
         """Every term of v1's reward, zero unless given."""
-        return {"shaping": 0.0, "control": 0.0, "terminal": 0.0, "capture": 0.0, "miss": 0.0, "load": 0.0, **given}
+        return {"shaping": 0.0, "time": 0.0, "control": 0.0, "terminal": 0.0, "capture": 0.0, "miss": 0.0, "load": 0.0,
+                **given}
 
     def _phi(self, buf: np.ndarray) -> float:
         """The shaping potential of a measurement (0 for a failed one)."""

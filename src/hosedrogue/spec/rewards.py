@@ -75,14 +75,16 @@ class DockingReward(Section):
 class DockingRewardV1(Section):
     """The reward of ``hosedrogue/Docking-v1`` (docs/gym.md, "Reward of Docking-v1")::
 
-        r = F - control_penalty_1_s |a|^2 dt + terminal,   F = discount Phi(s') - Phi(s)
-        Phi(s) = -(radial_per_m rho + axial_per_m |x| + speed_per_m_s e_v),  Phi(end) = 0
+        r = F - (time_penalty_1_s + control_penalty_1_s |a|^2) dt + terminal,   F = discount Phi(s') - Phi(s)
+        Phi(s) = potential_offset - (radial_per_m rho + axial_per_m |x| + speed_per_m_s e_v),  Phi(end) = 0
 
     with rho the measured radial offset of the drogue from the probe's line [m], x its distance
     along it [m] and e_v how far the closure speed lies outside [min_closure_m_s,
     max_closure_m_s] [m/s]. F is potential-based shaping (Ng, Harada and Russell 1999): with the
     agent's discount it changes every policy's return by -Phi(s_0) alone, so the optimal policy
-    is that of the terminal terms. At the capture test, within the capture radius and the latch:
+    is that of the other terms. The offset keeps Phi positive where the probe is flown, so that
+    a step spent waiting costs (1 - discount) Phi instead of paying it; the time penalty, not
+    shaping, makes waiting worse than an attempt. At the capture test, within the capture radius and the latch:
     ``capture_bonus - miss_penalty_per_m miss - load_penalty_per_kn F_peak`` inside the window,
     ``-window_penalty - load_penalty_per_kn F_peak`` outside it (F_peak the probe's peak load
     over ``load_window_s`` after contact [kN]); the other outcomes as v0's.
@@ -113,6 +115,10 @@ class DockingRewardV1(Section):
     failure_penalty: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
     #: penalty per second of full-scale command on all three axes, |a|^2 dt [1/s]
     control_penalty_1_s: float = field(default=0.01, metadata=real(0.0, 1e6, lo_open=False, unit="1/s"))
+    #: penalty per second of the episode, a truncated one's included: waiting is not free [1/s]
+    time_penalty_1_s: float = field(default=3.0, metadata=real(0.0, 1e6, lo_open=False, unit="1/s"))
+    #: shaping potential's value at the drogue, in the window: its positive offset, for a step spent waiting to cost [-]
+    potential_offset: float = field(default=10.0, metadata=real(0.0, 1e6, lo_open=False))
     #: shaping potential's weight on the radial offset of the drogue from the probe's line [1/m]
     radial_per_m: float = field(default=2.0, metadata=real(0.0, 1e6, lo_open=False, unit="1/m"))
     #: shaping potential's weight on the distance along the line to the drogue [1/m]
@@ -144,7 +150,8 @@ class DockingRewardV1(Section):
         float
         """
         outside = max(self.min_closure_m_s - closure_m_s, closure_m_s - self.max_closure_m_s, 0.0)
-        return -(self.radial_per_m * radial_m + self.axial_per_m * abs(axial_m) + self.speed_per_m_s * outside)
+        cost = self.radial_per_m * radial_m + self.axial_per_m * abs(axial_m) + self.speed_per_m_s * outside
+        return self.potential_offset - cost
 
     def in_window(self, closure_m_s: float) -> bool:
         """Whether a closure speed [m/s] is inside the operational window.
