@@ -343,9 +343,9 @@ def scenario_reference_markdown() -> str:
 #: section, what it pays).
 REWARDS = {
     "hosedrogue/Docking-v1": (DockingRewardV1, "A capture pays only inside the closure window, less its radial miss "
-                              "and the probe's peak load after contact; potential-based shaping (the optimal policy "
-                              "unchanged) guides the approach; a miss, a failed latch, a breakaway or a failed state "
-                              "costs its penalty."),
+                              "and the probe's peak load after contact; potential-based shaping (which leaves the optimal "
+                              "policy unchanged) guides the approach and a cost per second makes waiting worse than "
+                              "trying; a miss, a failed latch, a breakaway or a failed state costs its penalty."),
     "hosedrogue/Docking-v0": (DockingReward, "The distance closed on the drogue, less the control effort, plus the "
                               "capture bonus or minus a penalty at the end (kept unchanged; use v1)."),
     "hosedrogue/StationKeeping-v0": (StationKeepingReward, "The drogue's squared lateral and vertical displacement "
