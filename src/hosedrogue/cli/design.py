@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..errors import ParameterError
 from ..jsonio import dumps
+from .design_rms import add_rms_options, check_rms_args, rms_pid
 from .options import EXIT_INCOMPLETE, add_flight_options, bounded_int, finite_float, params_from_args
 
 NAME = "design"
@@ -71,6 +72,7 @@ def add_parser(sub) -> None:
     s.add_argument("--min-damping", metavar="ZETA", type=finite_float("--min-damping", 0.0, 1.0, "[-]"), default=0.0,
                    help="PID bound: smallest damping ratio [-] every closed-loop pole must have, 0-1 (default 0: any "
                         "stable loop)")
+    add_rms_options(s)
     s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     s.add_argument("--format", choices=("table", "json", "mat"), default="table",
                    help="'table' (default), 'json' (same as --json) or 'mat': also write --out FILE.mat for MATLAB "
@@ -101,6 +103,7 @@ def _check_args(args) -> int:
     if args.plant == "paper" and order not in (2, 6):
         raise ParameterError(f"--order = {order}: the paper's Table 2 has orders 2 and 6 only")
     _check_output(args)
+    check_rms_args(args)
     if args.controller == "pid":
         for opt, given in (("--q", args.q), ("--r", args.r)):
             if given is not None:
@@ -214,6 +217,9 @@ def _pid(args, lat, ver):
     from ..controllers.pid import PAPER_PID
     from ..paper import CHANNELS
 
+    if args.rms_target is not None:
+        ctrl, gains, met = rms_pid(args, params_from_args(args))
+        return ctrl, gains, met, None
     if args.gains == "paper":
         ctrl = {"type": "pid", "source": "paper Eq. 33"}
         for ch in CHANNELS:
@@ -341,6 +347,10 @@ def _print_channel(args, ch: str, p: dict, c: dict | None) -> None:
     if c and args.controller == "pid":
         print(f"    K_P {c['kp_n_per_m']:g} N/m, K_I {c['ki_n_per_m_s']:g} N/(m s), "
               f"K_D {c['kd_n_s_per_m']:g} N s/m, N {c['n_filter_rad_s']:g} rad/s")
+        if "predicted_rms_m" in c:
+            print(f"    predicted RMS offset {c['predicted_rms_m']:.4g} m in {args.turbulence or 'moderate'} turbulence "
+                  f"(target {c['rms_target_m']:g} m: {'met' if c['met'] else 'NOT met'}), crossover "
+                  f"{c['crossover_rad_s']:.4g} rad/s")
         if "closed_loop_poles_rad_s" in c:
             print(f"    closed-loop poles [rad/s]: {_pole_list(c['closed_loop_poles_rad_s'])}; smallest damping "
                   f"ratio {c['min_damping']:.3f}; K_P + K_D N {c['high_frequency_gain_n_per_m']:.6g} N/m")
@@ -366,9 +376,9 @@ def _print_table(args, data: dict, order: int, paper_key: str) -> None:
     where = ("the paper's Table 2 models" if args.plant == "paper" else
              f"this model at {plant['flight']['airspeed_m_s']:g} m/s, {plant['flight']['altitude_m']:g} m, "
              f"{plant['flight']['hose_length_m']:g} m hose, wake {'on' if plant['flight']['wake'] else 'off'}")
-    tuned = args.controller == "pid" and args.gains == "tuned"
-    what = ("PID tuned to step bounds" if tuned else "PID (paper Eq. 33 gains)" if args.controller == "pid"
-            else f"LQR ({args.design})")
+    tuned = args.controller == "pid" and args.gains == "tuned" and args.rms_target is None
+    what = ("PID tuned to step bounds" if tuned else "PID tuned to an RMS offset" if args.rms_target is not None
+            else "PID (paper Eq. 33 gains)" if args.controller == "pid" else f"LQR ({args.design})")
     print(f"{what} on {where}, order {order} per channel")
     for ch in CHANNELS:
         _print_channel(args, ch, plant[ch], ctrl.get(ch))
@@ -457,7 +467,7 @@ def run(args) -> int:
         _print_table(args, data, order, paper_key)
     if args.format == "mat":
         _write_mat(args, data, design, {ch: {**data[ch], "targets": data[ch].get("target"),
-                                             **({"targets_met": ctrl[ch]["met"]} if tuned else {})} for ch in CHANNELS})
+                                             **({"targets_met": ctrl[ch]["met"]} if "met" in ctrl[ch] else {})} for ch in CHANNELS})
         if not (args.json or args.format == "json"):
             print(f"wrote {args.out}" + ("" if met else " (the closest design, marked targets_met = false)"))
     if not met:

@@ -28,7 +28,7 @@ from .covariance import disturbance_model, predict
 from .design import reduced_channels
 from .pid import PAPER_PID, PIDGains, pid_controller, tune_pid
 
-__all__ = ["RmsDesign", "tune_pid_to_rms"]
+__all__ = ["RmsDesign", "tune_pid_to_rms", "meets", "MET_RTOL"]
 
 #: Crossover frequencies searched [rad/s]: from below the hose's lowest mode to well above the
 #: paper's PID (40-60 rad/s), 60 points (12 % apart).
@@ -81,7 +81,7 @@ def _search_channel(k, ch, plant, gains, target, evaluate):
                     gx = _design(plant, x)
                     return math.log(evaluate({**gains, ch: gx})[k] / target) if gx is not None else math.inf
                 try:
-                    w = brentq(f, prev[0], w, xtol=1e-6, rtol=1e-6)
+                    w = brentq(f, prev[0], w, xtol=1e-6, rtol=MET_RTOL)
                     g = _design(plant, w)
                     r = evaluate({**gains, ch: g})[k]
                 except ValueError:  # no sign change (a design missing inside): keep the grid point
@@ -134,4 +134,24 @@ def tune_pid_to_rms(params, targets_m, sample_time_s: float = 0.0, delay_s: floa
     rms = evaluate(gains)
     return RmsDesign(gains, found, {"lateral": float(rms[0]), "vertical": float(rms[1])},
                      {"lateral": targets[0], "vertical": targets[1]},
-                     bool(rms[0] <= targets[0] * (1 + 1e-6) and rms[1] <= targets[1] * (1 + 1e-6)))
+                     bool(meets(rms[0], targets[0]) and meets(rms[1], targets[1])))
+
+
+#: Relative tolerance [-] within which a predicted RMS meets its target: Brent's method refines the
+#: crossover to the target to this relative accuracy.
+MET_RTOL = 1e-6
+
+
+def meets(rms_m: float, target_m: float) -> bool:
+    """Whether a predicted RMS offset [m] meets its target [m] (within :data:`MET_RTOL`).
+
+    Parameters
+    ----------
+    rms_m, target_m : float
+        The predicted RMS and the target [m].
+
+    Returns
+    -------
+    bool
+    """
+    return bool(rms_m <= target_m * (1.0 + MET_RTOL))
