@@ -66,8 +66,10 @@ def test_the_memory_estimate_counts_state_joints_and_signals():
 
 @pytest.mark.subprocess
 def test_the_day_long_run_is_refused_before_allocating(tmp_path):
-    """The refused command's peak resident memory stays under 1 GB, against the 24 TB it would
-    keep (and the 64 GiB of one array that failed to allocate before)."""
+    """The refused command's peak resident memory stays under 4 GB, against the 24 TB it would
+    keep (and the 64 GiB of one array that failed to allocate before): with an empty numba cache
+    the process compiles the model before the check and peaks at 1.3 GB doing so (measured in a
+    fresh clone), 0.3 GB with the cache warm."""
     path = tmp_path / "day.toml"
     path.write_text(DAY)
     code = ("import resource, sys\nfrom hosedrogue import cli\n"
@@ -75,7 +77,7 @@ def test_the_day_long_run_is_refused_before_allocating(tmp_path):
             "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, code)")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     peak_kb, status = (int(x) for x in proc.stdout.split())
-    assert status == 2 and peak_kb < 1_000_000, (peak_kb, proc.stderr)
+    assert status == 2 and peak_kb < 4_000_000, (peak_kb, proc.stderr)
     assert resource  # ru_maxrss is in kB on Linux
 
 

@@ -17,6 +17,9 @@ import pytest
 from hosedrogue import cli
 from hosedrogue.errors import ParameterError
 
+# the command's process has Python's default SIGINT handler (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("default_sigint")
+
 USER = textwrap.dedent('''
     import os
     import signal

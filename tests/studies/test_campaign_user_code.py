@@ -16,6 +16,9 @@ from hosedrogue.studies.campaign import run_campaign
 sys.path.insert(0, str(Path(__file__).parents[1] / "simulation"))
 from test_user_code_faults import USER, scenario_text  # noqa: E402
 
+# the command's process has Python's default SIGINT handler (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("default_sigint")
+
 TURBULENCE = "[turbulence]\nenabled = true\nstart_s = 0.0\nduration_s = 0.2\n"
 
 
