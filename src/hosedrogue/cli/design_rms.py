@@ -6,6 +6,7 @@ description for the design command's table, JSON and MATLAB file."""
 from __future__ import annotations
 
 from ..errors import ParameterError
+from .margins import add_sampling_options, check_sampling
 from .options import finite_float
 
 __all__ = ["add_rms_options", "check_rms_args", "rms_pid"]
@@ -25,10 +26,7 @@ def add_rms_options(s) -> None:
                         "crossover that meets them (instead of step bounds; docs/loop-analysis.md)")
     s.add_argument("--turbulence", choices=("light", "moderate", "severe"), default=None,
                    help="with --rms-target: the standard turbulence (MIL-F-8785C at the altitude; default moderate)")
-    s.add_argument("--sample-time", metavar="S", type=finite_float("--sample-time", 0.0, 10.0, "s"), default=0.0,
-                   help="with --rms-target: the controller's sample time [s] (default 0: continuous)")
-    s.add_argument("--sensor-delay", metavar="S", type=finite_float("--sensor-delay", 0.0, 60.0, "s"), default=0.0,
-                   help="with --rms-target: the sensor's delay [s], a whole multiple of --sample-time (default 0)")
+    add_sampling_options(s, "with --rms-target: ")
 
 
 def check_rms_args(args) -> None:
@@ -53,9 +51,7 @@ def check_rms_args(args) -> None:
     if steps or args.min_damping:
         raise ParameterError(f"--rms-target = {text}: tunes to the RMS offset, not to step bounds; leave out "
                              f"{(steps or ['--min-damping'])[0]}")
-    if args.sensor_delay and not args.sample_time:
-        raise ParameterError(f"--sensor-delay = {args.sensor_delay!r}: the delay acts on sampled controllers only; "
-                             "give --sample-time")
+    check_sampling(args)
 
 
 def rms_pid(args, params):

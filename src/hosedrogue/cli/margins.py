@@ -31,12 +31,38 @@ def add_loop_options(s, default: str) -> None:
                        type=finite_float(f"--{ch}-gains", 0.0, 1e12, "(K_P N/m, K_I N/(m s), K_D N s/m, N rad/s)"),
                        help=f"PID gains of the {ch} channel: K_P [N/m], K_I [N/(m s)], K_D [N s/m], N [rad/s] "
                             "(default the paper's)")
+    add_sampling_options(s)
+
+
+def add_sampling_options(s, prefix: str = "") -> None:
+    """Add --sample-time and --sensor-delay (the controller's sampling and the sensor's delay).
+
+    Parameters
+    ----------
+    s : argparse.ArgumentParser
+        The sub-command's parser.
+    prefix : str
+        Put before each help text (e.g. the option they go with).
+    """
     s.add_argument("--sample-time", metavar="S", type=finite_float("--sample-time", 0.0, 10.0, "s"), default=0.0,
-                   help="the controller's sample time [s], 0-10: its zero-order-hold discretization, as the "
+                   help=prefix + "the controller's sample time [s], 0-10: its zero-order-hold discretization, as the "
                         "simulation runs a sampled controller (default 0: continuous)")
     s.add_argument("--sensor-delay", metavar="S", type=finite_float("--sensor-delay", 0.0, 60.0, "s"), default=0.0,
-                   help="the sensor's delay [s], a whole multiple of --sample-time (sampled controllers only, as "
-                        "[sensor] delay_s; default 0)")
+                   help=prefix + "the sensor's delay [s], a whole multiple of --sample-time (sampled controllers "
+                        "only, as [sensor] delay_s; default 0)")
+
+
+def check_sampling(args) -> None:
+    """A sensor delay needs a sampled controller: one line naming the option otherwise.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line (--sample-time, --sensor-delay).
+    """
+    if args.sensor_delay and not args.sample_time:
+        raise ParameterError(f"--sensor-delay = {args.sensor_delay!r}: the delay acts on sampled controllers only; "
+                             "give --sample-time")
 
 
 def loop_controller(args, params, lm):
@@ -62,9 +88,7 @@ def loop_controller(args, params, lm):
     if gains and args.controller != "pid":
         raise ParameterError(f"--lateral-gains/--vertical-gains: PID gains need --controller pid "
                              f"(got {args.controller!r})")
-    if args.sensor_delay and not args.sample_time:
-        raise ParameterError(f"--sensor-delay = {args.sensor_delay!r}: the delay acts on sampled controllers only; "
-                             "give --sample-time")
+    check_sampling(args)
     if args.controller == "lqr":
         return lqr_controller_for(lm, "balanced")
     try:
