@@ -27,8 +27,8 @@ $(DOCS_STAMP): $(PY) pyproject.toml
 reproduce: $(STAMP)
 	$(VENV)/bin/hosedrogue reproduce --out out/report
 
-# -n auto: one pytest worker per core (pytest-xdist); each compiles what its tests need, sharing
-# numba's disk cache, so a cold suite pays most compiles once
+# -n auto: one pytest worker per core (pytest-xdist); they share numba's disk cache, and a function
+# one worker is compiling the other waits for and loads (hosedrogue.jit.CompileOnceCache)
 test: $(STAMP)
 	$(PY) -m pytest -q -n auto
 

@@ -40,11 +40,18 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import os
 import re
 from pathlib import Path
 
 import numba
-from numba.core import caching
+from numba.core import caching, event
+from numba.core import dispatcher as numba_dispatcher
+
+try:
+    import fcntl
+except ImportError:  # Windows: numba's cache as it is
+    fcntl = None
 
 #: Options of every compiled function that may allocate.
 JIT = dict(cache=True, error_model="numpy", fastmath={"nsz", "contract"}, no_cfunc_wrapper=True)
@@ -151,6 +158,80 @@ class PackageUserWideCacheLocator(_PackageStamp, _numba_name("UserWideCacheLocat
     """numba's user-wide locator (a read-only install), stamped with :func:`source_stamp`."""
 
 
+class CompileOnceCache(caching.FunctionCache):
+    """numba's per-function disk cache that compiles each of the package's signatures once per
+    machine, not once per process.
+
+    Processes that start together on a cold cache (a campaign's Dask workers, pytest's workers,
+    two commands at once) would each compile the same functions, since numba looks in the cache
+    only before it compiles. Here a miss on a package function takes an exclusive lock on a file
+    beside the cache entry (``fcntl.flock``, one per signature and machine) and looks again: a
+    process that finds the lock taken waits for the one compiling, then loads what it saved. The
+    lock is released when the entry is saved, when its compilation fails (numba's
+    ``numba:compile`` end event, :class:`_ReleaseOnFailure`) or when the process ends, so a
+    crashed compiler leaves nothing stuck. Call graphs have no cycles, so locks taken in call order
+    cannot deadlock. Without ``fcntl`` (Windows) or a writable cache folder, it is numba's cache.
+    """
+
+    def __init__(self, py_func):
+        super().__init__(py_func)
+        self._held = {}  # index key -> open, locked lock file
+
+    def _lock_path(self, key) -> str:
+        digest = hashlib.sha1(repr(key).encode()).hexdigest()[:16]
+        return os.path.join(self.cache_path, f"{self._impl.filename_base}.{digest}.lock")
+
+    def load_overload(self, sig, target_context):
+        data = super().load_overload(sig, target_context)
+        if (data is not None or fcntl is None or not self._enabled
+                or not isinstance(self._impl.locator, _PackageStamp)):
+            return data
+        key = self._index_key(sig, target_context.codegen())
+        if key in self._held:  # this process is compiling it already
+            return None
+        try:
+            self._impl.locator.ensure_cache_path()
+            lock = open(self._lock_path(key), "a")  # held until the entry is saved
+        except OSError:
+            return None
+        fcntl.flock(lock, fcntl.LOCK_EX)  # waits while another process compiles this signature
+        data = super().load_overload(sig, target_context)
+        if data is not None:
+            lock.close()  # closing the file releases the lock
+            return data
+        self._held[key] = lock
+        return None
+
+    def save_overload(self, sig, data):
+        try:
+            super().save_overload(sig, data)
+        finally:
+            self.release(self._index_key(sig, data.codegen))
+
+    def release(self, key=None) -> None:
+        """Release the lock of ``key`` (every lock this cache holds: None)."""
+        for k in ([key] if key is not None else list(self._held)):
+            lock = self._held.pop(k, None)
+            if lock is not None:
+                lock.close()
+
+
+class _ReleaseOnFailure(event.Listener):
+    """Releases a function's compile locks when its compilation raises (a typing error and the
+    like), so that another process compiles it (and fails the same way) instead of waiting."""
+
+    def on_start(self, ev):
+        pass
+
+    def on_end(self, ev):
+        # failed: the end of the compile event came without the overload (numba adds it inside
+        # the event on success; its Event.is_failed reads the other way round in 0.59-0.68)
+        dispatcher = (ev.data or {}).get("dispatcher")
+        cache = getattr(dispatcher, "_cache", None)
+        if isinstance(cache, CompileOnceCache) and tuple(ev.data.get("args", ())) not in dispatcher.overloads:
+            cache.release()
+
+
 def _install_locators() -> None:
     """Put the package's locators first in numba's list (once; before any function of the
     package is decorated, since a dispatcher picks its locator when it is created)."""
@@ -161,4 +242,8 @@ def _install_locators() -> None:
 
 
 _install_locators()
-
+# numba's dispatcher makes each function's cache from this name when caching is enabled
+# (``Dispatcher.enable_caching``): every function decorated after this line gets the lock
+if getattr(numba_dispatcher, "FunctionCache", None) is caching.FunctionCache:
+    numba_dispatcher.FunctionCache = CompileOnceCache
+    event.register("numba:compile", _ReleaseOnFailure())
