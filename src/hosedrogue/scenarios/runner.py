@@ -25,6 +25,7 @@ from ..model.system import HoseModel
 from ..results.run import RunResult
 from ..results.spectra import PREDICTION_KEY
 from ..simulation import simulate
+from ..simulation.budget import check_run
 from . import Scenario
 from .spectrum import spectrum_prediction
 
@@ -188,6 +189,8 @@ def run(scenario: Scenario) -> RunResult:
     if not isinstance(scenario, Scenario):
         raise ParameterError(f"scenario = {scenario!r}: must be a hosedrogue.scenarios.Scenario "
                              "(load_scenario(name) or Scenario(...))")
+    # the commands' check: the step grid reaches the duration, the output fits in memory (before the work)
+    check_run(scenario.params, scenario.duration_s, "scenario.duration_s")
     extra = {}
     if scenario.engagement is None:
         result = _run_fixed_length(scenario)
