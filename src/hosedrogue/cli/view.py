@@ -7,6 +7,7 @@ from pathlib import Path
 
 from ..errors import ParameterError
 from .options import finite_float, prepare_out_file
+from .out_folder import note_written
 
 NAME = "view"
 
@@ -94,6 +95,7 @@ def run(args) -> int:
     runs = [dataclasses.replace(r, label=name) for r, name in zip(runs, labels(args.runs, args.label, runs))]
     runs = [r.between(args.start, args.end) for r in runs]
     path = write_view(runs, out, layout=args.layout, frame_rate_hz=args.frame_rate, title=args.title)
+    note_written(path)  # written into a run folder: the next run written there removes it
     size = path.stat().st_size
     if args.json:
         print(json.dumps({"file": str(path), "bytes": size, "layout": args.layout, "frame_rate_hz": args.frame_rate,
