@@ -350,10 +350,13 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
         raise ParameterError(f"formats = {list(formats)!r}: each must be one of {', '.join(map(repr, FORMATS))}")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    paths = [result.to_csv(out_dir / "timeseries.csv")]
-    (out_dir / "run.json").write_text(dumps(result.run_document(), indent=2, default=_json_value) + "\n")
-    paths.append(out_dir / "run.json")
-    paths.append(hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *result.hose_shapes()))
+    csv = result.to_csv(out_dir / "timeseries.csv")
+    shapes = result.hose_shapes()
+    npz = hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *shapes)
+    # the digests of the run's data, by which the viewer knows run.json belongs to these files
+    doc = {**result.run_document(), hose_file.DIGEST_KEY: hose_file.run_digests(csv, result.t_s, *shapes)}
+    (out_dir / "run.json").write_text(dumps(doc, indent=2, default=_json_value) + "\n")
+    paths = [csv, out_dir / "run.json", npz]
     if plot and result.t_s.size > 1:
         from ..plotting.figures import save_figure
 
