@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..jsonio import dumps
 from .options import finite_float, prepare_out_file
 from .out_folder import note_written
 
@@ -98,7 +98,7 @@ def run(args) -> int:
     note_written(path)  # written into a run folder: the next run written there removes it
     size = path.stat().st_size
     if args.json:
-        print(json.dumps({"file": str(path), "bytes": size, "layout": args.layout, "frame_rate_hz": args.frame_rate,
+        print(dumps({"file": str(path), "bytes": size, "layout": args.layout, "frame_rate_hz": args.frame_rate,
                           "runs": [{"label": r.label, "folder": r.source, "output_times": int(r.t_s.size),
                                     "t_start_s": float(r.t_s[0]), "t_end_s": float(r.t_s[-1]), "max_links": int(r.joint_count.max()) - 1}
                                    for r in runs]}, indent=2))

@@ -201,8 +201,7 @@ class RunResult:
             (``states`` [rad, rad/s]; an engagement's also ``charts``); ``completed``, ``message``,
             ``equilibrium_drogue_position_m`` (1 x 3) [m], ``meta_json`` (the run's settings).
         """
-        import json
-
+        from ..jsonio import dumps, fallback
         from ..units import unit_of
 
         cols = self.columns()
@@ -223,7 +222,7 @@ class RunResult:
             "completed": bool(self.completed),
             "message": str(self.message),
             "equilibrium_drogue_position_m": np.asarray(eq, dtype=np.float64).reshape(1, 3),
-            "meta_json": json.dumps(self.meta, default=str),
+            "meta_json": dumps(self.meta, default=fallback),  # strict JSON, as run.json
         })
         return out
 

@@ -20,7 +20,7 @@ import numpy as np
 from ..results import hose_file
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..errors import ParameterError
-from ..jsonio import dumps, plain
+from ..jsonio import dumps, fallback
 from ..model.system import HoseModel
 from ..results.run import RunResult
 from ..results.spectra import PREDICTION_KEY
@@ -314,15 +314,6 @@ def _sampled_meta(scenario: Scenario) -> dict:
     return out
 
 
-def _json_value(value):
-    """A value strict JSON does not know: a number as a float (null if not finite), anything else
-    (an option of a user's controller given from Python) as its text."""
-    try:
-        return plain(float(value))
-    except (TypeError, ValueError):
-        return repr(value)
-
-
 def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
     """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, ``hose.npz`` (the
     joint positions at every output time, :mod:`hosedrogue.results.hose_file`; what ``hosedrogue view``
@@ -355,7 +346,7 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
     npz = hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *shapes)
     # the digests of the run's data, by which the viewer knows run.json belongs to these files
     doc = {**result.run_document(), hose_file.DIGEST_KEY: hose_file.run_digests(csv, result.t_s, *shapes)}
-    (out_dir / "run.json").write_text(dumps(doc, indent=2, default=_json_value) + "\n")
+    (out_dir / "run.json").write_text(dumps(doc, indent=2, default=fallback) + "\n")
     paths = [csv, out_dir / "run.json", npz]
     if plot and result.t_s.size > 1:
         from ..plotting.figures import save_figure
