@@ -34,6 +34,8 @@ def commands(tmp_path, out_dir, out_file):
         ("design", ["design", "pid", "--format", "mat", "--out", out_file + ".mat"]),
         ("export-fmu", ["export-fmu", "--links", "6", "--out", out_file + ".fmu"]),
         ("view", ["view", str(run_folder), "--out", out_file + ".html"]),
+        ("margins", ["margins", "--links", "6", "--out", out_file + ".png"]),
+        ("reference", ["reference", "--out", out_file + ".md"]),
     ]
 
 
@@ -54,7 +56,8 @@ def run_folder(tmp_path_factory):
     return tmp
 
 
-@pytest.mark.parametrize("which", range(11), ids=[c[0] for c in commands(Path("x"), "d", "f")])
+@pytest.mark.parametrize("which", range(len(commands(Path("x"), "d", "f"))),
+                         ids=[c[0] for c in commands(Path("x"), "d", "f")])
 def test_an_unwritable_out_is_one_line_before_the_work(run_folder, tmp_path, capsys, monkeypatch, which):
     import shutil
 
@@ -148,3 +151,18 @@ def test_a_folder_written_before_manifests_loses_only_the_command_s_own_names(tm
         (tmp_path / name).write_text("x")
     clear_earlier_output(tmp_path, known=("timeseries.csv", "view.html", "run.json"))
     assert [p.name for p in tmp_path.iterdir()] == ["mine.csv"]
+
+
+def test_margins_checks_its_out_before_linearizing(tmp_path, capsys, monkeypatch):
+    """The check comes before the work: the linearization, were it reached, fails the test."""
+    import hosedrogue.analysis.linearize as lin
+
+    def reached(*args, **kwargs):
+        raise AssertionError("the model was linearized before --out was checked")
+
+    monkeypatch.setattr(lin, "linearize", reached)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder\n")
+    code = cli.main(["margins", "--links", "6", "--out", str(blocker / "sub" / "m.png")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "\n" not in err and "is a file, not a folder" in err, err
