@@ -5,7 +5,8 @@ one sample after its start, and keep its output within a share of the machine's 
   ``duration_s / step_s`` steps: that must be a whole number (to :data:`GRID_TOLERANCE`), or the
   run would end a fraction of a step early or late (``duration_s = 0.1`` at ``step_s = 0.03``
   ended at 0.09 s). A study that derives a duration from physics puts it on the grid itself with
-  :func:`on_step_grid` (the nearest step), and its scenario records the duration run.
+  :func:`on_step_grid` (the nearest step), and its scenario records the duration run. Sample times
+  and delays on the step (or control-step) grid: :func:`whole_multiple`.
 * **Output grid.** It saves every ``output_every`` steps: a run of fewer steps than that would
   keep its start only.
 * **Statistics window** (``command``). A turbulent run's statistics are taken over the turbulence window, which
@@ -26,7 +27,7 @@ from ..errors import ParameterError
 from ..results.statistics import turbulence_window
 
 __all__ = ["GRID_TOLERANCE", "MEMORY_SHARE", "check_memory", "check_run", "machine_memory_bytes", "on_step_grid",
-           "output_bytes"]
+           "output_bytes", "whole_multiple"]
 
 #: Share of the machine's physical memory that one run's (or campaign's) kept output may take [-].
 MEMORY_SHARE = 0.5
@@ -173,3 +174,31 @@ def check_run(params, duration_s: float, name: str = "duration_s", command: bool
                  f"the run would keep {samples:.3g} samples of {params.hose.links} links",
                  "raise step_s or output_every, or shorten the run")
     return h, steps
+
+
+def whole_multiple(value_s: float, unit_s: float, name: str, unit_name: str) -> int:
+    """``value_s / unit_s`` when it is a whole number >= 1 (to :data:`GRID_TOLERANCE`).
+
+    Parameters
+    ----------
+    value_s : float
+        A duration [s] (a sample time, a delay).
+    unit_s : float
+        The grid [s] it must lie on (the RK4 step, a control step).
+    name, unit_name : str
+        How the message names the two (``"receiver.sample_time_s"``, ``"numerics.step_s"``).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ParameterError
+        One line naming both values.
+    """
+    ratio = value_s / unit_s
+    count = int(round(ratio))
+    if count < 1 or abs(ratio - count) > GRID_TOLERANCE * max(ratio, 1.0):
+        raise ParameterError(f"{name} = {value_s!r}: must be a whole multiple of {unit_name} = {unit_s!r} s")
+    return count

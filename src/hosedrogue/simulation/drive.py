@@ -18,7 +18,8 @@ import math
 from typing import Mapping
 
 from ..controllers.sampled import CtrlC, SampledController, one_line
-from .stepper import StepperBase, whole_multiple
+from .budget import whole_multiple
+from .stepper import StepperBase
 
 
 def control_step(controllers: Mapping[str, SampledController], step_s: float) -> float:

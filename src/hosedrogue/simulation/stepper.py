@@ -25,8 +25,8 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
-from .budget import GRID_TOLERANCE, check_run
-from ..model import chain_dynamics as CD, drogue_actuator as DA, layout as LY
+from .budget import check_run, whole_multiple
+from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
                              held_command)
@@ -40,34 +40,6 @@ _STATUS_TEXT = {
     LY.NONFINITE: "the state became non-finite (numerical divergence)",
     LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
 }
-
-
-def whole_multiple(value_s: float, unit_s: float, name: str, unit_name: str) -> int:
-    """``value_s / unit_s`` when it is a whole number >= 1 (to :data:`hosedrogue.simulation.budget.GRID_TOLERANCE`).
-
-    Parameters
-    ----------
-    value_s : float
-        A duration [s] (a sample time, a delay).
-    unit_s : float
-        The grid [s] it must lie on (the RK4 step, a control step).
-    name, unit_name : str
-        How the message names the two (``"receiver.sample_time_s"``, ``"numerics.step_s"``).
-
-    Returns
-    -------
-    int
-
-    Raises
-    ------
-    ParameterError
-        One line naming both values.
-    """
-    ratio = value_s / unit_s
-    count = int(round(ratio))
-    if count < 1 or abs(ratio - count) > GRID_TOLERANCE * max(ratio, 1.0):
-        raise ParameterError(f"{name} = {value_s!r}: must be a whole multiple of {unit_name} = {unit_s!r} s")
-    return count
 
 
 def sensor_noise3(sensor: Sensor, duration_s: float, seed: int) -> np.ndarray:
