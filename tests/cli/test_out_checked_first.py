@@ -166,3 +166,20 @@ def test_margins_checks_its_out_before_linearizing(tmp_path, capsys, monkeypatch
     code = cli.main(["margins", "--links", "6", "--out", str(blocker / "sub" / "m.png")])
     err = capsys.readouterr().err.strip()
     assert code == 2 and "\n" not in err and "is a file, not a folder" in err, err
+
+
+def test_only_the_files_a_command_wrote_are_listed(tmp_path):
+    """A file of the user's changed while the command writes (an editor saving it) is not the
+    command's: neither listed by a command that says what it writes nor found by one that scans."""
+    from hosedrogue.cli.out_folder import MANIFEST, output_folder
+
+    for scan in (False, True):
+        out = tmp_path / f"scan{scan}"
+        out.mkdir()
+        (out / "notes.txt").write_text("the user's\n")
+        with output_folder(out, "test", scan=scan) as written:
+            (out / "sub").mkdir()
+            (out / "sub" / "figure.png").write_text("ours\n")
+            written.add(out / "sub" / "figure.png", tmp_path / "elsewhere.txt")
+            (out / "notes.txt").write_text("the user's, edited meanwhile\n")
+        assert json.loads((out / MANIFEST).read_text())["files"] == ["sub/figure.png"]

@@ -1,8 +1,9 @@
 """A reused output folder keeps no file of an earlier run: the one rule of every command that writes
 a folder of results (``simulate``, ``sweep``, ``reproduce``, ``study NAME --out``).
 
-Each such command writes, beside its files, :data:`MANIFEST`: the files it wrote (those under the
-folder created or rewritten while it wrote, as paths inside the folder). The next command writing
+Each such command writes, beside its files, :data:`MANIFEST`: the files it wrote, as paths inside
+the folder (listed by the command as it writes them; ``reproduce``'s, the files that appeared in the
+folder while it built the report). The next command writing
 into the folder first removes the files its manifest lists, so none of the earlier run stays beside
 the new one; files the package did not write (no manifest lists them) are left. A folder written
 before manifests existed: the command's own file names (``known``) are removed instead.
@@ -15,13 +16,12 @@ from __future__ import annotations
 
 import contextlib
 import json
-import time
 from pathlib import Path
 from typing import Iterable, Iterator
 
 from ..jsonio import dumps
 
-__all__ = ["MANIFEST", "clear_earlier_output", "note_written", "output_folder", "record_output"]
+__all__ = ["MANIFEST", "Written", "clear_earlier_output", "note_written", "output_folder", "record_output"]
 
 #: The file, in an output folder, that lists what the command that wrote it wrote.
 MANIFEST = ".hosedrogue-files.json"
@@ -83,9 +83,8 @@ def clear_earlier_output(out: str | Path, known: Iterable[str] = ()) -> list[Pat
     return removed
 
 
-def record_output(out: str | Path, command: str, since_ns: int) -> Path | None:
-    """Write the folder's :data:`MANIFEST`: every file under it modified at or after ``since_ns``
-    (what ``command`` wrote).
+def record_output(out: str | Path, command: str, files: Iterable[str | Path]) -> Path | None:
+    """Write the folder's :data:`MANIFEST`: the files ``command`` wrote into it.
 
     Parameters
     ----------
@@ -93,8 +92,8 @@ def record_output(out: str | Path, command: str, since_ns: int) -> Path | None:
         The output folder.
     command : str
         The command that wrote it ("simulate").
-    since_ns : int
-        When the command began writing [ns since the epoch, on the file system's clock].
+    files : iterable of str or Path
+        The files it wrote (paths as the command wrote them; any outside ``out`` is left out).
 
     Returns
     -------
@@ -104,11 +103,40 @@ def record_output(out: str | Path, command: str, since_ns: int) -> Path | None:
     out = Path(out)
     if not out.is_dir():
         return None
-    files = sorted(str(p.relative_to(out)) for p in out.rglob("*")
-                   if p.is_file() and p.name != MANIFEST and p.stat().st_mtime_ns >= since_ns)
+    names = set()
+    for f in files:
+        path = Path(f)
+        try:
+            rel = path.resolve().relative_to(out.resolve())
+        except ValueError:  # not inside the folder
+            continue
+        if rel.parts and rel.name != MANIFEST and path.is_file():
+            names.add(str(rel))
     path = out / MANIFEST
-    path.write_text(dumps({"command": command, "files": files}, indent=1) + "\n", encoding="utf-8")
+    path.write_text(dumps({"command": command, "files": sorted(names)}, indent=1) + "\n", encoding="utf-8")
     return path
+
+
+class Written:
+    """The files a command writes into its output folder, listed as it writes them (:meth:`add`),
+    or, for a command that writes through code that does not say (``reproduce``'s report), found
+    after it: the files that were not in the folder when it started (:meth:`new_files`)."""
+
+    def __init__(self, out: Path, scan: bool):
+        self.out, self.files = out, []
+        self._before = set(_tree(out)) if scan else None
+
+    def add(self, *paths) -> None:
+        """List files written (their paths, as written)."""
+        self.files.extend(paths)
+
+    def new_files(self) -> list[Path]:
+        """The files in the folder now that were not there at the start (none without ``scan``)."""
+        return [] if self._before is None else [p for p in _tree(self.out) if p not in self._before]
+
+
+def _tree(out: Path) -> list[Path]:
+    return [p for p in out.rglob("*") if p.is_file()] if out.is_dir() else []
 
 
 def note_written(path: str | Path) -> None:
@@ -135,7 +163,7 @@ def note_written(path: str | Path) -> None:
 
 
 @contextlib.contextmanager
-def output_folder(out: str | Path, command: str, known: Iterable[str] = ()) -> Iterator[Path]:
+def output_folder(out: str | Path, command: str, known: Iterable[str] = (), scan: bool = False) -> Iterator[Written]:
     """Write a command's folder of results: the earlier run's files removed first
     (:func:`clear_earlier_output`), the manifest of what was written after (also when the writing
     failed, so a partial output is known to the next run).
@@ -148,19 +176,21 @@ def output_folder(out: str | Path, command: str, known: Iterable[str] = ()) -> I
         The command writing it.
     known : iterable of str
         The command's own file names (a folder written before manifests existed).
+    scan : bool
+        Also list the files that appear in the folder while the command writes (a command whose
+        writing code does not list them); a file of the user's that it overwrites is not listed.
 
     Yields
     ------
-    Path
-        The folder.
+    Written
+        Where the command lists what it writes (:meth:`Written.add`).
     """
     out = Path(out)
     clear_earlier_output(out, known)
     out.mkdir(parents=True, exist_ok=True)
-    # the start on the file system's own clock (coarser than time.time_ns(), a tick behind it): the
-    # manifest's stamp, written before anything else (listing nothing, should the process be killed)
-    since = record_output(out, command, time.time_ns() + 1).stat().st_mtime_ns
+    record_output(out, command, ())  # listing nothing, should the process be killed while it writes
+    written = Written(out, scan)
     try:
-        yield out
+        yield written
     finally:
-        record_output(out, command, since)
+        record_output(out, command, [*written.files, *written.new_files()])

@@ -52,7 +52,7 @@ def run(args) -> int:
     sections_for(args.only)  # a wrong key: one line, exit 2, before anything is written
     out = Path(args.out)
     prepare_out(out)
-    with output_folder(out, "reproduce", ("index.html", "report.json")):  # no file of an earlier report stays
+    with output_folder(out, "reproduce", ("index.html", "report.json"), scan=True):  # none of an earlier report's
         build_report(out, fast=args.fast, only=args.only, workers=args.workers)
     print(f"wrote {out / 'index.html'}")
     return 0

@@ -123,13 +123,14 @@ def _write(result, out: Path, args) -> list:
 
     created = not out.exists()
     try:
-        with output_folder(out, "simulate", RUN_FOLDER_FILES):  # no file of an earlier run stays beside this one
+        with output_folder(out, "simulate", RUN_FOLDER_FILES) as written:  # no file of an earlier run stays
             paths = write(result, out, formats=("csv", args.format))
             paths += write_spectrum(result, out)
             if args.view:
                 from ..viewer import ViewRun, write_view
 
                 paths.append(write_view([ViewRun.from_result(result)], out / "view.html"))
+            written.add(*paths)
     except BaseException:  # leave no half-written output folder behind
         if created and out.exists():
             shutil.rmtree(out, ignore_errors=True)
@@ -204,7 +205,8 @@ def _ensemble(args, scenario, out: Path) -> int:
     prepare_out(out)
     ens = run_ensemble(scenario, args.ensemble, args.perturb, args.verify, args.tolerance, args.workers)
     path = out / "ensemble.json"
-    with output_folder(out, "simulate --ensemble", ("ensemble.json",)):  # no file of an earlier run stays
+    with output_folder(out, "simulate --ensemble", ("ensemble.json",)) as written:  # no file of an earlier run stays
+        written.add(path)
         path.write_text(dumps(ens.to_dict(), indent=2) + "\n")
     if args.json:
         print(dumps({**ens.to_dict(), "files": [str(path)]}, indent=2))

@@ -113,9 +113,10 @@ def run_registry_study(args) -> int:
     if args.out is not None:
         from ..plotting.base import save_figure
 
-        with output_folder(args.out, f"study {study.name}", ("study.json",)):  # no file of an earlier study stays
+        with output_folder(args.out, f"study {study.name}", ("study.json",)) as written:  # none of an earlier study's
+            written.add(args.out / "study.json")
             (args.out / "study.json").write_text(text + "\n")
             for name, fig in (result.figures() if hasattr(result, "figures") else {}).items():
-                save_figure(fig, args.out / f"{name}.png")
+                written.add(save_figure(fig, args.out / f"{name}.png"))
     print(text if args.json else "\n".join(_lines(record)))
     return 0

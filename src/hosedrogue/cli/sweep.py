@@ -56,7 +56,8 @@ def run(args) -> int:
     prepare_out(out)
     with progress_bar(total=len(alts) * len(vels), desc="equilibria") as bar:
         result = steady_sweep(params, alts, vels, progress=lambda: bar.update(1))
-    with output_folder(out, "sweep", ("sweep.csv", "sweep.png")):  # no file of an earlier sweep stays
+    with output_folder(out, "sweep", ("sweep.csv", "sweep.png")) as written:  # no file of an earlier sweep stays
+        written.add(out / "sweep.csv", out / "sweep.png")
         result.to_csv(out / "sweep.csv")
         save_figure(plot_sweep(result), out / "sweep.png")
     failed = sum(not r["converged"] for r in result.rows)
