@@ -120,7 +120,15 @@ def record_output(out: str | Path, command: str, files: Iterable[str | Path]) ->
 class Written:
     """The files a command writes into its output folder, listed as it writes them (:meth:`add`),
     or, for a command that writes through code that does not say (``reproduce``'s report), found
-    after it: the files that were not in the folder when it started (:meth:`new_files`)."""
+    after it: the files that were not in the folder when it started (:meth:`new_files`).
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+    scan : bool
+        Note the folder's files now, so that :meth:`new_files` can tell the ones that appear.
+    """
 
     def __init__(self, out: Path, scan: bool):
         self.out, self.files = out, []
