@@ -98,7 +98,7 @@ def _earlier_output(out: Path, extra: str) -> None:
     (out / "notes.txt").write_text("the user's own file\n")
 
 
-@pytest.mark.parametrize("which", ["simulate", "sweep", "reproduce"])
+@pytest.mark.parametrize("which", ["simulate", "sweep", "reproduce", "study"])
 def test_a_reused_folder_keeps_no_file_of_an_earlier_run_and_every_file_of_the_user(tmp_path, capsys, which):
     """Each command that writes a folder of results, run twice into one: what the first wrote and
     the second did not is gone, the user's file stays, the second's files are there."""
@@ -106,7 +106,8 @@ def test_a_reused_folder_keeps_no_file_of_an_earlier_run_and_every_file_of_the_u
     out = tmp_path / "out"
     argv = {"simulate": ["simulate", str(tmp_path / "tiny.toml")],
             "sweep": ["sweep", "--altitudes", "8000", "--airspeeds", "150", "--links", "6"],
-            "reproduce": ["reproduce", "--fast", "--only", "parameters"]}[which] + ["--out", str(out)]
+            "reproduce": ["reproduce", "--fast", "--only", "parameters"],
+            "study": ["study", "manoeuvres", "--banks-deg", "0", "--paths-deg", "0"]}[which] + ["--out", str(out)]
     assert cli.main(argv) == 0
     first = {p.name for p in out.iterdir()}
     _earlier_output(out, "old-figure.png")
