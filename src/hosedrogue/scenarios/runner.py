@@ -318,7 +318,9 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
     """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, ``hose.npz`` (the
     joint positions at every output time, :mod:`hosedrogue.results.hose_file`; what ``hosedrogue view``
     draws), its figure (``displacement.png`` or ``engagement.png``) and, with
-    ``"mat"``, ``timeseries.mat``.
+    ``"mat"``, ``timeseries.mat``. ``run.json`` holds the SHA-256 of the time series and of the hose's
+    arrays (``data_sha256``, :func:`hosedrogue.results.hose_file.run_digests`), by which ``view``
+    knows the files belong together.
 
     Parameters
     ----------
