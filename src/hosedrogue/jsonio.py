@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-__all__ = ["plain", "dumps"]
+__all__ = ["plain", "dumps", "fallback"]
 
 
 def plain(value):
@@ -41,6 +41,25 @@ def plain(value):
     if isinstance(value, (float, np.floating)):
         return float(value) if math.isfinite(value) else None
     return value
+
+
+def fallback(value):
+    """A value strict JSON does not know, for ``json.dumps(default=...)``: a number as a float (null
+    if not finite), anything else (an option of a user's controller given from Python) as its text.
+
+    Parameters
+    ----------
+    value : object
+        What ``json`` could not write.
+
+    Returns
+    -------
+    float, None or str
+    """
+    try:
+        return plain(float(value))
+    except (TypeError, ValueError):
+        return repr(value)
 
 
 def dumps(value, **kwargs) -> str:

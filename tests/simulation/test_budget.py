@@ -7,6 +7,7 @@ line naming the fields, with nothing allocated or written.
 process) stays below a bound far under what the run would keep.
 """
 
+import dataclasses
 import resource
 import subprocess
 import sys
@@ -52,7 +53,51 @@ def test_the_grid_check_accepts_decimal_steps():
     assert budget.check_run(params, 0.3, command=True) == (0.1, 3)
     with pytest.raises(ParameterError, match="not a whole number of steps"):
         budget.check_run(params, 0.35, command=True)
-    assert budget.check_run(params, 0.36) == (0.1, 4)  # a library run: to the nearest step
+    with pytest.raises(ParameterError, match="not a whole number of steps"):
+        budget.check_run(params, 0.36)  # a library run: the same check as the commands'
+
+
+def _library_run(entry):
+    """Every way a run starts from Python: the scenario runner, the simulation API, the
+    fixed-length stepper, the engagement; each given 0.1 s at a step of 0.03 s."""
+    from hosedrogue.engagement.simulate import simulate_engagement
+    from hosedrogue.scenarios import load_scenario
+    from hosedrogue.scenarios.runner import run
+    from hosedrogue.simulation import simulate
+    from hosedrogue.simulation.stepper import FixedLengthStepper
+
+    params = PAPER.replace(numerics={"step_s": 0.03, "output_every": 1})
+    if entry == "scenarios.runner.run":
+        sc = load_scenario("paper-turbulence").with_overrides(duration_s=0.1)
+        return run(dataclasses.replace(sc, params=sc.params.replace(numerics={"step_s": 0.03, "output_every": 1})))
+    if entry == "FixedLengthStepper":
+        return FixedLengthStepper(params, 0.1, control_step_s=0.03)
+    return {"simulate": simulate, "simulate_engagement": simulate_engagement}[entry](params, 0.1)
+
+
+@pytest.mark.parametrize("entry", ["scenarios.runner.run", "simulate", "FixedLengthStepper", "simulate_engagement"])
+def test_a_library_run_off_its_step_grid_is_refused_as_the_command_refuses_it(entry):
+    """The run would end at 0.09 s (3 steps), short of its 0.1 s: refused, naming the step."""
+    with pytest.raises(ParameterError, match=r"duration_s = 0.1: not a whole number of steps of numerics.step_s = 0.03"):
+        _library_run(entry)
+
+
+@pytest.mark.parametrize("duration, step", [(4.5049, 0.005), (0.36, 0.1), (1e-4, 0.01), (8.123456789, 0.002)])
+def test_on_step_grid_gives_a_whole_number_of_steps_nearest_the_duration(duration, step):
+    """Whole to the grid's tolerance, within half a step of the wish, at least one step."""
+    params = PAPER.replace(numerics={"step_s": step, "output_every": 1})
+    d = budget.on_step_grid(duration, step)
+    h, steps = budget.check_run(params, d)
+    assert steps == max(1, round(duration / step)) and abs(d - steps * step) <= 1e-12 * d
+
+
+def test_the_whip_load_study_runs_whole_steps_and_records_the_duration_run():
+    """Its duration, (standoff + push) / closure speed + stop + settle, is rarely whole at 0.7 m/s."""
+    from hosedrogue.studies.whip_loads import study_scenario
+
+    sc = study_scenario("engage-response", 2e5, 0.7)
+    h, steps = budget.check_run(sc.params, sc.duration_s)
+    assert abs(sc.duration_s - steps * h) <= 1e-12 * sc.duration_s
 
 
 def test_the_memory_estimate_counts_state_joints_and_signals():

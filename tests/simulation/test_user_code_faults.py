@@ -165,3 +165,19 @@ def test_the_user_s_own_ctrl_c_still_interrupts(user_module, tmp_path, capsys):
     (exit 130, one line), not a controller's failure."""
     code, captured, _ = simulate(tmp_path, scenario_text("fixed-rigid", "drogue", "ctrl-c", "later"), capsys)
     assert code == 130 and captured.err.strip() == "hosedrogue: interrupted", captured.err
+
+
+@pytest.mark.parametrize("chain, role", [("fixed-rigid", "drogue")] + [(c, r) for c in CHAINS[1:]
+                                                                         for r in ("drogue", "receiver", "reel")])
+def test_the_stop_message_gives_the_time_of_the_last_state_kept(user_module, tmp_path, chain, role):
+    """Outputs every 5 steps of 5 ms (0.025 s), a controller failing at its first call from
+    0.033 s, i.e. at 0.04 s: the run keeps 0 and 0.025 s, and its message says it stopped at the
+    last state kept, 0.025 s (it said 0.04 s: a time the result does not reach), and when the
+    controller failed."""
+    from hosedrogue import load_scenario, run
+
+    text = scenario_text(chain, role, "error", "later").replace("output_every = 2", "output_every = 5")
+    (tmp_path / "case.toml").write_text(text + "at_s = 0.033\n")
+    result = run(load_scenario(tmp_path / "case.toml"))
+    assert not result.completed and result.t_s[-1] == pytest.approx(0.025, abs=1e-12)
+    assert result.message.startswith("stopped at t = 0.0250 s: ") and "(in its call at t = 0.0400 s)" in result.message

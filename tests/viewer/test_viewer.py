@@ -4,6 +4,7 @@ arrays it carries, the command line, and a campaign's runs run again for the pag
 (The page in a real browser: tests/viewer/test_viewer_browser.py.)"""
 
 import base64
+import hashlib
 import json
 import re
 
@@ -34,6 +35,7 @@ def engaged(tmp_path_factory):
 @pytest.fixture(scope="module")
 def folders(fixed, engaged, tmp_path_factory):
     root = tmp_path_factory.mktemp("runs")
+    (root / "tiny.toml").write_text(TINY)
     hd.write(fixed, root / "fixed", plot=False)
     hd.write(engaged, root / "engaged", plot=False)
     return root
@@ -87,7 +89,15 @@ def test_write_adds_the_hose_file_and_keeps_the_others(fixed, tmp_path):
     assert (tmp_path / "run" / "timeseries.csv").read_bytes() == (tmp_path / "alone.csv").read_bytes()
     from hosedrogue.jsonio import dumps
 
-    assert json.loads((tmp_path / "run" / "run.json").read_text()) == json.loads(dumps(fixed.run_document()))
+    doc = json.loads((tmp_path / "run" / "run.json").read_text())
+    digests = doc.pop("data_sha256")  # beside the run's document: the SHA-256 of the files' data
+    assert doc == json.loads(dumps(fixed.run_document()))
+    assert digests["timeseries.csv"] == hashlib.sha256((tmp_path / "alone.csv").read_bytes()).hexdigest()
+    with np.load(tmp_path / "run" / "hose.npz") as data:
+        h = hashlib.sha256()
+        for name in ("t_s", "joint_count", "joints_m"):
+            h.update(f"{data[name].dtype.str} {data[name].shape}".encode() + data[name].tobytes())
+    assert digests["hose.npz"] == h.hexdigest()
 
 
 def test_a_folder_reads_as_the_result_it_was_written_from(engaged, folders):
@@ -117,12 +127,17 @@ def _not_a_run(tmp_path, folders):
     broken = tmp_path / "broken"
     shutil.copytree(folders / "fixed", broken)
     (broken / "hose.npz").write_bytes(b"not a numpy file")
+    another = tmp_path / "another"  # the run.json of the same scenario run with another seed: same times
+    shutil.copytree(folders / "fixed", another)
+    hd.write(hd.run(hd.load_scenario(str(folders / "tiny.toml")).with_overrides(seed=5)), tmp_path / "seed5", plot=False)
+    shutil.copy(tmp_path / "seed5" / "run.json", another / "run.json")
     return {"missing": (tmp_path / "missing", "not a folder"), "file": (tmp_path / "file.txt", "not a folder"),
             "empty": (tmp_path / "empty", "not a run folder"), "old": (old, "run the scenario again"),
-            "mixed": (mixed, "different runs"), "broken": (broken, "not a run's hose file")}
+            "mixed": (mixed, "different runs"), "broken": (broken, "not a run's hose file"),
+            "another": (another, "run.json is of another run")}
 
 
-@pytest.mark.parametrize("case", ["missing", "file", "empty", "old", "mixed", "broken"])
+@pytest.mark.parametrize("case", ["missing", "file", "empty", "old", "mixed", "broken", "another"])
 def test_what_is_not_a_run_is_refused_in_one_line(case, tmp_path, folders, capsys):
     """hosedrogue view on a folder that is not a run: one line naming it, exit 2, nothing written."""
     path, words = _not_a_run(tmp_path, folders)[case]

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
+from ..jsonio import dumps
 from .options import finite_float
 
 NAME = "bow-wave"
@@ -92,7 +91,7 @@ def run(args) -> int:
                   "bow_wave_speed_at_drogue_m_s": float(si)} for di, dv, si in zip(d, disp, speed)],
     }
     if args.json:
-        print(json.dumps(doc))
+        print(dumps(doc))
         return 0
     print(f"Bow wave of a {bow.forebody_radius_m:g} m {bow.shape} forebody, probe tip {tuple(bow.probe_offset_m)} m "
           f"from its nose; {scenario.name}: {p.flight.airspeed_m_s:g} m/s at {p.flight.altitude_m:g} m, "

@@ -4,12 +4,12 @@ fixed length, or with ``--engagement`` a scenario's engagement), and its check."
 from __future__ import annotations
 
 import dataclasses
-import json
 import sys
 import tempfile
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..jsonio import dumps
 from .options import EXIT_BAD_INPUT, bounded_int, finite_float, params_from_args, prepare_out_file
 
 NAME = "export-fmu"
@@ -131,7 +131,7 @@ def run(args) -> int:
             return 0
         report = check_fmu(path)
     if args.json:
-        print(json.dumps(report, indent=1))
+        print(dumps(report, indent=1))
     else:
         _print_check(report)
     if not report["ok"]:

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import sys
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..jsonio import dumps
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 
 NAME = "fly"
@@ -130,7 +130,7 @@ def run(args) -> int:
         print(f"hosedrogue: {flight.error}", file=sys.stderr, flush=True)
         return EXIT_INCOMPLETE
     if args.json:
-        print(json.dumps({"url": server.url, "stopped": flight.closed_reason, "flights": flights}, indent=2))
+        print(dumps({"url": server.url, "stopped": flight.closed_reason, "flights": flights}, indent=2))
     else:
         log(f"stopped ({flight.closed_reason}); {len(flights)} flight{'s' if len(flights) != 1 else ''} written")
     return 0

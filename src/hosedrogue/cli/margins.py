@@ -8,7 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import ParameterError
-from .options import add_flight_options, finite_float, params_from_args, prepare_out, steady_flight_text
+from .options import add_flight_options, finite_float, params_from_args, prepare_out_file, steady_flight_text
 
 NAME = "margins"
 
@@ -142,6 +142,7 @@ def run(args) -> int:
     out = Path(args.out)
     if out.suffix.lower() not in (".png", ".pdf", ".svg") or out.is_dir():
         raise ParameterError(f"--out = {args.out!r}: must be a figure file name ending in .png, .pdf or .svg")
+    prepare_out_file(out)  # its folder can be made and written: a one-line error before the work
     params = params_from_args(args)
     lm = linearize(params)
     ctrl = loop_controller(args, params, lm)
@@ -154,7 +155,6 @@ def run(args) -> int:
     found = loop_margins(lm, ctrl, args.sample_time, args.sensor_delay)
     loops = {ch: channel_loop(lm, ctrl, ch, args.sample_time, args.sensor_delay) for ch in found}
     w = {ch: frequency_grid(loop)[::10] for ch, loop in loops.items()}
-    prepare_out(out.parent)
     data = {"controller": args.controller, "sample_time_s": args.sample_time, "sensor_delay_s": args.sensor_delay,
             "flight": {"altitude_m": params.flight.altitude_m, "airspeed_m_s": params.flight.airspeed_m_s,
                        "links": params.hose.links},

@@ -260,32 +260,10 @@ def prepare_out_file(path: str | Path, name: str = "--out") -> Path:
 
 
 #: The files ``simulate`` (and ``view`` of a run folder) may write into a run folder: removed before
-#: a new run is written into a reused folder, so no file of the earlier run stays beside it.
+#: a new run is written into a reused folder written before its files were listed in it
+#: (:func:`hosedrogue.cli.out_folder.clear_earlier_output`).
 RUN_FOLDER_FILES = ("timeseries.csv", "run.json", "hose.npz", "displacement.png", "engagement.png",
-                    "timeseries.mat", "view.html")
-
-
-def remove_earlier_run(out: Path) -> list[Path]:
-    """Remove the files of an earlier run from a run folder about to be written again
-    (:data:`RUN_FOLDER_FILES`; anything else in it is left).
-
-    Parameters
-    ----------
-    out : Path
-        The run folder.
-
-    Returns
-    -------
-    list of Path
-        The files removed.
-    """
-    removed = []
-    for file in RUN_FOLDER_FILES:
-        path = Path(out) / file
-        if path.is_file():
-            path.unlink()
-            removed.append(path)
-    return removed
+                    "timeseries.mat", "view.html", "spectrum.png")
 
 
 def parse_order(text: str) -> int | None:

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
-from ..errors import ParameterError
+from .options import prepare_out_file
 
 NAME = "reference"
 
@@ -42,9 +40,7 @@ def run(args) -> int:
     if args.out is None:
         print(scenario_reference_page(), end="")
         return 0
-    out = Path(args.out)
-    if out.is_dir():
-        raise ParameterError(f"--out = {args.out!r}: is a folder; give a file name")
+    out = prepare_out_file(args.out)  # a folder, or one that cannot be written: one line before the work
     text = scenario_reference_page()
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(text, encoding="utf-8")

@@ -6,6 +6,7 @@ import os
 from pathlib import Path
 
 from .options import bounded_int, prepare_out
+from .out_folder import output_folder
 
 NAME = "reproduce"
 
@@ -51,6 +52,7 @@ def run(args) -> int:
     sections_for(args.only)  # a wrong key: one line, exit 2, before anything is written
     out = Path(args.out)
     prepare_out(out)
-    build_report(out, fast=args.fast, only=args.only, workers=args.workers)
+    with output_folder(out, "reproduce", ("index.html", "report.json"), scan=True):  # none of an earlier report's
+        build_report(out, fast=args.fast, only=args.only, workers=args.workers)
     print(f"wrote {out / 'index.html'}")
     return 0

@@ -6,7 +6,8 @@ import shutil
 import sys
 from pathlib import Path
 
-from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out, remove_earlier_run
+from .options import EXIT_INCOMPLETE, RUN_FOLDER_FILES, bounded_int, finite_float, prepare_out
+from .out_folder import output_folder
 
 NAME = "simulate"
 
@@ -122,13 +123,14 @@ def _write(result, out: Path, args) -> list:
 
     created = not out.exists()
     try:
-        remove_earlier_run(out)  # no file of an earlier run stays beside this one
-        paths = write(result, out, formats=("csv", args.format))
-        paths += write_spectrum(result, out)
-        if args.view:
-            from ..viewer import ViewRun, write_view
+        with output_folder(out, "simulate", RUN_FOLDER_FILES) as written:  # no file of an earlier run stays
+            paths = write(result, out, formats=("csv", args.format))
+            paths += write_spectrum(result, out)
+            if args.view:
+                from ..viewer import ViewRun, write_view
 
-            paths.append(write_view([ViewRun.from_result(result)], out / "view.html"))
+                paths.append(write_view([ViewRun.from_result(result)], out / "view.html"))
+            written.add(*paths)
     except BaseException:  # leave no half-written output folder behind
         if created and out.exists():
             shutil.rmtree(out, ignore_errors=True)
@@ -202,9 +204,10 @@ def _ensemble(args, scenario, out: Path) -> int:
 
     prepare_out(out)
     ens = run_ensemble(scenario, args.ensemble, args.perturb, args.verify, args.tolerance, args.workers)
-    out.mkdir(parents=True, exist_ok=True)
     path = out / "ensemble.json"
-    path.write_text(dumps(ens.to_dict(), indent=2) + "\n")
+    with output_folder(out, "simulate --ensemble", ("ensemble.json",)) as written:  # no file of an earlier run stays
+        written.add(path)
+        path.write_text(dumps(ens.to_dict(), indent=2) + "\n")
     if args.json:
         print(dumps({**ens.to_dict(), "files": [str(path)]}, indent=2))
     else:

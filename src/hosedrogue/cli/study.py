@@ -5,11 +5,11 @@ the hose's axial stiffness and the closure speed (:mod:`hosedrogue.studies.whip_
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..jsonio import dumps
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 from .study_actuator import add_study_parser
 from .study_registry import add_registry_studies
@@ -236,7 +236,7 @@ def run_docking(args) -> int:
         record = {"scenario": "approach-LEVEL" if base is None else base.name, "runs_per_cell": args.runs,
                   "seed": args.seed, "out": str(args.out),
                   "cells": [_cell_record(s, c) for s, c in zip(specs, every)], **findings}
-        print(json.dumps(record, indent=2))
+        print(dumps(record, indent=2))
     else:
         _print_table(specs, every, findings)
         print(f"wrote {len({c.name for c in every})} campaigns into {args.out}")

@@ -4,11 +4,11 @@ force (:mod:`hosedrogue.studies.drogue_actuator`): the servo margins, the claims
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 from pathlib import Path
 
+from ..jsonio import dumps
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 
 __all__ = ["add_study_parser", "run_actuator"]
@@ -135,7 +135,7 @@ def run_actuator(args) -> int:
         capture = actuator_table(specs, cells)
         stopped = int(capture.drop_duplicates("campaign")["stopped"].sum())
     if args.json:
-        print(json.dumps({"servo_margins": _records(margins),
+        print(dumps({"servo_margins": _records(margins),
                           "claims": None if claims is None else _records(claims), "within_1cm": one_cm,
                           "capture": None if capture is None else _records(capture)}, indent=2))
     else:

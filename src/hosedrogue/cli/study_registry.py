@@ -98,6 +98,7 @@ def run_registry_study(args) -> int:
     from ..jsonio import dumps, plain
     from ..studies.registry import STUDIES, check_scenario
     from .options import prepare_out
+    from .out_folder import output_folder
 
     study = STUDIES[args.registry_study]
     scenario = check_scenario(study, load_scenario(args.scenario)) if getattr(args, "scenario", None) else None
@@ -112,9 +113,10 @@ def run_registry_study(args) -> int:
     if args.out is not None:
         from ..plotting.base import save_figure
 
-        args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "study.json").write_text(text + "\n")
-        for name, fig in (result.figures() if hasattr(result, "figures") else {}).items():
-            save_figure(fig, args.out / f"{name}.png")
+        with output_folder(args.out, f"study {study.name}", ("study.json",)) as written:  # none of an earlier study's
+            written.add(args.out / "study.json")
+            (args.out / "study.json").write_text(text + "\n")
+            for name, fig in (result.figures() if hasattr(result, "figures") else {}).items():
+                written.add(save_figure(fig, args.out / f"{name}.png"))
     print(text if args.json else "\n".join(_lines(record)))
     return 0

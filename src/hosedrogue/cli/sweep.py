@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from .out_folder import output_folder
 from .options import EXIT_INCOMPLETE, add_flight_options, finite_float, params_from_args, prepare_out
 
 NAME = "sweep"
@@ -55,9 +56,10 @@ def run(args) -> int:
     prepare_out(out)
     with progress_bar(total=len(alts) * len(vels), desc="equilibria") as bar:
         result = steady_sweep(params, alts, vels, progress=lambda: bar.update(1))
-    out.mkdir(parents=True, exist_ok=True)
-    result.to_csv(out / "sweep.csv")
-    save_figure(plot_sweep(result), out / "sweep.png")
+    with output_folder(out, "sweep", ("sweep.csv", "sweep.png")) as written:  # no file of an earlier sweep stays
+        written.add(out / "sweep.csv", out / "sweep.png")
+        result.to_csv(out / "sweep.csv")
+        save_figure(plot_sweep(result), out / "sweep.png")
     failed = sum(not r["converged"] for r in result.rows)
     print(f"wrote {out / 'sweep.csv'}\nwrote {out / 'sweep.png'}")
     if failed:

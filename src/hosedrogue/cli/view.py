@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..jsonio import dumps
 from .options import finite_float, prepare_out_file
+from .out_folder import note_written
 
 NAME = "view"
 
@@ -94,9 +95,10 @@ def run(args) -> int:
     runs = [dataclasses.replace(r, label=name) for r, name in zip(runs, labels(args.runs, args.label, runs))]
     runs = [r.between(args.start, args.end) for r in runs]
     path = write_view(runs, out, layout=args.layout, frame_rate_hz=args.frame_rate, title=args.title)
+    note_written(path)  # written into a run folder: the next run written there removes it
     size = path.stat().st_size
     if args.json:
-        print(json.dumps({"file": str(path), "bytes": size, "layout": args.layout, "frame_rate_hz": args.frame_rate,
+        print(dumps({"file": str(path), "bytes": size, "layout": args.layout, "frame_rate_hz": args.frame_rate,
                           "runs": [{"label": r.label, "folder": r.source, "output_times": int(r.t_s.size),
                                     "t_start_s": float(r.t_s[0]), "t_end_s": float(r.t_s[-1]), "max_links": int(r.joint_count.max()) - 1}
                                    for r in runs]}, indent=2))

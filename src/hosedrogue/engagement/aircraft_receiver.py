@@ -33,7 +33,7 @@ from ..errors import ParameterError
 from ..jsonio import plain
 from ..model import layout as LY
 from ..model.chain_loads import still_air_velocity
-from ..results.run import EngagementResult
+from ..results.run import EngagementResult, stop_message
 from ..spec.params import Params
 from ..spec.sections import Receiver
 from .stepper import EngagementStepper
@@ -354,7 +354,7 @@ class AircraftEngagementStepper(EngagementStepper):
         try:
             ac.fly(self._commands[list(self._slots["receiver"])], h)
         except (FloatingPointError, ValueError, ZeroDivisionError, ParameterError) as exc:
-            self._finish(False, f"stopped at t = {t0:.4f} s: the receiver aircraft: {exc}")
+            self._finish(False, stop_message(self._last_kept_s(), f"the receiver aircraft: {exc}", t0))
             return
         p1, v1 = ac.tip(ac.x, ac.t)
         if ep[LY.EP_BW] != LY.BW_OFF:  # held over the step at the mean of its ends: second order in the step

@@ -24,6 +24,7 @@ from ..simulation.budget import check_run
 from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
                     initial_equilibrium)
 from .events import contact_event, remesh_event, switch_event
+from ..results.run import stop_message
 from .result import EngagementResult, assemble_result
 from .result import segment_outputs as _outputs
 from .loop import drogue_history, engagement_loop, extra_states, set_pilot
@@ -424,12 +425,13 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
     max_yaw = math.radians(num.max_yaw_deg)
     while run.step < total_steps:
         code, zprev = _segment(run, model, h, every, total_steps - run.step, max_yaw)
+        kept = float(run.segments[-1][2][-1]) if run.segments else 0.0  # the last state kept
         if code in (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT):
-            return code, f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
+            return code, stop_message(kept, _STATUS[code], run.t)
         if code == LY.REEL_END:
             L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
-            return code, (f"stopped at t = {run.t:.4f} s: {_STATUS[code]}: L = {L:.3f} m, range "
-                          f"[{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m")
+            return code, stop_message(kept, f"{_STATUS[code]}: L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, "
+                                            f"{run.ep[LY.EP_L_MAX]:g}] m", run.t)
         if code == LY.CHART:
             switch_event(run, model)
         elif code in (LY.SPLIT, LY.MERGE):

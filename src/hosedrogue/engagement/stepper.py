@@ -35,6 +35,7 @@ from ..simulation.stepper import StepperBase, sensor_noise3
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, chain_model
 from .driver import _STATUS, prepare, step_record
 from .events import contact_event, remesh_event, switch_event
+from ..results.run import stop_message
 from .result import EngagementResult, assemble_result, coupler_geometry, segment_outputs
 
 class EngagementStepper(StepperBase):
@@ -312,11 +313,11 @@ class EngagementStepper(StepperBase):
         """Handle what ended a compiled segment before the control step's end; True if the run ends."""
         run = self.run
         if code in (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT, LY.REEL_END):
-            message = f"stopped at t = {run.t:.4f} s: {_STATUS[code]}"
+            reason = _STATUS[code]
             if code == LY.REEL_END:
                 L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
-                message += f": L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m"
-            self._finish(False, message, state_valid=False)
+                reason += f": L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m"
+            self._finish(False, stop_message(self._last_kept_s(), reason, run.t), state_valid=False)
             return True
         self._close_record()
         self.ctr[C_ORIGIN] = self.ctr[C_STEP]  # the next compiled segment counts its times from here, as the driver's
@@ -332,6 +333,13 @@ class EngagementStepper(StepperBase):
 
     def _save_final(self) -> None:
         """Nothing to add: the kernel saves every state on the output grid as it reaches it."""
+
+    def _last_kept_s(self) -> float:
+        """The time of the last state kept [s] (the stepper's time when it keeps no series)."""
+        saved = int(self.ctr[C_SAVED])
+        if self.record and saved:
+            return float(self._ts[saved - 1])
+        return float(self._closed[-1][2][-1]) if self.record and self._closed else self.t_s
 
     # --- the result ------------------------------------------------------------------------------
     @property

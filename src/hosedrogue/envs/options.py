@@ -5,7 +5,11 @@ environment's options (:func:`docking_scenario`) and the reward's weights (:clas
 The options change a scenario's tables before it is built, as a scenario file that ``extends`` it
 would: the turbulence intensity, the bow wave, the reel law, the drogue controller, the model
 preset, and the episode's time limit (the run's duration; a turbulence window that lasts to the
-scenario's end is stretched to the new end).
+scenario's end is stretched to the new end). The episode's length is put on the run's step grid
+(:func:`on_grid`: the nearest whole number of steps, recorded as the scenario's ``duration_s``).
+
+Helpers the other environments' modules share: :func:`positive_option` (a number option's check),
+:func:`set_turbulence` (the turbulence option and window), :func:`on_grid`.
 """
 
 from __future__ import annotations
@@ -15,8 +19,9 @@ import math
 from pathlib import Path
 from typing import Any
 
-from ..spec.config import preset_names
 from ..errors import ParameterError
+from ..simulation.budget import on_step_grid
+from ..spec.config import preset_names
 from ..spec.rewards import DockingReward, DockingRewardV1
 from ..scenarios import Scenario, scenario_from_dict
 from ..spec.standards import INTENSITY_FT_S
@@ -95,13 +100,13 @@ def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, t
         One line naming the option, the value and what is allowed; also a scenario the agent
         cannot fly (no probe, a pilot, the user's controllers).
     """
-    limit = _positive("time_limit_s", time_limit_s, MAX_TIME_LIMIT_S)
+    limit = positive_option("time_limit_s", time_limit_s, MAX_TIME_LIMIT_S)
     if isinstance(scenario, Scenario) and model is not None:
         raise ParameterError(f"model = {model!r}: a Scenario object carries its model's parameters resolved; "
                              "give the scenario by name or file to change its preset")
     base, source, tables, name = scenario_source(scenario)
     _check_flyable(base)
-    _set_turbulence(tables, turbulence, base, limit)
+    set_turbulence(tables, turbulence, base, limit)
     if bow_wave is not None:
         if not isinstance(bow_wave, bool):
             raise ParameterError(f"bow_wave = {bow_wave!r}: must be True, False or None (the scenario's)")
@@ -123,13 +128,49 @@ def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, t
                                  "\"\" (the point receiver) or None (the scenario's)")
         tables["receiver"] = {**tables.get("receiver", {}), "model": receiver_model}
     tables["scenario"] = {**tables.get("scenario", {}), "duration_s": limit}
-    out = scenario_from_dict(tables, name=name, source=source)
+    out = on_grid(scenario_from_dict(tables, name=name, source=source))
     _check_flyable(out)
     return out
 
 
-def _set_turbulence(tables: dict, turbulence, base: Scenario, limit: float) -> None:
-    """The turbulence option and the window: a window lasting to the scenario's end lasts to the episode's."""
+def on_grid(scenario: Scenario) -> Scenario:
+    """``scenario`` with its duration on its step grid: the nearest whole number of
+    ``numerics.step_s`` (:func:`hosedrogue.simulation.budget.on_step_grid`), since every run must
+    reach its duration exactly; the scenario records the duration the episode runs.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        An episode's scenario.
+
+    Returns
+    -------
+    Scenario
+    """
+    duration = on_step_grid(scenario.duration_s, scenario.params.numerics.step_s)
+    return scenario if duration == scenario.duration_s else dataclasses.replace(scenario, duration_s=duration)
+
+
+def set_turbulence(tables: dict, turbulence, base: Scenario, limit: float) -> None:
+    """Apply the turbulence option to a scenario's tables; a window lasting to the scenario's end
+    is made to last to the episode's.
+
+    Parameters
+    ----------
+    tables : dict
+        The scenario's tables (``{table: {key: value}}``), changed in place.
+    turbulence : str, float or None
+        "none", a MIL-F-8785C intensity, an isotropic intensity [m/s] in (0, 50], or None (the scenario's).
+    base : Scenario
+        The scenario before the options.
+    limit : float
+        The episode's length [s].
+
+    Raises
+    ------
+    ParameterError
+        One line naming the option, the value and what is allowed.
+    """
     table = tables.setdefault("turbulence", {})
     if turbulence is not None:
         if isinstance(turbulence, str):
@@ -139,7 +180,7 @@ def _set_turbulence(tables: dict, turbulence, base: Scenario, limit: float) -> N
                 table.pop("sigma_m_s", None)
                 table["intensity"] = level
         else:
-            sigma = _positive("turbulence", turbulence, 50.0, unit="m/s", text=", or one of "
+            sigma = positive_option("turbulence", turbulence, 50.0, unit="m/s", text=", or one of "
                               + ", ".join(map(repr, TURBULENCE_CHOICES)))
             table.pop("intensity", None)
             table.update(enabled=True, sigma_m_s=sigma)
@@ -175,7 +216,31 @@ def _choice(name: str, value: Any, choices: tuple) -> str:
     return value
 
 
-def _positive(name: str, value: Any, hi: float, unit: str = "s", text: str = "") -> float:
+def positive_option(name: str, value: Any, hi: float, unit: str = "s", text: str = "") -> float:
+    """An option that must be a finite number in (0, ``hi``].
+
+    Parameters
+    ----------
+    name : str
+        The option's name, for the message.
+    value : Any
+        What was given.
+    hi : float
+        The largest value allowed.
+    unit : str
+        The unit the message gives.
+    text : str
+        More of what is allowed, appended to the message (", or one of ...").
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ParameterError
+        One line naming the option, the value and the range.
+    """
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and 0 < value <= hi):
         raise ParameterError(f"{name} = {value!r}: must be a finite number in (0, {hi:g}] {unit}{text}")
     return float(value)

@@ -22,7 +22,7 @@ from ..scenarios import Scenario, scenario_from_dict
 from ..simulation.stepper import FixedLengthStepper
 from ..spec.rewards import StationKeepingReward
 from ..spec.sections import Actuator
-from .options import _positive, _set_turbulence, reward_weights
+from .options import on_grid, positive_option, reward_weights, set_turbulence
 from .task_common import checked_action, scaled, scenario_source, turbulence_seed_option
 
 #: The observation's components: (name, unit, scale); the observation is each divided by its scale.
@@ -59,11 +59,11 @@ def station_scenario(scenario: str | Path | Scenario = "approach-moderate", turb
     -------
     Scenario
     """
-    limit = _positive("time_limit_s", time_limit_s, 600.0)
+    limit = positive_option("time_limit_s", time_limit_s, 600.0)
     base, source, tables, name = scenario_source(scenario)
-    _set_turbulence(tables, turbulence, base, limit)
+    set_turbulence(tables, turbulence, base, limit)
     tables["scenario"] = {**tables.get("scenario", {}), "duration_s": limit}
-    out = scenario_from_dict(tables, name=name, source=source)
+    out = on_grid(scenario_from_dict(tables, name=name, source=source))
     if out.params.numerics.integrator != "rk4":
         raise ParameterError(f"scenario = {name!r}: numerics.integrator = {out.params.numerics.integrator!r}: "
                              "station keeping steps the fixed-length RK4 loop; give a scenario with 'rk4'")
@@ -107,7 +107,7 @@ class StationKeepingEnv(gymnasium.Env):
             raise ParameterError(f"render_mode = {render_mode!r}: must be None (no picture)")
         self.render_mode = None
         self.scenario = station_scenario(scenario, turbulence, time_limit_s)
-        self.max_force_n = _positive("max_force_n", max_force_n, 1e4, unit="N")
+        self.max_force_n = positive_option("max_force_n", max_force_n, 1e4, unit="N")
         self.reward_weights = reward_weights(reward, StationKeepingReward)
         self.stepper = FixedLengthStepper(self.scenario.params, self.scenario.duration_s,
                                           control_step_s=control_step_s, actuator=Actuator(max_force_n=self.max_force_n),

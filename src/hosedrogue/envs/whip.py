@@ -24,7 +24,7 @@ from ..engagement.stepper import EngagementStepper
 from ..errors import ParameterError
 from ..scenarios import Scenario, scenario_from_dict
 from ..spec.rewards import WhipReward
-from .options import _positive, _set_turbulence, reward_weights
+from .options import on_grid, positive_option, reward_weights, set_turbulence
 from .task_common import checked_action, scaled, scenario_source, turbulence_seed_option
 
 #: The observation's components: (name, unit, scale); the observation is each divided by its scale.
@@ -68,7 +68,7 @@ def whip_scenario(scenario: str | Path | Scenario = "engage-response", turbulenc
     -------
     Scenario
     """
-    after = _positive("after_contact_s", after_contact_s, 60.0)
+    after = positive_option("after_contact_s", after_contact_s, 60.0)
     base, source, tables, name = scenario_source(scenario)
     e = base.engagement
     if e is None or e.probe is None or not e.probe.enabled or (e.pilot is not None and e.pilot.enabled) \
@@ -76,11 +76,11 @@ def whip_scenario(scenario: str | Path | Scenario = "engage-response", turbulenc
         raise ParameterError(f"scenario = {name!r}: the probe must fly the scenario's prescribed path; give an "
                              "engagement with an enabled [probe] and no [pilot] or [receiver] (e.g. 'engage-response')")
     limit = e.probe.standoff_m / e.probe.closure_speed_m_s + after + 1.0
-    _set_turbulence(tables, turbulence, base, limit)
+    set_turbulence(tables, turbulence, base, limit)
     tables["reel"] = {k: v for k, v in tables.get("reel", {}).items() if k not in ("entry", "options")}
     tables["reel"]["law"] = "python"
     tables["scenario"] = {**tables.get("scenario", {}), "duration_s": limit}
-    return scenario_from_dict(tables, name=name, source=source)
+    return on_grid(scenario_from_dict(tables, name=name, source=source))
 
 
 class WhipSuppressionEnv(gymnasium.Env):

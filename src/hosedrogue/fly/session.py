@@ -389,7 +389,7 @@ class LiveFlight:
                     break
                 self._cv.wait(wait)
             if self._end_reason is not None:
-                self.stepper.stop(f"stopped at t = {t:.4f} s: the flight was ended ({self._end_reason})")
+                self.stepper.stop(f"the flight was ended ({self._end_reason})")
             command, source = self._command, self._source
         late = clock.reached(t)
         self.record.add(k, command)

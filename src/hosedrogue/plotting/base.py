@@ -58,6 +58,27 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
     return path
 
 
+def legend_or_note(ax, note: str, **kw) -> None:
+    """The axes' legend, or, when nothing on them has a label (a campaign none of whose runs
+    completed), ``note`` written in their middle instead (matplotlib would warn "No artists with
+    labels found to put in legend").
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    note : str
+        What to write when there is nothing to show ("no completed run").
+    **kw
+        Passed to ``Axes.legend`` (``loc``, ``fontsize``).
+    """
+    handles, _ = ax.get_legend_handles_labels()
+    if handles:
+        ax.legend(**kw)
+    else:
+        ax.text(0.5, 0.5, note, transform=ax.transAxes, ha="center", va="center", color="0.4")
+
+
 def _grid(ax, **kw):
     ax.grid(True, alpha=0.3, **kw)
 

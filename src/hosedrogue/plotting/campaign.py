@@ -11,7 +11,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .base import new_figure
+from .base import legend_or_note, new_figure
 
 _LABELS = {
     "peak_radial_m": "peak radial displacement [m]",
@@ -61,11 +61,12 @@ def plot_histograms(table, controllers: Sequence[str], capture_radii_m: Sequence
         data = [_completed_values(table, c, col) for c in controllers]
         allx = np.concatenate(data) if data else np.empty(0)
         bins = np.histogram_bin_edges(allx, bins="auto") if allx.size else 10
-        for c, x in zip(controllers, data):
-            ax.hist(x, bins=bins, alpha=0.6 if len(controllers) > 1 else 0.9, label=f"controller {c}")
+        for i, (c, x) in enumerate(zip(controllers, data)):
+            if x.size:  # a controller none of whose runs completed draws nothing (its colour kept for the others)
+                ax.hist(x, bins=bins, alpha=0.6 if len(controllers) > 1 else 0.9, color=f"C{i}", label=f"controller {c}")
         ax.set_xlabel(labels[col])
         ax.set_ylabel("runs [-]")
-    axes.flat[0].legend(loc="upper right", fontsize="small")
+    legend_or_note(axes.flat[0], "no completed run", loc="upper right", fontsize="small")
     seeds = table["run"].nunique()
     fig.suptitle(f"Monte Carlo campaign: {seeds} turbulence seeds, controller " + " vs ".join(controllers))
     return fig
@@ -99,7 +100,7 @@ def plot_cdf(table, controllers: Sequence[str], capture_radii_m: Sequence[float]
         ax.set_xlabel(_LABELS[col])
     fig.suptitle("Empirical CDF over runs; dashed: capture radii " + ", ".join(f"{r:g} m" for r in capture_radii_m))
     axes[0].set_ylabel("fraction of runs [-]")
-    axes[0].legend(loc="lower right", fontsize="small")
+    legend_or_note(axes[0], "no completed run", loc="lower right", fontsize="small")
     return fig
 
 

@@ -9,21 +9,26 @@ fixed-length hose has n+1 at every time. Stored as computed (float64, not resamp
 * :func:`stack_joints` - per-time joint arrays -> (joint_count, joints_m)
   (:meth:`hosedrogue.results.run.RunResult.hose_shapes`);
 * :func:`split_joints` - the inverse;
-* :func:`write_hose_npz`, :func:`read_hose_npz` - the file (the reader checks that its arrays agree).
+* :func:`write_hose_npz`, :func:`read_hose_npz` - the file (the reader checks that its arrays agree);
+* :func:`run_digests` - the SHA-256 of a run's ``timeseries.csv`` and of its hose's arrays, which
+  ``run.json`` records (:data:`DIGEST_KEY`) so that the viewer knows a ``run.json`` of another run.
 """
 
 from __future__ import annotations
 
+import hashlib
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["FILE", "stack_joints", "split_joints", "write_hose_npz", "read_hose_npz"]
+__all__ = ["DIGEST_KEY", "FILE", "stack_joints", "split_joints", "write_hose_npz", "read_hose_npz", "run_digests"]
 
 #: File name of the hose's shape in a run's folder.
 FILE = "hose.npz"
+#: The key of ``run.json`` that holds :func:`run_digests` of the run's other files.
+DIGEST_KEY = "data_sha256"
 
 
 def stack_joints(joints_per_time) -> tuple[np.ndarray, np.ndarray]:
@@ -124,3 +129,28 @@ def read_hose_npz(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]
         raise ParameterError(f"{str(path)!r}: t_s {t.shape}, joint_count {counts.shape} and joints_m {joints.shape} "
                              "disagree: must be (N,), (N,) each >= 2, and (sum of joint_count, 3)")
     return t.astype(np.float64), counts.astype(np.int64), joints.astype(np.float64)
+
+
+def run_digests(csv_path: str | Path, t_s: np.ndarray, joint_count: np.ndarray, joints_m: np.ndarray) -> dict:
+    """What identifies a run's data: the SHA-256 of its ``timeseries.csv`` (the file's bytes) and of
+    its hose's arrays (as :func:`write_hose_npz` stores them: float64, int64, float64; not the
+    zip's bytes, which carry a time stamp), the same in every process.
+
+    Parameters
+    ----------
+    csv_path : str or pathlib.Path
+        The run's ``timeseries.csv``.
+    t_s, joint_count, joints_m : numpy.ndarray
+        The hose's shape over time (:func:`write_hose_npz`).
+
+    Returns
+    -------
+    dict
+        ``{"timeseries.csv": hex digest, "hose.npz": hex digest}``.
+    """
+    h = hashlib.sha256()
+    for a, dtype in ((t_s, np.float64), (joint_count, np.int64), (joints_m, np.float64)):
+        a = np.ascontiguousarray(a, dtype=dtype)
+        h.update(f"{a.dtype.str} {a.shape}".encode())
+        h.update(a.tobytes())
+    return {"timeseries.csv": hashlib.sha256(Path(csv_path).read_bytes()).hexdigest(), FILE: h.hexdigest()}

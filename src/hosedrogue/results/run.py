@@ -30,6 +30,30 @@ COLUMNS = ("t_s", "drogue_x_m", "drogue_y_m", "drogue_z_m", "drogue_dx_m", "drog
            "drogue_drag_z_n", "tow_force_x_n", "tow_force_y_n", "tow_force_z_n", "exit_tension_n", "u_y_n", "u_z_n")
 
 
+def stop_message(t_kept_s: float, reason: str, t_event_s: float | None = None) -> str:
+    """The one-line message of a run that stopped early: ``"stopped at t = T s: reason"``, T the
+    time of the last state the run kept (its result's ``t_s[-1]``), and when the cause came
+    after it (a state that failed in the next step, a controller's call between output times) that
+    time too.
+
+    Parameters
+    ----------
+    t_kept_s : float
+        The time of the last state kept [s].
+    reason : str
+        Why (one line).
+    t_event_s : float, optional
+        When the cause happened [s], if not at ``t_kept_s``.
+
+    Returns
+    -------
+    str
+    """
+    # 5e-5 s: half the last digit the message shows, below which the two times read the same
+    after = "" if t_event_s is None or abs(t_event_s - t_kept_s) < 5e-5 else f" (at t = {t_event_s:.4f} s)"
+    return f"stopped at t = {t_kept_s:.4f} s: {reason}{after}"
+
+
 @dataclass(frozen=True, kw_only=True)
 class RunResult:
     """What every run gives: the drogue's motion, the loads at the tow point, the control force.
@@ -177,8 +201,7 @@ class RunResult:
             (``states`` [rad, rad/s]; an engagement's also ``charts``); ``completed``, ``message``,
             ``equilibrium_drogue_position_m`` (1 x 3) [m], ``meta_json`` (the run's settings).
         """
-        import json
-
+        from ..jsonio import dumps, fallback
         from ..units import unit_of
 
         cols = self.columns()
@@ -199,7 +222,7 @@ class RunResult:
             "completed": bool(self.completed),
             "message": str(self.message),
             "equilibrium_drogue_position_m": np.asarray(eq, dtype=np.float64).reshape(1, 3),
-            "meta_json": json.dumps(self.meta, default=str),
+            "meta_json": dumps(self.meta, default=fallback),  # strict JSON, as run.json
         })
         return out
 

@@ -20,11 +20,12 @@ import numpy as np
 from ..results import hose_file
 from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..errors import ParameterError
-from ..jsonio import dumps, plain
+from ..jsonio import dumps, fallback
 from ..model.system import HoseModel
 from ..results.run import RunResult
 from ..results.spectra import PREDICTION_KEY
 from ..simulation import simulate
+from ..simulation.budget import check_run
 from . import Scenario
 from .spectrum import spectrum_prediction
 
@@ -188,6 +189,8 @@ def run(scenario: Scenario) -> RunResult:
     if not isinstance(scenario, Scenario):
         raise ParameterError(f"scenario = {scenario!r}: must be a hosedrogue.scenarios.Scenario "
                              "(load_scenario(name) or Scenario(...))")
+    # the commands' check: the step grid reaches the duration, the output fits in memory (before the work)
+    check_run(scenario.params, scenario.duration_s, "scenario.duration_s")
     extra = {}
     if scenario.engagement is None:
         result = _run_fixed_length(scenario)
@@ -311,20 +314,13 @@ def _sampled_meta(scenario: Scenario) -> dict:
     return out
 
 
-def _json_value(value):
-    """A value strict JSON does not know: a number as a float (null if not finite), anything else
-    (an option of a user's controller given from Python) as its text."""
-    try:
-        return plain(float(value))
-    except (TypeError, ValueError):
-        return repr(value)
-
-
 def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
     """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, ``hose.npz`` (the
     joint positions at every output time, :mod:`hosedrogue.results.hose_file`; what ``hosedrogue view``
     draws), its figure (``displacement.png`` or ``engagement.png``) and, with
-    ``"mat"``, ``timeseries.mat``.
+    ``"mat"``, ``timeseries.mat``. ``run.json`` holds the SHA-256 of the time series and of the hose's
+    arrays (``data_sha256``, :func:`hosedrogue.results.hose_file.run_digests`), by which ``view``
+    knows the files belong together.
 
     Parameters
     ----------
@@ -347,10 +343,13 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
         raise ParameterError(f"formats = {list(formats)!r}: each must be one of {', '.join(map(repr, FORMATS))}")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    paths = [result.to_csv(out_dir / "timeseries.csv")]
-    (out_dir / "run.json").write_text(dumps(result.run_document(), indent=2, default=_json_value) + "\n")
-    paths.append(out_dir / "run.json")
-    paths.append(hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *result.hose_shapes()))
+    csv = result.to_csv(out_dir / "timeseries.csv")
+    shapes = result.hose_shapes()
+    npz = hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *shapes)
+    # the digests of the run's data, by which the viewer knows run.json belongs to these files
+    doc = {**result.run_document(), hose_file.DIGEST_KEY: hose_file.run_digests(csv, result.t_s, *shapes)}
+    (out_dir / "run.json").write_text(dumps(doc, indent=2, default=fallback) + "\n")
+    paths = [csv, out_dir / "run.json", npz]
     if plot and result.t_s.size > 1:
         from ..plotting.figures import save_figure
 

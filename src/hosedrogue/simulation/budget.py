@@ -1,10 +1,12 @@
 """What a run can do, checked before it starts: reach its duration on its step grid, save at least
 one sample after its start, and keep its output within a share of the machine's memory.
 
-* **Step grid** (``command``: asked by the commands for the user's run). A run takes
+* **Step grid** (every run, from the commands and from Python alike). A run takes
   ``duration_s / step_s`` steps: that must be a whole number (to :data:`GRID_TOLERANCE`), or the
   run would end a fraction of a step early or late (``duration_s = 0.1`` at ``step_s = 0.03``
-  ended at 0.09 s).
+  ended at 0.09 s). A study that derives a duration from physics puts it on the grid itself with
+  :func:`on_step_grid` (the nearest step), and its scenario records the duration run. Sample times
+  and delays on the step (or control-step) grid: :func:`whole_multiple`.
 * **Output grid.** It saves every ``output_every`` steps: a run of fewer steps than that would
   keep its start only.
 * **Statistics window** (``command``). A turbulent run's statistics are taken over the turbulence window, which
@@ -24,7 +26,8 @@ import os
 from ..errors import ParameterError
 from ..results.statistics import turbulence_window
 
-__all__ = ["GRID_TOLERANCE", "MEMORY_SHARE", "check_memory", "check_run", "machine_memory_bytes", "output_bytes"]
+__all__ = ["GRID_TOLERANCE", "MEMORY_SHARE", "check_memory", "check_run", "machine_memory_bytes", "on_step_grid",
+           "output_bytes", "whole_multiple"]
 
 #: Share of the machine's physical memory that one run's (or campaign's) kept output may take [-].
 MEMORY_SHARE = 0.5
@@ -97,6 +100,28 @@ def output_bytes(links: int, samples: float) -> float:
     return 8.0 * samples * (8 * links + 6 * (links + 1) + SIGNALS_PER_SAMPLE)
 
 
+def on_step_grid(duration_s: float, step_s: float) -> float:
+    """``duration_s`` [s] moved to the nearest whole number of steps of ``step_s`` [s] (at least one):
+    the duration a run of that step reaches exactly, for durations derived from physics (a probe's
+    time to contact). Written with 12 significant digits, so 901 steps of 0.005 s read 4.505 s.
+
+    Parameters
+    ----------
+    duration_s : float
+        The wanted duration [s], finite and > 0.
+    step_s : float
+        The run's step [s] (``numerics.step_s``).
+
+    Returns
+    -------
+    float
+        ``max(1, round(duration_s / step_s)) * step_s`` [s], a whole number of steps to
+        :data:`GRID_TOLERANCE`.
+    """
+    steps = max(1, round(duration_s / step_s))
+    return float(f"{steps * step_s:.12g}")
+
+
 def check_run(params, duration_s: float, name: str = "duration_s", command: bool = False) -> tuple[float, int]:
     """Refuse, before it starts, a run that cannot reach its duration on its step grid, would save
     nothing after its start, or would keep more output than the machine's memory allows.
@@ -110,10 +135,10 @@ def check_run(params, duration_s: float, name: str = "duration_s", command: bool
     name : str
         How the messages name the duration (``scenario.duration_s`` in a scenario).
     command : bool
-        Also refuse a duration that is not a whole number of steps and a turbulence (statistics)
-        window outside the run. The commands ask for it on the user's run; the library's runs do not,
-        since studies derive durations from physics (the whip-load study's ``(standoff + push) /
-        closure speed``, run to the nearest step) and short runs of turbulent scenarios serve tests.
+        Also refuse a turbulence (statistics) window outside the run. The commands ask for it on the
+        user's run; the library's runs do not, since short runs of turbulent scenarios serve tests.
+        The step grid is checked on every run (studies put derived durations on it with
+        :func:`on_step_grid`).
 
     Returns
     -------
@@ -129,7 +154,7 @@ def check_run(params, duration_s: float, name: str = "duration_s", command: bool
     params.numerics.steps(duration_s, name)  # at most Numerics.MAX_STEPS
     ratio = duration_s / h
     steps = round(ratio)
-    if steps < 1 or (command and abs(ratio - steps) > GRID_TOLERANCE * max(ratio, 1.0)):
+    if steps < 1 or abs(ratio - steps) > GRID_TOLERANCE * max(ratio, 1.0):
         below, above = math.floor(ratio) * h, math.ceil(ratio) * h
         raise ParameterError(f"{name} = {duration_s!r}: not a whole number of steps of numerics.step_s = {h!r} s "
                              f"({ratio:.6g} steps; the run would not end at {duration_s!r} s); give {name} = "
@@ -149,3 +174,31 @@ def check_run(params, duration_s: float, name: str = "duration_s", command: bool
                  f"the run would keep {samples:.3g} samples of {params.hose.links} links",
                  "raise step_s or output_every, or shorten the run")
     return h, steps
+
+
+def whole_multiple(value_s: float, unit_s: float, name: str, unit_name: str) -> int:
+    """``value_s / unit_s`` when it is a whole number >= 1 (to :data:`GRID_TOLERANCE`).
+
+    Parameters
+    ----------
+    value_s : float
+        A duration [s] (a sample time, a delay).
+    unit_s : float
+        The grid [s] it must lie on (the RK4 step, a control step).
+    name, unit_name : str
+        How the message names the two (``"receiver.sample_time_s"``, ``"numerics.step_s"``).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ParameterError
+        One line naming both values.
+    """
+    ratio = value_s / unit_s
+    count = int(round(ratio))
+    if count < 1 or abs(ratio - count) > GRID_TOLERANCE * max(ratio, 1.0):
+        raise ParameterError(f"{name} = {value_s!r}: must be a whole multiple of {unit_name} = {unit_s!r} s")
+    return count

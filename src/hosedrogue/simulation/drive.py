@@ -8,7 +8,7 @@ raises (any exception, ``sys.exit`` and a ``KeyboardInterrupt`` of its own inclu
 user's Ctrl-C interrupts, :class:`~hosedrogue.controllers.sampled.CtrlC`), in ``reset`` or any call,
 or returns a bad command stops the run there with a one-line message naming it, the time and the
 problem; the stepper keeps what was computed (``completed`` False). A controller that
-holds the stepper may end the run itself in its call (``stepper.stop(message)``, e.g. the pilot
+holds the stepper may end the run itself in its call (``stepper.stop(reason)``, e.g. the pilot
 of a live flight ending it): nothing is integrated after that.
 """
 
@@ -18,7 +18,8 @@ import math
 from typing import Mapping
 
 from ..controllers.sampled import CtrlC, SampledController, one_line
-from .stepper import StepperBase, whole_multiple
+from .budget import whole_multiple
+from .stepper import StepperBase
 
 
 def control_step(controllers: Mapping[str, SampledController], step_s: float) -> float:
@@ -110,6 +111,6 @@ def _loop(stepper: StepperBase, plan: list, ctrl_c: CtrlC) -> None:
 
 
 def _failure(role: str, name: str, t: float, when: str, problem: str) -> str:
-    """The one-line message of a controller's failure."""
-    what = "reset" if when == "reset" else "call"
-    return f"stopped at t = {t:.4f} s: the {role} controller {name!r} {problem} (in its {what})"
+    """Why a controller stopped the run, and when (the stepper's message adds the last time kept)."""
+    what = "reset" if when == "reset" else f"call at t = {t:.4f} s"
+    return f"the {role} controller {name!r} {problem} (in its {what})"

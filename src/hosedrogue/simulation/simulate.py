@@ -27,7 +27,7 @@ from ..model.system import HoseModel
 from ..spec.params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..spec.sections import Controller
 from ..results.statistics import turbulence_window
-from ..results.run import SimulationResult
+from ..results.run import SimulationResult, stop_message
 from .budget import check_run
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
@@ -155,7 +155,7 @@ def simulate(
     if outs is None:
         outs = _derived_outputs(model, ts, xs, us)
     completed = status == LY.OK
-    message = "completed" if completed else f"stopped at t = {t_stop:.4f} s: {_status_text(status, params)}"
+    message = "completed" if completed else stop_message(float(ts[-1]), _status_text(status, params), t_stop)
     return SimulationResult(
         t_s=ts,
         states=xs,

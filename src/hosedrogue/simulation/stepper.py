@@ -25,13 +25,13 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
-from .budget import GRID_TOLERANCE, check_run
-from ..model import chain_dynamics as CD, drogue_actuator as DA, layout as LY
+from .budget import check_run, whole_multiple
+from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
                              held_command)
 from ..model.system import HoseModel
-from ..results.run import SimulationResult
+from ..results.run import SimulationResult, stop_message
 from ..results.statistics import turbulence_window
 from ..results.surfaces import surface_fields
 from ..spec.params import PAPER, Actuator, Params, Sensor
@@ -40,34 +40,6 @@ _STATUS_TEXT = {
     LY.NONFINITE: "the state became non-finite (numerical divergence)",
     LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
 }
-
-
-def whole_multiple(value_s: float, unit_s: float, name: str, unit_name: str) -> int:
-    """``value_s / unit_s`` when it is a whole number >= 1 (to :data:`hosedrogue.simulation.budget.GRID_TOLERANCE`).
-
-    Parameters
-    ----------
-    value_s : float
-        A duration [s] (a sample time, a delay).
-    unit_s : float
-        The grid [s] it must lie on (the RK4 step, a control step).
-    name, unit_name : str
-        How the message names the two (``"receiver.sample_time_s"``, ``"numerics.step_s"``).
-
-    Returns
-    -------
-    int
-
-    Raises
-    ------
-    ParameterError
-        One line naming both values.
-    """
-    ratio = value_s / unit_s
-    count = int(round(ratio))
-    if count < 1 or abs(ratio - count) > GRID_TOLERANCE * max(ratio, 1.0):
-        raise ParameterError(f"{name} = {value_s!r}: must be a whole multiple of {unit_name} = {unit_s!r} s")
-    return count
 
 
 def sensor_noise3(sensor: Sensor, duration_s: float, seed: int) -> np.ndarray:
@@ -147,16 +119,24 @@ class StepperBase:
         """"completed", "running", or when and why the run stopped."""
         return self._message
 
-    def stop(self, message: str) -> None:
-        """End the run here, marked incomplete with ``message`` (e.g. a controller that failed).
+    def stop(self, reason: str) -> None:
+        """End the run here, marked incomplete (e.g. a controller that failed): its message is
+        ``"stopped at t = T s: reason"``, T the time of the last state kept (the state now, if it is
+        on the output grid, else the last output time before it), which is the result's last time.
 
         Parameters
         ----------
-        message : str
-            One line: when and why.
+        reason : str
+            One line: why, and when it happened if that is not T.
         """
         if not self._done:
-            self._finish(False, message)
+            self._finish(False, "")
+            self._message = stop_message(self._last_kept_s(), reason)
+
+    def _last_kept_s(self) -> float:
+        """The time of the last state kept [s] (the stepper's time when it keeps no series)."""
+        saved = int(self.ctr[C_SAVED])
+        return float(self._rec[0][saved - 1]) if self.record and saved else self.t_s
 
     def _finish(self, completed: bool, message: str, state_valid: bool = True) -> None:
         """End the run; a valid state on the output grid is saved as the last row (a failed one is not)."""
@@ -431,7 +411,7 @@ class FixedLengthStepper(StepperBase):
     def _advance(self) -> None:
         status = fl_advance(*self._call)
         if status != LY.OK:
-            self._finish(False, f"stopped at t = {self.t_s:.4f} s: {_STATUS_TEXT[status]}", state_valid=False)
+            self._finish(False, stop_message(self._last_kept_s(), _STATUS_TEXT[status], self.t_s), state_valid=False)
         elif self.ctr[C_STEP] >= self.total_steps:
             self._finish(True, "completed")
 
@@ -471,7 +451,7 @@ class FixedLengthStepper(StepperBase):
         if status == LY.OK:
             self._finish(True, "completed", state_valid=False)  # the kernel saved the last row
         else:
-            self._finish(False, f"stopped at t = {self.t_s:.4f} s: {_STATUS_TEXT[status]}", state_valid=False)
+            self._finish(False, stop_message(self._last_kept_s(), _STATUS_TEXT[status], self.t_s), state_valid=False)
         return self.result()
 
     def result(self) -> SimulationResult:

@@ -162,6 +162,7 @@ def study_scenario(scenario, stiffness_n: float, closure_speed_m_s: float, links
     -------
     hosedrogue.scenarios.Scenario
     """
+    from ..simulation.budget import on_step_grid
     from ..spec.sections import Engagement
 
     sc = engagement_scenario(scenario)
@@ -174,8 +175,11 @@ def study_scenario(scenario, stiffness_n: float, closure_speed_m_s: float, links
     probe = dataclasses.replace(sc.engagement.probe, closure_speed_m_s=float(closure_speed_m_s),
                                 min_closure_speed_m_s=MIN_CLOSURE_SPEED_M_S)
     v = probe.closure_speed_m_s
-    duration = (probe.standoff_m + probe.push_m) / v + probe.stop_time_s + SETTLE_S
-    return dataclasses.replace(sc, params=sc.params.replace(hose=hose, numerics=numerics), duration_s=duration,
+    params = sc.params.replace(hose=hose, numerics=numerics)
+    # on the run's step grid (the nearest step, as the run went before runs checked their grid)
+    duration = on_step_grid((probe.standoff_m + probe.push_m) / v + probe.stop_time_s + SETTLE_S,
+                            params.numerics.step_s)
+    return dataclasses.replace(sc, params=params, duration_s=duration,
                                engagement=Engagement(reel=sc.engagement.reel, probe=probe,
                                                      bow_wave=sc.engagement.bow_wave, pilot=sc.engagement.pilot))
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
-from ..results.hose_file import FILE as HOSE_FILE, read_hose_npz, split_joints
+from ..results.hose_file import DIGEST_KEY, FILE as HOSE_FILE, read_hose_npz, run_digests, split_joints
 from ..results.run import RunResult
 
 __all__ = ["ViewRun", "read_run", "SERIES", "AIRCRAFT", "RUN_FILES"]
@@ -135,6 +135,20 @@ def _series(columns) -> dict:
             if name in columns}
 
 
+def _check_digests(folder, path: Path, doc: dict, t_s, counts, joints) -> None:
+    """Refuse a ``run.json`` whose digests of the run's data (:func:`hosedrogue.results.hose_file.run_digests`)
+    are not those of the folder's ``timeseries.csv`` and ``hose.npz``: a run.json of another run (one
+    written before run.json held them is read on the times' check alone)."""
+    recorded = doc.get(DIGEST_KEY)
+    if recorded is None:
+        return
+    found = run_digests(path / "timeseries.csv", t_s, counts, joints)
+    differ = [name for name in found if not isinstance(recorded, dict) or recorded.get(name) != found[name]]
+    if differ:
+        raise ParameterError(f"RUN_DIR = {str(folder)!r}: run.json is of another run (its {DIGEST_KEY} of "
+                             f"{' and '.join(differ)} is not this folder's): files of different runs")
+
+
 def read_run(folder: str | Path, label: str | None = None) -> ViewRun:
     """Read a run's folder for the viewer.
 
@@ -183,6 +197,7 @@ def read_run(folder: str | Path, label: str | None = None) -> ViewRun:
     if not isinstance(t_end, (int, float)) or not t_hose.size or not np.isclose(t_end, t_hose[-1], rtol=1e-9, atol=1e-12):
         raise ParameterError(f"RUN_DIR = {str(folder)!r}: run.json ends at t_end_s = {t_end!r} and timeseries.csv at "
                              f"{float(t_hose[-1]) if t_hose.size else None!r} s: files of different runs")
+    _check_digests(folder, path, doc, t_hose, counts, joints)
     columns["t_s"] = t_hose  # the full-precision times
     return ViewRun(label=label or str(doc.get("scenario") or path.resolve().name), columns=columns,
                    joint_count=counts, joints_m=joints, document=doc, source=str(path))
