@@ -339,7 +339,19 @@ def evaluate_point(residual, t, x, u, l, M, J, ps, env, gust, ws, xi, G, Q):
 
 
 def static_scratch(n):
-    """Scratch of :func:`evaluate_point` for a chain of n links: ``(xi, G)``, each (n+1, 3)."""
+    """Scratch of :func:`evaluate_point`'s residual for one chain.
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(xi, G)``, each (n+1, 3): the joints' velocity-product accelerations [m/s^2] and the
+        suffix sums of their loads [N] (:func:`generalized_forces`).
+    """
     return np.empty((n + 1, 3)), np.empty((n + 1, 3))
 
 
