@@ -62,6 +62,10 @@ JIT_NO_ALLOC = dict(JIT, _nrt=False)
 #: :mod:`hosedrogue.model.steppers` (docs/develop.md, "Compile time"). Called from Python it
 #: compiles as any other.
 JIT_INLINE = dict(JIT, inline="always")
+#: :data:`JIT_NO_ALLOC` inlined into its compiled callers: a small function of the chain's
+#: evaluation with few callers (docs/develop.md, "The compiled core"). Inlined into a caller
+#: with numba's runtime it takes the caller's runtime.
+JIT_NO_ALLOC_INLINE = dict(JIT_NO_ALLOC, inline="always")
 
 #: The package's folder: the functions defined under it take :func:`source_stamp`.
 PACKAGE_DIR = Path(__file__).resolve().parent

@@ -138,11 +138,17 @@ def towed_cable_guess(model: HoseModel) -> np.ndarray:
 
 
 def _residual_fn(model: HoseModel, env: np.ndarray):
+    n = model.n
     gust = model.gust_values
-    Q = np.empty(2 * model.n)
+    Q = np.empty(2 * n)
+    x = np.zeros(4 * n)  # [q, qd = 0]: the statics
+    u = np.zeros(2)
+    ws = CD.make_workspace(n)
+    xi, G = CD.static_scratch(n)
 
     def fun(q):
-        CD.static_residual(np.ascontiguousarray(q), model.l, model.M, model.J, model.ps, env, gust, 0.0, Q)
+        x[: 2 * n] = q
+        CD.evaluate_point(True, 0.0, x, u, model.l, model.M, model.J, model.ps, env, gust, ws, xi, G, Q)
         return Q.copy()
 
     def jac(q, h=1e-7):

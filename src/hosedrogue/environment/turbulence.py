@@ -22,7 +22,7 @@ import numpy as np
 import scipy.linalg
 from numba import njit
 
-from ..jit import JIT
+from ..jit import JIT, JIT_INLINE
 
 from ..spec.params import ParameterError, Turbulence
 from ..spec.standards import (  # noqa: F401 - part of this module's public interface
@@ -135,7 +135,7 @@ class GustRecord:
         return out.reshape(t.shape + (3,))
 
 
-@njit(**JIT)
+@njit(**JIT_INLINE)
 def _segment(v, i, n, j, f, cubic):
     """Value of column j on the segment [i, i+1] at fraction f: linear, or the Catmull-Rom cubic
     through samples i-1 .. i+2 (end samples repeated at the ends of the record)."""

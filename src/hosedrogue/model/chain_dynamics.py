@@ -19,20 +19,21 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..jit import JIT, JIT_NO_ALLOC
+from ..jit import JIT, JIT_NO_ALLOC, JIT_NO_ALLOC_INLINE
 from .chain_loads import env_at, joint_forces, joint_kinematics, kink, link_frames, rotational_terms
 from .frame import frame_loads
 from .layout import BENDING_MOMENT, ENV_SIZE, PS_BENDING, PS_EI, PS_G, PS_M_TOW, Layout
 
 
-@njit(**JIT)
-def generalized_forces(l, M, n, a, b, c, F, tau, G, Q):
+@njit(**JIT_NO_ALLOC_INLINE)
+def generalized_forces(l, M, n, a, b, c, F, tau, xi, G, Q):
     """Q (2n): generalized active forces minus velocity-product inertia terms (dense path).
 
     G (n+1,3) receives the suffix sums G_k = sum_{m>=k} (F_m - M_m xi_m) over joints 1..n, with
-    xi_m = sum_{i<m} c_i the velocity-product part of joint m's acceleration.
+    xi_m = sum_{i<m} c_i (xi, (n+1,3)) the velocity-product part of joint m's acceleration.
     """
-    xi = np.zeros((n + 1, 3))
+    for i in range(3):
+        xi[0, i] = 0.0
     for k in range(n):
         for i in range(3):
             xi[k + 1, i] = xi[k, i] + c[k, i]
@@ -226,7 +227,7 @@ def chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, to
         Az = pz + lk * (a[k, 2] * q1 + b[k, 2] * q2)
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """Kinematics and loads of a state into the workspace: link frames ws[0:4], joint positions
     ws[WS_R] and velocities ws[WS_V], velocity-product accelerations ws[WS_C], joint forces
@@ -236,7 +237,7 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
     loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws)
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     """:func:`loads` when the link frames ws[0:4] already hold those of q."""
     n = l.shape[0]
@@ -248,7 +249,7 @@ def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
     """Accelerations (ws[WS_QDD]) and outputs in the workspace: joint positions ws[WS_R], velocities
     ws[WS_V], drogue drag ws[WS_DRAG], tow-point force ws[WS_TOW]. O(n)."""
@@ -257,7 +258,7 @@ def evaluate_ws(t, x, u, l, M, S, J, ps, env, gust, ws):
     forward_dynamics_ws(l, M, J, ps, ws)
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def forward_dynamics_ws(l, M, J, ps, ws):
     """qdd (ws[WS_QDD]), tow-point force (ws[WS_TOW]) and exit tension (ws[WS_T0]) from the loads
     in the workspace."""
@@ -287,7 +288,7 @@ def exit_tension(l, ps, e, F, pull, n):
     return T
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
     """State derivative dx (4n) of x = [q, qd], using the workspace ws (no allocation)."""
     n = l.shape[0]
@@ -312,22 +313,46 @@ def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
     n = l.shape[0]
     ws = make_workspace_jit(n)
     loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
+    xi = np.empty((n + 1, 3))
     G = np.empty((n + 1, 3))
     Q = np.empty(2 * n)
-    generalized_forces(l, M, n, ws[WS_A], ws[WS_B], ws[WS_C], ws[WS_F], ws[WS_TAU], G, Q)
+    generalized_forces(l, M, n, ws[WS_A], ws[WS_B], ws[WS_C], ws[WS_F], ws[WS_TAU], xi, G, Q)
     H = np.empty((2 * n, 2 * n))
     mass_matrix(l, S, J, ps, n, ws[WS_A], ws[WS_B], ws[WS_CS], H)
     return np.linalg.solve(H, Q)
 
 
-@njit(**JIT)
-def static_residual(q, l, M, J, ps, env, gust, t, Q):
-    """Generalized forces at rest (qd = 0, u = 0) into Q (2n): zero exactly at an equilibrium."""
+@njit(**JIT_NO_ALLOC)
+def evaluate_point(residual, t, x, u, l, M, J, ps, env, gust, ws, xi, G, Q):
+    """One state evaluated from Python, the one compiled entry of the balance position
+    (docs/develop.md, "The compiled core"): the loads of x = [q, qd] into the workspace ws, then
+    either (``residual``) the generalized forces into Q (2n; with qd = 0 and u = 0 the statics'
+    residual, zero exactly at an equilibrium; xi and G (n+1, 3) are scratch) or, as
+    :func:`evaluate_ws`, the accelerations ws[WS_QDD], the tow-point force ws[WS_TOW] and the
+    exit tension ws[WS_T0] (xi, G and Q unused)."""
     n = l.shape[0]
-    ws = make_workspace_jit(n)
-    loads(t, q, np.zeros(2 * n), np.zeros(2), l, M, J, ps, env, gust, ws)
-    G = np.empty((n + 1, 3))
-    generalized_forces(l, M, n, ws[WS_A], ws[WS_B], ws[WS_C], ws[WS_F], ws[WS_TAU], G, Q)
+    loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
+    if residual:
+        generalized_forces(l, M, n, ws[WS_A], ws[WS_B], ws[WS_C], ws[WS_F], ws[WS_TAU], xi, G, Q)
+    else:
+        forward_dynamics_ws(l, M, J, ps, ws)
+
+
+def static_scratch(n):
+    """Scratch of :func:`evaluate_point`'s residual for one chain.
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(xi, G)``, each (n+1, 3): the joints' velocity-product accelerations [m/s^2] and the
+        suffix sums of their loads [N] (:func:`generalized_forces`).
+    """
+    return np.empty((n + 1, 3)), np.empty((n + 1, 3))
 
 
 @njit(**JIT)
@@ -382,6 +407,24 @@ def mass_matrix_at(q, l, S, J, ps):
     return H
 
 
+@njit(**JIT_NO_ALLOC)
+def copy_vector(dst, src):
+    """``dst[:] = src`` for two vectors of one length, element by element: numba's array
+    assignment compiles, beside the copy, the text of its shape-mismatch error (numba's string
+    formatting, about 1.5 s of a cold start per pair of shapes; docs/develop.md, "The compiled
+    core")."""
+    for i in range(dst.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(**JIT_NO_ALLOC)
+def copy_matrix(dst, src):
+    """:func:`copy_vector` of two matrices of one shape."""
+    for i in range(dst.shape[0]):
+        for j in range(dst.shape[1]):
+            dst[i, j] = src[i, j]
+
+
 @njit(**JIT)
 def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, drogue_drag, tow, tension):
     """Derived outputs at every saved state: joints (N, n+1, 3), drogue velocity, drogue drag
@@ -390,8 +433,8 @@ def outputs_series(ts, xs, us, l, M, S, J, ps, env, gust, joints, drogue_vel, dr
     ws = make_workspace_jit(n)
     for i in range(ts.shape[0]):
         evaluate_ws(ts[i], xs[i], us[i], l, M, S, J, ps, env, gust, ws)
-        joints[i] = ws[WS_R]
-        drogue_vel[i] = ws[WS_V][n]
-        drogue_drag[i] = ws[WS_DRAG]
-        tow[i] = ws[WS_TOW]
+        copy_matrix(joints[i], ws[WS_R])
+        copy_vector(drogue_vel[i], ws[WS_V][n])
+        copy_vector(drogue_drag[i], ws[WS_DRAG])
+        copy_vector(tow[i], ws[WS_TOW])
         tension[i] = ws[WS_T0][0]

@@ -29,7 +29,7 @@ from numba import njit
 from ..environment.bow_wave import bow_wave_velocity
 from ..environment.turbulence import gust_at
 from ..environment.wake import wake_velocity
-from ..jit import JIT_NO_ALLOC
+from ..jit import JIT_NO_ALLOC, JIT_NO_ALLOC_INLINE
 from .frame import frame_terms, frame_wind
 from .layout import (
     BENDING_OFF, BENDING_PAPER, DRAG_GAUSS2, ENV_BW, ENV_BW_LEN, ENV_BW_Q, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, ENV_FROZEN,
@@ -55,7 +55,7 @@ def air_velocity(px, py, pz, t, env, gust):
     return wx, wy, wz
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def still_air_velocity(px, py, pz, t, env, gust):
     """:func:`air_velocity` without the bow wave: free stream, wake and gust [m/s] (and, when the
     tanker manoeuvres, the air's rotation relative to its axes, :func:`frame.frame_wind`)."""
@@ -127,7 +127,7 @@ def joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c):
             v[k + 1, i] = v[k, i] + lk * (a[k, i] * d1 + b[k, i] * d2)
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def kink(e, k):
     """Bend at joint k+1 between links k and k+1: (e_k x e_{k+1}) components, its length
     sin(gamma), and the angle gamma (atan2, accurate near 0)."""
@@ -139,7 +139,7 @@ def kink(e, k):
     return wx, wy, wz, sn, math.atan2(sn, cn)
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def segment_drag(q_ct, q_cn, lw, sf, sp, k, e, v, wx, wy, wz):
     """Drag [N] of the piece of link k of length lw [m] at the point sf r_k + sp r_k+1 (sf + sp
     = 1), in air moving at (wx, wy, wz) [m/s] there: from the relative velocity, tangential
@@ -159,7 +159,7 @@ def segment_drag(q_ct, q_cn, lw, sf, sp, k, e, v, wx, wy, wz):
     return -ft * e[k, 0] + fn * vnx, -ft * e[k, 1] + fn * vny, -ft * e[k, 2] + fn * vnz
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def link_omega(k, l, e, v):
     """Angular velocity of link k [rad/s] from its end velocities: omega_k = e_k x de_k/dt with
     de_k/dt = (V_k+1 - V_k) / l_k (omega_k is perpendicular to e_k, docs/model.md §1)."""
@@ -169,7 +169,7 @@ def link_omega(k, l, e, v):
     return (e[k, 1] * dz - e[k, 2] * dy, e[k, 2] * dx - e[k, 0] * dz, e[k, 0] * dy - e[k, 1] * dx)
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def drag_rule(ps, rho):
     """The link drag's factors and quadrature: ``(q_ct, q_cn, npts, s0, s1, w)``.
 
@@ -185,7 +185,7 @@ def drag_rule(ps, rho):
     return q_ct, q_cn, 1, 0.5, 0.5, 1.0
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
@@ -332,7 +332,7 @@ def rotational_terms(qd, J, n, cs, Mom, tau):
         tau[k, 1] = -J[k] * c2 * s2 * d1 * d1 + s1 * Mom[k, 0] + c1 * Mom[k, 2]
 
 
-@njit(**JIT_NO_ALLOC)
+@njit(**JIT_NO_ALLOC_INLINE)
 def env_at(t, env, gust, scratch):
     """``env`` copied into ``scratch`` with, when every point sees the same gust (``uniform``),
     the gust at time t looked up once (air_velocity then reads it instead of the record);

@@ -37,7 +37,7 @@ from .frame import frame_loads
 from .layout import BENDING_MOMENT, PS_BENDING, PS_CA, PS_EA, PS_EI, PS_G, PS_M_TOW, Layout
 from .chain_dynamics import (
     WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_ENV, WS_F, WS_MOM, WS_QDD, WS_R, WS_T0, WS_TAU, WS_TOW, WS_V,
-    chain_energy, make_workspace_jit,
+    chain_energy, copy_matrix, copy_vector, make_workspace_jit,
 )
 from .chain_loads import (
     drogue_from_frames, env_at, joint_forces_stretched, joint_kinematics, kink, link_frames, rotational_terms,
@@ -401,8 +401,10 @@ def elastic_static_residual(y, l, M, J, ps, env, gust, t, Q):
     ws = make_workspace_jit(n)
     ews = make_elastic_workspace_jit(n)
     x = np.zeros(6 * n)
-    x[: 2 * n] = y[: 2 * n]
-    x[4 * n: 5 * n] = y[2 * n: 3 * n]
+    for k in range(n):  # element by element (copy_vector's reason)
+        x[2 * k] = y[2 * k]
+        x[2 * k + 1] = y[2 * k + 1]
+        x[4 * n + k] = y[2 * n + k]
     elastic_evaluate_ws(t, x, np.zeros(2), l, M, J, ps, env, gust, ws, ews, 0.0, x)
     # at rest the joint equations are H a = Q: the residual is Q itself, i.e. H a
     F, a, b, e = ws[WS_F], ws[WS_A], ws[WS_B], ws[WS_E]
@@ -428,10 +430,10 @@ def elastic_outputs_series(ts, xs, us, l, M, J, ps, env, gust, joints, drogue_ve
     ews = make_elastic_workspace_jit(n)
     for i in range(ts.shape[0]):
         elastic_evaluate_ws(ts[i], xs[i], us[i], l, M, J, ps, env, gust, ws, ews, 0.0, xs[i])
-        joints[i] = ws[WS_R]
-        drogue_vel[i] = ws[WS_V][n]
-        drogue_drag[i] = ws[WS_DRAG]
-        tow[i] = ws[WS_TOW]
+        copy_matrix(joints[i], ws[WS_R])
+        copy_vector(drogue_vel[i], ws[WS_V][n])
+        copy_vector(drogue_drag[i], ws[WS_DRAG])
+        copy_vector(tow[i], ws[WS_TOW])
         tension[i] = ws[WS_T0][0]
 
 

@@ -293,8 +293,8 @@ class HoseModel:
                                   env, self.gust_values, ws, ews, 0.0, x)
             qdd = np.concatenate([ws[CD.WS_QDD], ews[E.EWS_LAMDD]])
         else:
-            CD.evaluate_ws(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
-                          self.ps, env, self.gust_values, ws)
+            CD.evaluate_point(False, float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.J,
+                              self.ps, env, self.gust_values, ws, *CD.static_scratch(self.n), np.empty(2 * self.n))
             qdd = ws[CD.WS_QDD]
         r, v, dd, tf = ws[CD.WS_R], ws[CD.WS_V], ws[CD.WS_DRAG], ws[CD.WS_TOW]
         return StateOutputs(qdd, r, v, dd, tf, float(ws[CD.WS_T0][0]))
@@ -337,8 +337,10 @@ class HoseModel:
         """Generalized forces at rest [N m] (2n,); zero at an equilibrium."""
         Q = np.empty(2 * self.n)
         env = self.steady_env if steady else self.env
-        CD.static_residual(np.ascontiguousarray(q, dtype=np.float64), self.l, self.M, self.J,
-                          self.ps, env, self.gust_values, 0.0, Q)
+        x = np.zeros(4 * self.n)
+        x[: 2 * self.n] = q
+        CD.evaluate_point(True, 0.0, x, np.zeros(2), self.l, self.M, self.J, self.ps, env, self.gust_values,
+                          CD.make_workspace(self.n), *CD.static_scratch(self.n), Q)
         return Q
 
     def joint_positions(self, q, lengths=None) -> np.ndarray:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ...jit import JIT
+from ...jit import JIT, JIT_INLINE
 from ..chain_dynamics import WS_A, WS_B, WS_C, WS_CS, WS_E, WS_R, WS_V
 from ..chain_loads import joint_kinematics, link_frames
 from ..elastic import add_axial_rates
@@ -37,7 +37,7 @@ def apply_charts(n, chart, e, a, b):
                 arr[k, 2] = y
 
 
-@njit(**JIT)
+@njit(**JIT_INLINE)
 def rotate_rows(n, chart, c, inverse):
     """Rotate rows of c (n,3) of the alternative-chart links by R (or R^T if inverse)."""
     for k in range(n):

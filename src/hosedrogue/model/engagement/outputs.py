@@ -14,7 +14,8 @@ from numba import njit
 from ...jit import JIT, JIT_INLINE
 from .. import drogue_actuator as DA
 from ..chain_dynamics import (
-    WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_F, WS_QDD, WS_R, WS_TOW, WS_V, chain_energy, make_workspace_jit,
+    WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_F, WS_QDD, WS_R, WS_TOW, WS_V, chain_energy, copy_matrix, copy_vector,
+    make_workspace_jit,
 )
 from ..elastic import EWS_EPSD, EWS_T, axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy
 from ..layout import (
@@ -173,22 +174,22 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
         if elastic:
             eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
                                  zs[i])
-            joints[i] = ws[WS_R]
-            jvel[i] = ws[WS_V]
-            scal[i] = out
+            copy_matrix(joints[i], ws[WS_R])
+            copy_matrix(jvel[i], ws[WS_V])
+            copy_vector(scal[i], out)
             for j in range(3):
                 tow[i, j] = ws[WS_TOW][j]
                 drogue_drag[i, j] = ws[WS_DRAG][j]
             if ep[EP_SPLIT] != 0.0:
                 tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
             tension_drogue[i] = ews[EWS_T][n - 1]  # the last link's tension EA eps + c_a deps/dt
-            link_tension[i] = ews[EWS_T]
+            copy_vector(link_tension[i], ews[EWS_T])
             continue
         eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         out[O_PAXIAL] = 0.0
-        joints[i] = ws[WS_R]
-        jvel[i] = ws[WS_V]
-        scal[i] = out
+        copy_matrix(joints[i], ws[WS_R])
+        copy_matrix(jvel[i], ws[WS_V])
+        copy_vector(scal[i], out)
         Ldd = out[O_LDD]
         # total force of the hose on the exit: F_0 + sum (F_k - M_k A_k)
         for j in range(3):

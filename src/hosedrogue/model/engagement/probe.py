@@ -10,7 +10,7 @@ import math
 
 from numba import njit
 
-from ...jit import JIT
+from ...jit import JIT, JIT_INLINE
 from ..chain_loads import fill_env
 from ..layout import (
     BW_OFF, ENV_BW, ENV_BW_LEN, ENV_BW_Q, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ,
@@ -52,7 +52,7 @@ def probe_state(t, ep):
     return ep[EP_P0X] + s, ep[EP_P0Y], ep[EP_P0Z], v, 0.0, 0.0
 
 
-@njit(**JIT)
+@njit(**JIT_INLINE)
 def fed_axis(s, ep, i):
     """Position, velocity and acceleration [m, m/s, m/s^2] along axis i of the fed path (``EP_FEED``)
     s seconds after ``EP_FEED_T0``."""

@@ -10,8 +10,8 @@ import numpy as np
 from numba import njit
 
 from ...jit import JIT, JIT_INLINE, JIT_NO_ALLOC
-from ..chain_dynamics import WS_CS, make_workspace_jit
-from ..elastic import make_elastic_workspace_jit
+from ..chain_dynamics import WS_CS, make_workspace
+from ..elastic import make_elastic_workspace, make_elastic_workspace_jit
 from ..integrate import step_status
 from ..layout import (
     CHART, C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, EP_COUPLED, EP_ELASTIC, EP_ITER, EP_L_MAX,
@@ -20,7 +20,7 @@ from ..layout import (
 )
 from ..sampled import deliver
 from ..steppers import rk4, sdirk2
-from .chain import chain_kinematics, drogue_motion, elastic_pairs_jit, set_variable_link, tail_start
+from .chain import chain_kinematics, drogue_motion, elastic_pairs, elastic_pairs_jit, set_variable_link, tail_start
 from .evaluation import eng_deriv, eng_deriv_elastic
 from .outputs import plane_distance, raw_measurement, state_loads
 
@@ -48,55 +48,10 @@ _elastic_rk4, _ = rk4(eng_rate_elastic)
 _elastic_sdirk2 = sdirk2(eng_rate_elastic)
 
 
-def _segment(elastic):
-    """:func:`eng_segment` compiled for one kind of link (``elastic``: a constant of the compiled
-    function, so that numba compiles the code of that kind only)."""
-
-    @njit(**JIT)
-    def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                    max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads):
-        """Steps of size h from (t0, z) (global step index step0) for at most ``nsteps`` steps, in
-        place: RK4, or for elastic links the integrator ``ep[EP_SCHEME]`` (RK4 or the SDIRK of
-        :mod:`hosedrogue.model.steppers`).
-
-        Saves z at every global step that is a multiple of ``save_every`` (into ts, zs). Stops after
-        the step at which the exit link's length leaves [merge_at, split_at] (SPLIT / MERGE), the probe
-        tip crosses the coupler plane before coupling (PLANE; zprev then holds the state before the
-        step), or the state fails (NONFINITE / YAW_LIMIT, or REEL_END: the free length left the reel's
-        range). Returns (status, steps done, saved count).
-        With a pilot (``ep[EP_PIL]``) the drogue's y, z, y', z' after every global step k go to
-        ``hist[k]`` (row 0 at the start), for the pilot's delayed view of the drogue. With elastic
-        links the loads of the state after every global step k go to ``loads[k]``
-        (:func:`~.outputs.state_loads`; ``loads`` has one row per step of the run, or is a (1, 4)
-        placeholder for rigid links).
-        """
-        nz = z.shape[0]
-        work = np.empty((8, nz))
-        ws = make_workspace_jit(n)
-        ws2 = make_workspace_jit(n)
-        dM = np.empty(2)
-        out = np.zeros(O_SIZE)
-        scratch = (work, ws, ws2, dM, out, make_elastic_workspace_jit(n),
-                   elastic_pairs_jit(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0))
-        limits = (max_yaw, switch_yaw, split_at, merge_at, allow_merge)
-        if elastic:
-            return eng_steps_elastic(z, t0, 0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart,
-                                     loop, hist, limits, zprev, ts, zs, True, 0, scratch, loads)
-        return eng_steps_rigid(z, t0, 0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop,
-                               hist, limits, zprev, ts, zs, True, 0, scratch, loads)
-
-    return eng_segment
-
-
-#: The compiled segment of rigid links and of elastic links (:func:`eng_segment` picks one).
-eng_segment_rigid, eng_segment_elastic = _segment(False), _segment(True)
-
-
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
                 max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads):
     """Steps of size h from (t0, z) (global step index step0) for at most ``nsteps`` steps, in
-    place, compiled for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_segment_rigid`
-    or :data:`eng_segment_elastic`, whose docstring says the rest).
+    place, by the steps compiled for the chain's kind of link (``ep[EP_ELASTIC]``).
 
     Parameters
     ----------
@@ -117,10 +72,33 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     -------
     (int, int, int)
         Status, steps done, saved count.
+
+    Notes
+    -----
+    The steps are RK4, or for elastic links the integrator ``ep[EP_SCHEME]`` (RK4 or the SDIRK of
+    :mod:`hosedrogue.model.steppers`). Saves z at every global step that is a multiple of
+    ``save_every`` (into ts, zs). Stops after the step at which the exit link's length leaves
+    [merge_at, split_at] (SPLIT / MERGE), the probe tip crosses the coupler plane before coupling
+    (PLANE; zprev then holds the state before the step), or the state fails (NONFINITE / YAW_LIMIT,
+    or REEL_END: the free length left the reel's range). With a pilot (``ep[EP_PIL]``) the drogue's
+    y, z, y', z' after every global step k go to ``hist[k]`` (row 0 at the start), for the pilot's
+    delayed view of the drogue. With elastic links the loads of the state after every global step k
+    go to ``loads[k]`` (:func:`~.outputs.state_loads`; ``loads`` has one row per step of the run, or
+    is a (1, 4) placeholder for rigid links).
+
+    The scratch is allocated here and the steps compiled for the kind of link
+    (:data:`eng_steps_rigid`, :data:`eng_steps_elastic`) called directly: a compiled segment that
+    allocated it would compile the machine code of every step and evaluation once more (about 2 s
+    of a cold start), and its literal arguments would compile the steps a second time beside the
+    control step's (:func:`eng_advance`) signature (docs/develop.md, "The compiled core").
     """
-    kernel = eng_segment_elastic if ep[EP_ELASTIC] != 0.0 else eng_segment_rigid
-    return kernel(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                  max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads)
+    elastic = ep[EP_ELASTIC] != 0.0
+    scratch = (np.empty((8, z.shape[0])), make_workspace(n), make_workspace(n), np.empty(2), np.zeros(O_SIZE),
+               make_elastic_workspace(n), elastic_pairs(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0))
+    limits = (float(max_yaw), float(switch_yaw), float(split_at), float(merge_at), bool(allow_merge))
+    kernel = eng_steps_elastic if elastic else eng_steps_rigid
+    return kernel(z, float(t0), 0, int(step0), float(h), int(nsteps), int(save_every), int(n), l, M, J, ps, env, gust,
+                  ep, chart, loop, hist, limits, zprev, ts, zs, True, 0, scratch, loads)
 
 
 @njit(**JIT_INLINE)
