@@ -6,8 +6,8 @@
   (the time inside the compiled segments, ``eng_segment``: the steps, their remeshes and events;
   the measure of the issue's 7.6, 82.5 us per RK4 step) with the target 50, and of the whole
   driver (plus the balance position, solved afresh for every run as in a user's first run of a
-  flight condition: its per-process cache is cleared; 0.018 s at 160 elastic links, 0.24 s with
-  ``--minpack``, the former solver; and the assembly of the result), compile time excluded,
+  flight condition: its per-process cache is cleared; 0.011-0.013 s at 160 elastic links, 0.24 s with
+  ``--minpack``, the former solver; and the assembly of the result; both printed), compile time excluded,
   against the target 50 too (issue 32);
 * the same scenario with rigid links on the settings it shipped with before (RK4 at 0.625 ms,
   two O(n) solves per evaluation), and the link-doubling mesh (320 links at half the step),
