@@ -7,7 +7,9 @@ against the issue's 5 %, with its bootstrap interval (95 %, percentile method, t
 copies resampled independently: a chaotic flail forgets its micrometre within the run, so copy
 ``i`` on one mesh says nothing of copy ``i`` on the other). The check holds for a quantile when
 its change's interval lies within +-5 %; it fails when the interval lies outside; otherwise the
-copies cannot tell (more copies narrow the interval as 1/sqrt(N)).
+copies cannot tell (more copies narrow the interval as 1/sqrt(N)). Also printed: the two-sample
+Kolmogorov-Smirnov test of the two meshes' copies (scipy.stats.ks_2samp: a small p says the
+distributions differ as a whole) and how many fine-mesh copies lie above the coarse mesh's largest.
 
 Each copy's figures are appended to ``--record`` (JSON lines) as it finishes and read back on the
 next start: a long run can be stopped and resumed, and ``--copies`` raised later reuses the copies
@@ -130,6 +132,10 @@ def _report(key, coarse, fine, links) -> None:
         d = distribution(v)
         print(f"    {mesh} links: median {d['median']:.5g} {_ci(d['median_interval'])}, 5 % {d['p05']:.5g}, "
               f"95 % {d['p95']:.5g} {_ci(d['p95_interval'])}, range [{d['min']:.5g}, {d['max']:.5g}]")
+    import scipy.stats
+
+    print(f"    the two meshes' distributions: Kolmogorov-Smirnov p = {scipy.stats.ks_2samp(a, b).pvalue:.3g}; "
+          f"{sum(x > max(a) for x in b)} of {len(b)} copies on {links[1]} links above the largest on {links[0]}")
     for name, q in QUANTILE.items():
         change, ci = change_interval(a, b, q)
         print(f"    {name}: {100 * change:+.2f} % from {links[0]} to {links[1]} links, 95 % interval "
