@@ -100,38 +100,41 @@ def towed_cable_guess(model: HoseModel) -> np.ndarray:
     numpy.ndarray
         q (2n,) [rad]: pitch and yaw of every link.
     """
-    n, l, M = model.n, model.l, model.M
+    n, l, M = model.n, [float(x) for x in model.l], [float(x) for x in model.M]
     V, rho = model.params.flight.airspeed_m_s, model.rho
     hose, drogue = model.params.hose, model.params.drogue
     q_cn = 0.5 * rho * math.pi * hose.outer_diameter_m * hose.normal_drag_coefficient
     q_ct = 0.5 * rho * math.pi * hose.outer_diameter_m * hose.tangential_drag_coefficient
     wind = np.array([-V, 0.0, 0.0])
     drogue_drag = 0.5 * rho * V * V * math.pi * drogue.diameter_m**2 / 4 * drogue.drag_coefficient
+    # the same operations on the same numbers as numpy's on 3-vectors, bit for bit, at a fraction
+    # of their call overhead: -(-wind) is wind; np.linalg.norm(x) of a vector is sqrt(x.dot(x))
+    vrel, dot, sqrt = -wind, np.ndarray.dot, math.sqrt
 
     def link_drag(k: int, e: np.ndarray) -> np.ndarray:
-        vrel = -wind
-        vt = -vrel @ e
+        vt = dot(wind, e)
         vn = vrel + vt * e
-        return -q_ct * l[k] * vt * abs(vt) * (-e) - q_cn * l[k] * np.linalg.norm(vn) * vn
+        return -q_ct * l[k] * vt * abs(vt) * (-e) - q_cn * l[k] * sqrt(dot(vn, vn)) * vn
 
     carried = np.array([-drogue_drag, 0.0, 0.0])  # forces aft of the current link's aft joint
     q = np.zeros(2 * n)
-    e_aft = None
+    drag_aft = None  # the last link's drag at its direction, computed once for both of its joints
     for k in range(n - 1, -1, -1):
         base = carried + np.array([0.0, 0.0, M[k] * G0])
-        if e_aft is not None:
-            base = base + 0.5 * link_drag(k + 1, e_aft)
-        e = base / np.linalg.norm(base)
+        if drag_aft is not None:
+            base = base + 0.5 * drag_aft
+        e = base / sqrt(dot(base, base))
         for _ in range(100):
             total = base + 0.5 * link_drag(k, e)
-            e_new = total / np.linalg.norm(total)
-            if np.linalg.norm(e_new - e) < 1e-14:
+            e_new = total / sqrt(dot(total, total))
+            d = e_new - e
+            if sqrt(dot(d, d)) < 1e-14:
                 e = e_new
                 break
             e = e_new
         # the link pulls its aft joint forward along -e; the joint's load points along +e
-        e_aft = e
-        carried = base + 0.5 * link_drag(k, e)
+        drag_aft = link_drag(k, e)
+        carried = base + 0.5 * drag_aft
         q[2 * k + 1] = math.asin(max(-1.0, min(1.0, -e[1])))
         q[2 * k] = math.atan2(e[2], -e[0])
     return q
@@ -197,18 +200,42 @@ def _band_jacobian(fun, q: np.ndarray, w: int, h: float = 1e-7) -> np.ndarray:
     return ab
 
 
+def _band_lu(ab: np.ndarray):
+    """The band's LU factors (LAPACK's gbtrf on ``ab`` in scipy.linalg.solve_banded's storage, with
+    its rows for the fill-in): factorized once per Jacobian, each chord step then one gbtrs
+    (:func:`_band_solve`), the very solve that solve_banded's gbsv (gbtrf, then gbtrs) does, bit
+    for bit, without refactorizing the same band at every step."""
+    from scipy.linalg import lapack
+
+    if not np.all(np.isfinite(ab)):
+        raise ValueError("array must not contain infs or NaNs")
+    a2 = np.zeros((3 * BAND + 1, ab.shape[1]))
+    a2[BAND:, :] = ab
+    lu, piv, info = lapack.dgbtrf(a2, BAND, BAND, overwrite_ab=True)
+    return lu, piv, info
+
+
+def _band_solve(factors, r: np.ndarray) -> np.ndarray:
+    """The solution of the band's system (:func:`_band_lu`) for the right-hand side ``r``."""
+    from scipy.linalg import lapack
+
+    lu, piv, info = factors
+    if info > 0:
+        raise np.linalg.LinAlgError("singular matrix")
+    return lapack.dgbtrs(lu, BAND, BAND, r, piv)[0]
+
+
 def _banded_chord(fun, jac, q0: np.ndarray, scale: float):
     """The rigid balance position by chord iterations on the banded part of the Jacobian
     (:data:`BAND`), refreshed every :data:`BAND_REFRESH` iterations: 22 residual evaluations per
     Jacobian instead of MINPACK's 4n. Returns a scipy ``OptimizeResult`` (``x``, ``residual``,
     ``band``: the last banded Jacobian) once the residual is below 1e-2 of
     :data:`RESIDUAL_TOLERANCE`, or None (diverged, or not converged in :data:`BAND_ITERATIONS`)."""
-    import scipy.linalg
-
     q = q0.copy()
     for it in range(BAND_ITERATIONS):
         if it % BAND_REFRESH == 0:
             ab = _band_jacobian(fun, q, BAND)
+            factors = None
         r = fun(q)
         res = float(np.max(np.abs(r))) / scale
         if not np.isfinite(res):
@@ -216,7 +243,8 @@ def _banded_chord(fun, jac, q0: np.ndarray, scale: float):
         if res < 1e-2 * RESIDUAL_TOLERANCE:
             return scipy.optimize.OptimizeResult(x=q, success=True, nit=it, residual=res, band=ab,
                                                  message=f"chord iterations on a banded Jacobian converged in {it}")
-        q = q - scipy.linalg.solve_banded((BAND, BAND), ab, r)
+        factors = factors or _band_lu(ab)  # factorized at the band's first use
+        q = q - _band_solve(factors, r)
     return None
 
 
@@ -324,6 +352,7 @@ def _elastic_chord(fun, n: int, y0: np.ndarray, rigid, EA: float, scale: float):
     if band is None:
         R = np.zeros((m, m))
         R[np.triu_indices(m)] = rigid.r
+    factors = None
     y = y0.copy()
     for it in range(1, CHORD_ITERATIONS + 1):
         r = fun(y)
@@ -332,7 +361,8 @@ def _elastic_chord(fun, n: int, y0: np.ndarray, rigid, EA: float, scale: float):
         if band is None:
             dq = -scipy.linalg.solve_triangular(R, rigid.fjac @ r[:m])
         else:
-            dq = -scipy.linalg.solve_banded((BAND, BAND), band, r[:m])
+            factors = factors or _band_lu(band)
+            dq = -_band_solve(factors, r[:m])
         dlam = r[m:] / EA
         y = y + np.concatenate([dq, dlam])
         small = max(np.max(np.abs(dq)), np.max(np.abs(dlam / y0[m:]))) <= CHORD_XTOL

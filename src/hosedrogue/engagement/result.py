@@ -16,7 +16,6 @@ from ..model import drogue_actuator as DA, layout as LY
 from ..results.surfaces import surface_fields
 from ..model.engagement import chain as EC, outputs as EO
 from ..spec.params import Params
-from ..results.matlab_file import state_names
 from ..results.run import EngagementResult
 from .chain import Chain
 
@@ -67,7 +66,8 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     tow = np.empty((N, 3))
     tdrog = np.empty(N)
     drag = np.empty((N, 3))
-    links_t = np.full((N, n), np.nan)
+    # the elastic kernel writes every link's tension of every row; rigid links leave theirs NaN
+    links_t = np.empty((N, n)) if ep[LY.EP_ELASTIC] != 0.0 else np.full((N, n), np.nan)
     if loop is None:
         from .loop import no_loop
 
@@ -189,36 +189,6 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
     return cols, joints, jvel
 
 
-def hose_state_matrices(pieces: list) -> dict:
-    """The MATLAB file's ``states`` and ``charts`` of an engagement from its segments' (hose states,
-    charts): ``states`` (N, 4 n_max) [q, qd] [rad, rad/s] named by :func:`state_names` with n_max the
-    most links of the run, a row of fewer links NaN beyond them (its q in columns 0..2n, its rates
-    from 2 n_max); ``charts`` (N, n_max) each link's chart (0 standard angles, 1 the alternative
-    chart, NaN beyond the row's links).
-
-    Parameters
-    ----------
-    pieces : list of (numpy.ndarray, numpy.ndarray)
-        Per segment its hose states (k, 4n) and its links' charts (n,).
-
-    Returns
-    -------
-    dict
-        name -> (array, column names).
-    """
-    n_max = max(z.shape[1] // 4 for z, _ in pieces)
-    rows = sum(z.shape[0] for z, _ in pieces)
-    x, chart = np.full((rows, 4 * n_max), np.nan), np.full((rows, n_max), np.nan)
-    i = 0
-    for z, ch in pieces:
-        n, k = z.shape[1] // 4, z.shape[0]
-        x[i:i + k, :2 * n] = z[:, :2 * n]
-        x[i:i + k, 2 * n_max:2 * n_max + 2 * n] = z[:, 2 * n:]
-        chart[i:i + k, :n] = ch
-        i += k
-    return {"states": (x, state_names(n_max)), "charts": (chart, [f"chart_{k}" for k in range(1, n_max + 1)])}
-
-
 def _peaks(cat: dict, drogue_eq, events: list, delta_total: float, t_set: float) -> dict:
     """The run's peaks and hose lengths (outcome keys, units in their names)."""
     excursion = np.linalg.norm(cat["rd"] - drogue_eq, axis=1)
@@ -313,7 +283,7 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
         jvel_all.extend(list(jvel))
     link_tensions = [t for seg in cols.pop("links_t") for t in seg] if params.hose.elastic else None
     cols.pop("links_t", None)
-    hose_states = hose_state_matrices([s for seg in cols.pop("hose_states") for s in seg])
+    hose_states = [s for seg in cols.pop("hose_states") for s in seg]  # matrices built when asked for
     cat = {k: np.concatenate(v) for k, v in cols.items()}
     surfaces = {} if "defl" not in cat else surface_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}

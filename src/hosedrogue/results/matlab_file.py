@@ -68,3 +68,33 @@ def state_names(links: int) -> list[str]:
     """
     q = [f"theta_{k}_{j}_rad" for k in range(1, links + 1) for j in (1, 2)]
     return q + [f"{name}_s" for name in q]
+
+
+def hose_state_matrices(pieces: list) -> dict:
+    """The MATLAB file's ``states`` and ``charts`` of an engagement from its segments' (hose states,
+    charts): ``states`` (N, 4 n_max) [q, qd] [rad, rad/s] named by :func:`state_names` with n_max the
+    most links of the run, a row of fewer links NaN beyond them (its q in columns 0..2n, its rates
+    from 2 n_max); ``charts`` (N, n_max) each link's chart (0 standard angles, 1 the alternative
+    chart, NaN beyond the row's links).
+
+    Parameters
+    ----------
+    pieces : list of (numpy.ndarray, numpy.ndarray)
+        Per segment its hose states (k, 4n) and its links' charts (n,).
+
+    Returns
+    -------
+    dict
+        name -> (array, column names).
+    """
+    n_max = max(z.shape[1] // 4 for z, _ in pieces)
+    rows = sum(z.shape[0] for z, _ in pieces)
+    x, chart = np.full((rows, 4 * n_max), np.nan), np.full((rows, n_max), np.nan)
+    i = 0
+    for z, ch in pieces:
+        n, k = z.shape[1] // 4, z.shape[0]
+        x[i:i + k, :2 * n] = z[:, :2 * n]
+        x[i:i + k, 2 * n_max:2 * n_max + 2 * n] = z[:, 2 * n:]
+        chart[i:i + k, :n] = ch
+        i += k
+    return {"states": (x, state_names(n_max)), "charts": (chart, [f"chart_{k}" for k in range(1, n_max + 1)])}

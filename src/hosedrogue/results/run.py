@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .matlab_file import cellstr, save_mat, state_names
+from .matlab_file import cellstr, hose_state_matrices, save_mat, state_names
 from .convergence import PEAK_KEYS, UNVERIFIED_NOTE, unverified, verification_document, went_slack
 from .statistics import DEFAULT_CAPTURE_RADII_M, window_statistics
 from .surfaces import WithSurfaces
@@ -323,11 +323,13 @@ class EngagementResult(WithSurfaces, RunResult):
     step_loads: np.ndarray | None = None
     #: elastic links: per output time, every link's tension [N] (n,), exit link first (None for rigid links)
     link_tensions_n: list | None = None
-    hose_states: dict | None = None  #: the MATLAB file's ``states`` and ``charts``: name -> (array, names)
+    #: per segment its hose states (k, 4n) [rad, rad/s] and its links' charts (n,): the MATLAB
+    #: file's ``states`` and ``charts`` (:meth:`matrices`), built only when it is written
+    hose_states: list | None = None
 
     def matrices(self) -> dict[str, tuple[np.ndarray, list[str]]]:
-        """The hose's states and charts (:func:`hosedrogue.engagement.result.hose_state_matrices`)."""
-        return dict(self.hose_states or {})
+        """The hose's states and charts (:func:`hosedrogue.results.matlab_file.hose_state_matrices`)."""
+        return hose_state_matrices(self.hose_states) if self.hose_states else {}
 
     def extra_columns(self) -> dict[str, np.ndarray]:
         """The engagement's columns after :data:`COLUMNS`: reel, tensions, probe, coupler-plane

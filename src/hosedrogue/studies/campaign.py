@@ -65,7 +65,10 @@ from ..scenarios.runner import run, sampled_controllers
 from ..simulation.budget import check_memory, check_run
 from . import executor
 from .executor import IN_FLIGHT_PER_WORKER, SYNCHRONOUS
+from ..results.convergence import DEFAULT_TOLERANCE
+from .campaign_verify import campaign_verification, check_sample
 from .seeds import run_seed
+from .verify import check_tolerance
 from .statistics import CampaignSummary, summarize_campaign
 from .folder import FolderLock
 from .store import (AppendLog, check_rows, check_same_settings, make_settings, read_runs, read_settings, run_columns,
@@ -258,6 +261,8 @@ def run_campaign(
     duration_s: float | None = None,
     progress: bool = True,
     client=None,
+    verify_sample: int = 0,
+    tolerance: float = DEFAULT_TOLERANCE,
 ) -> CampaignSummary:
     """Run (or resume) a Monte Carlo campaign of ``runs`` turbulence realisations of a scenario.
 
@@ -290,6 +295,12 @@ def run_campaign(
         Show a progress bar on stderr (only when it is a terminal).
     client : distributed.Client, optional
         Use this dask client (not closed here) instead of ``workers``/``scheduler``.
+    verify_sample : int
+        Runs to verify [-] (0: none): run again, and on twice the links at the refined step, in
+        this process after the campaign (:mod:`hosedrogue.studies.campaign_verify`: which runs,
+        verification.json and .csv, summary.json's ``"verification"``).
+    tolerance : float
+        Relative tolerance of the verification [-] (default 0.03).
 
     Returns
     -------
@@ -306,6 +317,7 @@ def run_campaign(
         ``out_dir`` that is a file or holds a campaign with other settings; nothing is written then.
     """
     runs = _check_int("runs", runs, 1)
+    verify_sample, tolerance = check_sample(verify_sample), check_tolerance(tolerance)
     seed = _check_int("seed", seed, 0, 2**63 - 1)
     radii = _check_radii(capture_radii_m)
     workers = _check_execution(workers, scheduler, client)
@@ -346,7 +358,8 @@ def run_campaign(
                     _execute(tasks, log, out, total, total - len(remaining), progress, dask_client)
                 finally:
                     log.close()
-        return summarize_campaign(out, settings, new_runs=len(remaining))
+        verification = campaign_verification(out, scenario, settings, verify_sample, tolerance, progress)
+        return summarize_campaign(out, settings, new_runs=len(remaining), verification=verification)
 
 
 def _controllers(scenario, compare_controller: bool) -> tuple[str, ...]:

@@ -46,10 +46,13 @@ class CampaignSummary:
     new_runs: int  #: runs executed by this call (the rest were resumed from runs.csv)
     #: engagement campaigns: rate, Wilson ci95, runs, by_result (:func:`capture_summary`); else None
     capture: dict | None = None
+    #: summary.json's "verification" (:func:`hosedrogue.studies.campaign_verify.campaign_verification`); None: left out
+    verification: dict | None = None
 
     def to_dict(self) -> dict:
         """The content of summary.json."""
         out = {} if self.capture is None else {"capture": self.capture}
+        out |= {} if self.verification is None else {"verification": self.verification}
         return out | {
             "campaign": self.settings,
             "controllers": {
@@ -179,7 +182,7 @@ def capture_summary(results) -> dict:
 
 
 def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_runs: int = 0,
-                       plots: bool = True) -> CampaignSummary:
+                       plots: bool = True, verification: dict | None = None) -> CampaignSummary:
     """Compute the statistics from ``out_dir/runs.csv`` and write summary.json, summary.csv and the
     figures (histograms.png, cdf.png).
 
@@ -193,6 +196,8 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
         Runs executed by the calling campaign (recorded in the summary).
     plots : bool
         Also write the figures.
+    verification : dict, optional
+        summary.json's ``"verification"`` block (:mod:`hosedrogue.studies.campaign_verify`).
 
     Returns
     -------
@@ -231,7 +236,7 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
                              "p95": d["p95"], "completed_fraction": completed[c]})
     files = []
     capture = capture_summary(table["result"]) if engagement else None
-    summary = CampaignSummary(out, settings, table, statistics, completed, (), new_runs, capture)
+    summary = CampaignSummary(out, settings, table, statistics, completed, (), new_runs, capture, verification)
     write_atomic(out / "summary.json", jsonio.dumps(summary.to_dict(), indent=2) + "\n")
     files.append(out / "summary.json")
     columns = list(csv_rows[0]) if csv_rows else []
