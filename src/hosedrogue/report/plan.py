@@ -130,9 +130,10 @@ def sections_for(only=None) -> tuple[Section, ...]:
 
 def cpu_seconds() -> float:
     """CPU time [s] of this process and of its children that have ended (user and system): a
-    section's difference counts the dask workers it started and closed, so it holds however loaded
-    the machine is (``report.json["build"]["stage_cpu_s"]``, beside the wall times). Where there
-    is no ``resource`` module (Windows): this process's only."""
+    section's difference counts the dask workers it started and closed
+    (``report.json["build"]["stage_cpu_s"]``, beside the wall times). It leaves out the time spent
+    waiting for other jobs, but contention still inflates it: compare builds made at the same load.
+    Where there is no ``resource`` module (Windows): this process's only."""
     try:
         import resource
     except ImportError:
