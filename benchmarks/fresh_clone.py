@@ -70,6 +70,7 @@ def main(argv=None) -> int:
                 build = json.loads(report.read_text())["build"]
                 r["build_s"], r["workers"] = build["elapsed_s"], build.get("workers")
                 r["stage_times_s"] = build["stage_times_s"]
+                r["cpu_s"], r["stage_cpu_s"] = build.get("cpu_s"), build.get("stage_cpu_s", {})
             if args.keep:
                 r["clone"] = str(clone)
             results.append(r)
@@ -83,8 +84,11 @@ def main(argv=None) -> int:
         verdict = "met" if r["wall_s"] <= r["target_s"] else "not met"
         print(f"{r['command']}: {r['wall_s']:.0f} s wall (set-up {r['setup_s']:.0f} s), exit {r['exit_status']}; "
               f"target {r['target_s']:.0f} s: {verdict}")
+        if r.get("cpu_s") is not None:
+            print(f"  CPU {r['cpu_s']:.0f} s over every process of the build")
+        cpu = r.get("stage_cpu_s", {})
         for label, s in sorted(r.get("stage_times_s", {}).items(), key=lambda kv: -kv[1]):
-            print(f"  {s:7.1f} s  {label}")
+            print(f"  {s:7.1f} s  {label}" + (f" (CPU {cpu[label]:.1f} s)" if label in cpu else ""))
         if "tail" in r:
             print(r["tail"], file=sys.stderr)
     return 0

@@ -303,7 +303,8 @@ def test_sections_on_two_processes_write_the_report_one_process_writes(tmp_path)
         if name == "report.json":
             a, b = (json.loads(x) for x in (a, b))
             for x in (a, b):
-                x["build"].pop("elapsed_s"), x["build"].pop("workers"), x["build"].pop("stage_times_s")
+                for key in ("elapsed_s", "workers", "stage_times_s", "cpu_s", "stage_cpu_s"):
+                    x["build"].pop(key)
         elif name == "index.html":
             a, b = (re.sub(rb"build, \d+ s, [\d: -]+\)", b"", x) for x in (a, b))
         assert a == b, name
@@ -335,6 +336,8 @@ def test_reproduce_only_writes_a_partial_report(tmp_path, capsys):
     assert main(["reproduce", "--fast", "--only", "parameters", "--out", str(out)]) == 0
     build = json.loads((out / "report.json").read_text())["build"]
     assert build["sections"] == ["parameters"] and list(build["stage_times_s"]) == ["parameters"]
+    # its CPU seconds (the section's process) are some of the whole build's (every process)
+    assert list(build["stage_cpu_s"]) == ["parameters"] and 0.0 < build["stage_cpu_s"]["parameters"] <= build["cpu_s"]
     page = (out / "index.html").read_text(encoding="utf-8")
     assert 'id="partial-banner"' in page and 'id="table1"' in page and 'id="differences"' not in page
     assert main(["reproduce", "--only", "nope", "--out", str(tmp_path / "bad")]) == 2

@@ -264,6 +264,37 @@ def test_work_in_flight_is_bounded(dask_cluster):
     assert sorted(results) == sorted(-i for i in range(40))
 
 
+class _CountingClient:
+    """A dask client that counts the tasks submitted to it."""
+
+    def __init__(self, client):
+        self.client, self.submitted = client, 0
+
+    def submit(self, *args, **kw):
+        self.submitted += 1
+        return self.client.submit(*args, **kw)
+
+    def __getattr__(self, name):
+        return getattr(self.client, name)
+
+
+@pytest.mark.dask
+def test_short_tasks_reach_dask_in_batches(dask_cluster):
+    """40 tasks of 50 ms: the first dask tasks carry one each, the later as many as take about
+    BATCH_S (0.25 s: about 5), so far fewer than 40 dask tasks run them all, every result arriving."""
+    client = _CountingClient(dask_cluster[1])
+    results = []
+    executor.execute_dask(client, iter([0.05] * 40), time.sleep, 3, results.append)
+    assert results == [None] * 40
+    assert 3 < client.submitted < 20, client.submitted  # 3 single tasks first; batches of 16 at most
+
+
+def test_a_batch_stopped_by_an_error_returns_the_results_before_it():
+    results, wall_s, error = executor.run_batch((1.0).__truediv__, [2.0, 4.0, 0.0, 8.0])
+    assert results == [0.5, 0.25] and isinstance(error, ZeroDivisionError) and wall_s >= 0.0
+    assert executor.run_batch(operator.neg, [1, 2])[0::2] == ([-1, -2], None)
+
+
 # --- outputs -------------------------------------------------------------------------------------
 def test_campaign_seed_changes_results_and_summary_is_complete(reference, tiny, tmp_path):
     ref, summary = reference

@@ -13,7 +13,7 @@ CHANNELS = ("lateral", "vertical")
 _CHANNEL_TITLE = {"lateral": "lateral channel (u_hor -> P_ny)", "vertical": "vertical channel (u_ver -> P_nz)"}
 
 
-def new_figure(nrows: int = 1, ncols: int = 1, size=(7.0, 4.0), **kw):
+def new_figure(nrows: int = 1, ncols: int = 1, size=(7.0, 4.0), constrained: bool = True, **kw):
     """A figure not registered with pyplot's global state (safe in long-running processes).
 
     Parameters
@@ -22,6 +22,9 @@ def new_figure(nrows: int = 1, ncols: int = 1, size=(7.0, 4.0), **kw):
         Grid of axes.
     size : tuple of float
         Figure width and height [inch].
+    constrained : bool
+        Matplotlib's constrained layout; False: none (the caller places the axes, e.g. with
+        ``subplots_adjust``, and saves the layout solver's CPU).
     **kw
         Passed to ``Figure.subplots`` (e.g. ``sharex``, ``subplot_kw``).
 
@@ -30,7 +33,7 @@ def new_figure(nrows: int = 1, ncols: int = 1, size=(7.0, 4.0), **kw):
     tuple
         ``(figure, axes)`` as from ``Figure.subplots``.
     """
-    fig = Figure(figsize=size, constrained_layout=True)
+    fig = Figure(figsize=size, constrained_layout=True) if constrained else Figure(figsize=size)
     axes = fig.subplots(nrows, ncols, **kw)
     return fig, axes
 

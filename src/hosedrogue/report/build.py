@@ -12,7 +12,7 @@ from pathlib import Path
 from ..errors import ParameterError
 from ..version import __version__
 from .page import render_page
-from .plan import CLOSING, COST_HINT_S, SECTIONS, Section, run_section, section_keys, sections_for
+from .plan import CLOSING, COST_HINT_S, SECTIONS, Section, cpu_seconds, run_section, section_keys, sections_for
 from .settings import FAST, FULL, ReportSettings
 from .writer import ReportFolder
 
@@ -53,7 +53,7 @@ def build_report(out_dir, fast: bool = False, progress: bool = True, only=None, 
     chosen = sections_for(only)
     out = ReportFolder(Path(out_dir))
     out.dir.mkdir(parents=True, exist_ok=True)
-    t_start = time.perf_counter()
+    t_start, c_start = time.perf_counter(), cpu_seconds()
     bar = tqdm(total=len(chosen) + 1, desc="reproduce", unit="stage", disable=not progress, file=sys.stderr)
     out.status = bar.set_postfix_str
     try:
@@ -67,7 +67,8 @@ def build_report(out_dir, fast: bool = False, progress: bool = True, only=None, 
                 run_section(section, out, settings, results)
         elapsed = time.perf_counter() - t_start
         build = {"version": __version__, "settings": settings.name, "fast": bool(fast), "workers": workers,
-                 "elapsed_s": elapsed, "stage_times_s": timings}
+                 "elapsed_s": elapsed, "stage_times_s": {k: w for k, (w, _) in timings.items()},
+                 "cpu_s": cpu_seconds() - c_start, "stage_cpu_s": {k: c for k, (_, c) in timings.items()}}
         if only is not None:
             build["sections"] = [s.key for s in chosen]
         headline = out.write_json({"build": build, **out.headline})
@@ -79,14 +80,15 @@ def build_report(out_dir, fast: bool = False, progress: bool = True, only=None, 
 
 
 def _build_serial(chosen, out: ReportFolder, settings: ReportSettings, bar) -> tuple[dict, dict]:
-    """The sections one after the other in this process: their results and wall times [s] by label."""
+    """The sections one after the other in this process: their results, and their wall and CPU
+    times [s] (:func:`~hosedrogue.report.plan.cpu_seconds`) by label."""
     results: dict[str, object] = {}
-    timings: dict[str, float] = {}
+    timings: dict[str, tuple] = {}
     for section in chosen:
         bar.set_description(f"reproduce: {section.label}")
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), cpu_seconds()
         run_section(section, out, settings, results)
-        timings[section.label] = time.perf_counter() - t0
+        timings[section.label] = (time.perf_counter() - t0, cpu_seconds() - c0)
         bar.update(1)
     return results, timings
 
@@ -94,7 +96,7 @@ def _build_serial(chosen, out: ReportFolder, settings: ReportSettings, bar) -> t
 def _build_parallel(chosen, out: ReportFolder, settings: ReportSettings, bar, workers: int) -> tuple[dict, dict]:
     """The sections' groups on ``workers`` processes, longest first (:data:`COST_HINT_S`); their
     contributions added in build order. The kept results (the closing sections' needs) and the
-    sections' wall times [s] by label, in build order."""
+    sections' wall and CPU times [s] by label, in build order."""
     from .parallel import apply, run_groups, section_groups
 
     groups = sorted(section_groups(chosen), key=lambda keys: -sum(COST_HINT_S.get(k, 0.0) for k in keys))

@@ -126,9 +126,10 @@ def build_group(keys, out_dir, fast: bool, keep) -> tuple[dict, dict, dict]:
     contributions : dict
         Section key -> :class:`Contribution`.
     times : dict
-        Section key -> wall-clock time [s].
+        Section key -> (wall-clock time [s], CPU time [s] of this process and the children it
+        ended: :func:`~hosedrogue.report.plan.cpu_seconds`).
     """
-    from .plan import SECTIONS, run_section
+    from .plan import SECTIONS, cpu_seconds, run_section
     from .settings import FAST, FULL
     from .writer import ReportFolder
 
@@ -139,9 +140,9 @@ def build_group(keys, out_dir, fast: bool, keep) -> tuple[dict, dict, dict]:
     contributions, times = {}, {}
     for key in keys:
         mark = _mark(out)
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), cpu_seconds()
         run_section(by_key[key], out, settings, results)
-        times[key] = time.perf_counter() - t0
+        times[key] = (time.perf_counter() - t0, cpu_seconds() - c0)
         contributions[key] = _contribution(out, mark)
     return {k: results[k] for k in keep if k in results}, contributions, times
 

@@ -21,7 +21,8 @@ from . import (accuracy, closed_loop, controllers, convergence, differences, doc
 from .settings import ReportSettings
 from .writer import ReportFolder
 
-__all__ = ["Section", "SECTIONS", "CLOSING", "COST_HINT_S", "section_keys", "sections_for", "run_section"]
+__all__ = ["Section", "SECTIONS", "CLOSING", "COST_HINT_S", "section_keys", "sections_for", "run_section",
+           "cpu_seconds"]
 
 
 @dataclass(frozen=True)
@@ -125,6 +126,22 @@ def sections_for(only=None) -> tuple[Section, ...]:
             wanted.add(key)
             stack.extend(by_key[key].needs)
     return tuple(s for s in SECTIONS if s.key in wanted)
+
+
+def cpu_seconds() -> float:
+    """CPU time [s] of this process and of its children that have ended (user and system): a
+    section's difference counts the dask workers it started and closed
+    (``report.json["build"]["stage_cpu_s"]``, beside the wall times). It leaves out the time spent
+    waiting for other jobs, but contention still inflates it: compare builds made at the same load.
+    Where there is no ``resource`` module (Windows): this process's only."""
+    try:
+        import resource
+    except ImportError:
+        import time
+
+        return time.process_time()
+    return sum(u.ru_utime + u.ru_stime for u in (resource.getrusage(resource.RUSAGE_SELF),
+                                                 resource.getrusage(resource.RUSAGE_CHILDREN)))
 
 
 def run_section(section: Section, out: ReportFolder, settings: ReportSettings, results: dict) -> None:

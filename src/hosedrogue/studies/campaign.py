@@ -37,11 +37,12 @@ when turbulence is off), with the window rule written down there.
 
 Bounded memory
 --------------
-Tasks are generated lazily and at most ``4 K`` runs (K worker threads) are submitted at a time
-(:func:`hosedrogue.studies.executor.execute_dask`); each worker returns one small dict per run
-(the time series stays on the worker and is discarded, or written to disk there), which the
-client appends to runs.csv at once and forgets. A campaign of 10 000 runs therefore needs the
-memory of a few dozen runs; only the final summary reads all rows back (about 200 bytes each).
+Tasks are generated lazily and at most ``4 K`` dask tasks (K worker threads), each a batch of up
+to 16 runs, are submitted at a time (:func:`hosedrogue.studies.executor.execute_dask`); each worker
+returns one small dict per run (the time series stays on the worker and is discarded, or written
+to disk there), which the client appends to runs.csv at once and forgets. A campaign of 10 000
+runs therefore needs the memory of a few hundred runs; only the final summary reads all rows back
+(about 200 bytes each).
 """
 
 from __future__ import annotations
