@@ -135,7 +135,7 @@ def workers_alive(client) -> bool:
     """Whether the client's cluster has a worker: one registered with the scheduler or, on a
     cluster of this process (``client.cluster``, a LocalCluster: its nannies), a worker process
     alive that has not registered yet (its nanny restarting it after user code killed the last
-    one: importing the package takes minutes under a load of 14 on two cores).
+    one: a restart took more than 15 s under a load of 14 on two cores).
 
     Parameters
     ----------
