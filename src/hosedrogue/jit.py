@@ -175,6 +175,11 @@ class CompileOnceCache(caching.FunctionCache):
     ``numba:compile`` end event, :class:`_ReleaseOnFailure`) or when the process ends, so a
     crashed compiler leaves nothing stuck. Call graphs have no cycles, so locks taken in call order
     cannot deadlock. Without ``fcntl`` (Windows) or a writable cache folder, it is numba's cache.
+
+    Parameters
+    ----------
+    py_func : function
+        The Python function numba compiles (numba's dispatcher makes the cache).
     """
 
     def __init__(self, py_func):

@@ -199,9 +199,10 @@ def test_gym_task_command_bad_input_is_one_line_exit_2(capsys, argv, names):
 
 @pytest.mark.parametrize("build", ["docking", "station", "whip"])
 def test_an_episode_length_off_the_step_grid_runs_the_nearest_whole_number_of_steps(build):
-    """A time limit of 1.0037 s at the approach's 0.005 s step (200.74 steps) runs 201 steps, 1.005 s,
-    and the scenario records it (a run off its grid is refused); the whip episode's length is the
-    probe's time to contact + after_contact_s + 1 s, here 0.0037 s past a step."""
+    """A time limit of 1.0037 s at the approach's 0.005 s step saved every 2 steps (100.37 output
+    intervals of 0.01 s) runs 100 intervals, 1.0 s, and the scenario records it (a run off its step
+    or output grid is refused); the whip episode's length is the probe's time to contact +
+    after_contact_s + 1 s, here 0.0037 s past a step."""
     from hosedrogue.envs.options import docking_scenario
     from hosedrogue.envs.station import station_scenario
     from hosedrogue.envs.whip import whip_scenario
@@ -213,5 +214,6 @@ def test_an_episode_length_off_the_step_grid_runs_the_nearest_whole_number_of_st
     h = sc.params.numerics.step_s
     _, steps = check_run(sc.params, sc.duration_s)
     assert abs(sc.duration_s - steps * h) <= 1e-12 * sc.duration_s
+    assert steps % sc.params.numerics.output_every == 0
     if build != "whip":
-        assert sc.duration_s == 1.005 and h == 0.005
+        assert sc.duration_s == 1.0 and h == 0.005

@@ -10,6 +10,7 @@ import pytest
 
 from hosedrogue.cli import main
 from hosedrogue.scenarios import load_scenario, shipped_scenarios
+from hosedrogue.simulation.budget import on_step_grid
 from hosedrogue.jsonio import fallback as _json_value
 
 
@@ -26,7 +27,9 @@ def strict_loads(text: str):
 def test_every_shipped_scenarios_run_json_is_strict(name, tmp_path, capsys):
     sc = load_scenario(name)
     gusts = sc.params.turbulence
-    duration = min(sc.duration_s, round((gusts.start_s if gusts.enabled else 0.0) + 0.1, 9))
+    num = sc.params.numerics  # on the run's output grid, as every run must be
+    duration = min(sc.duration_s, on_step_grid((gusts.start_s if gusts.enabled else 0.0) + 0.1, num.step_s,
+                                               num.output_every))
     code = main(["simulate", name, "--duration", repr(duration), "--out", str(tmp_path / "o")])
     capsys.readouterr()
     assert code in (0, 3)  # 3: a run that stopped early still writes its run.json, marked

@@ -21,6 +21,7 @@ from hosedrogue.spec.params import PAPER
 
 DAY = '[scenario]\nname = "day"\nduration_s = 86400.0\n[hose]\nlinks = 20\n[numerics]\nstep_s = 1e-5\noutput_every = 1\n'
 GRID = '[scenario]\nname = "grid"\nduration_s = 0.1\n[numerics]\nstep_s = 0.03\n'
+OUTPUT = '[scenario]\nname = "output"\nduration_s = 0.1\n[numerics]\nstep_s = 0.01\noutput_every = 3\n'
 EVERY = '[scenario]\nname = "every"\nduration_s = 0.1\n[numerics]\noutput_every = 1000000\n'
 LATE = ('[scenario]\nname = "late"\nduration_s = 1.0\n[turbulence]\nenabled = true\nstart_s = 5.0\n'
         'duration_s = 2.0\n')
@@ -29,6 +30,8 @@ CASES = {
     "24 hours at every step": (DAY, ["scenario.duration_s = 86400.0", "numerics.step_s = 1e-05", "numerics.output_every = 1",
                                      "GB"]),
     "duration off the step grid": (GRID, ["scenario.duration_s = 0.1", "numerics.step_s = 0.03", "0.09 or 0.12"]),
+    "duration off the output grid": (OUTPUT, ["scenario.duration_s = 0.1", "numerics.step_s = 0.01",
+                                              "numerics.output_every = 3", "0.09 or 0.12"]),
     "output_every past the end": (EVERY, ["numerics.output_every = 1000000", "output_every <= 20"]),
     "turbulence window after the run": (LATE, ["turbulence.start_s = 5.0", "[0, 1] s"]),
 }
@@ -57,7 +60,7 @@ def test_the_grid_check_accepts_decimal_steps():
         budget.check_run(params, 0.36)  # a library run: the same check as the commands'
 
 
-def _library_run(entry):
+def _library_run(entry, numerics=None):
     """Every way a run starts from Python: the scenario runner, the simulation API, the
     fixed-length stepper, the engagement; each given 0.1 s at a step of 0.03 s."""
     from hosedrogue.engagement.simulate import simulate_engagement
@@ -66,12 +69,13 @@ def _library_run(entry):
     from hosedrogue.simulation import simulate
     from hosedrogue.simulation.stepper import FixedLengthStepper
 
-    params = PAPER.replace(numerics={"step_s": 0.03, "output_every": 1})
+    numerics = numerics or {"step_s": 0.03, "output_every": 1}
+    params = PAPER.replace(numerics=numerics)
     if entry == "scenarios.runner.run":
         sc = load_scenario("paper-turbulence").with_overrides(duration_s=0.1)
-        return run(dataclasses.replace(sc, params=sc.params.replace(numerics={"step_s": 0.03, "output_every": 1})))
+        return run(dataclasses.replace(sc, params=sc.params.replace(numerics=numerics)))
     if entry == "FixedLengthStepper":
-        return FixedLengthStepper(params, 0.1, control_step_s=0.03)
+        return FixedLengthStepper(params, 0.1, control_step_s=numerics["step_s"])
     return {"simulate": simulate, "simulate_engagement": simulate_engagement}[entry](params, 0.1)
 
 
@@ -80,6 +84,26 @@ def test_a_library_run_off_its_step_grid_is_refused_as_the_command_refuses_it(en
     """The run would end at 0.09 s (3 steps), short of its 0.1 s: refused, naming the step."""
     with pytest.raises(ParameterError, match=r"duration_s = 0.1: not a whole number of steps of numerics.step_s = 0.03"):
         _library_run(entry)
+
+
+@pytest.mark.parametrize("entry", ["scenarios.runner.run", "simulate", "FixedLengthStepper", "simulate_engagement"])
+def test_a_library_run_off_its_output_grid_is_refused(entry):
+    """0.1 s is 20 steps of 0.005 s, 6 output intervals of 3 steps and 2 steps more: the saved
+    series would end at 0.09 s, short of the run's 0.1 s."""
+    with pytest.raises(ParameterError, match=r"duration_s = 0.1: not a whole number of output intervals"):
+        _library_run(entry, {"step_s": 0.005, "output_every": 3})
+
+
+@pytest.mark.parametrize("duration, step, every", [(4.5049, 0.005, 4), (0.36, 0.1, 2), (1e-4, 0.01, 3),
+                                                   (8.123456789, 0.002, 5)])
+def test_on_step_grid_with_an_output_interval_gives_whole_intervals_nearest_the_duration(duration, step, every):
+    """Whole output intervals (every steps) to the grid's tolerance, within half an interval of the
+    wish, at least one interval: check_run accepts the run at that output_every."""
+    params = PAPER.replace(numerics={"step_s": step, "output_every": every})
+    d = budget.on_step_grid(duration, step, every)
+    h, steps = budget.check_run(params, d)
+    assert steps % every == 0 and steps == every * max(1, round(duration / (step * every)))
+    assert abs(d - steps * step) <= 1e-12 * d
 
 
 @pytest.mark.parametrize("duration, step", [(4.5049, 0.005), (0.36, 0.1), (1e-4, 0.01), (8.123456789, 0.002)])
@@ -95,9 +119,11 @@ def test_the_whip_load_study_runs_whole_steps_and_records_the_duration_run():
     """Its duration, (standoff + push) / closure speed + stop + settle, is rarely whole at 0.7 m/s."""
     from hosedrogue.studies.whip_loads import study_scenario
 
-    sc = study_scenario("engage-response", 2e5, 0.7)
-    h, steps = budget.check_run(sc.params, sc.duration_s)
-    assert abs(sc.duration_s - steps * h) <= 1e-12 * sc.duration_s
+    for links, step in ((None, None), (20, 0.0025)):  # output every 2 steps as shipped; every 4 at 2.5 ms
+        sc = study_scenario("engage-response", 2e5, 0.7, links=links, step_s=step)
+        h, steps = budget.check_run(sc.params, sc.duration_s)
+        assert abs(sc.duration_s - steps * h) <= 1e-12 * sc.duration_s
+        assert steps % sc.params.numerics.output_every == 0
 
 
 def test_the_memory_estimate_counts_state_joints_and_signals():
@@ -132,3 +158,18 @@ def test_a_campaign_of_too_many_runs_is_refused_before_any_run(tmp_path, capsys)
     err = capsys.readouterr().err.strip()
     assert code == 2 and "\n" not in err and "runs = 73786976294838206464" in err and "GB" in err, err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("limit", [1.0025, 1.005, 0.003])
+def test_an_episode_s_time_limit_is_put_on_its_output_grid(limit):
+    """An episode's limit is its run's duration: moved to the nearest whole output interval
+    (approach-moderate saves every 2 steps of 5 ms: 10 ms), at least one, so the run's saved
+    series reaches it."""
+    from hosedrogue.envs.options import docking_scenario
+
+    sc = docking_scenario(time_limit_s=limit)
+    num = sc.params.numerics
+    h, steps = budget.check_run(sc.params, sc.duration_s)
+    interval = h * num.output_every
+    assert steps % num.output_every == 0 and steps // num.output_every == max(1, round(limit / interval))
+    assert abs(sc.duration_s - limit) <= max(0.5 * interval, interval - limit) + 1e-12  # at least one interval

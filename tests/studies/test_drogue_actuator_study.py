@@ -14,7 +14,7 @@ from hosedrogue.studies.drogue_actuator import VARIANTS, claims_scenario
 MINE = """[scenario]
 extends = "paper-turbulence"
 name = "mine"
-duration_s = 10.5
+duration_s = 10.48
 [flight]
 airspeed_m_s = 128.0
 altitude_m = 6100.0

@@ -134,8 +134,9 @@ def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, t
 
 
 def on_grid(scenario: Scenario) -> Scenario:
-    """``scenario`` with its duration on its step grid: the nearest whole number of
-    ``numerics.step_s`` (:func:`hosedrogue.simulation.budget.on_step_grid`), since every run must
+    """``scenario`` with its duration on its output grid: the nearest whole number of output
+    intervals, ``numerics.output_every`` steps of ``numerics.step_s``
+    (:func:`hosedrogue.simulation.budget.on_step_grid`), since every run and its saved series must
     reach its duration exactly; the scenario records the duration the episode runs.
 
     Parameters
@@ -147,7 +148,8 @@ def on_grid(scenario: Scenario) -> Scenario:
     -------
     Scenario
     """
-    duration = on_step_grid(scenario.duration_s, scenario.params.numerics.step_s)
+    num = scenario.params.numerics
+    duration = on_step_grid(scenario.duration_s, num.step_s, num.output_every)
     return scenario if duration == scenario.duration_s else dataclasses.replace(scenario, duration_s=duration)
 
 

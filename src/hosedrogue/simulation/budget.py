@@ -8,7 +8,9 @@ one sample after its start, and keep its output within a share of the machine's 
   :func:`on_step_grid` (the nearest step), and its scenario records the duration run. Sample times
   and delays on the step (or control-step) grid: :func:`whole_multiple`.
 * **Output grid.** It saves every ``output_every`` steps: a run of fewer steps than that would
-  keep its start only.
+  keep its start only, and its steps must be a whole number of output intervals, or the saved
+  series would end at the last output time before the run's end (20 steps saved every 3 ended at
+  18). Derived durations go on this grid too: :func:`on_step_grid` with ``every``.
 * **Statistics window** (``command``). A turbulent run's statistics are taken over the turbulence window, which
   must overlap the run (else they would be of no sample).
 * **Memory.** What a run keeps (its saved samples: state, joints and their velocities, some 64
@@ -100,10 +102,12 @@ def output_bytes(links: int, samples: float) -> float:
     return 8.0 * samples * (8 * links + 6 * (links + 1) + SIGNALS_PER_SAMPLE)
 
 
-def on_step_grid(duration_s: float, step_s: float) -> float:
-    """``duration_s`` [s] moved to the nearest whole number of steps of ``step_s`` [s] (at least one):
-    the duration a run of that step reaches exactly, for durations derived from physics (a probe's
-    time to contact). Written with 12 significant digits, so 901 steps of 0.005 s read 4.505 s.
+def on_step_grid(duration_s: float, step_s: float, every: int = 1) -> float:
+    """``duration_s`` [s] moved to the nearest whole number of output intervals, ``every`` steps of
+    ``step_s`` [s] (at least one): the duration a run of that step and ``output_every`` reaches
+    exactly, its saved series included, for durations derived from physics (a probe's time to
+    contact) or chosen by a user (an episode's time limit). Written with 12 significant digits, so
+    902 steps of 0.005 s read 4.51 s.
 
     Parameters
     ----------
@@ -111,20 +115,22 @@ def on_step_grid(duration_s: float, step_s: float) -> float:
         The wanted duration [s], finite and > 0.
     step_s : float
         The run's step [s] (``numerics.step_s``).
+    every : int
+        The run's ``numerics.output_every`` [-]; 1 puts it on the step grid only.
 
     Returns
     -------
     float
-        ``max(1, round(duration_s / step_s)) * step_s`` [s], a whole number of steps to
-        :data:`GRID_TOLERANCE`.
+        ``max(1, round(duration_s / (every * step_s))) * every * step_s`` [s], a whole number of
+        output intervals to :data:`GRID_TOLERANCE`.
     """
-    steps = max(1, round(duration_s / step_s))
-    return float(f"{steps * step_s:.12g}")
+    intervals = max(1, round(duration_s / (every * step_s)))
+    return float(f"{intervals * every * step_s:.12g}")
 
 
 def check_run(params, duration_s: float, name: str = "duration_s", command: bool = False) -> tuple[float, int]:
-    """Refuse, before it starts, a run that cannot reach its duration on its step grid, would save
-    nothing after its start, or would keep more output than the machine's memory allows.
+    """Refuse, before it starts, a run that cannot reach its duration on its step grid or its output
+    grid, would save nothing after its start, or would keep more output than the machine's memory allows.
 
     Parameters
     ----------
@@ -163,6 +169,12 @@ def check_run(params, duration_s: float, name: str = "duration_s", command: bool
         raise ParameterError(f"numerics.output_every = {every!r}: more than the run's {steps} steps ({name} = "
                              f"{duration_s!r} s at numerics.step_s = {h!r} s), so nothing after its start would be "
                              f"saved; give output_every <= {steps}")
+    if steps % every:  # the saved series would end at the last output time before the run's end
+        below, above = steps // every * every * h, -(-steps // every) * every * h
+        raise ParameterError(f"{name} = {duration_s!r}: not a whole number of output intervals (numerics.output_every = "
+                             f"{every!r} steps of numerics.step_s = {h!r} s; its {steps} steps would be saved to "
+                             f"{below:.6g} s only); give {name} = {below:.6g} or {above:.6g}, or an output_every "
+                             f"that divides {steps}")
     start, end = turbulence_window(params.turbulence)
     if command and (start >= duration_s or end <= start):  # the statistics would be of no sample ("peak nan m")
         raise ParameterError(f"turbulence.start_s = {start!r}: the turbulence window [{start:g}, {end:g}) s, over which "

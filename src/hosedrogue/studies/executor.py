@@ -161,15 +161,45 @@ def execute_dask(client, tasks: Iterator, fn: Callable, max_in_flight: int, on_r
     return peak
 
 
-#: How long a campaign waits with no dask worker alive before it stops, its finished runs kept [s]:
-#: a worker that user code killed is restarted by its nanny within seconds, even on a loaded machine.
+#: How long a campaign waits with no dask worker alive before it stops, its finished runs kept [s].
+#: On a cluster this process made, a worker process that its nanny restarted counts as alive while
+#: it starts (:func:`workers_alive`), up to :data:`LOST_WORKER_TIMEOUT_S`; on a remote scheduler only
+#: registered workers are seen, and a worker restarted there must register within it.
 NO_WORKER_TIMEOUT_S = 120.0
+
+
+def workers_alive(client) -> bool:
+    """Whether the client's cluster has a worker: one registered with the scheduler or, on a
+    cluster of this process (``client.cluster``, a LocalCluster: its nannies), a worker process
+    alive that has not registered yet (its nanny restarting it after user code killed the last
+    one: a restart took more than 15 s under a load of 14 on two cores).
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The client.
+
+    Returns
+    -------
+    bool
+    """
+    if client.nthreads():
+        return True
+    cluster = getattr(client, "cluster", None)
+    for nanny in list(getattr(cluster, "workers", {}).values()):  # LocalCluster: name -> Nanny (or Worker)
+        try:
+            if getattr(nanny, "is_alive", lambda: False)():  # Nanny.is_alive: its worker process runs
+                return True
+        except AttributeError:  # the process was released between the nanny's two reads: not alive
+            continue
+    return False
 
 
 class _NoWorkerWatchdog:
     """Cancels the outstanding futures when the cluster has had no worker for
-    :data:`NO_WORKER_TIMEOUT_S` (every worker died and none was restarted), so a campaign waiting on
-    them stops instead of waiting for ever; :attr:`fired` tells why they were cancelled."""
+    :data:`NO_WORKER_TIMEOUT_S` (every worker died and none is being restarted:
+    :func:`workers_alive`), so a campaign waiting on them stops instead of waiting for ever;
+    :attr:`fired` tells why they were cancelled."""
 
     def __init__(self, client, outstanding: dict, poll_s: float = 2.0):
         import threading
@@ -186,7 +216,7 @@ class _NoWorkerWatchdog:
         since = None
         while not self._stop.wait(self._poll_s):
             try:
-                alive = bool(self._client.nthreads())
+                alive = workers_alive(self._client)
             except Exception:  # a lost scheduler: the main loop says so
                 return
             now = time.monotonic()
@@ -256,6 +286,12 @@ CONNECT_TIMEOUT_S = 10.0
 def local_cluster(workers: int):
     """A LocalCluster of single-threaded worker processes (environment :data:`WORKER_ENVIRON`).
 
+    A worker that dies (user code that ended its process) is restarted by its nanny; the cluster
+    waits :data:`LOST_WORKER_TIMEOUT_S` for it to register again before closing the nanny: this
+    raises dask's ``distributed.deploy.lost-worker-timeout`` (15 s, read when a worker is lost) to
+    that for the rest of the process, since a restarted worker importing the package on a loaded
+    machine took longer than 15 s and the campaign then lost its last worker.
+
     Parameters
     ----------
     workers : int
@@ -274,6 +310,9 @@ def local_cluster(workers: int):
     # logs at CRITICAL only: a task's error reaches the client, which ends in one line or records the
     # run's failure (a worker's "Compute Failed" traceback or the scheduler's report of a worker that
     # died would only repeat it on the terminal)
+    key = "distributed.deploy.lost-worker-timeout"
+    if dask.utils.parse_timedelta(dask.config.get(key, "15s")) < LOST_WORKER_TIMEOUT_S:
+        dask.config.set({key: f"{LOST_WORKER_TIMEOUT_S:g}s"})  # for the cluster's life: read at each loss
     with dask.config.set({**LOCAL_SCHEDULER_CONFIG, **LOCAL_QUIET_CONFIG}):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                silence_logs=logging.CRITICAL, env=dict(WORKER_ENVIRON), **_NO_DASHBOARD)
@@ -291,6 +330,11 @@ LOCAL_SCHEDULER_CONFIG = {"distributed.scheduler.allowed-failures": 1}
 LOCAL_QUIET_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s",
                       "distributed.worker.memory.monitor-interval": "1s",
                       "distributed.admin.system-monitor.interval": "2s"}
+
+#: How long a local cluster waits for a lost worker's nanny to bring it back before closing the
+#: nanny [s] (dask's default, 15 s, is less than a worker's start under a load of 14 on two cores).
+#: While it waits, the restart counts as a worker alive (:func:`workers_alive`).
+LOST_WORKER_TIMEOUT_S = 600.0
 
 
 

@@ -176,9 +176,9 @@ def study_scenario(scenario, stiffness_n: float, closure_speed_m_s: float, links
                                 min_closure_speed_m_s=MIN_CLOSURE_SPEED_M_S)
     v = probe.closure_speed_m_s
     params = sc.params.replace(hose=hose, numerics=numerics)
-    # on the run's step grid (the nearest step, as the run went before runs checked their grid)
+    # on the run's output grid (the nearest output time), so the saved series reaches the run's end
     duration = on_step_grid((probe.standoff_m + probe.push_m) / v + probe.stop_time_s + SETTLE_S,
-                            params.numerics.step_s)
+                            params.numerics.step_s, params.numerics.output_every)
     return dataclasses.replace(sc, params=params, duration_s=duration,
                                engagement=Engagement(reel=sc.engagement.reel, probe=probe,
                                                      bow_wave=sc.engagement.bow_wave, pilot=sc.engagement.pilot))
