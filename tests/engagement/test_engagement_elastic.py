@@ -15,6 +15,7 @@ from hosedrogue.model import chain_dynamics as CD, elastic as E, layout as LY
 from hosedrogue.model.engagement import evaluation as EV, outputs as EO
 from hosedrogue.model.system import HoseModel
 from hosedrogue.spec.params import PAPER
+from hosedrogue.simulation.budget import on_step_grid
 from hosedrogue.simulation.simulate import simulate
 
 MU = PAPER.hose.mass_per_length_kg_m
@@ -104,7 +105,9 @@ def free_reel_run(integrator, step, yaw_scale=0.2, n=8):
                       numerics={"integrator": integrator, "step_s": step, "output_every": int(round(0.05 / step))})
     reel = Reel(law="constant-tension", tension_set_n=100.0, max_torque_n_m=1e5, max_takeup_speed_m_s=50.0,
                 max_payout_speed_m_s=50.0)
-    return simulate_engagement(p, 10.0, reel=reel, probe=None, x0=swinging_start(n, np.random.default_rng(1), yaw_scale),
+    # 10 s to the nearest output time (9.984 s at 4 ms: 208 outputs of 12 steps), as every run must be
+    duration = on_step_grid(10.0, step, p.numerics.output_every)
+    return simulate_engagement(p, duration, reel=reel, probe=None, x0=swinging_start(n, np.random.default_rng(1), yaw_scale),
                                length_rate_m_s=1.5, gravity_m_s2=0.0, energy=True)
 
 

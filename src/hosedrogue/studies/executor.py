@@ -33,7 +33,15 @@ MAX_BATCH = 16
 
 def run_batch(fn: Callable, tasks: list) -> tuple[list, float, Exception | None]:
     """Run ``fn`` on each task in order (on a worker): the results, the wall time [s] and the error
-    that stopped the batch (None: every task ran; the results are those before it)."""
+    that stopped the batch (None: every task ran; the results are those before it).
+
+    Parameters
+    ----------
+    fn : callable
+        The work of one task (a campaign's run).
+    tasks : list
+        The batch's tasks, run in this order.
+    """
     import time
 
     t0 = time.perf_counter()
