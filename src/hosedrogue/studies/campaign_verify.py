@@ -1,5 +1,5 @@
-"""A campaign's runs verified by sample (docs/campaigns.md, "Verifying a sample of the runs";
-``hosedrogue montecarlo ... --verify-sample N``).
+"""A campaign's runs verified by sample (``hosedrogue montecarlo --verify-sample N``; docs/campaigns.md,
+"Verifying a sample of the runs").
 
 A campaign's statistics come from runs on one mesh; whether that mesh resolves them is measured,
 not assumed: ``N`` of its runs are run again, and once more on twice the links at the refined
