@@ -179,5 +179,6 @@ def test_the_stop_message_gives_the_time_of_the_last_state_kept(user_module, tmp
     text = scenario_text(chain, role, "error", "later").replace("output_every = 2", "output_every = 5")
     (tmp_path / "case.toml").write_text(text + "at_s = 0.033\n")
     result = run(load_scenario(tmp_path / "case.toml"))
+    # the last output time kept: 1e-12 s bounds the round-off of its summed steps (about 1e-17 s)
     assert not result.completed and result.t_s[-1] == pytest.approx(0.025, abs=1e-12)
     assert result.message.startswith("stopped at t = 0.0250 s: ") and "(in its call at t = 0.0400 s)" in result.message
