@@ -47,6 +47,10 @@ def stack_joints(joints_per_time) -> tuple[np.ndarray, np.ndarray]:
     joints_m : numpy.ndarray
         (sum(joint_count), 3) the joint positions [m], time after time.
     """
+    if isinstance(joints_per_time, np.ndarray) and joints_per_time.ndim == 3:  # one n at every time
+        n_out, joints, _ = joints_per_time.shape
+        return (np.full(n_out, joints, dtype=np.int64),
+                np.ascontiguousarray(joints_per_time, dtype=np.float64).reshape(n_out * joints, 3))
     shapes = [np.asarray(joints, dtype=np.float64) for joints in joints_per_time]
     counts = np.array([j.shape[0] for j in shapes], dtype=np.int64)
     return counts, (np.concatenate(shapes) if shapes else np.empty((0, 3)))
