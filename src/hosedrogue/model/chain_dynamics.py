@@ -302,11 +302,29 @@ def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
         dx[2 * n + i] = qdd[i]
 
 
-@njit(**JIT)
 def rhs(t, x, u, l, M, S, J, ps, env, gust, dx):
-    """State derivative dx (4n) of x = [q, qd] (allocates its own workspace)."""
-    ws = make_workspace_jit(l.shape[0])
-    rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx)
+    """State derivative of a rigid chain's state, from Python (the linearization, the fixed-length
+    FMU): the accelerations of :data:`evaluate_point`, the one compiled entry of a state evaluated
+    from Python, which the balance position has compiled already (a compiled function of its own
+    compiled and linked the whole evaluation once more: 1-2 s of a cold start).
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    x, u : numpy.ndarray
+        The state [q, qd] (4n,) and the control force (2,) [N] (float64, contiguous).
+    l, M, S, J, ps, env, gust : numpy.ndarray
+        The model's arrays (:meth:`hosedrogue.model.system.HoseModel.kernel_args`).
+    dx : numpy.ndarray
+        Receives dx/dt (4n,).
+    """
+    n = l.shape[0]
+    ws = make_workspace(n)
+    xi, G = static_scratch(n)
+    evaluate_point(False, float(t), x, u, l, M, J, ps, env, gust, ws, xi, G, np.empty(2 * n))
+    dx[: 2 * n] = x[2 * n:]
+    dx[2 * n:] = ws[WS_QDD]
 
 
 @njit(**JIT)
