@@ -302,7 +302,7 @@ def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
         dx[2 * n + i] = qdd[i]
 
 
-def rhs(t, x, u, l, M, S, J, ps, env, gust, dx):
+def rhs(t, x, u, l, M, S, J, ps, env, gust, dx, work=None):
     """State derivative of a rigid chain's state, from Python (the linearization, the fixed-length
     FMU): the accelerations of :data:`evaluate_point`, the one compiled entry of a state evaluated
     from Python, which the balance position has compiled already (a compiled function of its own
@@ -318,11 +318,13 @@ def rhs(t, x, u, l, M, S, J, ps, env, gust, dx):
         The model's arrays (:meth:`hosedrogue.model.system.HoseModel.kernel_args`).
     dx : numpy.ndarray
         Receives dx/dt (4n,).
+    work : tuple, optional
+        :func:`point_work` of the chain to reuse (a caller that evaluates many states: the
+        allocations are half the call's time); one per thread. Allocated here if not given.
     """
     n = l.shape[0]
-    ws = make_workspace(n)
-    xi, G = static_scratch(n)
-    evaluate_point(False, float(t), x, u, l, M, J, ps, env, gust, ws, xi, G, np.empty(2 * n))
+    ws, xi, G, Q = point_work(n) if work is None else work
+    evaluate_point(False, float(t), x, u, l, M, J, ps, env, gust, ws, xi, G, Q)
     dx[: 2 * n] = x[2 * n:]
     dx[2 * n:] = ws[WS_QDD]
 
@@ -392,6 +394,13 @@ def point_kernel(env, t: float = 0.0, narrow: bool = False):
         :data:`evaluate_point_still` or :data:`evaluate_point` (the same numbers bit for bit).
     """
     return evaluate_point_still if narrow and still_level(env, t) else evaluate_point
+
+
+def point_work(n):
+    """Every array :data:`evaluate_point` takes beside the state and the model, for one chain of n
+    links: ``(ws, xi, G, Q)`` (:func:`make_workspace`, :func:`static_scratch` and the residual
+    (2n,) [N m])."""
+    return (make_workspace(n),) + static_scratch(n) + (np.empty(2 * n),)
 
 
 def static_scratch(n):

@@ -9,6 +9,7 @@ the model so that every force evaluation asks the same air-velocity function.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -314,8 +315,17 @@ class HoseModel:
             return np.concatenate([x[2 * n: 4 * n], acc[: 2 * n], x[5 * n:], acc[2 * n:]])
         dx = np.empty_like(x)
         CD.rhs(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
-              self.ps, self.env, self.gust_values, dx)
+               self.ps, self.env, self.gust_values, dx, self._point_work())
         return dx
+
+    def _point_work(self) -> tuple:
+        """This thread's scratch of :func:`chain_dynamics.rhs` (made at its first use)."""
+        works = self.__dict__.setdefault("_works", {})
+        key = threading.get_ident()
+        work = works.get(key)
+        if work is None:
+            work = works[key] = CD.point_work(self.n)
+        return work
 
     def accelerations_dense(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
         """qdd from the dense mass matrix (O(n^3) reference for the O(n) recursion)."""
