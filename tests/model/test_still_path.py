@@ -1,9 +1,9 @@
-"""The balance position's entry compiled for level flight in still air (``evaluate_point_still``)
-against the entry of every case (``evaluate_point``): the narrow one is the same code with the
-tanker's motion, the gust record and the bow wave pruned, so wherever :func:`still_level` lets it
-run, both must give the same bits (a difference would mean a pruned branch was live, or that the
-selection let the narrow entry see air it does not model); and the selection must refuse every
-air the narrow entry leaves out."""
+"""The balance position's entry compiled for level flight in still air at rest
+(``evaluate_point_still``) against the entry of every case (``evaluate_point``): the narrow one is
+the same code with the tanker's motion, the gust record, the bow wave and the structural damping
+(zero at rest) pruned, so wherever :func:`point_kernel` lets it run, both must give the same bits
+(a difference would mean a pruned branch was live, or that the selection let the narrow entry see
+a case it does not model); and the selection must refuse every case the narrow entry leaves out."""
 
 import numpy as np
 import pytest
@@ -32,13 +32,11 @@ def test_still_entry_gives_the_full_entrys_bits(hose):
     assert still_level(env)
     q = towed_cable_guess(model)
     rest = np.concatenate([q, np.zeros_like(q)])
-    moving = rest.copy()
-    moving[model.n * 2:] = 0.01 * np.arange(1, 2 * model.n + 1)  # the damping and the drag of moving links
-    for x in (rest, moving):
-        for residual in (True, False):
-            a = _evaluate(CD.evaluate_point, model, x, residual, env)
-            b = _evaluate(CD.evaluate_point_still, model, x, residual, env)
-            assert a.tobytes() == b.tobytes()
+    assert CD.point_kernel(env, rest, narrow=True) is CD.evaluate_point_still
+    for residual in (True, False):
+        a = _evaluate(CD.evaluate_point, model, rest, residual, env)
+        b = _evaluate(CD.evaluate_point_still, model, rest, residual, env)
+        assert a.tobytes() == b.tobytes()
 
 
 def test_narrow_balance_position_is_the_same():
@@ -52,12 +50,16 @@ def test_narrow_balance_position_is_the_same():
 def test_selection_refuses_the_air_the_still_entry_leaves_out():
     model = HoseModel(PAPER)
     env = model.steady_env
-    assert CD.point_kernel(env, narrow=False) is CD.evaluate_point
-    assert CD.point_kernel(env, narrow=True) is CD.evaluate_point_still
+    rest = np.zeros(4 * model.n)
+    assert CD.point_kernel(env, rest, narrow=False) is CD.evaluate_point
+    assert CD.point_kernel(env, rest, narrow=True) is CD.evaluate_point_still
+    moving = rest.copy()
+    moving[-1] = 1e-3  # one link's yaw rate: the damping and the drag of a moving link
+    assert CD.point_kernel(env, moving, narrow=True) is CD.evaluate_point
     for slot, value in ((LY.ENV_M_ON, 1.0), (LY.ENV_BW, 1.0), (LY.ENV_FROZEN, 1.0)):
         other = env.copy()
         other[slot] = value
-        assert not still_level(other) and CD.point_kernel(other, narrow=True) is CD.evaluate_point
+        assert not still_level(other) and CD.point_kernel(other, rest, narrow=True) is CD.evaluate_point
     gusty = env.copy()  # a gust window open at t (the covariance's record holds one at all times)
     gusty[LY.ENV_T_ON], gusty[LY.ENV_T_OFF] = -1e300, 1e300
     assert not still_level(gusty, 0.0)

@@ -142,10 +142,10 @@ def towed_cable_guess(model: HoseModel) -> np.ndarray:
 
 def _residual_fn(model: HoseModel, env: np.ndarray, narrow: bool = False):
     n = model.n
-    kernel = CD.point_kernel(env, 0.0, narrow)
     gust = model.gust_values
     Q = np.empty(2 * n)
     x = np.zeros(4 * n)  # [q, qd = 0]: the statics
+    kernel = CD.point_kernel(env, x, 0.0, narrow)
     u = np.zeros(2)
     ws = CD.make_workspace(n)
     xi, G = CD.static_scratch(n)

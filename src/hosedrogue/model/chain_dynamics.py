@@ -346,9 +346,9 @@ def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
 
 
 def _point(full):
-    """:func:`evaluate_point` compiled for every case (``full``) or for level flight in still air
-    only (:func:`evaluate_point_still`; ``full`` as :func:`loads`'): a closure over the constant,
-    whose other branches numba prunes before it types them."""
+    """:func:`evaluate_point` compiled for every case (``full``) or for level flight in still air at
+    rest only (:func:`evaluate_point_still`; ``full`` as :func:`loads`'): a closure over the
+    constant, whose other branches numba prunes before it types them."""
 
     @njit(**JIT_NO_ALLOC)
     def evaluate_point(residual, t, x, u, l, M, J, ps, env, gust, ws, xi, G, Q):
@@ -369,31 +369,36 @@ def _point(full):
 
 
 #: :func:`_point`'s entry compiled for every case, and for level flight in still air without a bow wave
-#: (:func:`hosedrogue.model.chain_loads.still_level`): the latter compiles neither the tanker's
-#: motion nor the gust record nor the bow wave, a third of the former's compile
+#: (:func:`hosedrogue.model.chain_loads.still_level`) at rest (qd = 0; :func:`point_kernel` picks):
+#: the latter compiles neither the tanker's motion nor the gust record nor the bow wave nor the
+#: structural damping
 evaluate_point, evaluate_point_still = _point(True), _point(False)
 
 
-def point_kernel(env, t: float = 0.0, narrow: bool = False):
-    """The compiled entry of :func:`_point` for ``env`` at time ``t`` [s].
+def point_kernel(env, x, t: float = 0.0, narrow: bool = False):
+    """The compiled entry of :func:`_point` for the state ``x`` in ``env`` at time ``t`` [s].
 
     Parameters
     ----------
     env : numpy.ndarray
         The air's scalars.
+    x : numpy.ndarray
+        The state [q, qd] (4n,).
     t : float
         Time [s].
     narrow : bool
-        Take :data:`evaluate_point_still` when ``env`` allows it (:func:`chain_loads.still_level`):
-        worth it in a process that evaluates nothing else of the chain (the ``steady`` command); a
-        process that goes on to simulate compiles the full evaluation as well.
+        Take :data:`evaluate_point_still` when it applies: level flight in still air
+        (:func:`chain_loads.still_level`) and the chain at rest (qd = 0). Worth it in a process
+        that evaluates nothing else of the chain (the ``steady`` command); a process that goes on
+        to simulate compiles the full evaluation as well.
 
     Returns
     -------
     numba dispatcher
         :data:`evaluate_point_still` or :data:`evaluate_point` (the same numbers bit for bit).
     """
-    return evaluate_point_still if narrow and still_level(env, t) else evaluate_point
+    at_rest = not np.any(x[x.shape[0] // 2:])
+    return evaluate_point_still if narrow and at_rest and still_level(env, t) else evaluate_point
 
 
 def point_work(n):

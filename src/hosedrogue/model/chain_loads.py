@@ -231,8 +231,9 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag, ful
 
 def _joint_forces(full):
     """:func:`joint_forces_stretched` compiled for every case (``full``) or for level flight in still
-    air only (:func:`joint_forces_still`; ``full`` False as :func:`air_velocity_of`'s): a closure
-    over the constant, whose other branches numba prunes before it types them."""
+    air at rest only (:func:`joint_forces_still`; ``full`` False as :func:`air_velocity_of`'s, and
+    the joints' velocities zero, so no structural damping): a closure over the constant, whose
+    other branches numba prunes before it types them."""
 
     @njit(**JIT_NO_ALLOC)
     def joint_forces_stretched(t, u, l, lam, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
@@ -341,8 +342,10 @@ def _joint_forces(full):
         # acts on it (the partial angular velocity [0,1,0] has an axial part -s2 e: the frame's
         # twist, which is no motion of the line). It dissipates
         # sum (c_b / lbar) |w_k+1 - w_k|^2.
+        # (at rest, the still case, it adds zeros: v = +0 everywhere, and a moment that starts at
+        # +0 and only sums is never -0, so adding a signed zero leaves its bits)
         cb = ps[PS_BEND_DAMP]
-        if cb > 0.0:
+        if full and cb > 0.0:
             ox, oy, oz = link_omega(0, lam, e, v)
             for k in range(n - 1):
                 px, py, pz = link_omega(k + 1, lam, e, v)

@@ -285,7 +285,8 @@ class HoseModel:
         """Accelerations and derived outputs at state ``x`` = [q, qd] (elastic: [q, qd, lam,
         lamd], and ``qdd`` then holds the angles' and the lengths' accelerations, 3n), time t [s],
         force u [N]; ``narrow``: rigid links evaluated by the entry compiled for level flight in
-        still air where the air is that (:func:`chain_dynamics.point_kernel`; the same numbers)."""
+        still air at rest where that is the case (:func:`chain_dynamics.point_kernel`; the same
+        numbers)."""
         x = self._check_state(x)
         ws = CD.make_workspace(self.n)
         env = self.steady_env if steady else self.env
@@ -295,7 +296,7 @@ class HoseModel:
                                   env, self.gust_values, ws, ews, 0.0, x)
             qdd = np.concatenate([ws[CD.WS_QDD], ews[E.EWS_LAMDD]])
         else:
-            kernel = CD.point_kernel(env, float(t), narrow)
+            kernel = CD.point_kernel(env, x, float(t), narrow)
             kernel(False, float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.J, self.ps, env,
                    self.gust_values, ws, *CD.static_scratch(self.n), np.empty(2 * self.n))
             qdd = ws[CD.WS_QDD]
