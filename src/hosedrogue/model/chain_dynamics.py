@@ -303,24 +303,20 @@ def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
 
 
 def rhs(t, x, u, l, M, S, J, ps, env, gust, dx, work=None):
-    """State derivative of a rigid chain's state, from Python (the linearization, the fixed-length
-    FMU): the accelerations of :data:`evaluate_point`, the one compiled entry of a state evaluated
-    from Python, which the balance position has compiled already (a compiled function of its own
-    compiled and linked the whole evaluation once more: 1-2 s of a cold start).
+    """dx/dt of x = [q, qd], from Python (the linearization, the fixed-length FMU): the accelerations
+    of :data:`evaluate_point`, the one compiled entry of a state evaluated from Python (a compiled
+    ``rhs`` of its own compiled and linked the whole evaluation once more: 1 s of a cold start).
 
     Parameters
     ----------
-    t : float
-        Time [s].
-    x, u : numpy.ndarray
-        The state [q, qd] (4n,) and the control force (2,) [N] (float64, contiguous).
+    t, x, u : float, numpy.ndarray
+        Time [s], the state (4n,) and the control force (2,) [N] (float64, contiguous).
     l, M, S, J, ps, env, gust : numpy.ndarray
         The model's arrays (:meth:`hosedrogue.model.system.HoseModel.kernel_args`).
     dx : numpy.ndarray
         Receives dx/dt (4n,).
     work : tuple, optional
-        :func:`point_work` of the chain to reuse (a caller that evaluates many states: the
-        allocations are half the call's time); one per thread. Allocated here if not given.
+        A :func:`point_work` to reuse (one per thread); made here if None.
     """
     n = l.shape[0]
     ws, xi, G, Q = point_work(n) if work is None else work
@@ -368,43 +364,35 @@ def _point(full):
     return evaluate_point
 
 
-#: :func:`_point`'s entry compiled for every case, and for level flight in still air without a bow wave
-#: (:func:`hosedrogue.model.chain_loads.still_level`) at rest (qd = 0; :func:`point_kernel` picks):
-#: the latter compiles neither the tanker's motion nor the gust record nor the bow wave nor the
-#: structural damping
+#: :func:`_point`'s entry of every case, and of level flight in still air at rest (:func:`point_kernel`
+#: picks): the latter compiles no tanker motion, gust record, bow wave or structural damping
 evaluate_point, evaluate_point_still = _point(True), _point(False)
 
 
 def point_kernel(env, x, t: float = 0.0, narrow: bool = False):
-    """The compiled entry of :func:`_point` for the state ``x`` in ``env`` at time ``t`` [s].
+    """The compiled entry of :func:`_point` for a state: :data:`evaluate_point_still` if ``narrow``
+    and the case is level flight in still air (:func:`chain_loads.still_level`) at rest (qd = 0),
+    else :data:`evaluate_point` (the same numbers bit for bit). Narrow is worth it in a process
+    that evaluates nothing else of the chain (``steady``); one that simulates compiles both.
 
     Parameters
     ----------
-    env : numpy.ndarray
-        The air's scalars.
-    x : numpy.ndarray
-        The state [q, qd] (4n,).
-    t : float
-        Time [s].
-    narrow : bool
-        Take :data:`evaluate_point_still` when it applies: level flight in still air
-        (:func:`chain_loads.still_level`) and the chain at rest (qd = 0). Worth it in a process
-        that evaluates nothing else of the chain (the ``steady`` command); a process that goes on
-        to simulate compiles the full evaluation as well.
-
-    Returns
-    -------
-    numba dispatcher
-        :data:`evaluate_point_still` or :data:`evaluate_point` (the same numbers bit for bit).
+    env, x, t, narrow : numpy.ndarray, numpy.ndarray, float, bool
+        The air's scalars, the state [q, qd] (4n,), the time [s], and whether to take the narrow entry.
     """
     at_rest = not np.any(x[x.shape[0] // 2:])
     return evaluate_point_still if narrow and at_rest and still_level(env, t) else evaluate_point
 
 
 def point_work(n):
-    """Every array :data:`evaluate_point` takes beside the state and the model, for one chain of n
-    links: ``(ws, xi, G, Q)`` (:func:`make_workspace`, :func:`static_scratch` and the residual
-    (2n,) [N m])."""
+    """Every array :data:`evaluate_point` takes beside the state and the model: ``(ws, xi, G, Q)``
+    (:func:`make_workspace`, :func:`static_scratch` and the residual (2n,) [N m]).
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+    """
     return (make_workspace(n),) + static_scratch(n) + (np.empty(2 * n),)
 
 

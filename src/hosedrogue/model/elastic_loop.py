@@ -15,7 +15,7 @@ from numba import njit
 from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 from .elastic import elastic_drogue_yz, elastic_evaluate_ws, hose_rates, make_elastic_workspace_jit
 from .integrate import actuator_rates, applied_force_at, controller_rates, is_open_loop, step_status
-from .chain_dynamics import (WS_CS, WS_DRAG, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, copy_matrix, copy_vector,
+from .chain_dynamics import (WS_CS, WS_DRAG, WS_R, WS_T0, WS_TOW, WS_V, copy_matrix, copy_vector,
                              make_workspace_jit)
 from .layout import OK, SCHEME_RK4, STAGE_LIMIT
 from .steppers import rk4, sdirk2
