@@ -234,7 +234,7 @@ def loads(t, q, qd, u, l, M, J, ps, env, gust, ws, full=True):
     ws[WS_R] and velocities ws[WS_V], velocity-product accelerations ws[WS_C], joint forces
     ws[WS_F], link moments ws[WS_MOM], rotational generalized forces ws[WS_TAU], drogue drag
     ws[WS_DRAG]. ``full`` False (a constant of the compiled caller): level flight in still air
-    only (:func:`hosedrogue.model.chain_loads.air_velocity_of`)."""
+    only (:func:`hosedrogue.model.chain_loads.still_air_velocity`)."""
     link_frames(q, l.shape[0], ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS])
     loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws, full)
 

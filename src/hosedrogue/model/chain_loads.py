@@ -43,32 +43,25 @@ from .layout import (
 GAUSS2_OFFSET = 0.5 / math.sqrt(3.0)
 
 
-@njit(**JIT_NO_ALLOC_INLINE)
-def air_velocity_of(px, py, pz, t, env, gust, full=True):
+@njit(**JIT_NO_ALLOC)
+def air_velocity(px, py, pz, t, env, gust):
     """Air velocity [m/s] in S_p at point (px, py, pz) [m, relative to the tow point], time t [s]:
-    free stream, wake, gust and (in an engagement's evaluation) the receiver's bow wave. ``full``
-    False (a constant of the compiled caller): level flight in still air, no bow wave
-    (:func:`still_level`), whose gust ``env_at`` has written; the tanker's motion, the gust
-    record and the bow wave are then never compiled (docs/develop.md, "The compiled core")."""
-    wx, wy, wz = still_air_velocity(px, py, pz, t, env, gust, full)
-    if full and env[ENV_BW] != 0.0:
+    free stream, wake, gust and (in an engagement's evaluation) the receiver's bow wave."""
+    wx, wy, wz = still_air_velocity(px, py, pz, t, env, gust)
+    if env[ENV_BW] != 0.0:
         bx, by, bz = bow_wave_velocity(px, py, pz, env[ENV_BW], env[ENV_BW_X], env[ENV_BW_Y], env[ENV_BW_Z],
                                        env[ENV_BW_Q], env[ENV_BW_LEN])
         return wx + bx, wy + by, wz + bz
     return wx, wy, wz
 
 
-@njit(**JIT_NO_ALLOC)
-def air_velocity(px, py, pz, t, env, gust):
-    """:func:`air_velocity_of`, every case, compiled of its own."""
-    return air_velocity_of(px, py, pz, t, env, gust)
-
-
 @njit(**JIT_NO_ALLOC_INLINE)
 def still_air_velocity(px, py, pz, t, env, gust, full=True):
     """:func:`air_velocity` without the bow wave: free stream, wake and gust [m/s] (and, when the
     tanker manoeuvres, the air's rotation relative to its axes, :func:`frame.frame_wind`).
-    ``full``: as :func:`air_velocity_of`'s."""
+    ``full`` False (a constant of the compiled caller): level flight in still air
+    (:func:`still_level`), whose gust ``env_at`` has written; the tanker's motion and the gust
+    record are then never compiled (docs/develop.md, "The compiled core")."""
     V = env[ENV_V]
     wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
     if not full or env[ENV_G_NOW] != 0.0:
@@ -95,7 +88,7 @@ def still_level(env, t: float = 0.0) -> bool:
     """Whether the air of ``env`` at time ``t`` [s] is that of level flight in still air without a
     bow wave: no tanker motion, no gust at t (the gust record's window misses it) and the uniform
     gust distribution, the case of the evaluations compiled with ``full`` False
-    (:func:`air_velocity_of`; docs/develop.md, "The compiled core").
+    (:func:`still_air_velocity`; docs/develop.md, "The compiled core").
 
     Parameters
     ----------
@@ -222,7 +215,7 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag, ful
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
     structural bending damping. When the tanker manoeuvres (``env[ENV_M_ON]``) gravity is left
     to :func:`frame.frame_loads`, with the other apparent forces. ``full``: as
-    :func:`air_velocity_of`'s."""
+    :func:`still_air_velocity`'s."""
     if full:
         joint_forces_stretched(t, u, l, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag)
     else:
@@ -231,7 +224,7 @@ def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag, ful
 
 def _joint_forces(full):
     """:func:`joint_forces_stretched` compiled for every case (``full``) or for level flight in still
-    air at rest only (:func:`joint_forces_still`; ``full`` False as :func:`air_velocity_of`'s, and
+    air at rest only (:func:`joint_forces_still`; ``full`` False as :func:`still_air_velocity`'s, and
     the joints' velocities zero, so no structural damping): a closure over the constant, whose
     other branches numba prunes before it types them."""
 
@@ -390,7 +383,7 @@ def env_at(t, env, gust, scratch, full=True):
     the gust at time t looked up once (air_velocity then reads it instead of the record);
     returns ``scratch`` (call it from kernels without numba's runtime only: an array returned
     across the runtime boundary is not reference-counted; elsewhere use :func:`fill_env`).
-    ``full``: as :func:`air_velocity_of`'s."""
+    ``full``: as :func:`still_air_velocity`'s."""
     if full:
         fill_env(t, env, gust, scratch)
     else:
@@ -400,7 +393,7 @@ def env_at(t, env, gust, scratch, full=True):
 
 def _fill_env(full):
     """:func:`fill_env` compiled for every case (``full``) or for level flight in still air only
-    (:func:`fill_env_still`; ``full`` as :func:`air_velocity_of`'s)."""
+    (:func:`fill_env_still`; ``full`` as :func:`still_air_velocity`'s)."""
 
     @njit(**JIT_NO_ALLOC)
     def fill_env(t, env, gust, scratch):
