@@ -60,6 +60,9 @@ def _code_lines(node) -> int:
     if body and isinstance(body[0], ast.Expr) and isinstance(getattr(body[0], "value", None), ast.Constant) \
             and isinstance(body[0].value.value, str):
         lines -= body[0].end_lineno - body[0].lineno + 1
+    for inner in body:  # a compiled kernel defined in a factory (a closure over a constant) is aside too
+        if isinstance(inner, (ast.FunctionDef, ast.AsyncFunctionDef)) and _is_compiled(inner):
+            lines -= inner.end_lineno - inner.decorator_list[0].lineno + 1
     return lines
 
 

@@ -140,18 +140,19 @@ def towed_cable_guess(model: HoseModel) -> np.ndarray:
     return q
 
 
-def _residual_fn(model: HoseModel, env: np.ndarray):
+def _residual_fn(model: HoseModel, env: np.ndarray, narrow: bool = False):
     n = model.n
     gust = model.gust_values
     Q = np.empty(2 * n)
     x = np.zeros(4 * n)  # [q, qd = 0]: the statics
+    kernel = CD.point_kernel(env, x, 0.0, narrow)
     u = np.zeros(2)
     ws = CD.make_workspace(n)
     xi, G = CD.static_scratch(n)
 
     def fun(q):
         x[: 2 * n] = q
-        CD.evaluate_point(True, 0.0, x, u, model.l, model.M, model.J, model.ps, env, gust, ws, xi, G, Q)
+        kernel(True, 0.0, x, u, model.l, model.M, model.J, model.ps, env, gust, ws, xi, G, Q)
         return Q.copy()
 
     def jac(q, h=1e-7):
@@ -170,8 +171,8 @@ def _residual_fn(model: HoseModel, env: np.ndarray):
     return fun, jac
 
 
-def _newton(model: HoseModel, env: np.ndarray, q0: np.ndarray, scale: float):
-    fun, jac = _residual_fn(model, env)
+def _newton(model: HoseModel, env: np.ndarray, q0: np.ndarray, scale: float, narrow: bool = False):
+    fun, jac = _residual_fn(model, env, narrow)
     sol = scipy.optimize.root(fun, q0, jac=jac, method="hybr", options={"xtol": 1e-13})
     res = float(np.max(np.abs(fun(sol.x)))) / scale
     return sol, res
@@ -248,7 +249,8 @@ def _banded_chord(fun, jac, q0: np.ndarray, scale: float):
     return None
 
 
-def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, banded: bool = False) -> Equilibrium:
+def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, banded: bool = False,
+                      narrow: bool = False) -> Equilibrium:
     """Balance position for steady air (free stream and, if enabled, the tanker wake), in the
     tanker's initial steady flight: level, or a steady coordinated turn or climb
     (``params.tanker_motion``, docs/model.md §9; the frame's apparent forces are loads of the
@@ -264,6 +266,11 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, ba
         Solve the angles first by chord iterations on a banded Jacobian (:func:`_banded_chord`;
         MINPACK's Newton as before where they do not converge): the engagement's, about ten times
         faster; the balance position moves within the residual tolerance.
+    narrow : bool, optional
+        Evaluate the rigid chain by the entry compiled for level flight in still air
+        (:func:`hosedrogue.model.chain_dynamics.point_kernel`) when the flight is that: the same
+        numbers, a first run compiles a third as much; for a process that evaluates nothing else of
+        the chain (``hosedrogue steady``), since one that goes on to simulate compiles both.
 
     Returns
     -------
@@ -279,18 +286,18 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, ba
     scale = model.S[0] * G0 * model.l[0]
     q = towed_cable_guess(model)
     env_full = model.steady_env
-    sol = _banded_chord(*_residual_fn(model, env_full), q, scale) if banded else None
+    sol = _banded_chord(*_residual_fn(model, env_full, narrow), q, scale) if banded else None
     if sol is not None:
         res = sol.residual
     else:
-        sol, res = _newton(model, env_full, q, scale)
+        sol, res = _newton(model, env_full, q, scale, narrow)
     if not (res < RESIDUAL_TOLERANCE):
         # continuation in the wake's circulation
         q_c = q
         for frac in np.linspace(0.0, 1.0, 11):
             env = env_full.copy()
             env[LY.ENV_WAKE + 1] *= frac
-            sol, res = _newton(model, env, q_c, scale)
+            sol, res = _newton(model, env, q_c, scale, narrow)
             if not np.all(np.isfinite(sol.x)):
                 break
             q_c = sol.x
@@ -309,7 +316,7 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, ba
     rest = np.concatenate([q, np.zeros_like(q)])
     if lengths is not None:
         rest = np.concatenate([rest, lengths, np.zeros_like(lengths)])
-    out = model.outputs(rest, steady=True)
+    out = model.outputs(rest, steady=True, narrow=narrow)
     drogue = out.joints_m[-1].copy()
     return Equilibrium(
         q=q,

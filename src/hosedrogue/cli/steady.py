@@ -55,7 +55,7 @@ def run(args) -> int:
         model = "continuous hose (bending neglected)"
         drag = float(np.linalg.norm(eq.drogue_drag_n))
     else:
-        eq = solve_equilibrium(params)
+        eq = solve_equilibrium(params, narrow=True)  # nothing else of the chain runs: compile the least
         model = f"{params.hose.links} links"
         drag = eq.drogue_drag_magnitude_n
     motion = params.tanker_motion

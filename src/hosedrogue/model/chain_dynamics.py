@@ -20,7 +20,8 @@ import numpy as np
 from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC, JIT_NO_ALLOC_INLINE
-from .chain_loads import env_at, joint_forces, joint_kinematics, kink, link_frames, rotational_terms
+from .chain_loads import (env_at, joint_forces, joint_kinematics, kink, link_frames, rotational_terms,
+                          still_level)
 from .frame import frame_loads
 from .layout import BENDING_MOMENT, ENV_SIZE, PS_BENDING, PS_EI, PS_G, PS_M_TOW, Layout
 
@@ -228,24 +229,26 @@ def chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, U, Dinv, rv, qdd, to
 
 
 @njit(**JIT_NO_ALLOC_INLINE)
-def loads(t, q, qd, u, l, M, J, ps, env, gust, ws):
+def loads(t, q, qd, u, l, M, J, ps, env, gust, ws, full=True):
     """Kinematics and loads of a state into the workspace: link frames ws[0:4], joint positions
     ws[WS_R] and velocities ws[WS_V], velocity-product accelerations ws[WS_C], joint forces
     ws[WS_F], link moments ws[WS_MOM], rotational generalized forces ws[WS_TAU], drogue drag
-    ws[WS_DRAG]."""
+    ws[WS_DRAG]. ``full`` False (a constant of the compiled caller): level flight in still air
+    only (:func:`hosedrogue.model.chain_loads.still_air_velocity`)."""
     link_frames(q, l.shape[0], ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS])
-    loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws)
+    loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws, full)
 
 
 @njit(**JIT_NO_ALLOC_INLINE)
-def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws):
+def loads_given_frames(t, q, qd, u, l, M, J, ps, env, gust, ws, full=True):
     """:func:`loads` when the link frames ws[0:4] already hold those of q."""
     n = l.shape[0]
     e, a, b, cs, r, v, c, F, Mom, tau = (ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C],
                                          ws[WS_F], ws[WS_MOM], ws[WS_TAU])
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
-    joint_forces(t, u, l, M, ps, env_at(t, env, gust, ws[WS_ENV]), gust, n, e, r, v, F, Mom, ws[WS_DRAG])
-    frame_loads(ps[PS_G], ps[PS_M_TOW], l, M, J, n, e, r, v, ws[WS_ENV], F, Mom)
+    joint_forces(t, u, l, M, ps, env_at(t, env, gust, ws[WS_ENV], full), gust, n, e, r, v, F, Mom, ws[WS_DRAG], full)
+    if full:  # nothing in level flight (frame_loads' own test)
+        frame_loads(ps[PS_G], ps[PS_M_TOW], l, M, J, n, e, r, v, ws[WS_ENV], F, Mom)
     rotational_terms(qd, J, n, cs, Mom, tau)
 
 
@@ -299,11 +302,27 @@ def rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx):
         dx[2 * n + i] = qdd[i]
 
 
-@njit(**JIT)
-def rhs(t, x, u, l, M, S, J, ps, env, gust, dx):
-    """State derivative dx (4n) of x = [q, qd] (allocates its own workspace)."""
-    ws = make_workspace_jit(l.shape[0])
-    rhs_ws(t, x, u, l, M, S, J, ps, env, gust, ws, dx)
+def rhs(t, x, u, l, M, S, J, ps, env, gust, dx, work=None):
+    """dx/dt of x = [q, qd], from Python (the linearization, the fixed-length FMU): the accelerations
+    of :data:`evaluate_point`, the one compiled entry of a state evaluated from Python (a compiled
+    ``rhs`` of its own compiled and linked the whole evaluation once more: 1 s of a cold start).
+
+    Parameters
+    ----------
+    t, x, u : float, numpy.ndarray
+        Time [s], the state (4n,) and the control force (2,) [N] (float64, contiguous).
+    l, M, S, J, ps, env, gust : numpy.ndarray
+        The model's arrays (:meth:`hosedrogue.model.system.HoseModel.kernel_args`).
+    dx : numpy.ndarray
+        Receives dx/dt (4n,).
+    work : tuple, optional
+        A :func:`point_work` to reuse (one per thread); made here if None.
+    """
+    n = l.shape[0]
+    ws, xi, G, Q = point_work(n) if work is None else work
+    evaluate_point(False, float(t), x, u, l, M, J, ps, env, gust, ws, xi, G, Q)
+    dx[: 2 * n] = x[2 * n:]
+    dx[2 * n:] = ws[WS_QDD]
 
 
 @njit(**JIT)
@@ -322,20 +341,59 @@ def accelerations_dense(t, x, u, l, M, S, J, ps, env, gust):
     return np.linalg.solve(H, Q)
 
 
-@njit(**JIT_NO_ALLOC)
-def evaluate_point(residual, t, x, u, l, M, J, ps, env, gust, ws, xi, G, Q):
-    """One state evaluated from Python, the one compiled entry of the balance position
-    (docs/develop.md, "The compiled core"): the loads of x = [q, qd] into the workspace ws, then
-    either (``residual``) the generalized forces into Q (2n; with qd = 0 and u = 0 the statics'
-    residual, zero exactly at an equilibrium; xi and G (n+1, 3) are scratch) or, as
-    :func:`evaluate_ws`, the accelerations ws[WS_QDD], the tow-point force ws[WS_TOW] and the
-    exit tension ws[WS_T0] (xi, G and Q unused)."""
-    n = l.shape[0]
-    loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws)
-    if residual:
-        generalized_forces(l, M, n, ws[WS_A], ws[WS_B], ws[WS_C], ws[WS_F], ws[WS_TAU], xi, G, Q)
-    else:
-        forward_dynamics_ws(l, M, J, ps, ws)
+def _point(full):
+    """:func:`evaluate_point` compiled for every case (``full``) or for level flight in still air at
+    rest only (:func:`evaluate_point_still`; ``full`` as :func:`loads`'): a closure over the
+    constant, whose other branches numba prunes before it types them."""
+
+    @njit(**JIT_NO_ALLOC)
+    def evaluate_point(residual, t, x, u, l, M, J, ps, env, gust, ws, xi, G, Q):
+        """One state evaluated from Python, the one compiled entry of the balance position
+        (docs/develop.md, "The compiled core"): the loads of x = [q, qd] into the workspace ws,
+        then either (``residual``) the generalized forces into Q (2n; with qd = 0 and u = 0 the
+        statics' residual, zero exactly at an equilibrium; xi and G (n+1, 3) are scratch) or, as
+        :func:`evaluate_ws`, the accelerations ws[WS_QDD], the tow-point force ws[WS_TOW] and the
+        exit tension ws[WS_T0] (xi, G and Q unused)."""
+        n = l.shape[0]
+        loads(t, x[: 2 * n], x[2 * n:], u, l, M, J, ps, env, gust, ws, full)
+        if residual:
+            generalized_forces(l, M, n, ws[WS_A], ws[WS_B], ws[WS_C], ws[WS_F], ws[WS_TAU], xi, G, Q)
+        else:
+            forward_dynamics_ws(l, M, J, ps, ws)
+
+    return evaluate_point
+
+
+#: :func:`_point`'s entry of every case, and of level flight in still air at rest (:func:`point_kernel`
+#: picks): the latter compiles no tanker motion, gust record, bow wave or structural damping
+evaluate_point, evaluate_point_still = _point(True), _point(False)
+
+
+def point_kernel(env, x, t: float = 0.0, narrow: bool = False):
+    """The compiled entry of :func:`_point` for a state: :data:`evaluate_point_still` if ``narrow``
+    and the case is level flight in still air (:func:`chain_loads.still_level`) at rest (qd = 0),
+    else :data:`evaluate_point` (the same numbers bit for bit). Narrow is worth it in a process
+    that evaluates nothing else of the chain (``steady``); one that simulates compiles both.
+
+    Parameters
+    ----------
+    env, x, t, narrow : numpy.ndarray, numpy.ndarray, float, bool
+        The air's scalars, the state [q, qd] (4n,), the time [s], and whether to take the narrow entry.
+    """
+    at_rest = not np.any(x[x.shape[0] // 2:])
+    return evaluate_point_still if narrow and at_rest and still_level(env, t) else evaluate_point
+
+
+def point_work(n):
+    """Every array :data:`evaluate_point` takes beside the state and the model: ``(ws, xi, G, Q)``
+    (:func:`make_workspace`, :func:`static_scratch` and the residual (2n,) [N m]).
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+    """
+    return (make_workspace(n),) + static_scratch(n) + (np.empty(2 * n),)
 
 
 def static_scratch(n):

@@ -56,12 +56,15 @@ def air_velocity(px, py, pz, t, env, gust):
 
 
 @njit(**JIT_NO_ALLOC_INLINE)
-def still_air_velocity(px, py, pz, t, env, gust):
+def still_air_velocity(px, py, pz, t, env, gust, full=True):
     """:func:`air_velocity` without the bow wave: free stream, wake and gust [m/s] (and, when the
-    tanker manoeuvres, the air's rotation relative to its axes, :func:`frame.frame_wind`)."""
+    tanker manoeuvres, the air's rotation relative to its axes, :func:`frame.frame_wind`).
+    ``full`` False (a constant of the compiled caller): level flight in still air
+    (:func:`still_level`), whose gust ``env_at`` has written; the tanker's motion and the gust
+    record are then never compiled (docs/develop.md, "The compiled core")."""
     V = env[ENV_V]
     wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
-    if env[ENV_G_NOW] != 0.0:
+    if not full or env[ENV_G_NOW] != 0.0:
         wx, wy, wz = -V + env[ENV_GU], wy + env[ENV_GV], wz + env[ENV_GW]
     else:
         t_eff = t
@@ -75,10 +78,31 @@ def still_air_velocity(px, py, pz, t, env, gust):
         gu, gv, gw = gust_at(t_eff, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
                              env[ENV_G_CUBIC] != 0.0)
         wx, wy, wz = -V + gu, wy + gv, wz + gw
-    if env[ENV_M_ON] != 0.0:
+    if full and env[ENV_M_ON] != 0.0:
         fx, fy, fz = frame_wind(px, py, pz, env)
         return wx + fx, wy + fy, wz + fz
     return wx, wy, wz
+
+
+def still_level(env, t: float = 0.0) -> bool:
+    """Whether the air of ``env`` at time ``t`` [s] is that of level flight in still air without a
+    bow wave: no tanker motion, no gust at t (the gust record's window misses it) and the uniform
+    gust distribution, the case of the evaluations compiled with ``full`` False
+    (:func:`still_air_velocity`; docs/develop.md, "The compiled core").
+
+    Parameters
+    ----------
+    env : numpy.ndarray
+        The air's scalars (:data:`hosedrogue.model.layout.ENV`).
+    t : float
+        Time [s].
+
+    Returns
+    -------
+    bool
+    """
+    gust_off = not (t >= env[ENV_T_ON] and t < env[ENV_T_OFF])
+    return bool(env[ENV_M_ON] == 0.0 and env[ENV_BW] == 0.0 and env[ENV_FROZEN] == 0.0 and gust_off)
 
 
 @njit(**JIT_NO_ALLOC)
@@ -186,136 +210,157 @@ def drag_rule(ps, rho):
 
 
 @njit(**JIT_NO_ALLOC_INLINE)
-def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
+def joint_forces(t, u, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag, full=True):
     """External forces on every joint F (n+1,3; row 0 acts on the tow point), moments on every
     link Mom (n,3) and the drogue drag (3,). Gravity, link and drogue drag, control, bending,
     structural bending damping. When the tanker manoeuvres (``env[ENV_M_ON]``) gravity is left
-    to :func:`frame.frame_loads`, with the other apparent forces."""
-    joint_forces_stretched(t, u, l, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag)
-
-
-@njit(**JIT_NO_ALLOC)
-def joint_forces_stretched(t, u, l, lam, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
-    """:func:`joint_forces` of a chain whose links have the material (unstretched) lengths l and
-    the actual lengths lam [m] (the elastic chain, :mod:`hosedrogue.model.elastic`): the drag
-    area and the bending's lbar are per material length, the links' angular velocities (the
-    structural damping) use the actual lengths; ``lam`` is ``l`` for rigid links."""
-    g = ps[PS_G]
-    rho = ps[PS_RHO]
-    level = env[ENV_M_ON] == 0.0
-    for k in range(n + 1):
-        for i in range(3):
-            F[k, i] = 0.0
-    for k in range(n):
-        for i in range(3):
-            Mom[k, i] = 0.0
-        if level:
-            F[k + 1, 2] += M[k] * g
-    if rho > 0.0:
-        q_ct, q_cn, npts, s0, s1, w = drag_rule(ps, rho)
-        # the air's velocity where it is a function of y and z only (the gust the same at every
-        # point, env_at): the gust, then the wake added per point
-        uniform = env[ENV_G_NOW] != 0.0
-        ux = -env[ENV_V] + env[ENV_GU]
-        gv = env[ENV_GV]
-        gw = env[ENV_GW]
-        for k in range(n):
-            for j in range(npts):
-                sp = s0 if j == 0 else s1
-                sf = 1.0 - sp
-                px = sf * r[k, 0] + sp * r[k + 1, 0]
-                py = sf * r[k, 1] + sp * r[k + 1, 1]
-                pz = sf * r[k, 2] + sp * r[k + 1, 2]
-                if uniform:
-                    wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
-                    wx, wy, wz = ux, wy + gv, wz + gw
-                    if not level:
-                        fx, fy, fz = frame_wind(px, py, pz, env)
-                        wx, wy, wz = wx + fx, wy + fy, wz + fz
-                    if env[ENV_BW] != 0.0:
-                        bx, by, bz = bow_wave_velocity(px, py, pz, env[ENV_BW], env[ENV_BW_X], env[ENV_BW_Y],
-                                                       env[ENV_BW_Z], env[ENV_BW_Q], env[ENV_BW_LEN])
-                        wx, wy, wz = wx + bx, wy + by, wz + bz
-                else:
-                    wx, wy, wz = air_velocity(px, py, pz, t, env, gust)
-                dx, dy, dz = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx, wy, wz)
-                F[k, 0] += sf * dx
-                F[k, 1] += sf * dy
-                F[k, 2] += sf * dz
-                F[k + 1, 0] += sp * dx
-                F[k + 1, 1] += sp * dy
-                F[k + 1, 2] += sp * dz
-        wx, wy, wz = air_velocity(r[n, 0], r[n, 1], r[n, 2], t, env, gust)
-        vrx = v[n, 0] - wx
-        vry = v[n, 1] - wy
-        vrz = v[n, 2] - wz
-        vr = math.sqrt(vrx * vrx + vry * vry + vrz * vrz)
-        c = -0.5 * rho * ps[PS_DROGUE_CDA] * vr
-        drogue_drag[0] = c * vrx
-        drogue_drag[1] = c * vry
-        drogue_drag[2] = c * vrz
+    to :func:`frame.frame_loads`, with the other apparent forces. ``full``: as
+    :func:`still_air_velocity`'s."""
+    if full:
+        joint_forces_stretched(t, u, l, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag)
     else:
-        drogue_drag[0] = 0.0
-        drogue_drag[1] = 0.0
-        drogue_drag[2] = 0.0
-    F[n, 0] += drogue_drag[0]
-    F[n, 1] += drogue_drag[1] + u[0]
-    F[n, 2] += drogue_drag[2] + u[1]
+        joint_forces_still(t, u, l, l, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag)
 
-    mode = ps[PS_BENDING]
-    EI = ps[PS_EI]
-    if mode != BENDING_OFF and EI > 0.0:
-        for k in range(n - 1):
-            lbar = 0.5 * (l[k] + l[k + 1])
-            if mode == BENDING_PAPER:
-                # equivalent force 8 E I gamma / lbar^2 on the joint, along unit(e_{k+1} - e_k)
-                dx = e[k + 1, 0] - e[k, 0]
-                dy = e[k + 1, 1] - e[k, 1]
-                dz = e[k + 1, 2] - e[k, 2]
-                dn = math.sqrt(dx * dx + dy * dy + dz * dz)
-                gamma = 2.0 * math.asin(min(0.5 * dn, 1.0))
-                scale = 8.0 * EI / (lbar * lbar)
-                scale *= gamma / dn if dn > 1e-300 else 1.0
-                F[k + 1, 0] += scale * dx
-                F[k + 1, 1] += scale * dy
-                F[k + 1, 2] += scale * dz
+
+def _joint_forces(full):
+    """:func:`joint_forces_stretched` compiled for every case (``full``) or for level flight in still
+    air at rest only (:func:`joint_forces_still`; ``full`` False as :func:`still_air_velocity`'s, and
+    the joints' velocities zero, so no structural damping): a closure over the constant, whose
+    other branches numba prunes before it types them."""
+
+    @njit(**JIT_NO_ALLOC)
+    def joint_forces_stretched(t, u, l, lam, M, ps, env, gust, n, e, r, v, F, Mom, drogue_drag):
+        """:func:`joint_forces` of a chain whose links have the material (unstretched) lengths l and
+        the actual lengths lam [m] (the elastic chain, :mod:`hosedrogue.model.elastic`): the drag
+        area and the bending's lbar are per material length, the links' angular velocities (the
+        structural damping) use the actual lengths; ``lam`` is ``l`` for rigid links."""
+        g = ps[PS_G]
+        rho = ps[PS_RHO]
+        level = env[ENV_M_ON] == 0.0
+        for k in range(n + 1):
+            for i in range(3):
+                F[k, i] = 0.0
+        for k in range(n):
+            for i in range(3):
+                Mom[k, i] = 0.0
+            if level:
+                F[k + 1, 2] += M[k] * g
+        if rho > 0.0:
+            q_ct, q_cn, npts, s0, s1, w = drag_rule(ps, rho)
+            # the air's velocity where it is a function of y and z only (the gust the same at every
+            # point, env_at): the gust, then the wake added per point
+            uniform = env[ENV_G_NOW] != 0.0
+            ux = -env[ENV_V] + env[ENV_GU]
+            gv = env[ENV_GV]
+            gw = env[ENV_GW]
+            for k in range(n):
+                for j in range(npts):
+                    sp = s0 if j == 0 else s1
+                    sf = 1.0 - sp
+                    px = sf * r[k, 0] + sp * r[k + 1, 0]
+                    py = sf * r[k, 1] + sp * r[k + 1, 1]
+                    pz = sf * r[k, 2] + sp * r[k + 1, 2]
+                    if not full or uniform:
+                        wy, wz = wake_velocity(py, pz, env, ENV_WAKE)
+                        wx, wy, wz = ux, wy + gv, wz + gw
+                        if full and not level:
+                            fx, fy, fz = frame_wind(px, py, pz, env)
+                            wx, wy, wz = wx + fx, wy + fy, wz + fz
+                        if full and env[ENV_BW] != 0.0:
+                            bx, by, bz = bow_wave_velocity(px, py, pz, env[ENV_BW], env[ENV_BW_X], env[ENV_BW_Y],
+                                                           env[ENV_BW_Z], env[ENV_BW_Q], env[ENV_BW_LEN])
+                            wx, wy, wz = wx + bx, wy + by, wz + bz
+                    else:
+                        wx, wy, wz = air_velocity(px, py, pz, t, env, gust)
+                    dx, dy, dz = segment_drag(q_ct, q_cn, w * l[k], sf, sp, k, e, v, wx, wy, wz)
+                    F[k, 0] += sf * dx
+                    F[k, 1] += sf * dy
+                    F[k, 2] += sf * dz
+                    F[k + 1, 0] += sp * dx
+                    F[k + 1, 1] += sp * dy
+                    F[k + 1, 2] += sp * dz
+            if full:
+                wx, wy, wz = air_velocity(r[n, 0], r[n, 1], r[n, 2], t, env, gust)
             else:
-                # restoring moment (E I / lbar) gamma about e_k x e_{k+1}: + on link k, - on k+1
-                wx, wy, wz, sn, gamma = kink(e, k)
-                scale = EI / lbar
-                scale *= gamma / sn if sn > 1e-300 else 1.0
-                Mom[k, 0] += scale * wx
-                Mom[k, 1] += scale * wy
-                Mom[k, 2] += scale * wz
-                Mom[k + 1, 0] -= scale * wx
-                Mom[k + 1, 1] -= scale * wy
-                Mom[k + 1, 2] -= scale * wz
+                wx, wy, wz = still_air_velocity(r[n, 0], r[n, 1], r[n, 2], t, env, gust, False)
+            vrx = v[n, 0] - wx
+            vry = v[n, 1] - wy
+            vrz = v[n, 2] - wz
+            vr = math.sqrt(vrx * vrx + vry * vry + vrz * vrz)
+            c = -0.5 * rho * ps[PS_DROGUE_CDA] * vr
+            drogue_drag[0] = c * vrx
+            drogue_drag[1] = c * vry
+            drogue_drag[2] = c * vrz
+        else:
+            drogue_drag[0] = 0.0
+            drogue_drag[1] = 0.0
+            drogue_drag[2] = 0.0
+        F[n, 0] += drogue_drag[0]
+        F[n, 1] += drogue_drag[1] + u[0]
+        F[n, 2] += drogue_drag[2] + u[1]
 
-    # structural (Kelvin-Voigt) damping of the hose wall, c_b dkappa/dt lumped at every inner
-    # joint: the moment (c_b / lbar) (w_k+1 - w_k) on link k and the opposite on link k+1, w the
-    # links' angular velocities perpendicular to their axes (e x de/dt). Each link is a line
-    # without axial inertia or torsion, so only the part of a moment perpendicular to its axis
-    # acts on it (the partial angular velocity [0,1,0] has an axial part -s2 e: the frame's
-    # twist, which is no motion of the line). It dissipates
-    # sum (c_b / lbar) |w_k+1 - w_k|^2.
-    cb = ps[PS_BEND_DAMP]
-    if cb > 0.0:
-        ox, oy, oz = link_omega(0, lam, e, v)
-        for k in range(n - 1):
-            px, py, pz = link_omega(k + 1, lam, e, v)
-            cd = cb / (0.5 * (l[k] + l[k + 1]))
-            mx = cd * (px - ox)
-            my = cd * (py - oy)
-            mz = cd * (pz - oz)
-            ak = mx * e[k, 0] + my * e[k, 1] + mz * e[k, 2]
-            ak1 = mx * e[k + 1, 0] + my * e[k + 1, 1] + mz * e[k + 1, 2]
-            Mom[k, 0] += mx - ak * e[k, 0]
-            Mom[k, 1] += my - ak * e[k, 1]
-            Mom[k, 2] += mz - ak * e[k, 2]
-            Mom[k + 1, 0] -= mx - ak1 * e[k + 1, 0]
-            Mom[k + 1, 1] -= my - ak1 * e[k + 1, 1]
-            Mom[k + 1, 2] -= mz - ak1 * e[k + 1, 2]
-            ox, oy, oz = px, py, pz
+        mode = ps[PS_BENDING]
+        EI = ps[PS_EI]
+        if mode != BENDING_OFF and EI > 0.0:
+            for k in range(n - 1):
+                lbar = 0.5 * (l[k] + l[k + 1])
+                if mode == BENDING_PAPER:
+                    # equivalent force 8 E I gamma / lbar^2 on the joint, along unit(e_{k+1} - e_k)
+                    dx = e[k + 1, 0] - e[k, 0]
+                    dy = e[k + 1, 1] - e[k, 1]
+                    dz = e[k + 1, 2] - e[k, 2]
+                    dn = math.sqrt(dx * dx + dy * dy + dz * dz)
+                    gamma = 2.0 * math.asin(min(0.5 * dn, 1.0))
+                    scale = 8.0 * EI / (lbar * lbar)
+                    scale *= gamma / dn if dn > 1e-300 else 1.0
+                    F[k + 1, 0] += scale * dx
+                    F[k + 1, 1] += scale * dy
+                    F[k + 1, 2] += scale * dz
+                else:
+                    # restoring moment (E I / lbar) gamma about e_k x e_{k+1}: + on link k, - on k+1
+                    wx, wy, wz, sn, gamma = kink(e, k)
+                    scale = EI / lbar
+                    scale *= gamma / sn if sn > 1e-300 else 1.0
+                    Mom[k, 0] += scale * wx
+                    Mom[k, 1] += scale * wy
+                    Mom[k, 2] += scale * wz
+                    Mom[k + 1, 0] -= scale * wx
+                    Mom[k + 1, 1] -= scale * wy
+                    Mom[k + 1, 2] -= scale * wz
+
+        # structural (Kelvin-Voigt) damping of the hose wall, c_b dkappa/dt lumped at every inner
+        # joint: the moment (c_b / lbar) (w_k+1 - w_k) on link k and the opposite on link k+1, w the
+        # links' angular velocities perpendicular to their axes (e x de/dt). Each link is a line
+        # without axial inertia or torsion, so only the part of a moment perpendicular to its axis
+        # acts on it (the partial angular velocity [0,1,0] has an axial part -s2 e: the frame's
+        # twist, which is no motion of the line). It dissipates
+        # sum (c_b / lbar) |w_k+1 - w_k|^2.
+        # (at rest, the still case, it adds zeros: v = +0 everywhere, and a moment that starts at
+        # +0 and only sums is never -0, so adding a signed zero leaves its bits)
+        cb = ps[PS_BEND_DAMP]
+        if full and cb > 0.0:
+            ox, oy, oz = link_omega(0, lam, e, v)
+            for k in range(n - 1):
+                px, py, pz = link_omega(k + 1, lam, e, v)
+                cd = cb / (0.5 * (l[k] + l[k + 1]))
+                mx = cd * (px - ox)
+                my = cd * (py - oy)
+                mz = cd * (pz - oz)
+                ak = mx * e[k, 0] + my * e[k, 1] + mz * e[k, 2]
+                ak1 = mx * e[k + 1, 0] + my * e[k + 1, 1] + mz * e[k + 1, 2]
+                Mom[k, 0] += mx - ak * e[k, 0]
+                Mom[k, 1] += my - ak * e[k, 1]
+                Mom[k, 2] += mz - ak * e[k, 2]
+                Mom[k + 1, 0] -= mx - ak1 * e[k + 1, 0]
+                Mom[k + 1, 1] -= my - ak1 * e[k + 1, 1]
+                Mom[k + 1, 2] -= mz - ak1 * e[k + 1, 2]
+                ox, oy, oz = px, py, pz
+
+    return joint_forces_stretched
+
+
+#: :func:`_joint_forces`' function of every case, and of level flight in still air (:func:`still_level`)
+joint_forces_stretched, joint_forces_still = _joint_forces(True), _joint_forces(False)
 
 
 @njit(**JIT_NO_ALLOC)
@@ -333,38 +378,55 @@ def rotational_terms(qd, J, n, cs, Mom, tau):
 
 
 @njit(**JIT_NO_ALLOC_INLINE)
-def env_at(t, env, gust, scratch):
+def env_at(t, env, gust, scratch, full=True):
     """``env`` copied into ``scratch`` with, when every point sees the same gust (``uniform``),
     the gust at time t looked up once (air_velocity then reads it instead of the record);
     returns ``scratch`` (call it from kernels without numba's runtime only: an array returned
-    across the runtime boundary is not reference-counted; elsewhere use :func:`fill_env`)."""
-    fill_env(t, env, gust, scratch)
+    across the runtime boundary is not reference-counted; elsewhere use :func:`fill_env`).
+    ``full``: as :func:`still_air_velocity`'s."""
+    if full:
+        fill_env(t, env, gust, scratch)
+    else:
+        fill_env_still(t, env, gust, scratch)
     return scratch
 
 
-@njit(**JIT_NO_ALLOC)
-def fill_env(t, env, gust, scratch):
-    """:func:`env_at` without the return value."""
-    for i in range(ENV_G_NOW):
-        scratch[i] = env[i]
-    for i in range(ENV_BW, ENV_SIZE):
-        scratch[i] = env[i]
-    scratch[ENV_G_NOW] = 0.0
-    t_gust = t
-    if env[ENV_M_ON] != 0.0:
-        # the frame terms at t; the air's speed, the wake's circulation and the gust record's
-        # time (the path flown over V_0: the turbulence is a frozen field along the tanker's path)
-        V, wake_factor = frame_terms(t, env, ENV_SIZE, scratch)
-        scratch[ENV_V] = V
-        scratch[ENV_WAKE + 1] = env[ENV_WAKE + 1] * wake_factor
-        t_gust = scratch[ENV_M_T]
-    if env[ENV_FROZEN] == 0.0:
-        gu, gv, gw = gust_at(t_gust, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
-                             env[ENV_G_CUBIC] != 0.0)
-        scratch[ENV_GU] = gu
-        scratch[ENV_GV] = gv
-        scratch[ENV_GW] = gw
-        scratch[ENV_G_NOW] = 1.0
+def _fill_env(full):
+    """:func:`fill_env` compiled for every case (``full``) or for level flight in still air only
+    (:func:`fill_env_still`; ``full`` as :func:`still_air_velocity`'s)."""
+
+    @njit(**JIT_NO_ALLOC)
+    def fill_env(t, env, gust, scratch):
+        """:func:`env_at` without the return value."""
+        for i in range(ENV_G_NOW):
+            scratch[i] = env[i]
+        for i in range(ENV_BW, ENV_SIZE):
+            scratch[i] = env[i]
+        scratch[ENV_G_NOW] = 0.0
+        t_gust = t
+        if full and env[ENV_M_ON] != 0.0:
+            # the frame terms at t; the air's speed, the wake's circulation and the gust record's
+            # time (the path flown over V_0: the turbulence is a frozen field along the tanker's path)
+            V, wake_factor = frame_terms(t, env, ENV_SIZE, scratch)
+            scratch[ENV_V] = V
+            scratch[ENV_WAKE + 1] = env[ENV_WAKE + 1] * wake_factor
+            t_gust = scratch[ENV_M_T]
+        if env[ENV_FROZEN] == 0.0:
+            if full:
+                gu, gv, gw = gust_at(t_gust, env[ENV_G_T0], env[ENV_G_DT], gust, env[ENV_T_ON], env[ENV_T_OFF],
+                                     env[ENV_G_CUBIC] != 0.0)
+            else:
+                gu, gv, gw = 0.0, 0.0, 0.0  # gust_at's outside its window
+            scratch[ENV_GU] = gu
+            scratch[ENV_GV] = gv
+            scratch[ENV_GW] = gw
+            scratch[ENV_G_NOW] = 1.0
+
+    return fill_env
+
+
+#: :func:`_fill_env`'s function of every case, and of level flight in still air (:func:`still_level`)
+fill_env, fill_env_still = _fill_env(True), _fill_env(False)
 
 
 @njit(**JIT_NO_ALLOC)

@@ -15,7 +15,8 @@ from numba import njit
 from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 from .elastic import elastic_drogue_yz, elastic_evaluate_ws, hose_rates, make_elastic_workspace_jit
 from .integrate import actuator_rates, applied_force_at, controller_rates, is_open_loop, step_status
-from .chain_dynamics import WS_CS, WS_DRAG, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, make_workspace_jit
+from .chain_dynamics import (WS_CS, WS_DRAG, WS_R, WS_T0, WS_TOW, WS_V, copy_matrix, copy_vector,
+                             make_workspace_jit)
 from .layout import OK, SCHEME_RK4, STAGE_LIMIT
 from .steppers import rk4, sdirk2
 
@@ -120,13 +121,13 @@ def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, 
                 for i in range(nz):
                     work[7, i] = work[6, i]
             ts[saved] = t
-            zs[saved, :] = z
+            copy_vector(zs[saved], z)  # element by element: no array assignment (docs/develop.md)
             us[saved, 0] = u[0]
             us[saved, 1] = u[1]
-            joints[saved] = ws[WS_R]
-            drogue_vel[saved] = ws[WS_V][n]
-            drogue_drag[saved] = ws[WS_DRAG]
-            tow[saved] = ws[WS_TOW]
+            copy_matrix(joints[saved], ws[WS_R])
+            copy_vector(drogue_vel[saved], ws[WS_V][n])
+            copy_vector(drogue_drag[saved], ws[WS_DRAG])
+            copy_vector(tow[saved], ws[WS_TOW])
             tension[saved] = ws[WS_T0][0]
             saved += 1
         if step == nsteps:

@@ -26,8 +26,8 @@ from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 
 from .layout import NONFINITE, OK, PS_RHO, YAW_LIMIT
 from .chain_dynamics import (
-    WS_A, WS_B, WS_CS, WS_DRAG, WS_E, WS_ENV, WS_F, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, forward_dynamics_ws,
-    loads_given_frames, make_workspace_jit,
+    WS_A, WS_B, WS_CS, WS_DRAG, WS_E, WS_ENV, WS_F, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, copy_matrix, copy_vector,
+    forward_dynamics_ws, loads_given_frames, make_workspace_jit,
 )
 from .chain_loads import drogue_from_frames, env_at, link_frames
 from .steppers import rk4
@@ -401,13 +401,13 @@ def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, n
     into its compiled callers (:data:`hosedrogue.jit.JIT_INLINE`)."""
     n = l.shape[0]
     ts[i] = t
-    zs[i, :] = z
+    copy_vector(zs[i], z)  # element by element: no array assignment (docs/develop.md, "The compiled core")
     closed_loop_deriv(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
                       ws, work[0], u)
-    joints[i] = ws[WS_R]
-    drogue_vel[i] = ws[WS_V][n]
-    drogue_drag[i] = ws[WS_DRAG]
-    tow[i] = ws[WS_TOW]
+    copy_matrix(joints[i], ws[WS_R])
+    copy_vector(drogue_vel[i], ws[WS_V][n])
+    copy_vector(drogue_drag[i], ws[WS_DRAG])
+    copy_vector(tow[i], ws[WS_TOW])
     tension[i] = ws[WS_T0][0]
     # u is the force applied at (t, z): closed_loop_deriv measured the drogue and set it
     us[i, 0] = u[0]

@@ -9,6 +9,7 @@ the model so that every force evaluation asks the same air-velocity function.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -280,10 +281,12 @@ class HoseModel:
             raise ValueError(f"state has shape {x.shape}; expected ({self.state_size},) = {layout} for n = {self.n}")
         return x
 
-    def outputs(self, x, t: float = 0.0, u=(0.0, 0.0), steady: bool = False) -> StateOutputs:
+    def outputs(self, x, t: float = 0.0, u=(0.0, 0.0), steady: bool = False, narrow: bool = False) -> StateOutputs:
         """Accelerations and derived outputs at state ``x`` = [q, qd] (elastic: [q, qd, lam,
         lamd], and ``qdd`` then holds the angles' and the lengths' accelerations, 3n), time t [s],
-        force u [N]."""
+        force u [N]; ``narrow``: rigid links evaluated by the entry compiled for level flight in
+        still air at rest where that is the case (:func:`chain_dynamics.point_kernel`; the same
+        numbers)."""
         x = self._check_state(x)
         ws = CD.make_workspace(self.n)
         env = self.steady_env if steady else self.env
@@ -293,8 +296,9 @@ class HoseModel:
                                   env, self.gust_values, ws, ews, 0.0, x)
             qdd = np.concatenate([ws[CD.WS_QDD], ews[E.EWS_LAMDD]])
         else:
-            CD.evaluate_point(False, float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.J,
-                              self.ps, env, self.gust_values, ws, *CD.static_scratch(self.n), np.empty(2 * self.n))
+            kernel = CD.point_kernel(env, x, float(t), narrow)
+            kernel(False, float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.J, self.ps, env,
+                   self.gust_values, ws, *CD.static_scratch(self.n), np.empty(2 * self.n))
             qdd = ws[CD.WS_QDD]
         r, v, dd, tf = ws[CD.WS_R], ws[CD.WS_V], ws[CD.WS_DRAG], ws[CD.WS_TOW]
         return StateOutputs(qdd, r, v, dd, tf, float(ws[CD.WS_T0][0]))
@@ -312,8 +316,17 @@ class HoseModel:
             return np.concatenate([x[2 * n: 4 * n], acc[: 2 * n], x[5 * n:], acc[2 * n:]])
         dx = np.empty_like(x)
         CD.rhs(float(t), x, np.asarray(u, dtype=np.float64), self.l, self.M, self.S, self.J,
-              self.ps, self.env, self.gust_values, dx)
+               self.ps, self.env, self.gust_values, dx, self._point_work())
         return dx
+
+    def _point_work(self) -> tuple:
+        """This thread's scratch of :func:`chain_dynamics.rhs` (made at its first use)."""
+        works = self.__dict__.setdefault("_works", {})
+        key = threading.get_ident()
+        work = works.get(key)
+        if work is None:
+            work = works[key] = CD.point_work(self.n)
+        return work
 
     def accelerations_dense(self, q, qd, t: float = 0.0, u=(0.0, 0.0)) -> np.ndarray:
         """qdd from the dense mass matrix (O(n^3) reference for the O(n) recursion)."""
