@@ -49,7 +49,8 @@ from hosedrogue.engagement import driver as DR  # noqa: E402
 _segment_kernel = ES.eng_segment
 _in_segments = [0.0]
 _equilibrium, _assemble = CH.chain_equilibrium, DR.assemble_result
-_parts = {"balance": 0.0, "assembly": 0.0}
+_events = (DR.remesh_event, DR.switch_event, DR.contact_event)
+_parts = {"balance": 0.0, "assembly": 0.0, "events": 0.0}
 
 
 def _timed_segment(*args):
@@ -78,12 +79,14 @@ DOUBLING_BOUND = 0.03  # the brief's bound on a converged peak's change when the
 
 def timed(scenario, repeats):
     """Best CPU and wall time [s] of ``repeats`` runs, the best CPU time inside the compiled
-    segments [s], and the last result; the best CPU times of the balance position and of the
-    result's assembly (the output kernel on every saved state and the columns) go to ``best_parts``."""
+    segments [s], and the last result; the best CPU times of the balance position, of the
+    result's assembly (the output kernel on every saved state and the columns) and of the events
+    between the segments (their outputs and energies before and after) go to ``best_parts``."""
     cpu = wall = seg = math.inf
     best_parts.update(dict.fromkeys(_parts, math.inf))
     ES.eng_segment = _timed_segment
     CH.chain_equilibrium, DR.assemble_result = _timed(_equilibrium, "balance"), _timed(_assemble, "assembly")
+    DR.remesh_event, DR.switch_event, DR.contact_event = (_timed(f, "events") for f in _events)
     try:
         for _ in range(repeats):
             _in_segments[0] = 0.0
@@ -98,6 +101,7 @@ def timed(scenario, repeats):
     finally:
         ES.eng_segment = _segment_kernel
         CH.chain_equilibrium, DR.assemble_result = _equilibrium, _assemble
+        DR.remesh_event, DR.switch_event, DR.contact_event = _events
     return cpu, wall, seg, r
 
 
@@ -120,7 +124,7 @@ def line(label, scenario, cpu, wall, seg, r, target=None):
           f"real-time factor {rtf:.1f}{goal}, {seg / steps * 1e6:.1f} us per step; whole run CPU {cpu:.3f} s, "
           f"wall {wall:.3f} s -> {scenario.duration_s / cpu:.1f}{_goal(scenario.duration_s / cpu, target)} "
           f"(wall {scenario.duration_s / wall:.1f}); of which balance position {best_parts['balance']:.4f} s, "
-          f"assembly {best_parts['assembly']:.4f} s; "
+          f"assembly {best_parts['assembly']:.4f} s, events (remesh, chart, contact) {best_parts['events']:.4f} s; "
           f"result {r.outcome['result']!r}{'' if r.completed else ', INCOMPLETE: ' + r.message}")
 
 
@@ -140,22 +144,29 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeats", type=int, default=3, help="runs per figure (the best is reported)")
     ap.add_argument("--no-doubled", action="store_true", help="skip the 320-link meshes")
+    ap.add_argument("--no-rigid", action="store_true",
+                    help="skip the rigid links on their former settings (RK4 at 0.625 ms: most of this script's time)")
+    ap.add_argument("--only", nargs="+", choices=SCENARIOS, metavar="NAME",
+                    help=f"time only these engagement scenarios (of {', '.join(SCENARIOS)}); approach-moderate is always timed")
     ap.add_argument("--minpack", action="store_true",
                     help="the elastic balance position by the former solver (MINPACK, difference Jacobian): 'before'")
     args = ap.parse_args(argv)
     if args.minpack:
         former = EQ._elastic_newton
         EQ._elastic_newton = lambda model, env, q, scale, rigid=None: former(model, env, q, scale, None)
+    names = args.only or SCENARIOS
     t0 = time.perf_counter()
-    for name in SCENARIOS:
+    for name in names:
         sc = load_scenario(name)
         run(dataclasses.replace(sc, duration_s=0.05))
-        run(dataclasses.replace(rigid(sc), duration_s=0.05))
+        if not args.no_rigid:
+            run(dataclasses.replace(rigid(sc), duration_s=0.05))
     print(f"compile + first short runs: {time.perf_counter() - t0:.1f} s; load average {os.getloadavg()[0]:.1f}")
-    for name in SCENARIOS:
+    for name in names:
         sc = load_scenario(name)
         line(f"{name} (elastic, shipped)", sc, *timed(sc, args.repeats), target=TARGET_RTF)
-        line(f"{name} (rigid, former settings)", rigid(sc), *timed(rigid(sc), args.repeats))
+        if not args.no_rigid:
+            line(f"{name} (rigid, former settings)", rigid(sc), *timed(rigid(sc), args.repeats))
         if not args.no_doubled:
             d = with_links(sc, 2 * sc.params.hose.links)
             cpu, wall, seg, rd = timed(d, 1)

@@ -167,7 +167,8 @@ def test_engagement_at_rest_length_is_the_hose_model(rng, hose, exit_link):
     N = 1
     joints, jvel, scal, tow, tdrog, drag = (np.empty((N, chain.n + 1, 3)), np.empty((N, chain.n + 1, 3)),
                                             np.empty((N, LY.O_SIZE)), np.empty((N, 3)), np.empty(N), np.empty((N, 3)))
-    EO.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag, np.empty((N, chain.n)))
+    EO.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag, np.empty((N, chain.n)),
+                   np.empty((N, 4)))
     assert np.max(np.abs(tow[0] - ref.tow_force_n)) < 1e-9
     assert abs(scal[0, LY.O_T0] - ref.exit_tension_n) < 1e-9
     assert np.max(np.abs(drag[0] - ref.drogue_drag_n)) < 1e-9

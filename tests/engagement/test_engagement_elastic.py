@@ -55,7 +55,7 @@ def test_engagement_at_rest_length_is_the_elastic_hose_model(rng, lumping, exit_
     joints, jvel, scal, tow, tdrog, drag, links_t = (np.empty((N, n + 1, 3)), np.empty((N, n + 1, 3)),
                                                      np.empty((N, LY.O_SIZE)), np.empty((N, 3)), np.empty(N),
                                                      np.empty((N, 3)), np.empty((N, n)))
-    EO.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag, links_t)
+    EO.eng_outputs(np.zeros(1), z[None, :], *args, joints, jvel, scal, tow, tdrog, drag, links_t, np.empty((N, 4)))
     assert np.max(np.abs(tow[0] - ref.tow_force_n)) < 1e-9
     eps = lam / lengths - 1.0
     np.testing.assert_allclose(links_t[0], 2e5 * eps + 400.0 * lamd / lengths, rtol=0, atol=1e-9)
@@ -307,3 +307,26 @@ def test_more_least_corrections_than_the_most_still_converge():
         numerics={"sdirk_corrections": k}))) for k in (2, 8)]
     assert all(r.completed for r in runs), [r.message for r in runs]
     assert np.max(np.abs(runs[0].drogue_position_m - runs[1].drogue_position_m)) < 1e-3
+
+
+def test_saved_steps_loads_from_the_outputs_are_the_time_loops(monkeypatch):
+    """The per-step record's rows at the saved steps, which the driver takes from the saved states'
+    outputs (``derived_outputs``: the full evaluation), are the rows the time loop writes itself
+    (``state_loads``: the kinematics alone) to the bit, through the capture (the probe load) and the
+    remeshes of the responsive reel's take-up."""
+    import dataclasses
+
+    from hosedrogue.engagement import driver as DR
+    from hosedrogue.model.engagement import steps as ES
+    from hosedrogue.scenarios import load_scenario
+    from hosedrogue.scenarios.runner import run
+
+    scenario = dataclasses.replace(load_scenario("engage-response"), duration_s=4.0)
+    fused = run(scenario)
+    segment, assemble = ES.eng_segment, DR.assemble_result
+    monkeypatch.setattr(ES, "eng_segment", lambda *a: segment(*a, saved_loads=False))
+    monkeypatch.setattr(DR, "assemble_result", lambda *a, **k: assemble(*a, **{**k, "loads_from_outputs": False}))
+    own = run(scenario)
+    assert fused.outcome["result"] == "captured" and fused.outcome["remesh_events"] > 0
+    assert np.max(fused.step_loads[:, 3]) > 100.0  # the probe load after the capture [N]
+    assert np.array_equal(fused.step_loads, own.step_loads)

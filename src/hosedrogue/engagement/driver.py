@@ -226,7 +226,7 @@ def simulate_engagement(params: Params, duration_s: float, *, reel: Reel | None 
     return assemble_result(start.params, run.segments, run.events, run.outcome, start.model, start.drogue_eq, energy,
                            status == LY.OK, message, run.delta_total, start.t_set, start.reel, probe, loop=start.loop,
                            step_loads=step_record(start.params, run),
-                           drogue_actuator=start.drogue_actuator)
+                           drogue_actuator=start.drogue_actuator, loads_from_outputs=True)
 
 
 @dataclass

@@ -23,7 +23,8 @@ from .chain import Chain
 ENERGY_TERMS = ("kinetic", "elastic", "reel", "motor", "friction", "exit", "flux", "probe", "axial")
 
 
-def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.ndarray, loop=None):
+def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.ndarray, loop=None,
+                    loads: np.ndarray | None = None):
     """The compiled outputs of states ``zs`` of one discretization.
 
     Parameters
@@ -41,6 +42,9 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     loop : LoopArrays, optional
         The drogue controller's arrays (:func:`hosedrogue.engagement.loop.engagement_loop`); needed
         when ``ep[EP_CTRL]`` is set, else an empty loop is used.
+    loads : array (N, 4), optional
+        Elastic links: receives each state's loads as the time loop's per-step record has them
+        (exit and drogue-end tension [N], probe load [N], slack [m]; ``model.engagement.outputs.state_loads``).
 
     Returns
     -------
@@ -72,9 +76,11 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
         from .loop import no_loop
 
         loop = no_loop()
+    if loads is None:
+        loads = np.empty((N, 4))
     EO.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
                    chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, loop, joints, jvel, scal, tow, tdrog,
-                   drag, links_t)
+                   drag, links_t, loads)
     return joints, jvel, scal, tow, tdrog, drag, links_t
 
 
@@ -167,7 +173,8 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
     """One segment's columns (keys of :func:`assemble_result`), joint positions and velocities."""
     chain, ep, ts, zs = segment
     n = chain.n
-    joints, jvel, scal, tow, tdrog, drag, links_t = segment_outputs(ts, zs, chain, model, ep, loop)
+    loads = np.empty((ts.size, 4))
+    joints, jvel, scal, tow, tdrog, drag, links_t = segment_outputs(ts, zs, chain, model, ep, loop, loads)
     dpl, miss, vclose = coupler_geometry(joints, jvel, scal)
     b = EC.tail_start(n, ep)
     cols = {"t": ts, "L": zs[:, b + LY.Z_L], "Ld": zs[:, b + LY.Z_LD], "T0": scal[:, LY.O_T0],
@@ -176,7 +183,8 @@ def _segment_columns(params: Params, segment, model, energy: bool, loop) -> tupl
             "rd": joints[:, -1, :], "vd": jvel[:, -1, :], "tow": tow, "tau": scal[:, LY.O_TAU],
             "miss": miss, "dplane": dpl, "vclose": vclose, "links": np.full(ts.size, n),
             "mass": _hose_masses(zs, chain, ep, params), "u": scal[:, [LY.O_UY, LY.O_UZ]], "drag": drag,
-            "links_t": list(links_t), "hose_states": [(zs[:, :4 * n], np.asarray(chain.chart, dtype=float))]}
+            "links_t": list(links_t), "hose_states": [(zs[:, :4 * n], np.asarray(chain.chart, dtype=float))],
+            "loads": loads}
     if loop is not None and ep[LY.EP_CTRL] != 0.0 and DA.is_actuated(loop.act):
         ns = int(loop.act[DA.DA_NS])
         na = b + LY.Z_TAIL + int(ep[LY.EP_NPIL]) + loop.Ac.shape[0]
@@ -230,7 +238,7 @@ def _step_peaks(record: np.ndarray) -> dict:
 def assemble_result(params: Params, segments: list, events: list, outcome: dict, model, drogue_eq: np.ndarray,
                     energy: bool, completed: bool, message: str, delta_total: float, t_set: float,
                     reel, probe, loop=None, step_loads: np.ndarray | None = None,
-                    drogue_actuator=None) -> EngagementResult:
+                    drogue_actuator=None, loads_from_outputs: bool = False) -> EngagementResult:
     """Evaluate the outputs of every segment and build the run's result.
 
     Parameters
@@ -266,8 +274,13 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     step_loads : array (steps + 1, 4), optional
         Elastic links: exit and drogue-end tension [N], probe load [N] and slack [m] after every
         integration step (``model.engagement.outputs.state_loads``); the run's peaks are taken from it.
+        With ``loads_from_outputs`` its rows at the saved steps are written here, in place, from
+        the saved states' outputs.
     drogue_actuator : hosedrogue.spec.sections.DrogueActuator, optional
         The drogue's control surfaces (their deflections, rates and q become result fields).
+    loads_from_outputs : bool
+        The time loop left the saved steps' rows of ``step_loads`` to the saved states' outputs
+        (the driver's segments: ``model.engagement.steps.eng_steps``, ``saved_loads``).
 
     Returns
     -------
@@ -284,12 +297,15 @@ def assemble_result(params: Params, segments: list, events: list, outcome: dict,
     link_tensions = [t for seg in cols.pop("links_t") for t in seg] if params.hose.elastic else None
     cols.pop("links_t", None)
     hose_states = [s for seg in cols.pop("hose_states") for s in seg]  # matrices built when asked for
+    saved_loads = cols.pop("loads")
     cat = {k: np.concatenate(v) for k, v in cols.items()}
     surfaces = {} if "defl" not in cat else surface_fields(cat["defl"], cat["rate"], cat["q"], drogue_actuator)
     en_dict = {name: cat["E"][:, i] for i, name in enumerate(ENERGY_TERMS)} if energy else {}
     outcome.update(_peaks(cat, drogue_eq, events, delta_total, t_set))
     record = None
     if step_loads is not None:
+        if loads_from_outputs:  # the saved steps' rows, the same numbers as the time loop's
+            step_loads[np.rint(cat["t"] / params.numerics.step_s).astype(np.int64)] = np.concatenate(saved_loads)
         record = np.column_stack([np.arange(step_loads.shape[0]) * params.numerics.step_s, step_loads])
         outcome.update(_step_peaks(record))
     if reel.law == "locked":

@@ -73,19 +73,29 @@ def correction_size(n, hg, Kg, K, Y, cs):
     stage velocity of the hose state ``[q, qd, lam, lamd, ...]`` (n links; Y the stage's state), the
     angles' rates as the speeds they give the link's end (the pitch's times the link's length and
     the cosine of its yaw, ``cs[k, 2]``; the yaw's times the length); compared with
-    :data:`SDIRK_TOLERANCE_M_S`."""
-    d = 0.0
+    :data:`SDIRK_TOLERANCE_M_S`.
+
+    The pitches', the yaws' and the lengths' largest changes are three running maxima, combined at
+    the end: a maximum is exact in any order (a NaN is passed over either way), so the result is
+    the single running maximum's to the bit, and the three chains of comparisons overlap instead of
+    waiting on each other (0.72 -> 0.24 us at 160 links, about 4 % of a step)."""
+    dp = dy = dl = 0.0
     for k in range(n):
         lk = Y[4 * n + k]
         v = abs(K[2 * n + 2 * k] - Kg[2 * n + 2 * k]) * lk * abs(cs[k, 2])
-        if v > d:
-            d = v
+        if v > dp:
+            dp = v
         v = abs(K[2 * n + 2 * k + 1] - Kg[2 * n + 2 * k + 1]) * lk
-        if v > d:
-            d = v
+        if v > dy:
+            dy = v
         v = abs(K[5 * n + k] - Kg[5 * n + k])
-        if v > d:
-            d = v
+        if v > dl:
+            dl = v
+    d = dp
+    if dy > d:
+        d = dy
+    if dl > d:
+        d = dl
     return hg * d
 
 

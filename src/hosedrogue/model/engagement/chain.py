@@ -28,13 +28,17 @@ def tail_start(n, ep):
 def apply_charts(n, chart, e, a, b):
     """Links in the alternative chart have e = R e_std(theta), R the rotation by +90 deg about x
     ((x, y, z) -> (x, -z, y)): its singular directions are +-z instead of +-y, so a link whose yaw
-    nears +-90 deg in one chart is far from singular in the other (docs/engagement.md)."""
+    nears +-90 deg in one chart is far from singular in the other (docs/engagement.md). Returns
+    whether any link is in the alternative chart (else an evaluation need not :func:`rotate_rows`)."""
+    charted = False
     for k in range(n):
         if chart[k] != 0.0:
+            charted = True
             for arr in (e, a, b):
                 y = arr[k, 1]
                 arr[k, 1] = -arr[k, 2]
                 arr[k, 2] = y
+    return charted
 
 
 @njit(**JIT_INLINE)

@@ -51,9 +51,10 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
     e, a, b, cs, r, v, c, F, Mom, tau = (ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C],
                                          ws[WS_F], ws[WS_MOM], ws[WS_TAU])
     link_frames(q, n, e, a, b, cs)
-    apply_charts(n, chart, e, a, b)
+    charted = apply_charts(n, chart, e, a, b)  # whether any link is in the other chart
     joint_kinematics(q, qd, l, n, e, a, b, cs, r, v, c)
-    rotate_rows(n, chart, c, False)  # joint_kinematics writes l d2e/dt2 in the standard chart
+    if charted:  # joint_kinematics writes l d2e/dt2 in the standard chart
+        rotate_rows(n, chart, c, False)
     patch_kinematics(Ld, n, e, a, b, qd, v, c)
     # the probe, and its forebody's bow wave in the air the drag (and a steering drogue) sees
     px, py, pz, vpx, vpy, vpz = probe_tip(t, z, n, ep)
@@ -90,7 +91,8 @@ def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, 
         F[n, 0] += fx
         F[n, 1] += fy
         F[n, 2] += fz
-    rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
+    if charted:  # moments into each link's chart axes
+        rotate_rows(n, chart, Mom, True)
     rotational_terms(qd, J, n, cs, Mom, tau)
     qdd = ws[WS_QDD]
     chain_forward_dynamics(l, M, J, n, a, b, cs, c, F, tau, ws[WS_U], ws[WS_DINV], ws[WS_RHS], qdd, ws[WS_TOW])
@@ -243,9 +245,10 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
     e, a, b, cs, r, v, c, F, Mom, tau = (ws[WS_E], ws[WS_A], ws[WS_B], ws[WS_CS], ws[WS_R], ws[WS_V], ws[WS_C],
                                          ws[WS_F], ws[WS_MOM], ws[WS_TAU])
     link_frames(q, n, e, a, b, cs)
-    apply_charts(n, chart, e, a, b)
+    charted = apply_charts(n, chart, e, a, b)  # whether any link is in the other chart
     joint_kinematics(q, qd, lam, n, e, a, b, cs, r, v, c)
-    rotate_rows(n, chart, c, False)  # joint_kinematics writes lam d2e/dt2 in the standard chart
+    if charted:  # joint_kinematics writes lam d2e/dt2 in the standard chart
+        rotate_rows(n, chart, c, False)
     add_axial_rates(n, e, a, b, qd, lamd, v, c)
     exit_material_velocity(Ld, lam, l, e, v)
     u0 = ws[WS_RHS][0]  # the control force at the drogue (ws[WS_RHS] is the rigid recursion's scratch)
@@ -274,7 +277,8 @@ def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, e
         F[n, 0] += fx
         F[n, 1] += fy
         F[n, 2] += fz
-    rotate_rows(n, chart, Mom, True)  # moments into each link's chart axes
+    if charted:  # moments into each link's chart axes
+        rotate_rows(n, chart, Mom, True)
     rotational_terms(qd, J, n, cs, Mom, tau)
     T, epsd, aug, taul = ews[EWS_T], ews[EWS_EPSD], ews[EWS_AUG], ews[EWS_TAUL]
     p_axial = axial_tensions(n, l, lam, lamd, Ld, ps, T, epsd)

@@ -19,9 +19,9 @@ from ..chain_dynamics import (
 )
 from ..elastic import EWS_EPSD, EWS_T, axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy
 from ..layout import (
-    EP_COUPLED, EP_CTRL, EP_ELASTIC, EP_JR, EP_LAW, EP_MU, EP_RD, EP_SPLIT, LAW_LOCKED, O_LDD, O_PAXIAL, O_PX, O_Q,
-    O_SIZE, O_T0, O_VPX, PS_G, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V, R_Q, R_REEL_V, R_T0, Z_L,
-    Z_LD,
+    EP_COUPLED, EP_CTRL, EP_ELASTIC, EP_JR, EP_LAW, EP_MU, EP_RD, EP_SPLIT, LAW_LOCKED, O_FPX, O_FPY, O_FPZ, O_LDD,
+    O_PAXIAL, O_PX, O_Q, O_SIZE, O_SLACK, O_T0, O_VPX, PS_G, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
+    R_Q, R_REEL_V, R_T0, Z_L, Z_LD,
 )
 from .chain import chain_kinematics, tail_start
 from .evaluation import eng_evaluate, eng_evaluate_elastic
@@ -158,12 +158,16 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
 
 @njit(**JIT_INLINE)
 def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension, elastic):
+                    drogue_drag, link_tension, loads, elastic):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
     (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
     drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
     untouched for rigid links). The tow-point force includes the weight of the hose mass lumped
     at the exit (half the exit link's with ``split`` lumping, as the fixed-length chain's).
+    Elastic links: each state's loads as :func:`state_loads` writes them (exit and drogue-end
+    tension [N], probe load [N], slack [m]) into ``loads`` (N, 4), the same numbers from the same
+    functions of the same state, which the time loop then need not compute at the saved steps
+    (:func:`~.steps.eng_steps`); untouched for rigid links.
     ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller."""
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
@@ -184,6 +188,13 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
                 tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
             tension_drogue[i] = ews[EWS_T][n - 1]  # the last link's tension EA eps + c_a deps/dt
             copy_vector(link_tension[i], ews[EWS_T])
+            # state_loads' row: its exit tension, last link's tension, probe load and slack are the
+            # evaluation's (elastic_exit_tension, axial_tensions, probe_force, arc minus chord)
+            loads[i, 0] = out[O_T0]
+            loads[i, 1] = ews[EWS_T][n - 1]
+            fx, fy, fz = out[O_FPX], out[O_FPY], out[O_FPZ]
+            loads[i, 2] = math.sqrt(fx * fx + fy * fy + fz * fz)
+            loads[i, 3] = out[O_SLACK]
             continue
         eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         out[O_PAXIAL] = 0.0
@@ -219,10 +230,10 @@ def _outputs(elastic):
 
     @njit(**JIT)
     def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension):
+                    drogue_drag, link_tension, loads):
         """:func:`derived_outputs` of rigid or elastic links (the kind this function is for)."""
         derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                        drogue_drag, link_tension, elastic)
+                        drogue_drag, link_tension, loads, elastic)
 
     return eng_outputs
 
@@ -231,7 +242,7 @@ eng_outputs_rigid, eng_outputs_elastic = _outputs(False), _outputs(True)
 
 
 def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                drogue_drag, link_tension):
+                drogue_drag, link_tension, loads):
     """Derived outputs at saved states into the given arrays (:func:`derived_outputs`), compiled
     for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_outputs_rigid` or
     :data:`eng_outputs_elastic`).
@@ -242,9 +253,9 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
         Saved times [s] (N,) and states (N, len(z)).
     n, l, M, J, ps, env, gust, ep, chart, loop : int, numpy.ndarray or LoopArrays
         The chain and the model, as :func:`eng_raw`'s.
-    joints, jvel, scal, tow, tension_drogue, drogue_drag, link_tension : numpy.ndarray
-        Receive the outputs (:func:`derived_outputs`).
+    joints, jvel, scal, tow, tension_drogue, drogue_drag, link_tension, loads : numpy.ndarray
+        Receive the outputs (:func:`derived_outputs`; ``loads`` (N, 4) the elastic links' loads).
     """
     kernel = eng_outputs_elastic if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid
     kernel(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue, drogue_drag,
-           link_tension)
+           link_tension, loads)

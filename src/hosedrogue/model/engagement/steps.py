@@ -49,7 +49,7 @@ _elastic_sdirk2 = sdirk2(eng_rate_elastic)
 
 
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads):
+                max_yaw, switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, loads, saved_loads=True):
     """Steps of size h from (t0, z) (global step index step0) for at most ``nsteps`` steps, in
     place, by the steps compiled for the chain's kind of link (``ep[EP_ELASTIC]``).
 
@@ -67,6 +67,9 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     zprev, ts, zs, loads : numpy.ndarray
         Receive the state before the last step, the saved times and states, the elastic links'
         per-step loads.
+    saved_loads : bool
+        Leave the saved steps' rows of ``loads`` to the saved states' outputs (the driver's
+        assembly writes them: the same numbers); False: write every row here.
 
     Returns
     -------
@@ -84,7 +87,9 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     y, z, y', z' after every global step k go to ``hist[k]`` (row 0 at the start), for the pilot's
     delayed view of the drogue. With elastic links the loads of the state after every global step k
     go to ``loads[k]`` (:func:`~.outputs.state_loads`; ``loads`` has one row per step of the run, or
-    is a (1, 4) placeholder for rigid links).
+    is a (1, 4) placeholder for rigid links), except at the saved steps, whose loads the driver
+    takes from the saved states' outputs (:func:`~.outputs.derived_outputs`, the same numbers;
+    :func:`hosedrogue.engagement.result.assemble_result`).
 
     The scratch is allocated here and the steps compiled for the kind of link
     (:data:`eng_steps_rigid`, :data:`eng_steps_elastic`) called directly: a compiled segment that
@@ -98,12 +103,12 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     limits = (float(max_yaw), float(switch_yaw), float(split_at), float(merge_at), bool(allow_merge))
     kernel = eng_steps_elastic if elastic else eng_steps_rigid
     return kernel(z, float(t0), 0, int(step0), float(h), int(nsteps), int(save_every), int(n), l, M, J, ps, env, gust,
-                  ep, chart, loop, hist, limits, zprev, ts, zs, True, 0, scratch, loads)
+                  ep, chart, loop, hist, limits, zprev, ts, zs, True, 0, scratch, loads, bool(saved_loads))
 
 
 @njit(**JIT_INLINE)
 def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits,
-              zprev, ts, zs, record, saved0, scratch, loads, elastic):
+              zprev, ts, zs, record, saved0, scratch, loads, saved_loads, elastic):
     """:func:`eng_segment` with its limits in one tuple (``limits``: max_yaw, switch_yaw, split_at,
     merge_at, allow_merge) and its scratch given (``scratch``: ``work`` (8, nz), the RK4 stages and
     the trial state, or the SDIRK's stages with its slope guess in ``work[7]``, carried from call to
@@ -113,8 +118,11 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
     time origin ``t0`` of its segment (step k after it is at ``t0 + k h``, as one uninterrupted
     segment counts: a segment continued in several calls takes the same times, and with elastic
     links the same SDIRK guesses), for rigid or ``elastic`` links (``ep[EP_ELASTIC]``; a constant
-    of the compiled caller, which then holds the steps of that kind only). Returns (status, steps
-    done, saved count).
+    of the compiled caller, which then holds the steps of that kind only). ``saved_loads``: the
+    loads of a saved state are left to its outputs (:func:`~.outputs.derived_outputs` writes the
+    same numbers, at no extra cost: 4 us of the ~85 us of a saved step at 160 links), their rows
+    of ``loads`` left as they are; the segment's caller, whose parameters do not change while it
+    runs, fills them. Returns (status, steps done, saved count).
 
     Inlined into :data:`eng_steps_rigid` and :data:`eng_steps_elastic` (:data:`hosedrogue.jit.JIT_INLINE`): at most 30
     arguments, since CPython passes a call of more as one tuple, which numba cannot inline."""
@@ -160,9 +168,10 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
         if piloted:
             hist[step0 + s, 0], hist[step0 + s, 1], hist[step0 + s, 2], hist[step0 + s, 3] = drogue_motion(
                 z, n, l, M, J, ep, chart, ws)
-        if elastic:
+        saving = record and (step0 + s) % save_every == 0
+        if elastic and not (saving and saved_loads):
             state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, loads[step0 + s])
-        if record and (step0 + s) % save_every == 0:
+        if saving:
             ts[saved] = t
             for i in range(nz):
                 zs[saved, i] = z[i]
@@ -178,8 +187,8 @@ def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust
         if probing:
             # the coupler plane needs the kinematics only: the frames and joint positions that the
             # full evaluation would write, bit for bit (chain_kinematics is its first half); with
-            # elastic links state_loads has just written them for this z
-            if not elastic:
+            # elastic links state_loads has just written them for this z, unless it was saved
+            if not elastic or (saving and saved_loads):
                 chain_kinematics(z, n, l, M, J, ep, chart, ws)
             d = plane_distance(z, n, l, ws, t, ep)
             if d_before > 0.0 and d <= 0.0:
@@ -196,10 +205,10 @@ def _steps(elastic):
 
     @njit(**JIT_NO_ALLOC)
     def steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits,
-              zprev, ts, zs, record, saved0, scratch, loads):
+              zprev, ts, zs, record, saved0, scratch, loads, saved_loads):
         """:func:`eng_steps` of rigid or elastic links (the kind this function is for)."""
         return eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                         limits, zprev, ts, zs, record, saved0, scratch, loads, elastic)
+                         limits, zprev, ts, zs, record, saved0, scratch, loads, saved_loads, elastic)
 
     return steps
 
@@ -231,11 +240,11 @@ def _advance(elastic):
         if elastic:
             status, done, saved = eng_steps_elastic(z, origin * h, step0 - origin, step0, h, target - step0,
                                                     save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                                                    limits, zprev, ts, zs, record, ctr[C_SAVED], scratch, loads)
+                                                    limits, zprev, ts, zs, record, ctr[C_SAVED], scratch, loads, False)
         else:
             status, done, saved = eng_steps_rigid(z, origin * h, step0 - origin, step0, h, target - step0,
                                                   save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                                                  limits, zprev, ts, zs, record, ctr[C_SAVED], scratch, loads)
+                                                  limits, zprev, ts, zs, record, ctr[C_SAVED], scratch, loads, False)
         ctr[C_STEP] = step0 + done
         ctr[C_SAVED] = saved
         ctr[C_STATUS] = status
