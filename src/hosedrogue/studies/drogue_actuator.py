@@ -220,13 +220,14 @@ def claims_runs(seeds: int = 1, duration_s: float | None = None, levels=LEVELS, 
 
     if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
         raise ParameterError(f"seeds = {seeds!r}: must be an integer >= 1")
-    tasks = []
+    cases = []
     for level in levels:
         for c in controllers:
             for variant in variants:
                 case = claims_scenario(level, c, variant, duration_s, base)
-                tasks += [(len(tasks), level, c, variant, case.with_overrides(seed=case.params.turbulence.seed + i))
+                cases += [(level, c, variant, case.with_overrides(seed=case.params.turbulence.seed + i))
                           for i in range(seeds)]
+    tasks = [(index, *case) for index, case in enumerate(cases)]
     rows: dict = {}
 
     def on_result(indexed) -> None:
