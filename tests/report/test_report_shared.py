@@ -75,3 +75,46 @@ def test_the_builds_cluster_ends_with_the_build_however_it_ends(tmp_path, monkey
         time.sleep(0.2)
     assert not [p.cmdline() for p in _children() if p.pid not in before]
     assert not seen["share"].exists()
+
+
+@pytest.mark.dask
+@pytest.mark.subprocess
+def test_ctrl_c_ends_every_process_of_a_build_on_two_processes(tmp_path):
+    """``hosedrogue reproduce`` on two processes, interrupted as a terminal does (SIGINT to its
+    process group) once its cluster's workers and its section processes run: exit 130 with one line
+    on stderr and no traceback, and none of the processes it started is left running."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    psutil = pytest.importorskip("psutil")
+    pytest.importorskip("distributed")
+    import hosedrogue
+
+    src = str(Path(hosedrogue.__file__).parents[1])
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [src, os.environ.get("PYTHONPATH")]))}
+    argv = [sys.executable, "-m", "hosedrogue", "reproduce", "--only", "receiver", "manoeuvres", "--workers", "2",
+            "--out", str(tmp_path / "r")]
+    proc = subprocess.Popen(argv, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+    seen: dict = {}
+    deadline = time.monotonic() + 180.0  # the cluster and two section processes start: seconds when idle
+    try:
+        # two dask workers, two section processes and multiprocessing's resource tracker
+        while len(seen) < 5 and time.monotonic() < deadline and proc.poll() is None:
+            for p in psutil.Process(proc.pid).children(recursive=True):
+                seen.setdefault(p.pid, p)
+            time.sleep(0.5)
+        assert len(seen) >= 5, [p.pid for p in seen.values()]
+        time.sleep(2.0)  # the sections under way
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=120.0)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, err.decode()
+    assert err.decode().rstrip().endswith("hosedrogue: interrupted") and b"Traceback" not in err
+    gone = time.monotonic() + 30.0  # the resource tracker ends when it sees its parent gone
+    while any(p.is_running() for p in seen.values()) and time.monotonic() < gone:
+        time.sleep(0.2)
+    assert not [p.cmdline() for p in seen.values() if p.is_running()]

@@ -152,8 +152,32 @@ def build_group(keys, out_dir, fast: bool, keep, shared=None) -> tuple[dict, dic
     return {k: results[k] for k in keep if k in results}, contributions, times
 
 
+def _ignore_interrupt() -> None:
+    """A section process leaves Ctrl-C to the parent, which ends it (:func:`run_groups`): also one
+    started when SIGINT was not ignored."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _terminate(pool: ProcessPoolExecutor) -> None:
+    """End the pool's processes now, whatever they are building (``terminate_workers`` from Python
+    3.14 on; before it the executor has no public way, so its process table is read)."""
+    if hasattr(pool, "terminate_workers"):
+        pool.terminate_workers()
+        return
+    for process in list((getattr(pool, "_processes", None) or {}).values()):
+        process.terminate()
+
+
 def run_groups(groups, out_dir, fast: bool, keep, workers: int, done=None, shared=None) -> tuple[dict, dict, dict]:
     """Build the groups on ``workers`` processes.
+
+    The first error of a group, Ctrl-C or any other error here ends the build: the processes still
+    building are terminated at once (what they were writing is left unfinished, as an interrupted
+    single process leaves it) and the error is raised here. The processes ignore Ctrl-C themselves
+    (a terminal sends it to all of them): the parent alone decides, so no process goes on to build
+    a group it had already taken.
 
     Parameters
     ----------
@@ -177,10 +201,15 @@ def run_groups(groups, out_dir, fast: bool, keep, workers: int, done=None, share
     results, contributions, times : dict
         As :func:`build_group`'s, over every group.
     """
+    from .shared import children_ignore_interrupts
+
     results, contributions, times = {}, {}, {}
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=_ignore_interrupt)
     try:
-        pending = {pool.submit(build_group, keys, str(out_dir), fast, tuple(keep), shared): keys for keys in groups}
+        with children_ignore_interrupts():  # the processes start at the submissions
+            pending = {pool.submit(build_group, keys, str(out_dir), fast, tuple(keep), shared): keys
+                       for keys in groups}
         while pending:
             finished, _ = wait(pending, return_when=FIRST_COMPLETED)
             for future in finished:
@@ -191,6 +220,9 @@ def run_groups(groups, out_dir, fast: bool, keep, workers: int, done=None, share
                 times.update(t)
                 if done is not None:
                     done(keys)
+    except BaseException:
+        _terminate(pool)
+        raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)  # groups not started are dropped
     return results, contributions, times

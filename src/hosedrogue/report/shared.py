@@ -20,7 +20,8 @@ from __future__ import annotations
 import contextlib
 from dataclasses import dataclass
 
-__all__ = ["Shared", "cluster_workers", "shared_resources", "attached", "campaign_execution", "campaign_share"]
+__all__ = ["Shared", "cluster_workers", "shared_resources", "attached", "campaign_execution", "campaign_share",
+           "children_ignore_interrupts"]
 
 
 @dataclass(frozen=True)
@@ -65,6 +66,27 @@ def cluster_workers(chosen, settings) -> int | None:
 
 
 @contextlib.contextmanager
+def children_ignore_interrupts():
+    """Processes started inside it ignore Ctrl-C (SIGINT) for their life: a terminal sends it to
+    every process of the build, and the build's process alone must act on it (it ends the others),
+    or each would print its own traceback. An ignored signal stays ignored in a started program, and
+    Python then installs no handler of its own. In this process SIGINT is ignored too while inside
+    (the processes start within a few seconds); elsewhere than in the main thread nothing changes.
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before)
+
+
+@contextlib.contextmanager
 def shared_resources(workers: int | None):
     """The build's cluster (``workers`` single-threaded worker processes; none for None) and campaign
     register, closed and removed on exit, also on an error or KeyboardInterrupt.
@@ -87,7 +109,8 @@ def shared_resources(workers: int | None):
     owned = []
     try:
         if workers is not None:
-            cluster, client = executor.local_cluster(workers)
+            with children_ignore_interrupts():
+                cluster, client = executor.local_cluster(workers)
             owned = [client, cluster]
         yield Shared(owned[1].scheduler_address if owned else None, share)
     finally:
