@@ -100,6 +100,7 @@ def shared_resources(workers: int | None):
     ------
     Shared
     """
+    import os
     import shutil
     import tempfile
 
@@ -109,8 +110,17 @@ def shared_resources(workers: int | None):
     owned = []
     try:
         if workers is not None:
-            with children_ignore_interrupts():
-                cluster, client = executor.local_cluster(workers)
+            environ = dict(os.environ)
+            try:
+                with children_ignore_interrupts():
+                    cluster, client = executor.local_cluster(workers)
+            finally:
+                # dask's nannies put their workers' environment into this process's (OMP_NUM_THREADS=1
+                # and the other thread counts, PYTHONHASHSEED): the section processes started after
+                # it must not inherit it (single-threaded BLAS changed the last digit of an eigenvalue
+                # of the actuated drogue's servo margins)
+                os.environ.clear()
+                os.environ.update(environ)
             owned = [client, cluster]
         yield Shared(owned[1].scheduler_address if owned else None, share)
     finally:
