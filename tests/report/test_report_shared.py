@@ -4,6 +4,7 @@ cluster's processes and the register end with the build however it ends (an erro
 
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 
@@ -57,8 +58,12 @@ def test_the_builds_cluster_ends_with_the_build_however_it_ends(tmp_path, monkey
 
     seen = {}
     before = {p.pid for p in _children()}
+    environ = dict(os.environ)
 
     def section(out, settings):
+        # dask's nannies write their workers' thread counts into the environment of the process that
+        # starts them: processes spawned after (the sections') must not get single-threaded BLAS
+        seen["environ"] = dict(os.environ) == environ
         client = shared.campaign_execution(settings.docking_workers)["client"]
         seen["threads"] = sum(client.nthreads().values())
         seen["share"] = Path(shared.campaign_share())
@@ -69,7 +74,7 @@ def test_the_builds_cluster_ends_with_the_build_however_it_ends(tmp_path, monkey
                                                                      dask="docking_workers"),))
     with pytest.raises(error, match="stopped"):
         build.build_report(tmp_path / "r", progress=False, workers=1)
-    assert seen["threads"] == FULL.docking_workers and seen["alive"]
+    assert seen["threads"] == FULL.docking_workers and seen["alive"] and seen["environ"]
     deadline = time.monotonic() + 30.0  # a worker process may take a moment to be reaped after its nanny closed it
     while {p.pid for p in _children()} - before and time.monotonic() < deadline:
         time.sleep(0.2)
@@ -83,7 +88,6 @@ def test_ctrl_c_ends_every_process_of_a_build_on_two_processes(tmp_path):
     """``hosedrogue reproduce`` on two processes, interrupted as a terminal does (SIGINT to its
     process group) once its cluster's workers and its section processes run: exit 130 with one line
     on stderr and no traceback, and none of the processes it started is left running."""
-    import os
     import signal
     import subprocess
     import sys

@@ -73,21 +73,3 @@ def test_a_scenario_of_the_wrong_kind_is_refused_before_anything_runs(args, says
     assert main(["study", "actuator", *args, "--out", str(out)]) == 2
     assert says in capsys.readouterr().err
     assert not out.exists()
-
-
-@pytest.mark.dask
-def test_claims_runs_on_dask_are_the_rows_run_here(mine):
-    """The claims runs sent to dask workers give the rows, in the same order, that this process
-    gives (bit for bit: every number of the report's claims table must not depend on where it ran)."""
-    distributed = pytest.importorskip("distributed")
-    import pandas as pd
-
-    from hosedrogue.studies.drogue_actuator import claims_runs
-
-    args = dict(seeds=2, levels=("paper",), controllers=("pid",), variants=("ideal", "actuated"),
-                base=load_scenario(mine))
-    here = claims_runs(**args)
-    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as client:
-        there = claims_runs(**args, client=client)
-    assert list(here["force"]) == ["ideal", "ideal", "actuated", "actuated"] and here["completed"].all()
-    pd.testing.assert_frame_equal(here, there, check_exact=True)

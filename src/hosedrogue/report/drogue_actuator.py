@@ -207,7 +207,7 @@ def _study(out, settings) -> dict:
     convergence = study.convergence_table()
     runs, paper = _paper_case(out, settings)
     claim_runs = study.claims_runs(settings.actuator_seeds, settings.run_duration_s, settings.actuator_levels,
-                                   status=out.status, client=campaign_execution(settings.docking_workers).get("client"))
+                                   status=out.status)
     claims = study.claims_table(claim_runs)
     specs = actuator_specs(settings.actuator_deflections_deg, settings.actuator_bandwidths_hz,
                            settings.actuator_capture_levels)

@@ -174,18 +174,8 @@ def claims_scenario(level: str, controller: str, variant: str = "ideal", duratio
     return sc if fields is None else with_surfaces(sc, dataclasses.replace(surfaces, **fields))
 
 
-def _claims_row(task) -> tuple[int, dict]:
-    """One run of the claims (on a dask worker or here): its place in the table and its row."""
-    from ..scenarios.runner import run
-
-    index, level, controller, variant, scenario = task
-    r = run(scenario)
-    return index, {"level": level, "controller": controller, "force": variant, "seed": scenario.params.turbulence.seed,
-                   "completed": bool(r.completed), **r.statistics()}
-
-
 def claims_runs(seeds: int = 1, duration_s: float | None = None, levels=LEVELS, controllers=CONTROLLERS,
-                variants=tuple(VARIANTS), status=None, base=None, client=None):
+                variants=tuple(VARIANTS), status=None, base=None):
     """One row per run of the claims cases: level x controller x drogue (:data:`VARIANTS`) x seed.
 
     Seed i is the scenario's seed (2018) plus i, the same record for every case of a level (common
@@ -203,9 +193,6 @@ def claims_runs(seeds: int = 1, duration_s: float | None = None, levels=LEVELS, 
         ``status(text)`` is told which case runs.
     base : hosedrogue.scenarios.Scenario, optional
         The user's fixed-length scenario instead of the paper's (:func:`claims_scenario`).
-    client : distributed.Client, optional
-        Run on this dask client's workers (not closed here); None: in this process. The rows are
-        the same either way, in the same order.
 
     Returns
     -------
@@ -216,31 +203,23 @@ def claims_runs(seeds: int = 1, duration_s: float | None = None, levels=LEVELS, 
     """
     import pandas as pd
 
-    from . import executor
+    from ..scenarios.runner import run
 
     if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
         raise ParameterError(f"seeds = {seeds!r}: must be an integer >= 1")
-    cases = []
+    rows = []
     for level in levels:
         for c in controllers:
             for variant in variants:
                 case = claims_scenario(level, c, variant, duration_s, base)
-                cases += [(level, c, variant, case.with_overrides(seed=case.params.turbulence.seed + i))
-                          for i in range(seeds)]
-    tasks = [(index, *case) for index, case in enumerate(cases)]
-    rows: dict = {}
-
-    def on_result(indexed) -> None:
-        rows[indexed[0]] = indexed[1]
-        if status:
-            status(f"actuated drogue: claims, {len(rows)} of {len(tasks)} runs")
-
-    if client is None:
-        executor.execute_synchronous(iter(tasks), _claims_row, on_result)
-    else:
-        executor.execute_dask(client, iter(tasks), _claims_row, executor.IN_FLIGHT_PER_WORKER
-                              * executor.total_threads(client), on_result)
-    return pd.DataFrame([rows[i] for i in range(len(tasks))])
+                if status:
+                    status(f"actuated drogue: {case.name}, {variant}")
+                for i in range(seeds):
+                    sc = case.with_overrides(seed=case.params.turbulence.seed + i)
+                    r = run(sc)
+                    rows.append({"level": level, "controller": c, "force": variant, "seed": sc.params.turbulence.seed,
+                                 "completed": bool(r.completed), **r.statistics()})
+    return pd.DataFrame(rows)
 
 
 def claims_table(runs):
