@@ -267,6 +267,31 @@ def test_intervals_overlap():
     assert not intervals_overlap((0.1, 0.39), (0.4, 0.9)) and not intervals_overlap((0.5, 0.9), (0.1, 0.45))
 
 
+def test_a_campaign_two_grids_of_one_job_hold_runs_once(tmp_path, monkeypatch):
+    """With a register (``share``), a grid's cell whose campaign another grid ran is that campaign,
+    copied: no run simulated again, the same runs.csv rows, and its own folder; a cell of other
+    runs or another scenario is not taken for it."""
+    import hosedrogue.studies.campaign as campaign
+
+    share = tmp_path / "share"
+    share.mkdir()
+    grid = grid_specs(levels=("moderate",), controllers=("pid",), pilot_levels=())[:1]
+    first = run_grid(grid, RUNS, tmp_path / "a", share=share)[0]
+
+    def no_run(task):
+        raise AssertionError(f"run {task.index} of {task.scenario.name} simulated again")
+
+    monkeypatch.setattr(campaign, "run_task", no_run)
+    again = run_grid(grid, RUNS, tmp_path / "b", share=share)[0]
+    assert again.folder == tmp_path / "b" / grid[0].name and again.capture == first.capture
+    assert (again.folder / "runs.csv").read_bytes() == (first.folder / "runs.csv").read_bytes()
+    with pytest.raises(AssertionError, match="simulated again"):  # other runs: another campaign
+        run_grid(grid, RUNS + 1, tmp_path / "c", share=share)
+    with pytest.raises(AssertionError, match="simulated again"):  # the bow wave on: another scenario
+        run_grid(grid_specs(levels=("moderate",), controllers=("pid",), pilot_levels=())[1:2], RUNS, tmp_path / "d",
+                 share=share)
+
+
 @pytest.mark.dask
 def test_rows_do_not_depend_on_the_workers(tiny, tmp_path):
     """The same two cells on two dask workers give the same runs.csv rows, sorted by run (the

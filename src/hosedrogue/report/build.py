@@ -1,6 +1,7 @@
 """Build the reproduction report (``hosedrogue reproduce``): run the plan's sections
 (:mod:`.plan`) in this process or, independent ones side by side, in several (:mod:`.parallel`),
-then the closing sections and the page.
+every section's campaigns on one dask cluster of the build (:mod:`.shared`), then the closing
+sections and the page.
 """
 
 from __future__ import annotations
@@ -57,10 +58,8 @@ def build_report(out_dir, fast: bool = False, progress: bool = True, only=None, 
     bar = tqdm(total=len(chosen) + 1, desc="reproduce", unit="stage", disable=not progress, file=sys.stderr)
     out.status = bar.set_postfix_str
     try:
-        if workers > 1:
-            results, timings = _build_parallel(chosen, out, settings, bar, workers)
-        else:
-            results, timings = _build_serial(chosen, out, settings, bar)
+        results, timings, cluster_cpu_s = _build_sections(chosen, out, settings, bar, workers)
+        extra = {} if cluster_cpu_s is None else {"campaign_workers_cpu_s": cluster_cpu_s}
         bar.set_description("reproduce: page")
         for section in CLOSING:
             if all(name in results for name in section.needs):
@@ -68,7 +67,7 @@ def build_report(out_dir, fast: bool = False, progress: bool = True, only=None, 
         elapsed = time.perf_counter() - t_start
         build = {"version": __version__, "settings": settings.name, "fast": bool(fast), "workers": workers,
                  "elapsed_s": elapsed, "stage_times_s": {k: w for k, (w, _) in timings.items()},
-                 "cpu_s": cpu_seconds() - c_start, "stage_cpu_s": {k: c for k, (_, c) in timings.items()}}
+                 "cpu_s": cpu_seconds() - c_start, "stage_cpu_s": {k: c for k, (_, c) in timings.items()}, **extra}
         if only is not None:
             build["sections"] = [s.key for s in chosen]
         headline = out.write_json({"build": build, **out.headline})
@@ -77,6 +76,26 @@ def build_report(out_dir, fast: bool = False, progress: bool = True, only=None, 
     finally:
         bar.close()
     return headline
+
+
+def _build_sections(chosen, out: ReportFolder, settings: ReportSettings, bar, workers: int) -> tuple:
+    """The chosen sections, in this process or on ``workers`` processes, every campaign on the build's
+    one cluster (:mod:`.shared`, closed before this returns, also on an error): their results, their
+    wall and CPU times [s] by label, and the CPU time [s] of the cluster's worker processes (the
+    campaigns' runs: not in the sections' CPU times, which count their own processes; None: no
+    cluster)."""
+    from .shared import attached, cluster_workers, shared_resources
+
+    cluster = cluster_workers(chosen, settings)
+    with shared_resources(cluster) as shared:
+        if workers > 1:
+            results, timings = _build_parallel(chosen, out, settings, bar, workers, shared)
+        else:
+            with attached(shared):
+                results, timings = _build_serial(chosen, out, settings, bar)
+        closing = cpu_seconds()
+    # the cluster's workers are this process's children: their CPU time counts once they have ended
+    return results, timings, None if cluster is None else cpu_seconds() - closing
 
 
 def _build_serial(chosen, out: ReportFolder, settings: ReportSettings, bar) -> tuple[dict, dict]:
@@ -93,7 +112,8 @@ def _build_serial(chosen, out: ReportFolder, settings: ReportSettings, bar) -> t
     return results, timings
 
 
-def _build_parallel(chosen, out: ReportFolder, settings: ReportSettings, bar, workers: int) -> tuple[dict, dict]:
+def _build_parallel(chosen, out: ReportFolder, settings: ReportSettings, bar, workers: int,
+                    shared=None) -> tuple[dict, dict]:
     """The sections' groups on ``workers`` processes, longest first (:data:`COST_HINT_S`); their
     contributions added in build order. The kept results (the closing sections' needs) and the
     sections' wall and CPU times [s] by label, in build order."""
@@ -107,7 +127,8 @@ def _build_parallel(chosen, out: ReportFolder, settings: ReportSettings, bar, wo
         bar.update(len(keys))
         bar.set_postfix_str(f"done: {', '.join(keys)}")
 
-    results, contributions, times = run_groups(groups, out.dir, settings.fast, keep, min(workers, len(groups)), done)
+    results, contributions, times = run_groups(groups, out.dir, settings.fast, keep, min(workers, len(groups)), done,
+                                               shared)
     for section in chosen:
         apply(out, contributions[section.key])
     return results, {s.label: times[s.key] for s in chosen}

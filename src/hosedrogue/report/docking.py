@@ -36,6 +36,7 @@ from . import docking_speed as speed
 from .docking_cells import CAMPAIGNS, by_result_text
 from .markup import esc, figure_html, fmt, html_table, viewer_html
 from .settings import FULL
+from .shared import campaign_execution, campaign_share
 
 if TYPE_CHECKING:
     from .settings import ReportSettings
@@ -281,8 +282,8 @@ def _campaigns(out, settings):
     folder = out.dir / CAMPAIGNS
     shutil.rmtree(folder, ignore_errors=True)  # the report's campaigns are its own: never resumed
     t0 = time.perf_counter()
-    every = run_grid(grid + speeds + forces, settings.docking_runs, folder, workers=settings.docking_workers,
-                     status=out.status)
+    every = run_grid(grid + speeds + forces, settings.docking_runs, folder, status=out.status, share=campaign_share(),
+                     **campaign_execution(settings.docking_workers))
     n, m = len(grid), len(grid) + len(speeds)
     return (grid, every[:n]), (speeds, every[n:m]), (forces, every[m:]), time.perf_counter() - t0
 

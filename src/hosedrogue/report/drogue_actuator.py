@@ -26,6 +26,7 @@ from ..studies import drogue_actuator as study
 from .docking_cells import CAMPAIGNS as DOCKING_CAMPAIGNS
 from .docking_cells import capture_cells, capture_record
 from .markup import figure_html, fmt, html_table
+from .shared import campaign_execution, campaign_share
 
 if TYPE_CHECKING:
     from .settings import ReportSettings
@@ -212,7 +213,8 @@ def _study(out, settings) -> dict:
                            settings.actuator_capture_levels)
     folder = out.dir / CAMPAIGNS
     shutil.rmtree(folder, ignore_errors=True)  # the report's campaigns are its own: never resumed
-    cells = run_grid(specs, settings.actuator_runs, folder, workers=settings.docking_workers, status=out.status)
+    cells = run_grid(specs, settings.actuator_runs, folder, status=out.status, share=campaign_share(),
+                     **campaign_execution(settings.docking_workers))
     return {"margins": margins, "convergence": convergence, "paper": paper, "claim_runs": claim_runs,
             "claims": claims, "one_cm": study.within_one_cm(claims), "capture": actuator_table(specs, cells),
             "seeds": settings.actuator_seeds, "runs": settings.actuator_runs, "fast": settings.fast,

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .markup import esc, figure_html, html_table
+from .shared import campaign_execution
 
 if TYPE_CHECKING:
     from .settings import ReportSettings
@@ -194,7 +195,7 @@ def build(out: ReportFolder, settings: ReportSettings) -> ManoeuvresResult:
     out.status("manoeuvres: capture campaigns")
     folder = out.dir / "manoeuvres"
     shutil.rmtree(folder, ignore_errors=True)  # rewritten at every build, as the docking campaigns
-    capture = turn_capture_study(settings.manoeuvre_runs, folder, workers=settings.manoeuvre_workers)
+    capture = turn_capture_study(settings.manoeuvre_runs, folder, **campaign_execution(settings.manoeuvre_workers))
     _write_csv(out, steady, entry, capture)
     out.figure(steady.figures()["steady_flight"], "fig_manoeuvres_steady.png")
     out.figure(plot_turn_entry(entry), "fig_manoeuvres_turn_entry.png")

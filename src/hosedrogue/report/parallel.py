@@ -8,7 +8,8 @@ another). Each process writes its sections' files into the report folder and ret
 added to the page and to ``report.json`` (:class:`Contribution`); the parent adds the
 contributions in the order of :data:`~hosedrogue.report.plan.SECTIONS`, whatever order the
 processes finish in. The processes are started fresh (``spawn``): no state of the parent leaks
-into them, and a section that starts its own dask cluster (the docking campaigns) can.
+into them. The campaigns of every process run on the build's one dask cluster, which the parent
+starts before them and closes after them (:mod:`.shared`); each process connects to it.
 """
 
 from __future__ import annotations
@@ -105,7 +106,7 @@ def section_groups(chosen) -> list[tuple[str, ...]]:
     return [tuple(keys) for keys in order.values()]
 
 
-def build_group(keys, out_dir, fast: bool, keep) -> tuple[dict, dict, dict]:
+def build_group(keys, out_dir, fast: bool, keep, shared=None) -> tuple[dict, dict, dict]:
     """Build one group's sections in this process, in order (what a worker runs).
 
     Parameters
@@ -118,6 +119,8 @@ def build_group(keys, out_dir, fast: bool, keep) -> tuple[dict, dict, dict]:
         The fast version's settings.
     keep : sequence of str
         Keys of the results the parent needs (the closing sections' needs).
+    shared : hosedrogue.report.shared.Shared, optional
+        The build's cluster and campaign register (:mod:`.shared`), used while the group builds.
 
     Returns
     -------
@@ -131,6 +134,7 @@ def build_group(keys, out_dir, fast: bool, keep) -> tuple[dict, dict, dict]:
     """
     from .plan import SECTIONS, cpu_seconds, run_section
     from .settings import FAST, FULL
+    from .shared import attached
     from .writer import ReportFolder
 
     by_key = {s.key: s for s in SECTIONS}
@@ -138,17 +142,42 @@ def build_group(keys, out_dir, fast: bool, keep) -> tuple[dict, dict, dict]:
     out = ReportFolder(Path(out_dir))
     results: dict = {}
     contributions, times = {}, {}
-    for key in keys:
-        mark = _mark(out)
-        t0, c0 = time.perf_counter(), cpu_seconds()
-        run_section(by_key[key], out, settings, results)
-        times[key] = (time.perf_counter() - t0, cpu_seconds() - c0)
-        contributions[key] = _contribution(out, mark)
+    with attached(shared):
+        for key in keys:
+            mark = _mark(out)
+            t0, c0 = time.perf_counter(), cpu_seconds()
+            run_section(by_key[key], out, settings, results)
+            times[key] = (time.perf_counter() - t0, cpu_seconds() - c0)
+            contributions[key] = _contribution(out, mark)
     return {k: results[k] for k in keep if k in results}, contributions, times
 
 
-def run_groups(groups, out_dir, fast: bool, keep, workers: int, done=None) -> tuple[dict, dict, dict]:
+def _ignore_interrupt() -> None:
+    """A section process leaves Ctrl-C to the parent, which ends it (:func:`run_groups`): also one
+    started when SIGINT was not ignored."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _terminate(pool: ProcessPoolExecutor) -> None:
+    """End the pool's processes now, whatever they are building (``terminate_workers`` from Python
+    3.14 on; before it the executor has no public way, so its process table is read)."""
+    if hasattr(pool, "terminate_workers"):
+        pool.terminate_workers()
+        return
+    for process in list((getattr(pool, "_processes", None) or {}).values()):
+        process.terminate()
+
+
+def run_groups(groups, out_dir, fast: bool, keep, workers: int, done=None, shared=None) -> tuple[dict, dict, dict]:
     """Build the groups on ``workers`` processes.
+
+    The first error of a group, Ctrl-C or any other error here ends the build: the processes still
+    building are terminated at once (what they were writing is left unfinished, as an interrupted
+    single process leaves it) and the error is raised here. The processes ignore Ctrl-C themselves
+    (a terminal sends it to all of them): the parent alone decides, so no process goes on to build
+    a group it had already taken.
 
     Parameters
     ----------
@@ -164,16 +193,23 @@ def run_groups(groups, out_dir, fast: bool, keep, workers: int, done=None) -> tu
         Processes [-], >= 1.
     done : callable, optional
         Called with each finished group's keys.
+    shared : hosedrogue.report.shared.Shared, optional
+        The build's cluster and campaign register, passed to every group.
 
     Returns
     -------
     results, contributions, times : dict
         As :func:`build_group`'s, over every group.
     """
+    from .shared import children_ignore_interrupts
+
     results, contributions, times = {}, {}, {}
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=_ignore_interrupt)
     try:
-        pending = {pool.submit(build_group, keys, str(out_dir), fast, tuple(keep)): keys for keys in groups}
+        with children_ignore_interrupts():  # the processes start at the submissions
+            pending = {pool.submit(build_group, keys, str(out_dir), fast, tuple(keep), shared): keys
+                       for keys in groups}
         while pending:
             finished, _ = wait(pending, return_when=FIRST_COMPLETED)
             for future in finished:
@@ -184,6 +220,9 @@ def run_groups(groups, out_dir, fast: bool, keep, workers: int, done=None) -> tu
                 times.update(t)
                 if done is not None:
                     done(keys)
+    except BaseException:
+        _terminate(pool)
+        raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)  # groups not started are dropped
     return results, contributions, times

@@ -40,12 +40,17 @@ class Section:
         files, adds its page section(s), summary points, comparison rows and headline numbers.
     needs : tuple of str
         Keys of the earlier sections whose results ``build`` takes as keyword arguments.
+    dask : str, optional
+        The field of :class:`~hosedrogue.report.settings.ReportSettings` that gives the dask
+        workers of the section's campaigns (None there: in its process), for the build's one
+        cluster (:mod:`.shared`); None: the section runs no campaign.
     """
 
     key: str
     label: str
     build: Callable
     needs: tuple[str, ...] = ()
+    dask: str | None = None
 
 
 #: The sections in build order (the page shows them in this order after :data:`.page.FRONT`).
@@ -64,11 +69,11 @@ SECTIONS: tuple[Section, ...] = (
     Section("long_runs", "long runs", long_runs.build),
     Section("engagement", "engagement", engagement.build),
     Section("whip_loads", "whip loads", whip_loads.build),
-    Section("docking", "docking statistics and bow wave", docking.build),
+    Section("docking", "docking statistics and bow wave", docking.build, dask="docking_workers"),
     Section("docking_env", "docking environment (Gymnasium)", docking_env.build, needs=("docking",)),
-    Section("receiver", "receiver aircraft (F-16 trim, docking campaign)", receiver.build),
-    Section("manoeuvres", "manoeuvres", manoeuvres.build),
-    Section("drogue_actuator", "actuated drogue", drogue_actuator.build),
+    Section("receiver", "receiver aircraft (F-16 trim, docking campaign)", receiver.build, dask="docking_workers"),
+    Section("manoeuvres", "manoeuvres", manoeuvres.build, dask="manoeuvre_workers"),
+    Section("drogue_actuator", "actuated drogue", drogue_actuator.build, dask="docking_workers"),
 )
 
 #: Wall time of each section in the full build [s], measured on the project's 2-core machine

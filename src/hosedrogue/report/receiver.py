@@ -18,6 +18,7 @@ import numpy as np
 from ..studies.receiver import SCENARIOS, receiver_campaigns, trim_check
 from .markup import esc, figure_html, html_table
 from .settings import FULL
+from .shared import campaign_execution
 
 if TYPE_CHECKING:
     from .settings import ReportSettings
@@ -118,7 +119,7 @@ def build(out: ReportFolder, settings: ReportSettings) -> None:
     folder = out.dir / CAMPAIGNS
     shutil.rmtree(folder, ignore_errors=True)  # the report's campaigns are its own: never resumed
     out.status("receiver aircraft: campaigns")
-    camp = receiver_campaigns(settings.docking_runs, folder, workers=settings.docking_workers)
+    camp = receiver_campaigns(settings.docking_runs, folder, **campaign_execution(settings.docking_workers))
     out.csv(pd.DataFrame(camp.runs), "receiver_runs.csv")
     out.figure(camp.figure(CAPTURE_RADIUS_M), "receiver_miss_cdf.png")
     out.section("receiver-aircraft", "Receiver aircraft", _html(check, camp, settings))

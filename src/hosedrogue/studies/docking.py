@@ -119,8 +119,44 @@ def _run_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, clie
     return cell
 
 
+def _share_key(scenario, runs: int, seed: int) -> str:
+    """What a campaign of the grid is, as a file name: the digest of its scenario (every table of
+    it, its name among them), runs and seed."""
+    import hashlib
+    import json
+
+    from .. import jsonio
+
+    text = json.dumps(jsonio.plain({"scenario": scenario.to_dict(), "runs": runs, "seed": seed}), sort_keys=True,
+                      allow_nan=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def _shared_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, client, progress: bool,
+                 share: Path) -> CampaignCell:
+    """:func:`_run_cell`, once per build: under a lock on the campaign's key in ``share``, a campaign
+    another grid of the build ran (its folder named in ``share/<key>``) is copied into ``folder``
+    and resumed there (nothing left to run: its runs.csv, summary and figures are that campaign's);
+    else it runs and is registered. The lock waits for a campaign another process is running."""
+    import shutil
+
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX: each grid runs its own
+        return _run_cell(spec, scenario, runs, folder, seed, client, progress)
+    key = share / _share_key(scenario, runs, seed)
+    with open(key.with_suffix(".lock"), "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes, also on an error
+        done = Path(key.read_text(encoding="utf-8")) if key.exists() else None
+        if done is not None and done != folder and not folder.exists():
+            shutil.copytree(done, folder, ignore=shutil.ignore_patterns(".lock"))
+        cell = _run_cell(spec, scenario, runs, folder, seed, client, progress)
+        key.write_text(str(folder), encoding="utf-8")
+    return cell
+
+
 def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None, seed: int = CAMPAIGN_SEED,
-             status=None, progress: bool = False, base=None) -> list[CampaignCell]:
+             status=None, progress: bool = False, base=None, share=None) -> list[CampaignCell]:
     """Run the campaign of every cell into ``out_dir/<cell>/``, on one dask cluster or in this process.
 
     A cell whose scenario (:func:`.docking_grid.cell_scenario`) is that of an earlier cell is not
@@ -151,6 +187,12 @@ def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None,
     base : hosedrogue.scenarios.Scenario, optional
         The user's approach scenario instead of the shipped ``approach-LEVEL``
         (:func:`.docking_grid.cell_scenario`).
+    share : str or Path, optional
+        A folder (it exists) where the grids of one job register their campaigns, so that a
+        campaign two grids hold is run once: the second grid copies the first's folder (the report
+        build's docking and actuated-drogue sections share the ideal-force cells this way, from
+        two processes: a grid waits while another runs the campaign it needs). Only for grids run
+        afresh within one job: a registered folder must not change afterwards.
 
     Returns
     -------
@@ -179,7 +221,10 @@ def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None,
             if same is None:
                 if status:
                     status(f"docking campaign {spec.name}")
-                same = _run_cell(spec, scenario, runs, out / spec.name, seed, dask_client, progress)
+                if share is None:
+                    same = _run_cell(spec, scenario, runs, out / spec.name, seed, dask_client, progress)
+                else:
+                    same = _shared_cell(spec, scenario, runs, out / spec.name, seed, dask_client, progress, Path(share))
                 done.append(same)
             cells.append(same)
     return cells

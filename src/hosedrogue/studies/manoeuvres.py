@@ -197,7 +197,7 @@ class TurnCapture:
 
 
 def turn_capture_study(runs: int, out_dir, workers: int | None = None, seed: int = CAMPAIGN_SEED,
-                       progress: bool = False) -> TurnCapture:
+                       progress: bool = False, client=None) -> TurnCapture:
     """Campaigns of the approach in moderate turbulence in level flight and in a 25-degree turn.
 
     Parameters
@@ -213,6 +213,8 @@ def turn_capture_study(runs: int, out_dir, workers: int | None = None, seed: int
         Campaign seed [-] (the same for both: common random numbers).
     progress : bool
         Show the campaigns' progress bars on stderr.
+    client : distributed.Client, optional
+        Run on this dask client (not closed here) instead; not with ``workers``.
 
     Returns
     -------
@@ -222,8 +224,9 @@ def turn_capture_study(runs: int, out_dir, workers: int | None = None, seed: int
     from .executor import SYNCHRONOUS
 
     out = Path(out_dir)
-    summaries = [run_campaign(name, runs, out / name, workers=workers, seed=seed, progress=progress,
-                              scheduler=None if workers is not None else SYNCHRONOUS)
+    local = workers is None and client is None
+    summaries = [run_campaign(name, runs, out / name, workers=workers, seed=seed, progress=progress, client=client,
+                              scheduler=SYNCHRONOUS if local else None)
                  for _, name in CAPTURE_SCENARIOS]
     return TurnCapture(tuple(lbl for lbl, _ in CAPTURE_SCENARIOS), tuple(n for _, n in CAPTURE_SCENARIOS),
                        tuple(s.capture for s in summaries), tuple(s.runs for s in summaries),
