@@ -7,6 +7,11 @@ from hosedrogue.errors import IncompleteError
 from hosedrogue.studies import executor
 
 
+#: The no-worker timeout set in these tests [s]: the watch's poll (_NoWorkerWatchdog, every 2 s), so
+#: with no worker alive it fires 2 to 4 s after the last one died.
+NO_WORKER_S = 2.0
+
+
 def _double(x):
     return 2 * x
 
@@ -14,11 +19,13 @@ def _double(x):
 @pytest.mark.dask
 def test_no_worker_alive_stops_the_execution(monkeypatch):
     distributed = pytest.importorskip("distributed")
-    monkeypatch.setattr(executor, "NO_WORKER_TIMEOUT_S", 3.0)  # the watch polls every 2 s
+    # 2 s, the watch's poll: it fires on the second poll that sees no worker (a timeout of 3 s needs a
+    # third poll, 2 s of idle wall time more, for the same one-line stop)
+    monkeypatch.setattr(executor, "NO_WORKER_TIMEOUT_S", NO_WORKER_S)
     with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         done = []
-        with pytest.raises(IncompleteError, match="no dask worker was alive for 3 s"):
+        with pytest.raises(IncompleteError, match=f"no dask worker was alive for {NO_WORKER_S:g} s"):
             executor.execute_dask(client, iter(range(5)), _double, 2, done.append, on_lost=lambda t, r: None)
         assert done == []  # nothing ran, nothing invented
 
@@ -63,12 +70,13 @@ def _one_nanny_cluster(monkeypatch, tmp_path, restart):
 
 @pytest.mark.dask
 def test_a_worker_restarting_slower_than_the_timeout_is_waited_for(monkeypatch, tmp_path):
-    """The nanny restarts the worker a task killed; the new worker takes 10 s to register, over
-    three times the 3 s timeout and its 2 s poll: its process is alive, so the campaign waits and
+    """The nanny restarts the worker a task killed; the new worker takes over 6 s to register (its
+    preload sleeps 6 s), longer than the at most 4 s after which the watch (2 s timeout, 2 s poll)
+    would stop a campaign that had no worker: its process is alive, so the campaign waits and
     every task runs (each of the three once, the killer again after the restart)."""
     pytest.importorskip("distributed")
-    monkeypatch.setattr(executor, "NO_WORKER_TIMEOUT_S", 3.0)
-    cluster, client = _one_nanny_cluster(monkeypatch, tmp_path, "10")
+    monkeypatch.setattr(executor, "NO_WORKER_TIMEOUT_S", NO_WORKER_S)
+    cluster, client = _one_nanny_cluster(monkeypatch, tmp_path, "6")
     with cluster, client:
         done = []
         tasks = iter([str(tmp_path / "killed")] * 3)
@@ -82,11 +90,11 @@ def test_a_worker_that_cannot_come_back_still_stops_the_execution(monkeypatch, t
     """The same kill with a restart that fails: no worker process is left, so after the timeout
     the execution stops in one line."""
     pytest.importorskip("distributed")
-    monkeypatch.setattr(executor, "NO_WORKER_TIMEOUT_S", 3.0)
+    monkeypatch.setattr(executor, "NO_WORKER_TIMEOUT_S", NO_WORKER_S)
     cluster, client = _one_nanny_cluster(monkeypatch, tmp_path, "fail")
     with cluster, client:
         done = []
-        with pytest.raises(IncompleteError, match="no dask worker was alive for 3 s"):
+        with pytest.raises(IncompleteError, match=f"no dask worker was alive for {NO_WORKER_S:g} s"):
             executor.execute_dask(client, iter([str(tmp_path / "killed")] * 3), _kill_first, 1, done.append,
                                   on_lost=lambda t, r: done.append(r))
         assert done == [] and not executor.workers_alive(client)
