@@ -106,3 +106,16 @@ def test_gravity_only_tumbling_body_conserves_energy_to_the_integrators_order():
     err = [abs(energy(_integrate(f, x0, dt, int(round(10.0 / dt)))) - e0) / e0 for dt in (0.02, 0.01)]
     assert err[0] / err[1] > 12.0, err
     assert abs(energy(_integrate(f, x0, 0.001, 5000)) - e0) / e0 < 1e-11
+
+
+def test_cross3_is_numpys_cross_bit_for_bit():
+    """cross3 replaces numpy.cross on the F-16's hot path: the same bits, or every aircraft run changes."""
+    from hosedrogue.aircraft.rigid_body import cross3
+
+    rng = np.random.default_rng(11)
+    scale = 10.0 ** rng.integers(-8, 9, size=(20000, 2, 1))  # magnitudes from body rates to moments of inertia
+    pairs = rng.normal(size=(20000, 2, 3)) * scale
+    got = np.array([cross3(a, b) for a, b in pairs])
+    want = np.cross(pairs[:, 0], pairs[:, 1])
+    assert np.array_equal(got.view(np.int64), want.view(np.int64))
+    assert np.array_equal(cross3([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]), [0.0, 0.0, 1.0])  # x cross y = z

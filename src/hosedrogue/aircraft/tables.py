@@ -12,7 +12,7 @@ written independently.
 from __future__ import annotations
 
 import bisect
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -47,6 +47,12 @@ class Table:
     breakpoints: tuple[tuple[float, ...], ...]
     values: np.ndarray
     odd_in: str | None = None
+    #: :attr:`values` as nested lists of Python floats, what :meth:`__call__` reads: the same numbers
+    #: and the same arithmetic (nothing fused), at a fraction of numpy scalars' cost per operation
+    rows: list = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "rows", np.asarray(self.values, dtype=float).tolist())
 
     def __call__(self, variables: dict[str, float]) -> float:
         """The table's value at ``variables`` (a mapping holding every name in :attr:`axes`).
@@ -68,14 +74,15 @@ class Table:
                 sign = 1.0 if x >= 0.0 else -1.0
                 x = abs(x)
             xs.append(x)
-        v = self.values
+        v = self.rows
         if len(xs) == 1:
             i, f = _cell(self.breakpoints[0], xs[0])
             return sign * (v[i] + f * (v[i + 1] - v[i]))
         i, f = _cell(self.breakpoints[0], xs[0])
         j, g = _cell(self.breakpoints[1], xs[1])
-        lo = v[i, j] + g * (v[i, j + 1] - v[i, j])
-        hi = v[i + 1, j] + g * (v[i + 1, j + 1] - v[i + 1, j])
+        row, up = v[i], v[i + 1]
+        lo = row[j] + g * (row[j + 1] - row[j])
+        hi = up[j] + g * (up[j + 1] - up[j])
         return sign * (lo + f * (hi - lo))
 
 

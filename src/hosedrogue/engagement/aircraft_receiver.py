@@ -27,7 +27,7 @@ from ..aircraft.autopilot import design_inner_loop
 from ..aircraft.dynamics import derivative, wind_angles
 from ..aircraft.linear import euler_state
 from ..aircraft.model_file import load_model
-from ..aircraft.rigid_body import dcm_body_from_ned, euler_from_quaternion, normalized, quaternion_from_euler
+from ..aircraft.rigid_body import cross3, dcm_body_from_ned, euler_from_quaternion, normalized, quaternion_from_euler
 from ..aircraft.trim import trim
 from ..errors import ParameterError
 from ..jsonio import plain
@@ -93,7 +93,7 @@ class AircraftReceiver:
         """The probe tip's position and velocity [m, m/s] in the tanker frame S_p for the state x at time t."""
         c_nb = dcm_body_from_ned(x[6:10]).T
         p = x[0:3] + c_nb @ self.mount - np.array([self.V0 * t, 0.0, -self.altitude])
-        v = c_nb @ (x[3:6] + np.cross(x[10:13], self.mount)) - np.array([self.V0, 0.0, 0.0])
+        v = c_nb @ (x[3:6] + cross3(x[10:13], self.mount)) - np.array([self.V0, 0.0, 0.0])
         return p, v
 
     def euler(self, x: np.ndarray) -> np.ndarray:
