@@ -156,5 +156,5 @@ def run_digests(csv_path: str | Path, t_s: np.ndarray, joint_count: np.ndarray, 
     for a, dtype in ((t_s, np.float64), (joint_count, np.int64), (joints_m, np.float64)):
         a = np.ascontiguousarray(a, dtype=dtype)
         h.update(f"{a.dtype.str} {a.shape}".encode())
-        h.update(a.tobytes())
+        h.update(a)  # the array's bytes through the buffer protocol (a.tobytes() copied them first)
     return {"timeseries.csv": hashlib.sha256(Path(csv_path).read_bytes()).hexdigest(), FILE: h.hexdigest()}
