@@ -53,10 +53,11 @@ CASES = (
 )
 
 
-def run_once(argv, cache_dir, out_dir):
-    """One fresh process: (CPU seconds of the child, wall seconds, exit status)."""
+def run_once(argv, cache_dir, out_dir, extra_env=None):
+    """One fresh process: (CPU seconds of the child, wall seconds); ``extra_env`` is added to its
+    environment (``benchmarks/realtime_pairs.py``: the PYTHONPATH of the code it times)."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1",
-               OPENBLAS_NUM_THREADS="1", MPLBACKEND="Agg")
+               OPENBLAS_NUM_THREADS="1", MPLBACKEND="Agg", **(extra_env or {}))
     argv = [a.replace("{out}", str(out_dir)) for a in argv]
     t0 = time.perf_counter()
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)

@@ -9,7 +9,7 @@ LONG`` minus ``--duration SHORT`` (start-up, compile-cache loading and the balan
 draws ``spectrum.png`` (the drogue offset's spectrum beside its linear prediction: a linearization and
 a figure, about 1 s) only for a run long enough to have one, so a 20 s run would subtract less fixed
 work than the long run does and the difference would charge that second to the integration, in CPU seconds of the child processes (``getrusage``: a shared
-machine's other jobs stretch the wall time far more than the CPU time) and in wall seconds. The
+machine's other jobs stretch the wall time far more than the CPU time; ``cold_start.run_once``) and in wall seconds. The
 two codes run alternately, old then new, ``--pairs`` times, each pair in the same minutes, since this
 machine's speed drifts between hours; each code first runs once to fill its own numba cache.
 
@@ -21,30 +21,22 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+from cold_start import run_once  # benchmarks/ is this script's folder, first on sys.path
 
 HERE = Path(__file__).resolve().parents[1] / "src"
 
 
 def _command(src: Path, cache: str, duration: float, scenario: str) -> tuple[float, float]:
-    """CPU and wall seconds of one ``hosedrogue simulate`` run with the package at ``src``."""
-    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=cache, NUMBA_NUM_THREADS="1",
-               OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    """CPU and wall seconds of one ``hosedrogue simulate`` run with the package at ``src``
+    (:func:`cold_start.run_once`, a fresh process)."""
     with tempfile.TemporaryDirectory(prefix="hosedrogue-rt-") as out:
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        w0 = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "hosedrogue", "simulate", scenario, "--duration", f"{duration:g}",
-                        "--out", out], env=env, check=True, stdout=subprocess.DEVNULL)
-        wall = time.perf_counter() - w0
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return cpu, wall
+        return run_once([sys.executable, "-m", "hosedrogue", "simulate", scenario, "--duration", f"{duration:g}",
+                         "--out", "{out}/run"], cache, out, {"PYTHONPATH": str(src)})
 
 
 def _factor(src: Path, cache: str, long_s: float, short_s: float, scenario: str) -> tuple[float, float]:
