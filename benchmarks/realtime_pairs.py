@@ -56,6 +56,9 @@ def main(argv=None) -> int:
                     help="the short run's duration [s] (default 1020: it writes the same files as the long run)")
     ap.add_argument("--scenario", default="paper-turbulence", help="shipped scenario (default paper-turbulence)")
     args = ap.parse_args(argv)
+    if not (args.old / "hosedrogue" / "__init__.py").is_file():
+        # else PYTHONPATH would name nothing and the installed package, this code, would be timed as the old
+        ap.error(f"--old {args.old}: not a src folder holding the hosedrogue package")
     codes = {"old": args.old.resolve(), "new": HERE}
     caches = {k: tempfile.mkdtemp(prefix=f"hosedrogue-rt-{k}-") for k in codes}
     for k, src in codes.items():  # fill each code's cache (compile excluded from the figures)
