@@ -68,7 +68,8 @@ def coefficients(model: AircraftModel, variables: dict[str, float]) -> np.ndarra
     numpy.ndarray
         (6,) coefficients [-].
     """
-    c = np.array([sum(term(variables) for term in model.coefficients[name])
+    cells = {}  # the tables' cells at these variables, each found once (tables.Table)
+    c = np.array([sum(term(variables, cells) for term in model.coefficients[name])
                   for name in ("CX", "CY", "CZ", "Cl", "Cm", "Cn")])
     shift = model.xcg_ref - model.xcg
     c[4] += c[2] * shift

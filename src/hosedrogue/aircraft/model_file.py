@@ -211,6 +211,7 @@ def _limits(r: _Reader) -> dict:
 def _tables(r: _Reader) -> dict[str, Table]:
     shared = r.doc.get("breakpoints", {})
     out = {}
+    axes_seen: dict[tuple, tuple] = {}  # equal breakpoints as one object: a cell found once serves them all (tables.py)
     for name, spec in r.section("tables").items():
         key = f"tables.{name}"
         if not isinstance(spec, dict):
@@ -223,7 +224,8 @@ def _tables(r: _Reader) -> dict[str, Table]:
             raw = spec.get(a, shared.get(a))
             if raw is None:
                 r.fail(f"{key}.{a}", raw, f"breakpoints for axis {a!r} (here or in [breakpoints]) are required")
-            bps.append(r.axis(raw, f"{key}.{a}"))
+            bp = r.axis(raw, f"{key}.{a}")
+            bps.append(axes_seen.setdefault(bp, bp))
         values = r.array(spec.get("values"), f"{key}.values", tuple(len(b) for b in bps))
         odd = spec.get("odd_in")
         if odd is not None and (odd not in axes or bps[axes.index(odd)][0] != 0.0):

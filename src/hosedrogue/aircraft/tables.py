@@ -23,6 +23,17 @@ def _cell(axis: tuple[float, ...], x: float) -> tuple[int, float]:
     return i, (x - axis[i]) / (axis[i + 1] - axis[i])
 
 
+def _cell_once(cells: dict, axis: tuple[float, ...], x: float) -> tuple[int, float]:
+    """:func:`_cell`, remembered in ``cells`` by the axis (its identity: the dict lives for one
+    evaluation, while every table it saw is alive; equal axes of a model file are one object,
+    :mod:`.model_file`) and the value."""
+    key = (id(axis), x)
+    hit = cells.get(key)
+    if hit is None:
+        hit = cells[key] = _cell(axis, x)
+    return hit
+
+
 @dataclass(frozen=True)
 class Table:
     """A table of one or two axes.
@@ -54,13 +65,17 @@ class Table:
     def __post_init__(self):
         object.__setattr__(self, "rows", np.asarray(self.values, dtype=float).tolist())
 
-    def __call__(self, variables: dict[str, float]) -> float:
+    def __call__(self, variables: dict[str, float], cells: dict | None = None) -> float:
         """The table's value at ``variables`` (a mapping holding every name in :attr:`axes`).
 
         Parameters
         ----------
         variables : dict
             Variable name to value (degrees for angles, as the tables are).
+        cells : dict, optional
+            Cells already found at these ``variables`` (by breakpoints and value), shared by the
+            tables of one evaluation: most of a model's tables have the same breakpoints in angle of
+            attack, and each would look up the same cell (the same numbers, found once).
 
         Returns
         -------
@@ -75,11 +90,17 @@ class Table:
                 x = abs(x)
             xs.append(x)
         v = self.rows
-        if len(xs) == 1:
-            i, f = _cell(self.breakpoints[0], xs[0])
+        bp = self.breakpoints
+        if cells is None:
+            cell = _cell(bp[0], xs[0])
+            other = _cell(bp[1], xs[1]) if len(xs) == 2 else None
+        else:
+            cell = _cell_once(cells, bp[0], xs[0])
+            other = _cell_once(cells, bp[1], xs[1]) if len(xs) == 2 else None
+        i, f = cell
+        if other is None:
             return sign * (v[i] + f * (v[i + 1] - v[i]))
-        i, f = _cell(self.breakpoints[0], xs[0])
-        j, g = _cell(self.breakpoints[1], xs[1])
+        j, g = other
         row, up = v[i], v[i + 1]
         lo = row[j] + g * (row[j + 1] - row[j])
         hi = up[j] + g * (up[j + 1] - up[j])
@@ -104,19 +125,21 @@ class Term:
     gain: float
     times: tuple[str, ...]
 
-    def __call__(self, variables: dict[str, float]) -> float:
+    def __call__(self, variables: dict[str, float], cells: dict | None = None) -> float:
         """The term's value at ``variables``.
 
         Parameters
         ----------
         variables : dict
             Variable name to value.
+        cells : dict, optional
+            Cells found at these variables (:meth:`Table.__call__`).
 
         Returns
         -------
         float
         """
-        value = self.gain if self.table is None else self.gain * self.table(variables)
+        value = self.gain if self.table is None else self.gain * self.table(variables, cells)
         for name in self.times:
             value *= variables[name]
         return value
