@@ -99,6 +99,8 @@ def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray, kinema
         Parameter array ``ps``.
     ep : array (EP_SIZE,)
         Engagement parameters.
+    kinematics : bool
+        Also return the states' joint positions and velocities (what a remesh event compares).
 
     Returns
     -------
