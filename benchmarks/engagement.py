@@ -81,7 +81,7 @@ def timed(scenario, repeats):
     """Best CPU and wall time [s] of ``repeats`` runs, the best CPU time inside the compiled
     segments [s], and the last result; the best CPU times of the balance position, of the
     result's assembly (the output kernel on every saved state and the columns) and of the events
-    between the segments (their outputs and energies before and after) go to ``best_parts``."""
+    between the segments (their kinematics and energies before and after) go to ``best_parts``."""
     cpu = wall = seg = math.inf
     best_parts.update(dict.fromkeys(_parts, math.inf))
     ES.eng_segment = _timed_segment

@@ -173,7 +173,10 @@ def test_engagement_at_rest_length_is_the_hose_model(rng, hose, exit_link):
     assert abs(scal[0, LY.O_T0] - ref.exit_tension_n) < 1e-9
     assert np.max(np.abs(drag[0] - ref.drogue_drag_n)) < 1e-9
     kinetic, potential = model.energy(np.concatenate([q, qd]))
-    T, U_bend, T_reel = EO.eng_energy(z, *args[:5], ep, chain.chart)
+    kin_r, kin_v = np.empty_like(joints[0]), np.empty_like(jvel[0])
+    T, U_bend, T_reel = EO.eng_energy(z, *args[:5], ep, chain.chart, kin_r, kin_v)
+    # the events' kinematic pass gives the evaluation's joints bit for bit (the same operations)
+    assert np.array_equal(kin_r, joints[0]) and np.array_equal(kin_v, jvel[0])
     gravity = -float(np.sum(model.M * model.ps[LY.PS_G] * model.joint_positions(q)[1:, 2]))
     assert abs(T - kinetic) < 1e-9 and T_reel == 0.0
     assert abs(U_bend - (potential - gravity)) < 1e-9

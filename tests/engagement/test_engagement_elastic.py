@@ -60,7 +60,10 @@ def test_engagement_at_rest_length_is_the_elastic_hose_model(rng, lumping, exit_
     eps = lam / lengths - 1.0
     np.testing.assert_allclose(links_t[0], 2e5 * eps + 400.0 * lamd / lengths, rtol=0, atol=1e-9)
     kinetic, potential = model.energy(x)
-    T, U, T_reel = EO.eng_energy(z, *args[:5], ep, chain.chart)
+    kin_r, kin_v = np.empty_like(joints[0]), np.empty_like(jvel[0])
+    T, U, T_reel = EO.eng_energy(z, *args[:5], ep, chain.chart, kin_r, kin_v)
+    # the events' kinematic pass gives the evaluation's joints bit for bit (the same operations)
+    assert np.array_equal(kin_r, joints[0]) and np.array_equal(kin_v, jvel[0])
     gravity = -float(np.sum(model.M * model.ps[LY.PS_G] * model.joint_positions(q, lam)[1:, 2]))
     assert abs(T - kinetic) < 1e-9 and T_reel == 0.0
     assert abs(U - (potential - gravity)) < 1e-9

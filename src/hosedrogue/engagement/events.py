@@ -20,9 +20,10 @@ from .result import segment_outputs as _outputs
 
 
 def _at(run, model):
-    """Outputs and energies of the current state (see :func:`.result.segment_outputs`)."""
-    z1 = run.z[None, :]
-    return _outputs(np.array([run.t]), z1, run.chain, model, run.ep, run.loop), _energies(z1, run.chain, model, run.ep)[0]
+    """Joint positions and velocities (rows of :func:`.result.segment_outputs`' ``joints``, ``jvel``)
+    and energies of the current state: a kinematic pass, not an evaluation."""
+    joints, jvel, energies = _energies(run.z[None, :], run.chain, model, run.ep, kinematics=True)
+    return (joints, jvel), energies[0]
 
 
 def switch_event(run, model) -> None:

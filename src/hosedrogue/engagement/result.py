@@ -84,8 +84,10 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     return joints, jvel, scal, tow, tdrog, drag, links_t
 
 
-def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray) -> np.ndarray:
-    """Kinetic, elastic and reel energy [J] of states ``zs`` of one discretization.
+def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray, kinematics: bool = False):
+    """Kinetic, elastic and reel energy [J] of states ``zs`` of one discretization, and with
+    ``kinematics`` their joint positions and velocities (:func:`segment_outputs`' ``joints`` and
+    ``jvel``, the same numbers, without the rest of an evaluation).
 
     Parameters
     ----------
@@ -97,17 +99,22 @@ def segment_energies(zs: np.ndarray, chain: Chain, model, ep: np.ndarray) -> np.
         Parameter array ``ps``.
     ep : array (EP_SIZE,)
         Engagement parameters.
+    kinematics : bool
+        Also return the states' joint positions and velocities (what a remesh event compares).
 
     Returns
     -------
     array (N, 3)
-        Kinetic, elastic (gravity and probe spring) and reel energy [J].
+        Kinetic, elastic (gravity and probe spring) and reel energy [J]; with ``kinematics`` a
+        tuple (joints, jvel, energies), joints and jvel (N, n+1, 3) [m, m/s].
     """
     out = np.empty((zs.shape[0], 3))
+    joints = np.empty((zs.shape[0], chain.n + 1, 3))
+    jvel = np.empty_like(joints)
     for i, z in enumerate(zs):
         out[i] = EO.eng_energy(np.ascontiguousarray(z), chain.n, chain.l.copy(), chain.M.copy(),
-                               chain.J.copy(), model.ps, ep, chain.chart)
-    return out
+                               chain.J.copy(), model.ps, ep, chain.chart, joints[i], jvel[i])
+    return (joints, jvel, out) if kinematics else out
 
 
 def coupler_geometry(joints, jvel, scal):

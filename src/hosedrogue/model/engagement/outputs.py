@@ -41,12 +41,17 @@ def plane_distance(z, n, l, ws, t, ep):
 
 
 @njit(**JIT)
-def eng_energy(z, n, l, M, J, ps, ep, chart):
+def eng_energy(z, n, l, M, J, ps, ep, chart, joints, jvel):
     """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z
     (:func:`~hosedrogue.model.chain_dynamics.chain_energy`; gravity's work is in the balance's terms);
-    with elastic links the elastic energy includes their strain energy."""
+    with elastic links the elastic energy includes their strain energy. The joints' positions and
+    velocities (n+1, 3) [m, m/s] go to ``joints`` and ``jvel``: those of :func:`derived_outputs`
+    bit for bit (:func:`~.chain.chain_kinematics` is the first half of an evaluation), all that a
+    remesh event compares of the states before and after it."""
     ws = make_workspace_jit(n)
     chain_kinematics(z, n, l, M, J, ep, chart, ws)
+    copy_matrix(joints, ws[WS_R])
+    copy_matrix(jvel, ws[WS_V])
     T, _, U = chain_energy(n, l, M, J, ps, ws[WS_E], ws[WS_CS], ws[WS_R], ws[WS_V], z[2 * n: 4 * n])
     nh = tail_start(n, ep)
     if ep[EP_ELASTIC] != 0.0:
