@@ -193,12 +193,11 @@ def stiff_terms(n, l, hg, ps, guess, T, aug, taul):
     the stage's with the axial spring-damper taken at the new accelerations (docs/model.md §11)."""
     EA = ps[PS_EA]
     ca = ps[PS_CA]
-    if hg != 0.0:
-        for k in range(n):
+    for k in range(n):
+        if hg != 0.0:
             aug[k] = (hg * ca + hg * hg * EA) / l[k]
             taul[k] = -T[k] + aug[k] * guess[k]
-    else:
-        for k in range(n):
+        else:
             aug[k] = 0.0
             taul[k] = -T[k]
 
