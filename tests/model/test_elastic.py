@@ -219,3 +219,32 @@ def test_rigid_hose_keeps_its_arrays():
     """EA = inf is the paper's rigid chain: the model's state stays [q, qd] (4n)."""
     model = HoseModel(PAPER)
     assert not model.elastic and model.state_size == 4 * model.n and math.isinf(model.ps[LY.PS_EA])
+
+
+def test_solve_without_accelerations_leaves_the_loads_and_skips_the_accelerations(rng):
+    """The output kernels' solve (``without_accelerations``: the recursion's backward sweep only)
+    gives the full solve's tow-point force, exit tension, link tensions and joints bit for bit
+    (the forward pass writes only the accelerations, after the sweep: equality is exact, not to a
+    tolerance) and leaves the accelerations' array as it was (here NaN)."""
+    from hosedrogue.model import chain_dynamics as CD
+    from hosedrogue.model import elastic as E
+
+    model = HoseModel(elastic_params(n=6, EA=1e4, ca=30.0))
+    n = model.n
+    x = swinging_state(model, rng)
+    got = []
+    for skip in (False, True):
+        ws = CD.make_workspace(n)
+        ews = E.make_elastic_workspace(n)
+        if skip:
+            ews = E.without_accelerations(ews)
+        ws[CD.WS_QDD][:] = np.nan
+        E.elastic_evaluate_ws(0.3, x, np.zeros(2), model.l, model.M, model.J, model.ps, model.env,
+                              model.gust_values, ws, ews, 0.0, x)
+        got.append((ws[CD.WS_TOW].copy(), ws[CD.WS_T0].copy(), ews[E.EWS_T].copy(), ws[CD.WS_R].copy(),
+                    ws[CD.WS_QDD].copy()))
+    full, skipped = got
+    for a, b in zip(full[:4], skipped[:4]):
+        np.testing.assert_array_equal(a, b)
+    assert np.all(np.isfinite(full[4])) and np.all(np.isnan(skipped[4]))
+    assert len(E.without_accelerations(E.make_elastic_workspace(n))[E.EWS_LAMDD]) == 0

@@ -96,6 +96,17 @@ def make_elastic_workspace(n):
 make_elastic_workspace_jit = njit(**JIT)(make_elastic_workspace)
 
 
+@njit(**JIT_INLINE)
+def without_accelerations(ews):
+    """The elastic workspace ``ews`` with no room for the length accelerations (``ews[EWS_LAMDD]``
+    of length 0): :func:`elastic_forward_dynamics` then makes its backward sweep only (the
+    tow-point force; no accelerations, ``qdd`` untouched). For output kernels, which read the
+    evaluation's forces, tensions and joints and not its accelerations (the forward pass is about
+    a quarter of the solve)."""
+    return (ews[EWS_U], ews[EWS_DINV], ews[EWS_RHS], ews[EWS_T], ews[EWS_EPSD], ews[EWS_AUG], ews[EWS_TAUL],
+            np.empty(0), ews[EWS_ANG_AUG])
+
+
 @njit(**JIT_NO_ALLOC)
 def add_axial_rates(n, e, a, b, qd, lamd, v, c):
     """Add the links' stretching rates to the joint velocities v (n+1, 3) (``v_k+1 += sum_{j<=k}
@@ -124,15 +135,24 @@ def axial_tensions(n, l, lam, lamd, l0_rate, ps, T, epsd):
     power ``sum c_a l (deps/dt)^2`` [W]."""
     EA = ps[PS_EA]
     ca = ps[PS_CA]
-    p = 0.0
-    for k in range(n):
+    # link 0 first, then the others in a loop of their own with no sum in it: its divisions go
+    # into vector instructions (the same quotients, two or four at a time); the dissipation's sum,
+    # a chain of additions in link order, after (the same terms in the same order)
+    if n > 0:
+        lk = l[0]
+        ed = lamd[0] / lk
+        ed -= lam[0] * l0_rate / (lk * lk)
+        epsd[0] = ed
+        T[0] = EA * (lam[0] / lk - 1.0) + ca * ed
+    for k in range(1, n):
         lk = l[k]
         ed = lamd[k] / lk
-        if k == 0:
-            ed -= lam[0] * l0_rate / (lk * lk)
         epsd[k] = ed
         T[k] = EA * (lam[k] / lk - 1.0) + ca * ed
-        p += ca * lk * ed * ed
+    p = 0.0
+    for k in range(n):
+        ed = epsd[k]
+        p += ca * l[k] * ed * ed
     return p
 
 
@@ -203,13 +223,15 @@ def angle_stiff_terms(n, l, lam, hg, ps, cs, T, guess, tau, augq):
         return
     EI = ps[PS_EI]
     moment = ps[PS_BENDING] == BENDING_MOMENT
+    kj = 0.0  # the joint's E I / lbar between link k-1 and link k, computed once for both links
     for k in range(n):
         kb = 0.0
         if moment:
             if k > 0:
-                kb += EI / (0.5 * (l[k - 1] + l[k]))
+                kb += kj
             if k < n - 1:
-                kb += EI / (0.5 * (l[k] + l[k + 1]))
+                kj = EI / (0.5 * (l[k] + l[k + 1]))
+                kb += kj
         ks = T[k] * lam[k] if T[k] > 0.0 else 0.0
         kk = hg * hg * (2.0 * kb + ks)
         c2 = cs[k, 2]
@@ -230,7 +252,9 @@ def elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, U,
     (``augq`` (n, 2): :func:`angle_stiff_terms`). ``tau`` (n, 2)
     are the angles' generalized forces (:func:`~hosedrogue.model.chain_loads.rotational_terms`),
     ``taul`` (n,) the lengths' (minus the tension, :func:`stiff_terms`). Returns the force of the
-    hose on the tow point (exit) into ``tow_force``.
+    hose on the tow point (exit) into ``tow_force`` (the backward sweep's), and the accelerations
+    into ``qdd`` and ``lamdd`` (the forward pass's) unless ``lamdd`` has length 0
+    (:func:`without_accelerations`: the forward pass is skipped).
     """
     IA00 = IA01 = IA02 = IA11 = IA12 = IA22 = 0.0
     be0 = be1 = be2 = 0.0
@@ -305,6 +329,8 @@ def elastic_forward_dynamics(lam, M, J, n, a, b, e, cs, c, F, tau, taul, aug, U,
     tow_force[0] = F[0, 0] - be0
     tow_force[1] = F[0, 1] - be1
     tow_force[2] = F[0, 2] - be2
+    if lamdd.shape[0] == 0:  # no room for the accelerations (without_accelerations): the tow force only
+        return
     Ax = Ay = Az = 0.0
     for k in range(n):
         px = Ax + c[k, 0]
@@ -427,7 +453,7 @@ def elastic_outputs_series(ts, xs, us, l, M, J, ps, env, gust, joints, drogue_ve
     :func:`~hosedrogue.model.chain_dynamics.outputs_series`)."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
-    ews = make_elastic_workspace_jit(n)
+    ews = without_accelerations(make_elastic_workspace_jit(n))  # the outputs need no accelerations
     for i in range(ts.shape[0]):
         elastic_evaluate_ws(ts[i], xs[i], us[i], l, M, J, ps, env, gust, ws, ews, 0.0, xs[i])
         copy_matrix(joints[i], ws[WS_R])

@@ -96,7 +96,7 @@ def sdirk2(deriv):
         ``frames`` the array into which each evaluation writes the link frames (the correction's
         size reads their yaw cosines); ``pairs`` the second-order pairs of the state
         (:func:`~hosedrogue.model.implicit.stage_point`); ``work`` (8, len(z)): the stages in rows
-        0-3, the step's start in rows 4-5, the first stage's slope guess in row 7 (the last stage
+        1-3, the step's start in rows 4-5, the first stage's slope guess in row 7 (the last stage
         slope of the previous step, or dz/dt at z), which receives the next one. Where a stage's
         corrections do not converge, the step is redone as 2, 4, 8 and 16 substeps. Returns OK,
         or STAGE_LIMIT if they did not converge even then (z back at the step's start).
@@ -105,39 +105,39 @@ def sdirk2(deriv):
     @njit(**JIT_INLINE)
     def stage(t, zbase, model, n, iters, frames, pairs, hg, Kg, K, Y):
         # corrections until the last moves no stage velocity by more than SDIRK_TOLERANCE_M_S
-        # (at least iters, at most SDIRK_MAX_CORRECTIONS); the stage's slope into K (and Kg)
+        # (at least iters, at most SDIRK_MAX_CORRECTIONS); the stage's slope into K. Kg (the
+        # guess, overwritten) and K trade places after each correction instead of copying the
+        # slope into the guess: the same numbers, one copy at the end if the slope is in Kg
         nz = zbase.shape[0]
+        g, s = Kg, K
         for it in range(max(SDIRK_MAX_CORRECTIONS, iters)):
-            stage_point(zbase, Kg, hg, pairs, Y)
-            deriv(t, Y, model, hg, Kg, K)
-            d = correction_size(n, hg, Kg, K, Y, frames)
-            for i in range(nz):
-                Kg[i] = K[i]
+            stage_point(zbase, g, hg, pairs, Y)
+            deriv(t, Y, model, hg, g, s)
+            d = correction_size(n, hg, g, s, Y, frames)
+            g, s = s, g
             if not math.isfinite(d):
                 return False
             if it + 1 >= iters and d <= SDIRK_TOLERANCE_M_S:
+                if it % 2 == 1:  # an even number of corrections: the slope is in Kg
+                    for i in range(nz):
+                        K[i] = Kg[i]
                 return True
         return False
 
     @njit(**JIT_INLINE)
     def one_step(t, z, h, model, n, iters, frames, pairs, work):
-        # one step; False (z then undefined) if a stage's corrections did not converge
+        # one step; False (z then undefined, the guess row 7 overwritten) if a stage's corrections
+        # did not converge. The first stage starts from the guess in row 7 and the second from the
+        # first's slope, each in place (a stage overwrites its guess)
         hg = h * SDIRK2_GAMMA
-        Kg, K1, zhat, Y, K2 = work[0], work[1], work[2], work[3], work[7]
-        nz = z.shape[0]
-        for i in range(nz):
-            Kg[i] = K2[i]
-        if not stage(t + hg, z, model, n, iters, frames, pairs, hg, Kg, K1, Y):
+        K1, zhat, Y, K2 = work[1], work[2], work[3], work[7]
+        if not stage(t + hg, z, model, n, iters, frames, pairs, hg, K2, K1, Y):
             return False
         stage_point(z, K1, hg, pairs, Y)
         after_stage1(z, h, K1, zhat)
-        for i in range(nz):
-            Kg[i] = K1[i]  # the second stage's guess: the first stage's slope
-        if not stage(t + h, zhat, model, n, iters, frames, pairs, hg, Kg, K2, Y):
+        if not stage(t + h, zhat, model, n, iters, frames, pairs, hg, K1, K2, Y):
             return False
-        stage_point(zhat, K2, hg, pairs, Y)
-        for i in range(nz):
-            z[i] = Y[i]
+        stage_point(zhat, K2, hg, pairs, z)  # the new state, into z
         return True
 
     @njit(**JIT_INLINE)

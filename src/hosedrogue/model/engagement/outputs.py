@@ -17,7 +17,10 @@ from ..chain_dynamics import (
     WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_F, WS_QDD, WS_R, WS_TOW, WS_V, chain_energy, copy_matrix, copy_vector,
     make_workspace_jit,
 )
-from ..elastic import EWS_EPSD, EWS_T, axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy
+from ..elastic import (
+    EWS_EPSD, EWS_T, axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy,
+    without_accelerations,
+)
 from ..layout import (
     EP_COUPLED, EP_CTRL, EP_ELASTIC, EP_JR, EP_LAW, EP_MU, EP_RD, EP_SPLIT, LAW_LOCKED, O_FPX, O_FPY, O_FPZ, O_LDD,
     O_PAXIAL, O_PX, O_Q, O_SIZE, O_SLACK, O_T0, O_VPX, PS_G, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
@@ -176,7 +179,7 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
     ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller."""
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
-    ews = make_elastic_workspace_jit(n)
+    ews = without_accelerations(make_elastic_workspace_jit(n))  # the outputs read no accelerations
     dM = np.empty(2)
     out = np.zeros(O_SIZE)
     for i in range(ts.shape[0]):
