@@ -24,7 +24,7 @@ from ..layout import (
     R_Q, R_REEL_V, R_T0, Z_L, Z_LD,
 )
 from .chain import chain_kinematics, tail_start
-from .evaluation import eng_evaluate, eng_evaluate_elastic
+from .evaluation import eng_evaluate, eng_evaluate_bare, eng_evaluate_elastic, eng_evaluate_elastic_bare, has_loops
 from .probe import probe_force, probe_tip
 
 
@@ -158,7 +158,7 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
 
 @njit(**JIT_INLINE)
 def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension, loads, elastic):
+                    drogue_drag, link_tension, loads, elastic, loops):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
     (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
     drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
@@ -168,16 +168,21 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
     tension [N], probe load [N], slack [m]) into ``loads`` (N, 4), the same numbers from the same
     functions of the same state, which the time loop then need not compute at the saved steps
     (:func:`~.steps.eng_steps`); untouched for rigid links.
-    ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller."""
+    ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller, as is
+    ``loops`` (evaluated with the loops or without, :func:`~.evaluation.has_loops`)."""
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
     ews = make_elastic_workspace_jit(n)
     dM = np.empty(2)
     out = np.zeros(O_SIZE)
     for i in range(ts.shape[0]):
-        if elastic:
+        if elastic and loops:
             eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
                                  zs[i])
+        elif elastic:
+            eng_evaluate_elastic_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out,
+                                      0.0, zs[i])
+        if elastic:
             copy_matrix(joints[i], ws[WS_R])
             copy_matrix(jvel[i], ws[WS_V])
             copy_vector(scal[i], out)
@@ -196,7 +201,10 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
             loads[i, 2] = math.sqrt(fx * fx + fy * fy + fz * fz)
             loads[i, 3] = out[O_SLACK]
             continue
-        eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+        if loops:
+            eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+        else:
+            eng_evaluate_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         out[O_PAXIAL] = 0.0
         copy_matrix(joints[i], ws[WS_R])
         copy_matrix(jvel[i], ws[WS_V])
@@ -225,20 +233,22 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
                              + (F[n, 2] - m * Az) * e[n - 1, 2])
 
 
-def _outputs(elastic):
-    """:func:`derived_outputs` as a compiled function of its own, for one kind of link."""
+def _outputs(elastic, loops):
+    """:func:`derived_outputs` as a compiled function of its own, for one kind of link, with the
+    loops or without them (:func:`~.evaluation.has_loops`)."""
 
     @njit(**JIT)
     def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
                     drogue_drag, link_tension, loads):
         """:func:`derived_outputs` of rigid or elastic links (the kind this function is for)."""
         derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                        drogue_drag, link_tension, loads, elastic)
+                        drogue_drag, link_tension, loads, elastic, loops)
 
     return eng_outputs
 
 
-eng_outputs_rigid, eng_outputs_elastic = _outputs(False), _outputs(True)
+eng_outputs_rigid, eng_outputs_elastic = _outputs(False, True), _outputs(True, True)
+eng_outputs_rigid_bare, eng_outputs_elastic_bare = _outputs(False, False), _outputs(True, False)
 
 
 def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
@@ -256,6 +266,9 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
     joints, jvel, scal, tow, tension_drogue, drogue_drag, link_tension, loads : numpy.ndarray
         Receive the outputs (:func:`derived_outputs`; ``loads`` (N, 4) the elastic links' loads).
     """
-    kernel = eng_outputs_elastic if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid
+    if has_loops(ep):
+        kernel = eng_outputs_elastic if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid
+    else:
+        kernel = eng_outputs_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid_bare
     kernel(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue, drogue_drag,
            link_tension, loads)

@@ -1,7 +1,8 @@
-"""The engagement's time loop (numba): the segments of steps the driver runs between events (a remesh, a chart switch, the coupler plane, a failure),
-by themselves or a control step at a time for the sampled-data controllers. The steps are those
-of :mod:`hosedrogue.model.steppers` over the chain's derivative: RK4 for rigid links, RK4 or the
-SDIRK (:mod:`hosedrogue.model.implicit`) for elastic links.
+"""The engagement's time loop (numba): the segments of steps the driver runs between events (a
+remesh, a chart switch, the coupler plane, a failure), by themselves or a control step at a time
+for the sampled-data controllers. The steps are those of :mod:`hosedrogue.model.steppers` over the
+chain's derivative: RK4 for rigid links, RK4 or the SDIRK (:mod:`hosedrogue.model.implicit`) for
+elastic links, each compiled with the loops' rates (a controller, a pilot, a receiver) and without.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from ..layout import (
 from ..sampled import deliver
 from ..steppers import rk4, sdirk2
 from .chain import chain_kinematics, drogue_motion, elastic_pairs, elastic_pairs_jit, set_variable_link, tail_start
-from .evaluation import eng_deriv, eng_deriv_elastic
+from .evaluation import eng_deriv, eng_deriv_bare, eng_deriv_elastic, eng_deriv_elastic_bare, has_loops
 from .outputs import plane_distance, raw_measurement, state_loads
 
 
@@ -42,10 +43,28 @@ def eng_rate_elastic(t, z, model, hg, guess, dz):
     eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
 
 
-# the steps of the rigid chain (RK4) and of the elastic chain (RK4 or the SDIRK, ep[EP_SCHEME])
+@njit(**JIT_INLINE)
+def eng_rate_bare(t, z, model, hg, guess, dz):
+    """:func:`eng_rate` of a run without loops (:func:`~.evaluation.has_loops`)."""
+    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
+    eng_deriv_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+
+
+@njit(**JIT_INLINE)
+def eng_rate_elastic_bare(t, z, model, hg, guess, dz):
+    """:func:`eng_rate_elastic` of a run without loops (:func:`~.evaluation.has_loops`)."""
+    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out = model
+    eng_deriv_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
+
+
+# the steps of the rigid chain (RK4) and of the elastic chain (RK4 or the SDIRK, ep[EP_SCHEME]),
+# with the loops and without them (_bare)
 _rigid_rk4, _ = rk4(eng_rate)
 _elastic_rk4, _ = rk4(eng_rate_elastic)
 _elastic_sdirk2 = sdirk2(eng_rate_elastic)
+_rigid_rk4_bare, _ = rk4(eng_rate_bare)
+_elastic_rk4_bare, _ = rk4(eng_rate_elastic_bare)
+_elastic_sdirk2_bare = sdirk2(eng_rate_elastic_bare)
 
 
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
@@ -105,9 +124,10 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
                   ep, chart, loop, hist, limits, zprev, ts, zs, True, 0, scratch, loads, bool(saved_loads))
 
 
-def _steps(elastic, implicit):
+def _steps(elastic, implicit, loops):
     """:func:`eng_steps` compiled for one kind of link (``elastic``) and integrator (``implicit``:
-    the SDIRK, else RK4), constants of the compiled function (closures over bools, which numba's
+    the SDIRK, else RK4) and with the loops' rates or without them (``loops``,
+    :func:`~.evaluation.has_loops`), constants of the compiled function (closures over bools, which numba's
     cache keys on; it prunes the other kind's and integrator's branches before typing), as a
     function of its own without numba's runtime (``JIT_NO_ALLOC``): the steps inlined into it
     then take no reference counts of the arrays they unpack from the chain's tuple (in a function
@@ -133,10 +153,7 @@ def _steps(elastic, implicit):
         loads of a saved state are left to its outputs (:func:`~.outputs.derived_outputs` writes the
         same numbers, at no extra cost: 4 us of the ~85 us of a saved step at 160 links), their rows
         of ``loads`` left as they are; the segment's caller, whose parameters do not change while it
-        runs, fills them. Returns (status, steps done, saved count).
-
-        Inlined into the compiled steps (:func:`steps_kernel`) (:data:`hosedrogue.jit.JIT_INLINE`): at most 30
-        arguments, since CPython passes a call of more as one tuple, which numba cannot inline."""
+        runs, fills them. Returns (status, steps done, saved count)."""
         max_yaw, switch_yaw, split_at, merge_at, allow_merge = limits
         work, ws, ws2, dM, out, ews, pairs = scratch
         nz = z.shape[0]
@@ -146,8 +163,12 @@ def _steps(elastic, implicit):
         flexible = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)
         least = int(ep[EP_ITER])  # the SDIRK's least corrections per stage
         if elastic and s0 == 0:  # a segment's start: the SDIRK's first slope guess is dz/dt there
-            eng_deriv_elastic(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, work[6],
-                              work[7])
+            if loops:
+                eng_deriv_elastic(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0,
+                                  work[6], work[7])
+            else:
+                eng_deriv_elastic_bare(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
+                                       0.0, work[6], work[7])
             if step0 == 0:
                 state_loads(t0, z, n, l, M, J, ps, ep, chart, ws, ews, loads[0])
         probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
@@ -164,11 +185,21 @@ def _steps(elastic, implicit):
                 zprev[i] = z[i]
             if elastic:
                 if not implicit:
-                    _elastic_rk4(t, z, h, flexible, work)
-                elif _elastic_sdirk2(t, z, h, flexible, n, least, ws[WS_CS], pairs, work) != OK:  # ws[WS_CS]: the frames
-                    return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
-            else:
+                    if loops:
+                        _elastic_rk4(t, z, h, flexible, work)
+                    else:
+                        _elastic_rk4_bare(t, z, h, flexible, work)
+                else:
+                    if loops:  # ws[WS_CS]: the frames
+                        ok = _elastic_sdirk2(t, z, h, flexible, n, least, ws[WS_CS], pairs, work)
+                    else:
+                        ok = _elastic_sdirk2_bare(t, z, h, flexible, n, least, ws[WS_CS], pairs, work)
+                    if ok != OK:
+                        return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
+            elif loops:
                 _rigid_rk4(t, z, h, rigid, work)
+            else:
+                _rigid_rk4_bare(t, z, h, rigid, work)
             t = t0 + (s0 + s) * h
             status = step_status(z, n, max_yaw)
             if status != OK:
@@ -210,10 +241,13 @@ def _steps(elastic, implicit):
     return eng_steps
 
 
-#: :func:`eng_steps` compiled for rigid links (RK4) and for elastic links by RK4 and by the SDIRK
-#: (the segment and the control step call them; :func:`steps_kernel` picks one).
-eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2 = _steps(False, False), _steps(True, False), _steps(
-    True, True)
+#: :func:`eng_steps` compiled for rigid links (RK4) and for elastic links by RK4 and by the SDIRK,
+#: with the loops (the segment and the control step call them; :func:`steps_kernel` picks one)
+eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2 = (
+    _steps(False, False, True), _steps(True, False, True), _steps(True, True, True))
+#: ... and without them (:func:`~.evaluation.has_loops`)
+eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare = (
+    _steps(False, False, False), _steps(True, False, False), _steps(True, True, False))
 
 
 def link_kind(ep):
@@ -226,9 +260,12 @@ def link_kind(ep):
 
 
 def steps_kernel(ep):
-    """:func:`eng_steps` compiled for the kind of link and integrator of ``ep`` (:func:`link_kind`):
-    a process compiles only the integrator its runs use (docs/develop.md, "The compiled core")."""
-    return (eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2)[link_kind(ep)]
+    """:func:`eng_steps` compiled for the kind of link and integrator of ``ep`` (:func:`link_kind`),
+    with or without the loops (:func:`~.evaluation.has_loops`): a process compiles only the
+    integrator and the loops its runs use (docs/develop.md, "The compiled core")."""
+    if has_loops(ep):
+        return (eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2)[link_kind(ep)]
+    return (eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare)[link_kind(ep)]
 
 
 def _advance(elastic, implicit):
