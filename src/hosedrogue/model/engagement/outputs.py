@@ -94,18 +94,23 @@ def evaluate_state(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ew
 
 
 @njit(**JIT_INLINE)
-def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic):
+def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic, loops):
     """The raw measurement (``hosedrogue.model.sampled.R_*``) of state z at time t [s]: drogue and
     probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
     evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
     (NaN without control surfaces). ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant
     of the compiled caller (:func:`eng_raw`, the control step), which then holds that kind's
-    evaluation only."""
-    if elastic:
+    evaluation only, with the loops or without them (``loops``, :func:`~.evaluation.has_loops`)."""
+    if elastic and loops:
         eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n), dM,
                              out, 0.0, z)
-    else:
+    elif elastic:
+        eng_evaluate_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n),
+                                  dM, out, 0.0, z)
+    elif loops:
         eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+    else:
+        eng_evaluate_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
     r, v = ws[WS_R], ws[WS_V]
     for i in range(3):
         raw[R_DROGUE + i] = r[n, i]
@@ -119,18 +124,20 @@ def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, d
     raw[R_Q] = out[O_Q] if ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act) else math.nan
 
 
-def _raw(elastic):
-    """:func:`raw_measurement` as a compiled function of its own, for one kind of link."""
+def _raw(elastic, loops):
+    """:func:`raw_measurement` as a compiled function of its own, for one kind of link, with the
+    loops or without them."""
 
     @njit(**JIT)
     def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
         """:func:`raw_measurement` of rigid or elastic links (the kind this function is for)."""
-        raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic)
+        raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic, loops)
 
     return eng_raw
 
 
-eng_raw_rigid, eng_raw_elastic = _raw(False), _raw(True)
+eng_raw_rigid, eng_raw_elastic = _raw(False, True), _raw(True, True)
+eng_raw_rigid_bare, eng_raw_elastic_bare = _raw(False, False), _raw(True, False)
 
 
 def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
@@ -152,7 +159,10 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw : numpy.ndarray
         Receives the measurement (``hosedrogue.model.layout.R_*``).
     """
-    kernel = eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
+    if has_loops(ep):
+        kernel = eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
+    else:
+        kernel = eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
     kernel(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
 
 
@@ -252,10 +262,10 @@ eng_outputs_rigid_bare, eng_outputs_elastic_bare = _outputs(False, False), _outp
 
 
 def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                drogue_drag, link_tension, loads):
+                drogue_drag, link_tension, loads, loops=None):
     """Derived outputs at saved states into the given arrays (:func:`derived_outputs`), compiled
     for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_outputs_rigid` or
-    :data:`eng_outputs_elastic`).
+    :data:`eng_outputs_elastic`), with the loops or without them (the ``_bare`` ones).
 
     Parameters
     ----------
@@ -265,8 +275,12 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
         The chain and the model, as :func:`eng_raw`'s.
     joints, jvel, scal, tow, tension_drogue, drogue_drag, link_tension, loads : numpy.ndarray
         Receive the outputs (:func:`derived_outputs`; ``loads`` (N, 4) the elastic links' loads).
+    loops : bool, optional
+        Take the variant compiled with the loops (default: :func:`~.evaluation.has_loops` of
+        ``ep``): a caller evaluating a run's state with its loops switched off in a copy of ``ep``
+        passes the run's, so that the process compiles one variant, not both (the same numbers).
     """
-    if has_loops(ep):
+    if has_loops(ep) if loops is None else loops:
         kernel = eng_outputs_elastic if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid
     else:
         kernel = eng_outputs_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid_bare

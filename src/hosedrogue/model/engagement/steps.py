@@ -268,8 +268,9 @@ def steps_kernel(ep):
     return (eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare)[link_kind(ep)]
 
 
-def _advance(elastic, implicit):
-    """:func:`eng_advance` compiled for one kind of link and integrator (as :func:`_steps`)."""
+def _advance(elastic, implicit, loops):
+    """:func:`eng_advance` compiled for one kind of link and integrator, with the loops or without
+    them (as :func:`_steps`)."""
 
     @njit(**JIT)
     def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
@@ -288,20 +289,31 @@ def _advance(elastic, implicit):
         scratch = (work, ws, ws2, dM, out, make_elastic_workspace_jit(n),
                    elastic_pairs_jit(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0))
         limits = (max_yaw, switch_yaw, split_at, merge_at, allow_merge)
-        if elastic and implicit:
-            status, done, saved = eng_steps_elastic_sdirk2(z, origin * h, step0 - origin, step0, h, target - step0,
-                                                           save_every, n, l, M, J, ps, env, gust, ep, chart, loop,
-                                                           hist, limits, zprev, ts, zs, record, ctr[C_SAVED], scratch,
-                                                           loads, False)
+        t0, s0, k, sv = origin * h, step0 - origin, target - step0, ctr[C_SAVED]
+        if elastic and implicit and loops:
+            status, done, saved = eng_steps_elastic_sdirk2(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
+        elif elastic and implicit:
+            status, done, saved = eng_steps_elastic_sdirk2_bare(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
+        elif elastic and loops:
+            status, done, saved = eng_steps_elastic_rk4(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
         elif elastic:
-            status, done, saved = eng_steps_elastic_rk4(z, origin * h, step0 - origin, step0, h, target - step0,
-                                                        save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                                                        limits, zprev, ts, zs, record, ctr[C_SAVED], scratch, loads,
-                                                        False)
+            status, done, saved = eng_steps_elastic_rk4_bare(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
+        elif loops:
+            status, done, saved = eng_steps_rigid(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
         else:
-            status, done, saved = eng_steps_rigid(z, origin * h, step0 - origin, step0, h, target - step0,
-                                                  save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                                                  limits, zprev, ts, zs, record, ctr[C_SAVED], scratch, loads, False)
+            status, done, saved = eng_steps_rigid_bare(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
         ctr[C_STEP] = step0 + done
         ctr[C_SAVED] = saved
         ctr[C_STATUS] = status
@@ -309,7 +321,7 @@ def _advance(elastic, implicit):
         if ctr[C_STEP] == target and not failed:
             k = ctr[C_SAMPLE] + 1
             raw_measurement(target * h, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out,
-                            ring[k % ring.shape[0]], elastic)
+                            ring[k % ring.shape[0]], elastic, loops)
             deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
             ctr[C_SAMPLE] = k
         return status
@@ -317,10 +329,12 @@ def _advance(elastic, implicit):
     return eng_advance
 
 
-#: The compiled control step of rigid links and of elastic links by RK4 and by the SDIRK
-#: (:func:`eng_advance` picks one, :func:`link_kind`).
-eng_advance_rigid, eng_advance_elastic_rk4, eng_advance_elastic_sdirk2 = _advance(False, False), _advance(
-    True, False), _advance(True, True)
+#: The compiled control step of rigid links and of elastic links by RK4 and by the SDIRK, with the
+#: loops and without them (:func:`eng_advance` picks one, :func:`link_kind`, :func:`~.evaluation.has_loops`).
+eng_advance_rigid, eng_advance_elastic_rk4, eng_advance_elastic_sdirk2 = (
+    _advance(False, False, True), _advance(True, False, True), _advance(True, True, True))
+eng_advance_rigid_bare, eng_advance_elastic_rk4_bare, eng_advance_elastic_sdirk2_bare = (
+    _advance(False, False, False), _advance(True, False, False), _advance(True, True, False))
 
 
 def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
@@ -329,7 +343,8 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
     """Integrate from the counters ``ctr`` toward global step ``ctr[C_TARGET]`` and deliver the
     next sample's measurement, compiled for the chain's kind of link and integrator
     (:func:`link_kind`: :data:`eng_advance_rigid`, :data:`eng_advance_elastic_rk4` or
-    :data:`eng_advance_elastic_sdirk2`, whose docstring says the rest).
+    :data:`eng_advance_elastic_sdirk2`, whose docstring says the rest), with or without the loops
+    (:func:`~.evaluation.has_loops`).
 
     Parameters
     ----------
@@ -357,7 +372,10 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
     int
         The status of the segment (an event stops it early).
     """
-    kernel = (eng_advance_rigid, eng_advance_elastic_rk4, eng_advance_elastic_sdirk2)[link_kind(ep)]
+    if has_loops(ep):
+        kernel = (eng_advance_rigid, eng_advance_elastic_rk4, eng_advance_elastic_sdirk2)[link_kind(ep)]
+    else:
+        kernel = (eng_advance_rigid_bare, eng_advance_elastic_rk4_bare, eng_advance_elastic_sdirk2_bare)[link_kind(ep)]
     return kernel(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw, switch_yaw,
                   split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring, delay, sample_h,
                   noise3, noise3_dt, balance, mbuf, loads)
