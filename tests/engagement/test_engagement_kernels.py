@@ -49,3 +49,21 @@ def test_each_loop_selects_the_steps_compiled_with_the_loops(slot):
         assert ES.link_kind(ep) == kind and ES.steps_kernel(ep) is bare[kind]
         ep[getattr(LY, slot)] = 1.0
         assert EV.has_loops(ep) and ES.steps_kernel(ep) is looped[kind]
+
+
+def test_the_loop_arrays_without_a_controller_are_the_numba_type_of_those_with_one():
+    """``no_loop()`` (the read-only arrays of ``LinearController.static_zero()``) and a user's
+    controller give the kernels one numba type, so that nothing is compiled twice for the loop
+    (an engagement FMU compiled its evaluation for both)."""
+    from types import SimpleNamespace
+
+    from numba import typeof
+
+    from hosedrogue.engagement.loop import no_loop
+    from hosedrogue.model.integrate import loop_arrays
+    from hosedrogue.spec.params import Actuator
+
+    ctrl = SimpleNamespace(A=np.zeros((1, 1)), B=np.zeros((1, 2)), C=np.zeros((2, 1)), D=np.zeros((2, 2)), n_states=1)
+    user = loop_arrays(ctrl, np.zeros(2), Actuator(), np.zeros((1, 2)), 1.0)
+    assert typeof(no_loop()) == typeof(user)
+    assert all(a.flags.writeable for a in no_loop() if isinstance(a, np.ndarray))

@@ -416,5 +416,15 @@ def has_loops(ep) -> bool:
     compiled evaluations, derivatives, steps and outputs exist with (``True``) and without them
     (the ``_bare`` ones, numba prunes their code before typing: a run without a loop compiles
     none of it; docs/develop.md, "The compiled core"); the Python pickers call this at every call.
+
+    Parameters
+    ----------
+    ep : numpy.ndarray
+        The engagement's parameters (``hosedrogue.model.layout.EP_*``).
+
+    Returns
+    -------
+    bool
+        Whether any of the three is on.
     """
     return ep[EP_CTRL] != 0.0 or ep[EP_PIL] != 0.0 or ep[EP_RCV] != 0.0

@@ -253,7 +253,18 @@ eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare 
 def link_kind(ep):
     """The kind of link and integrator of the engagement's parameters ``ep``: 0 rigid (RK4), 1
     elastic by RK4, 2 elastic by the SDIRK (``ep[EP_ELASTIC]``, ``ep[EP_SCHEME]``): the index of
-    the compiled steps (:func:`steps_kernel`) and control step (:func:`eng_advance`)."""
+    the compiled steps (:func:`steps_kernel`) and control step (:func:`eng_advance`).
+
+    Parameters
+    ----------
+    ep : numpy.ndarray
+        The engagement's parameters (``hosedrogue.model.layout.EP_*``).
+
+    Returns
+    -------
+    int
+        0, 1 or 2.
+    """
     if ep[EP_ELASTIC] == 0.0:
         return 0
     return 1 if ep[EP_SCHEME] == SCHEME_RK4 else 2
@@ -262,7 +273,18 @@ def link_kind(ep):
 def steps_kernel(ep):
     """:func:`eng_steps` compiled for the kind of link and integrator of ``ep`` (:func:`link_kind`),
     with or without the loops (:func:`~.evaluation.has_loops`): a process compiles only the
-    integrator and the loops its runs use (docs/develop.md, "The compiled core")."""
+    integrator and the loops its runs use (docs/develop.md, "The compiled core").
+
+    Parameters
+    ----------
+    ep : numpy.ndarray
+        The engagement's parameters (``hosedrogue.model.layout.EP_*``).
+
+    Returns
+    -------
+    numba dispatcher
+        The compiled steps, called as :func:`eng_segment` calls them.
+    """
     if has_loops(ep):
         return (eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2)[link_kind(ep)]
     return (eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare)[link_kind(ep)]
