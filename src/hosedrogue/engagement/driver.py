@@ -19,6 +19,7 @@ import numpy as np
 from ..environment.bow_wave import BowWaveField
 from ..model import layout as LY
 from ..model.engagement import chain as EC, steps as ES
+from ..model.engagement.evaluation import has_loops
 from ..spec.params import Actuator, ParameterError, Params, Sensor
 from ..simulation.budget import check_run
 from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
@@ -170,7 +171,8 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
     e[LY.EP_BW] = LY.BW_OFF
     e[LY.EP_CTRL] = 0.0  # no control force: the drogue at its balance position needs none
     steady = SimpleNamespace(ps=model.ps, env=model.steady_env, gust_values=model.gust_values)  # no gusts
-    scal = _outputs(np.zeros(1), z[None, :], chain, steady, e)[2]
+    # the variant compiled for the run's loops (model.engagement.outputs.eng_outputs): one, not two
+    scal = _outputs(np.zeros(1), z[None, :], chain, steady, e, loops=has_loops(ep))[2]
     return float(scal[0, LY.O_T0])
 
 

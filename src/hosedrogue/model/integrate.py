@@ -238,7 +238,9 @@ def loop_arrays(ctrl, y_ref, actuator, noise, noise_dt_s: float, drogue_actuator
     LoopArrays
     """
     def c(a, shape):
-        return np.ascontiguousarray(np.asarray(a, dtype=np.float64).reshape(shape))
+        # a writable copy: a read-only array (LinearController.static_zero()'s) is another numba type,
+        # for which every kernel taking the loop would compile once more (docs/develop.md, "The compiled core")
+        return np.array(a, dtype=np.float64, order="C").reshape(shape)
 
     nc = ctrl.n_states
     act = actuator.as_array()

@@ -27,7 +27,7 @@ from ..layout import (
     R_Q, R_REEL_V, R_T0, Z_L, Z_LD,
 )
 from .chain import chain_kinematics, tail_start
-from .evaluation import eng_evaluate, eng_evaluate_elastic
+from .evaluation import eng_evaluate, eng_evaluate_bare, eng_evaluate_elastic, eng_evaluate_elastic_bare, has_loops
 from .probe import probe_force, probe_tip
 
 
@@ -102,18 +102,23 @@ def evaluate_state(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ew
 
 
 @njit(**JIT_INLINE)
-def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic):
+def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic, loops):
     """The raw measurement (``hosedrogue.model.sampled.R_*``) of state z at time t [s]: drogue and
     probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
     evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
     (NaN without control surfaces). ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant
     of the compiled caller (:func:`eng_raw`, the control step), which then holds that kind's
-    evaluation only."""
-    if elastic:
+    evaluation only, with the loops or without them (``loops``, :func:`~.evaluation.has_loops`)."""
+    if elastic and loops:
         eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n), dM,
                              out, 0.0, z)
-    else:
+    elif elastic:
+        eng_evaluate_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n),
+                                  dM, out, 0.0, z)
+    elif loops:
         eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+    else:
+        eng_evaluate_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
     r, v = ws[WS_R], ws[WS_V]
     for i in range(3):
         raw[R_DROGUE + i] = r[n, i]
@@ -127,18 +132,20 @@ def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, d
     raw[R_Q] = out[O_Q] if ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act) else math.nan
 
 
-def _raw(elastic):
-    """:func:`raw_measurement` as a compiled function of its own, for one kind of link."""
+def _raw(elastic, loops):
+    """:func:`raw_measurement` as a compiled function of its own, for one kind of link, with the
+    loops or without them."""
 
     @njit(**JIT)
     def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
         """:func:`raw_measurement` of rigid or elastic links (the kind this function is for)."""
-        raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic)
+        raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic, loops)
 
     return eng_raw
 
 
-eng_raw_rigid, eng_raw_elastic = _raw(False), _raw(True)
+eng_raw_rigid, eng_raw_elastic = _raw(False, True), _raw(True, True)
+eng_raw_rigid_bare, eng_raw_elastic_bare = _raw(False, False), _raw(True, False)
 
 
 def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
@@ -160,13 +167,16 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw : numpy.ndarray
         Receives the measurement (``hosedrogue.model.layout.R_*``).
     """
-    kernel = eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
+    if has_loops(ep):
+        kernel = eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
+    else:
+        kernel = eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
     kernel(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
 
 
 @njit(**JIT_INLINE)
 def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension, loads, elastic):
+                    drogue_drag, link_tension, loads, elastic, loops):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
     (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
     drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
@@ -176,16 +186,21 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
     tension [N], probe load [N], slack [m]) into ``loads`` (N, 4), the same numbers from the same
     functions of the same state, which the time loop then need not compute at the saved steps
     (:func:`~.steps.eng_steps`); untouched for rigid links.
-    ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller."""
+    ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller, as is
+    ``loops`` (evaluated with the loops or without, :func:`~.evaluation.has_loops`)."""
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
     ews = without_accelerations(make_elastic_workspace_jit(n))  # the outputs read no accelerations
     dM = np.empty(2)
     out = np.zeros(O_SIZE)
     for i in range(ts.shape[0]):
-        if elastic:
+        if elastic and loops:
             eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
                                  zs[i])
+        elif elastic:
+            eng_evaluate_elastic_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out,
+                                      0.0, zs[i])
+        if elastic:
             copy_matrix(joints[i], ws[WS_R])
             copy_matrix(jvel[i], ws[WS_V])
             copy_vector(scal[i], out)
@@ -204,7 +219,10 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
             loads[i, 2] = math.sqrt(fx * fx + fy * fy + fz * fz)
             loads[i, 3] = out[O_SLACK]
             continue
-        eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+        if loops:
+            eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+        else:
+            eng_evaluate_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         out[O_PAXIAL] = 0.0
         copy_matrix(joints[i], ws[WS_R])
         copy_matrix(jvel[i], ws[WS_V])
@@ -233,27 +251,29 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
                              + (F[n, 2] - m * Az) * e[n - 1, 2])
 
 
-def _outputs(elastic):
-    """:func:`derived_outputs` as a compiled function of its own, for one kind of link."""
+def _outputs(elastic, loops):
+    """:func:`derived_outputs` as a compiled function of its own, for one kind of link, with the
+    loops or without them (:func:`~.evaluation.has_loops`)."""
 
     @njit(**JIT)
     def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
                     drogue_drag, link_tension, loads):
         """:func:`derived_outputs` of rigid or elastic links (the kind this function is for)."""
         derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                        drogue_drag, link_tension, loads, elastic)
+                        drogue_drag, link_tension, loads, elastic, loops)
 
     return eng_outputs
 
 
-eng_outputs_rigid, eng_outputs_elastic = _outputs(False), _outputs(True)
+eng_outputs_rigid, eng_outputs_elastic = _outputs(False, True), _outputs(True, True)
+eng_outputs_rigid_bare, eng_outputs_elastic_bare = _outputs(False, False), _outputs(True, False)
 
 
 def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                drogue_drag, link_tension, loads):
+                drogue_drag, link_tension, loads, loops=None):
     """Derived outputs at saved states into the given arrays (:func:`derived_outputs`), compiled
     for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_outputs_rigid` or
-    :data:`eng_outputs_elastic`).
+    :data:`eng_outputs_elastic`), with the loops or without them (the ``_bare`` ones).
 
     Parameters
     ----------
@@ -263,7 +283,14 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
         The chain and the model, as :func:`eng_raw`'s.
     joints, jvel, scal, tow, tension_drogue, drogue_drag, link_tension, loads : numpy.ndarray
         Receive the outputs (:func:`derived_outputs`; ``loads`` (N, 4) the elastic links' loads).
+    loops : bool, optional
+        Take the variant compiled with the loops (default: :func:`~.evaluation.has_loops` of
+        ``ep``): a caller evaluating a run's state with its loops switched off in a copy of ``ep``
+        passes the run's, so that the process compiles one variant, not both (the same numbers).
     """
-    kernel = eng_outputs_elastic if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid
+    if has_loops(ep) if loops is None else loops:
+        kernel = eng_outputs_elastic if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid
+    else:
+        kernel = eng_outputs_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid_bare
     kernel(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue, drogue_drag,
            link_tension, loads)

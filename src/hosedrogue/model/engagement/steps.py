@@ -1,7 +1,8 @@
-"""The engagement's time loop (numba): the segments of steps the driver runs between events (a remesh, a chart switch, the coupler plane, a failure),
-by themselves or a control step at a time for the sampled-data controllers. The steps are those
-of :mod:`hosedrogue.model.steppers` over the chain's derivative: RK4 for rigid links, RK4 or the
-SDIRK (:mod:`hosedrogue.model.implicit`) for elastic links.
+"""The engagement's time loop (numba): the segments of steps the driver runs between events (a
+remesh, a chart switch, the coupler plane, a failure), by themselves or a control step at a time
+for the sampled-data controllers. The steps are those of :mod:`hosedrogue.model.steppers` over the
+chain's derivative: RK4 for rigid links, RK4 or the SDIRK (:mod:`hosedrogue.model.implicit`) for
+elastic links, each compiled with the loops' rates (a controller, a pilot, a receiver) and without.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from ..layout import (
 from ..sampled import deliver
 from ..steppers import rk4, sdirk2
 from .chain import chain_kinematics, drogue_motion, elastic_pairs, elastic_pairs_jit, set_variable_link, tail_start
-from .evaluation import eng_deriv, eng_deriv_elastic
+from .evaluation import eng_deriv, eng_deriv_bare, eng_deriv_elastic, eng_deriv_elastic_bare, has_loops
 from .outputs import plane_distance, raw_measurement, state_loads
 
 
@@ -42,10 +43,28 @@ def eng_rate_elastic(t, z, model, hg, guess, dz):
     eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
 
 
-# the steps of the rigid chain (RK4) and of the elastic chain (RK4 or the SDIRK, ep[EP_SCHEME])
+@njit(**JIT_INLINE)
+def eng_rate_bare(t, z, model, hg, guess, dz):
+    """:func:`eng_rate` of a run without loops (:func:`~.evaluation.has_loops`)."""
+    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
+    eng_deriv_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+
+
+@njit(**JIT_INLINE)
+def eng_rate_elastic_bare(t, z, model, hg, guess, dz):
+    """:func:`eng_rate_elastic` of a run without loops (:func:`~.evaluation.has_loops`)."""
+    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out = model
+    eng_deriv_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
+
+
+# the steps of the rigid chain (RK4) and of the elastic chain (RK4 or the SDIRK, ep[EP_SCHEME]),
+# with the loops and without them (_bare)
 _rigid_rk4, _ = rk4(eng_rate)
 _elastic_rk4, _ = rk4(eng_rate_elastic)
 _elastic_sdirk2 = sdirk2(eng_rate_elastic)
+_rigid_rk4_bare, _ = rk4(eng_rate_bare)
+_elastic_rk4_bare, _ = rk4(eng_rate_elastic_bare)
+_elastic_sdirk2_bare = sdirk2(eng_rate_elastic_bare)
 
 
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
@@ -92,133 +111,188 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     :func:`hosedrogue.engagement.result.assemble_result`).
 
     The scratch is allocated here and the steps compiled for the kind of link
-    (:data:`eng_steps_rigid`, :data:`eng_steps_elastic`) called directly: a compiled segment that
+    (:func:`steps_kernel`) called directly: a compiled segment that
     allocated it would compile the machine code of every step and evaluation once more (about 2 s
     of a cold start), and its literal arguments would compile the steps a second time beside the
     control step's (:func:`eng_advance`) signature (docs/develop.md, "The compiled core").
     """
-    elastic = ep[EP_ELASTIC] != 0.0
     scratch = (np.empty((8, z.shape[0])), make_workspace(n), make_workspace(n), np.empty(2), np.zeros(O_SIZE),
                make_elastic_workspace(n), elastic_pairs(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0))
     limits = (float(max_yaw), float(switch_yaw), float(split_at), float(merge_at), bool(allow_merge))
-    kernel = eng_steps_elastic if elastic else eng_steps_rigid
+    kernel = steps_kernel(ep)
     return kernel(z, float(t0), 0, int(step0), float(h), int(nsteps), int(save_every), int(n), l, M, J, ps, env, gust,
                   ep, chart, loop, hist, limits, zprev, ts, zs, True, 0, scratch, loads, bool(saved_loads))
 
 
-@njit(**JIT_INLINE)
-def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits,
-              zprev, ts, zs, record, saved0, scratch, loads, saved_loads, elastic):
-    """:func:`eng_segment` with its limits in one tuple (``limits``: max_yaw, switch_yaw, split_at,
-    merge_at, allow_merge) and its scratch given (``scratch``: ``work`` (8, nz), the RK4 stages and
-    the trial state, or the SDIRK's stages with its slope guess in ``work[7]``, carried from call to
-    call, the workspaces ``ws``, ``ws2``, ``dM``, ``out`` of :func:`~.evaluation.eng_evaluate`, the elastic
-    workspace ``ews`` and the state's second-order ``pairs`` of the SDIRK), the saved
-    rows written from row ``saved0`` on and only if ``record``, the state ``s0`` steps after the
-    time origin ``t0`` of its segment (step k after it is at ``t0 + k h``, as one uninterrupted
-    segment counts: a segment continued in several calls takes the same times, and with elastic
-    links the same SDIRK guesses), for rigid or ``elastic`` links (``ep[EP_ELASTIC]``; a constant
-    of the compiled caller, which then holds the steps of that kind only). ``saved_loads``: the
-    loads of a saved state are left to its outputs (:func:`~.outputs.derived_outputs` writes the
-    same numbers, at no extra cost: 4 us of the ~85 us of a saved step at 160 links), their rows
-    of ``loads`` left as they are; the segment's caller, whose parameters do not change while it
-    runs, fills them. Returns (status, steps done, saved count).
-
-    Inlined into :data:`eng_steps_rigid` and :data:`eng_steps_elastic` (:data:`hosedrogue.jit.JIT_INLINE`): at most 30
-    arguments, since CPython passes a call of more as one tuple, which numba cannot inline."""
-    max_yaw, switch_yaw, split_at, merge_at, allow_merge = limits
-    work, ws, ws2, dM, out, ews, pairs = scratch
-    nz = z.shape[0]
-    saved = saved0
-    nh = tail_start(n, ep)
-    rigid = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out)
-    flexible = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)
-    least = int(ep[EP_ITER])  # the SDIRK's least corrections per stage
-    if elastic and s0 == 0:  # a segment's start: the SDIRK's first slope guess is dz/dt there
-        eng_deriv_elastic(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0, work[6],
-                          work[7])
-        if step0 == 0:
-            state_loads(t0, z, n, l, M, J, ps, ep, chart, ws, ews, loads[0])
-    probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
-    piloted = ep[EP_PIL] != 0.0
-    if piloted and step0 == 0:
-        hist[0, 0], hist[0, 1], hist[0, 2], hist[0, 3] = drogue_motion(z, n, l, M, J, ep, chart, ws)
-    d_before = 0.0
-    if probing:
-        chain_kinematics(z, n, l, M, J, ep, chart, ws)  # the frames and joint positions of z
-        d_before = plane_distance(z, n, l, ws, t0 + s0 * h, ep)
-    for s in range(1, nsteps + 1):
-        t = t0 + (s0 + s - 1) * h
-        for i in range(nz):
-            zprev[i] = z[i]
-        if elastic:
-            if ep[EP_SCHEME] == SCHEME_RK4:
-                _elastic_rk4(t, z, h, flexible, work)
-            elif _elastic_sdirk2(t, z, h, flexible, n, least, ws[WS_CS], pairs, work) != OK:  # ws[WS_CS]: the frames
-                return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
-        else:
-            _rigid_rk4(t, z, h, rigid, work)
-        t = t0 + (s0 + s) * h
-        status = step_status(z, n, max_yaw)
-        if status != OK:
-            return status, s, saved
-        L = z[nh + Z_L]
-        if L < ep[EP_L_MIN] or L > ep[EP_L_MAX]:
-            return REEL_END, s, saved
-        if piloted:
-            hist[step0 + s, 0], hist[step0 + s, 1], hist[step0 + s, 2], hist[step0 + s, 3] = drogue_motion(
-                z, n, l, M, J, ep, chart, ws)
-        saving = record and (step0 + s) % save_every == 0
-        if elastic and not (saving and saved_loads):
-            state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, loads[step0 + s])
-        if saving:
-            ts[saved] = t
-            for i in range(nz):
-                zs[saved, i] = z[i]
-            saved += 1
-        for k in range(n):
-            if abs(z[2 * k + 1]) > switch_yaw:
-                return CHART, s, saved
-        set_variable_link(z[nh + Z_L], n, l, M, J, ep)
-        if l[0] > split_at:
-            return SPLIT, s, saved
-        if allow_merge and l[0] < merge_at:
-            return MERGE, s, saved
-        if probing:
-            # the coupler plane needs the kinematics only: the frames and joint positions that the
-            # full evaluation would write, bit for bit (chain_kinematics is its first half); with
-            # elastic links state_loads has just written them for this z, unless it was saved
-            if not elastic or (saving and saved_loads):
-                chain_kinematics(z, n, l, M, J, ep, chart, ws)
-            d = plane_distance(z, n, l, ws, t, ep)
-            if d_before > 0.0 and d <= 0.0:
-                return PLANE, s, saved
-            d_before = d
-    return OK, nsteps, saved
-
-
-def _steps(elastic):
-    """:func:`eng_steps` compiled for one kind of link, as a function of its own without numba's
-    runtime (``JIT_NO_ALLOC``): the steps inlined into it then take no reference counts of the
-    arrays they unpack from the chain's tuple (inlined into the segment, which allocates, they
-    would at every evaluation: 9 % of the docking campaigns' run)."""
+def _steps(elastic, implicit, loops):
+    """:func:`eng_steps` compiled for one kind of link (``elastic``) and integrator (``implicit``:
+    the SDIRK, else RK4) and with the loops' rates or without them (``loops``,
+    :func:`~.evaluation.has_loops`), constants of the compiled function (closures over bools, which numba's
+    cache keys on; it prunes the other kind's and integrator's branches before typing), as a
+    function of its own without numba's runtime (``JIT_NO_ALLOC``): the steps inlined into it
+    then take no reference counts of the arrays they unpack from the chain's tuple (in a function
+    that allocates they would at every evaluation: 9 % of the docking campaigns' run). The body
+    is written here, not inlined into the closure (numba's ``inline="always"`` copied and
+    re-processed its IR: docs/develop.md, "The compiled core")."""
 
     @njit(**JIT_NO_ALLOC)
-    def steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits,
-              zprev, ts, zs, record, saved0, scratch, loads, saved_loads):
-        """:func:`eng_steps` of rigid or elastic links (the kind this function is for)."""
-        return eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                         limits, zprev, ts, zs, record, saved0, scratch, loads, saved_loads, elastic)
+    def eng_steps(z, t0, s0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits,
+                  zprev, ts, zs, record, saved0, scratch, loads, saved_loads):
+        """:func:`eng_segment` with its limits in one tuple (``limits``: max_yaw, switch_yaw, split_at,
+        merge_at, allow_merge) and its scratch given (``scratch``: ``work`` (8, nz), the RK4 stages and
+        the trial state, or the SDIRK's stages with its slope guess in ``work[7]``, carried from call to
+        call, the workspaces ``ws``, ``ws2``, ``dM``, ``out`` of :func:`~.evaluation.eng_evaluate`, the elastic
+        workspace ``ews`` and the state's second-order ``pairs`` of the SDIRK), the saved
+        rows written from row ``saved0`` on and only if ``record``, the state ``s0`` steps after the
+        time origin ``t0`` of its segment (step k after it is at ``t0 + k h``, as one uninterrupted
+        segment counts: a segment continued in several calls takes the same times, and with elastic
+        links the same SDIRK guesses), for rigid or ``elastic`` links (``ep[EP_ELASTIC]``; a constant
+        of the compiled caller, which then holds the steps of that kind only), by the SDIRK if
+        ``implicit`` (elastic links with ``ep[EP_SCHEME]`` the SDIRK), else RK4: a constant too, so an
+        elastic run compiles one integrator, not both. ``saved_loads``: the
+        loads of a saved state are left to its outputs (:func:`~.outputs.derived_outputs` writes the
+        same numbers, at no extra cost: 4 us of the ~85 us of a saved step at 160 links), their rows
+        of ``loads`` left as they are; the segment's caller, whose parameters do not change while it
+        runs, fills them. Returns (status, steps done, saved count)."""
+        max_yaw, switch_yaw, split_at, merge_at, allow_merge = limits
+        work, ws, ws2, dM, out, ews, pairs = scratch
+        nz = z.shape[0]
+        saved = saved0
+        nh = tail_start(n, ep)
+        rigid = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out)
+        flexible = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)
+        least = int(ep[EP_ITER])  # the SDIRK's least corrections per stage
+        if elastic and s0 == 0:  # a segment's start: the SDIRK's first slope guess is dz/dt there
+            if loops:
+                eng_deriv_elastic(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0,
+                                  work[6], work[7])
+            else:
+                eng_deriv_elastic_bare(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
+                                       0.0, work[6], work[7])
+            if step0 == 0:
+                state_loads(t0, z, n, l, M, J, ps, ep, chart, ws, ews, loads[0])
+        probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
+        piloted = ep[EP_PIL] != 0.0
+        if piloted and step0 == 0:
+            hist[0, 0], hist[0, 1], hist[0, 2], hist[0, 3] = drogue_motion(z, n, l, M, J, ep, chart, ws)
+        d_before = 0.0
+        if probing:
+            chain_kinematics(z, n, l, M, J, ep, chart, ws)  # the frames and joint positions of z
+            d_before = plane_distance(z, n, l, ws, t0 + s0 * h, ep)
+        for s in range(1, nsteps + 1):
+            t = t0 + (s0 + s - 1) * h
+            for i in range(nz):
+                zprev[i] = z[i]
+            if elastic:
+                if not implicit:
+                    if loops:
+                        _elastic_rk4(t, z, h, flexible, work)
+                    else:
+                        _elastic_rk4_bare(t, z, h, flexible, work)
+                else:
+                    if loops:  # ws[WS_CS]: the frames
+                        ok = _elastic_sdirk2(t, z, h, flexible, n, least, ws[WS_CS], pairs, work)
+                    else:
+                        ok = _elastic_sdirk2_bare(t, z, h, flexible, n, least, ws[WS_CS], pairs, work)
+                    if ok != OK:
+                        return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
+            elif loops:
+                _rigid_rk4(t, z, h, rigid, work)
+            else:
+                _rigid_rk4_bare(t, z, h, rigid, work)
+            t = t0 + (s0 + s) * h
+            status = step_status(z, n, max_yaw)
+            if status != OK:
+                return status, s, saved
+            L = z[nh + Z_L]
+            if L < ep[EP_L_MIN] or L > ep[EP_L_MAX]:
+                return REEL_END, s, saved
+            if piloted:
+                hist[step0 + s, 0], hist[step0 + s, 1], hist[step0 + s, 2], hist[step0 + s, 3] = drogue_motion(
+                    z, n, l, M, J, ep, chart, ws)
+            saving = record and (step0 + s) % save_every == 0
+            if elastic and not (saving and saved_loads):
+                state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, loads[step0 + s])
+            if saving:
+                ts[saved] = t
+                for i in range(nz):
+                    zs[saved, i] = z[i]
+                saved += 1
+            for k in range(n):
+                if abs(z[2 * k + 1]) > switch_yaw:
+                    return CHART, s, saved
+            set_variable_link(z[nh + Z_L], n, l, M, J, ep)
+            if l[0] > split_at:
+                return SPLIT, s, saved
+            if allow_merge and l[0] < merge_at:
+                return MERGE, s, saved
+            if probing:
+                # the coupler plane needs the kinematics only: the frames and joint positions that the
+                # full evaluation would write, bit for bit (chain_kinematics is its first half); with
+                # elastic links state_loads has just written them for this z, unless it was saved
+                if not elastic or (saving and saved_loads):
+                    chain_kinematics(z, n, l, M, J, ep, chart, ws)
+                d = plane_distance(z, n, l, ws, t, ep)
+                if d_before > 0.0 and d <= 0.0:
+                    return PLANE, s, saved
+                d_before = d
+        return OK, nsteps, saved
 
-    return steps
+    return eng_steps
 
 
-#: :func:`eng_steps` compiled for rigid and for elastic links (the segment and the control step call them).
-eng_steps_rigid, eng_steps_elastic = _steps(False), _steps(True)
+#: :func:`eng_steps` compiled for rigid links (RK4) and for elastic links by RK4 and by the SDIRK,
+#: with the loops (the segment and the control step call them; :func:`steps_kernel` picks one)
+eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2 = (
+    _steps(False, False, True), _steps(True, False, True), _steps(True, True, True))
+#: ... and without them (:func:`~.evaluation.has_loops`)
+eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare = (
+    _steps(False, False, False), _steps(True, False, False), _steps(True, True, False))
 
 
-def _advance(elastic):
-    """:func:`eng_advance` compiled for one kind of link (``elastic``, as :func:`_segment`)."""
+def link_kind(ep):
+    """The kind of link and integrator of the engagement's parameters ``ep``: 0 rigid (RK4), 1
+    elastic by RK4, 2 elastic by the SDIRK (``ep[EP_ELASTIC]``, ``ep[EP_SCHEME]``): the index of
+    the compiled steps (:func:`steps_kernel`) and control step (:func:`eng_advance`).
+
+    Parameters
+    ----------
+    ep : numpy.ndarray
+        The engagement's parameters (``hosedrogue.model.layout.EP_*``).
+
+    Returns
+    -------
+    int
+        0, 1 or 2.
+    """
+    if ep[EP_ELASTIC] == 0.0:
+        return 0
+    return 1 if ep[EP_SCHEME] == SCHEME_RK4 else 2
+
+
+def steps_kernel(ep):
+    """:func:`eng_steps` compiled for the kind of link and integrator of ``ep`` (:func:`link_kind`),
+    with or without the loops (:func:`~.evaluation.has_loops`): a process compiles only the
+    integrator and the loops its runs use (docs/develop.md, "The compiled core").
+
+    Parameters
+    ----------
+    ep : numpy.ndarray
+        The engagement's parameters (``hosedrogue.model.layout.EP_*``).
+
+    Returns
+    -------
+    numba dispatcher
+        The compiled steps, called as :func:`eng_segment` calls them.
+    """
+    if has_loops(ep):
+        return (eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2)[link_kind(ep)]
+    return (eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare)[link_kind(ep)]
+
+
+def _advance(elastic, implicit, loops):
+    """:func:`eng_advance` compiled for one kind of link and integrator, with the loops or without
+    them (as :func:`_steps`)."""
 
     @njit(**JIT)
     def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
@@ -237,14 +311,31 @@ def _advance(elastic):
         scratch = (work, ws, ws2, dM, out, make_elastic_workspace_jit(n),
                    elastic_pairs_jit(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0))
         limits = (max_yaw, switch_yaw, split_at, merge_at, allow_merge)
-        if elastic:
-            status, done, saved = eng_steps_elastic(z, origin * h, step0 - origin, step0, h, target - step0,
-                                                    save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                                                    limits, zprev, ts, zs, record, ctr[C_SAVED], scratch, loads, False)
+        t0, s0, k, sv = origin * h, step0 - origin, target - step0, ctr[C_SAVED]
+        if elastic and implicit and loops:
+            status, done, saved = eng_steps_elastic_sdirk2(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
+        elif elastic and implicit:
+            status, done, saved = eng_steps_elastic_sdirk2_bare(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
+        elif elastic and loops:
+            status, done, saved = eng_steps_elastic_rk4(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
+        elif elastic:
+            status, done, saved = eng_steps_elastic_rk4_bare(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
+        elif loops:
+            status, done, saved = eng_steps_rigid(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
         else:
-            status, done, saved = eng_steps_rigid(z, origin * h, step0 - origin, step0, h, target - step0,
-                                                  save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
-                                                  limits, zprev, ts, zs, record, ctr[C_SAVED], scratch, loads, False)
+            status, done, saved = eng_steps_rigid_bare(
+                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
+                ts, zs, record, sv, scratch, loads, False)
         ctr[C_STEP] = step0 + done
         ctr[C_SAVED] = saved
         ctr[C_STATUS] = status
@@ -252,7 +343,7 @@ def _advance(elastic):
         if ctr[C_STEP] == target and not failed:
             k = ctr[C_SAMPLE] + 1
             raw_measurement(target * h, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out,
-                            ring[k % ring.shape[0]], elastic)
+                            ring[k % ring.shape[0]], elastic, loops)
             deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
             ctr[C_SAMPLE] = k
         return status
@@ -260,16 +351,22 @@ def _advance(elastic):
     return eng_advance
 
 
-#: The compiled control step of rigid links and of elastic links (:func:`eng_advance` picks one).
-eng_advance_rigid, eng_advance_elastic = _advance(False), _advance(True)
+#: The compiled control step of rigid links and of elastic links by RK4 and by the SDIRK, with the
+#: loops and without them (:func:`eng_advance` picks one, :func:`link_kind`, :func:`~.evaluation.has_loops`).
+eng_advance_rigid, eng_advance_elastic_rk4, eng_advance_elastic_sdirk2 = (
+    _advance(False, False, True), _advance(True, False, True), _advance(True, True, True))
+eng_advance_rigid_bare, eng_advance_elastic_rk4_bare, eng_advance_elastic_sdirk2_bare = (
+    _advance(False, False, False), _advance(True, False, False), _advance(True, True, False))
 
 
 def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
                 switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring,
                 delay, sample_h, noise3, noise3_dt, balance, mbuf, loads):
     """Integrate from the counters ``ctr`` toward global step ``ctr[C_TARGET]`` and deliver the
-    next sample's measurement, compiled for the chain's kind of link (``ep[EP_ELASTIC]``:
-    :data:`eng_advance_rigid` or :data:`eng_advance_elastic`, whose docstring says the rest).
+    next sample's measurement, compiled for the chain's kind of link and integrator
+    (:func:`link_kind`: :data:`eng_advance_rigid`, :data:`eng_advance_elastic_rk4` or
+    :data:`eng_advance_elastic_sdirk2`, whose docstring says the rest), with or without the loops
+    (:func:`~.evaluation.has_loops`).
 
     Parameters
     ----------
@@ -297,7 +394,10 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
     int
         The status of the segment (an event stops it early).
     """
-    kernel = eng_advance_elastic if ep[EP_ELASTIC] != 0.0 else eng_advance_rigid
+    if has_loops(ep):
+        kernel = (eng_advance_rigid, eng_advance_elastic_rk4, eng_advance_elastic_sdirk2)[link_kind(ep)]
+    else:
+        kernel = (eng_advance_rigid_bare, eng_advance_elastic_rk4_bare, eng_advance_elastic_sdirk2_bare)[link_kind(ep)]
     return kernel(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw, switch_yaw,
                   split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring, delay, sample_h,
                   noise3, noise3_dt, balance, mbuf, loads)
