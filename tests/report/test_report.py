@@ -265,11 +265,10 @@ def _check_docking(out: Path, headline: dict, page: str) -> None:
 
 
 @pytest.mark.e2e
-def test_fast_report_end_to_end(tmp_path):
-    """The smoke test of the whole fast report: files, page, headline numbers, cross-links, docking."""
-    from hosedrogue.report import build_report
-
-    headline = build_report(tmp_path, fast=True, progress=False)
+def test_fast_report_end_to_end(fast_report):
+    """The smoke test of the whole fast report: files, page, headline numbers, cross-links, docking.
+    (The build is ``build_report(fast=True)`` of every section, once: tests/conftest.py.)"""
+    tmp_path, headline = fast_report.dir, fast_report.headline
     page = (tmp_path / "index.html").read_text(encoding="utf-8")
     _check_files(tmp_path, page)
     _check_self_contained(tmp_path, page)
@@ -344,22 +343,15 @@ def test_reproduce_only_writes_a_partial_report(tmp_path, capsys):
     assert not (tmp_path / "bad").exists()
 
 
-def _folder(path):
-    from hosedrogue.report.writer import ReportFolder
-
-    path.mkdir(parents=True, exist_ok=True)
-    return ReportFolder(path)
-
-
-def test_engagement_section_alone_marks_the_fast_runs(tmp_path):
+def test_engagement_section_alone_marks_the_fast_runs(fast_report):
     """The fast version's engagement runs are not the shipped mesh: the section says so; every
     reel captures; every peak's flag is measured by its doubling (the run verified, never
-    "unverified"); the tension wave is drawn and written."""
-    from hosedrogue.report import engagement
+    "unverified"); the tension wave is drawn and written. (The section as the shared fast build
+    built it: it needs no other section, tests/conftest.py.)"""
     from hosedrogue.report.settings import FAST
 
-    out = _folder(tmp_path)
-    result = engagement.build(out, FAST)
+    out, tmp_path = fast_report.folder, fast_report.dir
+    result = fast_report.results["engagement"]
     eng = out.headline["engagement"]
     assert result.fast is True and eng["fast"] is True and eng["links"] == FAST.engagement_links
     assert eng["doubling_links"] == 2 * eng["links"] and eng["duration_s"] == FAST.engagement_duration_s
@@ -379,15 +371,15 @@ def test_engagement_section_alone_marks_the_fast_runs(tmp_path):
     assert np.max(wave["tension_n"]) > 1000.0 and np.max(wave["s_m"]) > 15.0
 
 
-def test_manoeuvres_section_alone(tmp_path):
+def test_manoeuvres_section_alone(fast_report):
     """The fast manoeuvres section: its files, the fast note, and numbers that hang together -
     the turn lowers the drogue (apparent gravity), the PID holds it far closer than the open-loop
-    swing, the capture campaigns ran every run in both cases."""
-    from hosedrogue.report import manoeuvres
+    swing, the capture campaigns ran every run in both cases. (The section as the shared fast
+    build built it: it needs no other section, tests/conftest.py.)"""
     from hosedrogue.report.settings import FAST
 
-    out = _folder(tmp_path)
-    result = manoeuvres.build(out, FAST)
+    out, tmp_path = fast_report.folder, fast_report.dir
+    result = fast_report.results["manoeuvres"]
     m = out.headline["manoeuvres"]
     (section,) = [s.html for s in out.sections if s.anchor == "manoeuvres"]
     assert 'id="manoeuvres-fast"' in section
@@ -424,19 +416,12 @@ def test_plot_manoeuvres():
 
 
 @pytest.fixture(scope="module")
-def table3(tmp_path_factory):
-    """The Table 3 section alone, on the linear-model section's models of the paper's balance position."""
-    from hosedrogue.analysis.equilibrium import solve_equilibrium
-    from hosedrogue.spec.params import PAPER
-    from hosedrogue.report import controllers, linear
-    from hosedrogue.report.settings import FAST
-    from hosedrogue.report.sweep import SteadyResult
-
-    out = _folder(tmp_path_factory.mktemp("table3"))
-    models = linear.build(out, FAST, sweep=SteadyResult(solve_equilibrium(PAPER)))
-    controllers.build(out, FAST, linear=models)
-    page = "".join(s.html for s in out.sections)
-    return out.headline, page
+def table3(fast_report):
+    """The Table 3 section, on the linear-model section's models of the paper's balance position
+    (the steady sweep section's ``solve_equilibrium(PAPER)``), as the shared fast build built them
+    (tests/conftest.py); the page: what the linear and controllers sections added."""
+    page = "".join(fast_report.html["linear"] + fast_report.html["controllers"])
+    return fast_report.folder.headline, page
 
 
 def test_paper_pid_reproduces_table3_on_the_papers_models(table3):

@@ -3,18 +3,17 @@
 import json
 
 from hosedrogue.aircraft.published import TABLE_3_6_2
-from hosedrogue.report.writer import ReportFolder
 from hosedrogue.studies.receiver import SCENARIOS
 
 
-def test_receiver_section_alone(tmp_path):
+def test_receiver_section_alone(fast_report):
     """The fast section: its files, the fast note, both campaigns of FAST.docking_runs runs on the same
-    seeds, and report.json strict."""
+    seeds, and report.json strict. (The section as the shared fast build built it: it needs no
+    other section, tests/conftest.py.)"""
     from hosedrogue.report import receiver
     from hosedrogue.report.settings import FAST
 
-    out = ReportFolder(tmp_path)
-    receiver.build(out, FAST)
+    out, tmp_path = fast_report.folder, fast_report.dir
     (section,) = [s.html for s in out.sections if s.anchor == "receiver-aircraft"]
     assert "Fast version" in section and "table-receiver-capture" in section
     for name in ("receiver_trim.png", "receiver_trim.csv", "receiver_trim_curve.csv", "receiver_miss_cdf.png",
