@@ -90,17 +90,11 @@ class Table:
                 x = abs(x)
             xs.append(x)
         v = self.rows
-        bp = self.breakpoints
-        if cells is None:
-            cell = _cell(bp[0], xs[0])
-            other = _cell(bp[1], xs[1]) if len(xs) == 2 else None
-        else:
-            cell = _cell_once(cells, bp[0], xs[0])
-            other = _cell_once(cells, bp[1], xs[1]) if len(xs) == 2 else None
-        i, f = cell
-        if other is None:
+        cells = {} if cells is None else cells
+        i, f = _cell_once(cells, self.breakpoints[0], xs[0])
+        if len(xs) == 1:
             return sign * (v[i] + f * (v[i + 1] - v[i]))
-        j, g = other
+        j, g = _cell_once(cells, self.breakpoints[1], xs[1])
         row, up = v[i], v[i + 1]
         lo = row[j] + g * (row[j + 1] - row[j])
         hi = up[j] + g * (up[j + 1] - up[j])
