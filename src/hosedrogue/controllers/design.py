@@ -73,22 +73,27 @@ def reduced_channels(lm: LinearModel, order: int | None) -> ReducedChannels:
     ValueError
         If ``order`` is not None and not an integer >= 1.
     """
-    if not (order is None or isinstance(order, int)):  # balanced_truncation's own check says what is wrong
-        return ReducedChannels(balanced_truncation(split_channels(lm.ss)[0], order), None, order)
-    seen = _REDUCED.get(id(lm))
-    if seen is None or seen[0]() is not lm:  # not this model (an id is reused once its object is gone)
-        seen = _REDUCED[id(lm)] = (weakref.ref(lm), {})
-    if order not in seen[1]:
-        lat, ver = split_channels(lm.ss)
-        if order is not None:
-            lat = balanced_truncation(lat, order)
-            ver = balanced_truncation(ver, order)
-        seen[1][order] = ReducedChannels(lat, ver, order)
-    return seen[1][order]
+    if not (order is None or isinstance(order, int)):  # a numpy integer, or a bad order: not remembered
+        return _reduce(lm, order)
+    key = id(lm)
+    if key not in _REDUCED:  # the entry goes with the model (its weak reference's callback)
+        _REDUCED[key] = (weakref.ref(lm, lambda _, key=key: _REDUCED.pop(key, None)), {})
+    seen = _REDUCED[key][1]
+    if order not in seen:
+        seen[order] = _reduce(lm, order)
+    return seen[order]
 
 
-#: The channels :func:`reduced_channels` computed, per linear model (by identity, while it lives)
-#: and order: a report's Table 3 asks for the same few dozens of times, and each balanced
+def _reduce(lm: LinearModel, order) -> ReducedChannels:
+    lat, ver = split_channels(lm.ss)
+    if order is not None:  # balanced_truncation checks the order
+        lat = balanced_truncation(lat, order)
+        ver = balanced_truncation(ver, order)
+    return ReducedChannels(lat, ver, order)
+
+
+#: The channels :func:`reduced_channels` computed, per living linear model (by identity) and
+#: order: a report's Table 3 asks for the same few dozens of times, and each balanced
 #: truncation is a Lyapunov solve (the same numbers computed once)
 _REDUCED: dict[int, tuple] = {}
 
