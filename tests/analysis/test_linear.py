@@ -79,3 +79,25 @@ def test_two_channels_decoupled_without_wake():
 
     g = control.dcgain(lm.ss)
     assert abs(g[1, 0]) < 1e-9 * abs(g[0, 0]) and abs(g[0, 1]) < 1e-9 * abs(g[1, 1])
+
+
+def test_reduced_channels_are_remembered_per_living_model_and_order(paper_linear):
+    """The memo of reduced_channels: the same order gives the same object, a numpy integer order
+    gives both channels as the int does (bit for bit), and a model's entry leaves with it."""
+    import gc
+
+    from hosedrogue.controllers import design
+
+    two = reduced_channels(paper_linear, 2)
+    assert reduced_channels(paper_linear, 2) is two
+    numpy_two = reduced_channels(paper_linear, np.int64(2))
+    for a, b in ((two.lateral, numpy_two.lateral), (two.vertical, numpy_two.vertical)):
+        for m in "ABCD":
+            assert np.array_equal(getattr(a, m), getattr(b, m))
+    other = linearize(PAPER.replace(flight={"airspeed_m_s": 160.0}))
+    reduced_channels(other, 2)
+    assert id(other) in design._REDUCED
+    key = id(other)
+    del other
+    gc.collect()
+    assert key not in design._REDUCED
