@@ -365,6 +365,12 @@ def params_from_dict(data: Mapping[str, Any], base: Params = PAPER) -> Params:
             overrides = {"enabled": overrides}  # shorthand: `wake = false`
         if not isinstance(overrides, Mapping):
             raise ParameterError(f"{name} = {overrides!r}: must be a table of fields")
+        if not overrides:
+            # the base's section as it is: frozen and validated when it was made, so building it
+            # again from its own values would give an equal object (a campaign's per-run seed
+            # override validated all eight sections again: about 0.3 ms of a 20 ms docking run)
+            sections[name] = current
+            continue
         overrides = dict(overrides)
         if name == "turbulence" and TURBULENCE_PRESET_KEY in overrides:
             level = overrides.pop(TURBULENCE_PRESET_KEY)
