@@ -10,26 +10,32 @@ Every design returns a `LinearController` that maps the measured drogue offset
 y = [P_ny, P_nz] [m] to the force u = [u_hor, u_ver] [N], with the feedback sign inside.
 """
 
-from .linear import LinearController
-from .pid import PAPER_PID, PIDGains, pid_controller, tune_pid
-from .pid_tuning import PIDTuning, StepTargets, TargetsNotMet, pid_for_poles, tune_pid_to_step
-from .lqr import (
-    PAPER_LQR_Q,
-    PAPER_LQR_R,
-    LQRDesign,
-    lqr_integral_design,
-    lqr_tracking_closed_loop,
-    two_channel_plant,
-)
-from .lqr_balanced import (
-    TURBULENCE_FORCE_PSD,
-    BalancedLQRChannel,
-    BalancedLQRDesign,
-    balanced_realization,
-    lqr_balanced_design,
-    lqr_balanced_reference_loop,
-)
-from .stepinfo import StepMetrics, StepResponse, closed_loop_step, step_metrics
+# each name loads its module on first use (as the package's own top level does): a run that only
+# applies a designed controller (a campaign's worker, a subprocess) does not import python-control,
+# scipy.signal and matplotlib with the design code (0.8 s of CPU per process): name -> module
+_LAZY = {
+    "LinearController": "linear",
+    **dict.fromkeys(("PAPER_PID", "PIDGains", "pid_controller", "tune_pid"), "pid"),
+    **dict.fromkeys(("PIDTuning", "StepTargets", "TargetsNotMet", "pid_for_poles", "tune_pid_to_step"), "pid_tuning"),
+    **dict.fromkeys(("PAPER_LQR_Q", "PAPER_LQR_R", "LQRDesign", "lqr_integral_design", "lqr_tracking_closed_loop",
+                     "two_channel_plant"), "lqr"),
+    **dict.fromkeys(("TURBULENCE_FORCE_PSD", "BalancedLQRChannel", "BalancedLQRDesign", "balanced_realization",
+                     "lqr_balanced_design", "lqr_balanced_reference_loop"), "lqr_balanced"),
+    **dict.fromkeys(("StepMetrics", "StepResponse", "closed_loop_step", "step_metrics"), "stepinfo"),
+}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "LinearController",

@@ -20,9 +20,12 @@ equilibrium (y = 0); reference tracking for step-response figures is handled by 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import control
+
+if TYPE_CHECKING:
+    import control
 
 __all__ = ["LinearController", "N_MEASUREMENTS", "N_FORCES"]
 
@@ -113,6 +116,8 @@ class LinearController:
 
     def as_statespace(self) -> control.StateSpace:
         """The controller as a `control.StateSpace`, inputs [P_ny, P_nz], outputs [u_hor, u_ver]."""
+        import control  # python-control only where a design or an analysis needs it (package docstring)
+
         return control.ss(
             self.A, self.B, self.C, self.D, 0,
             inputs=["P_ny", "P_nz"], outputs=["u_hor", "u_ver"],
@@ -140,6 +145,8 @@ class LinearController:
             Autonomous closed loop with an external force disturbance d [N] added to u as
             input and the offset y [m] as output; its poles are the closed-loop poles.
         """
+        import control
+
         plant_ss = plant if isinstance(plant, control.StateSpace) else control.tf2ss(plant)
         if plant_ss.ninputs != N_FORCES or plant_ss.noutputs != N_MEASUREMENTS:
             raise ValueError(

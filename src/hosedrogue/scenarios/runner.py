@@ -115,11 +115,11 @@ def controller_record(scenario: Scenario) -> dict:
     dict
         JSON-ready.
     """
-    from ..controllers.design import controller_record as record
-
     ctrl = scenario.loop.controller
     if ctrl.type not in ("pid", "lqr"):
         return {"type": ctrl.type}
+    from ..controllers.design import controller_record as record  # python-control: only for a design
+
     return record(ctrl.type, dict(ctrl.options), drogue_controller(scenario))
 
 

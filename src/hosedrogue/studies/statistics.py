@@ -20,8 +20,6 @@ import numpy as np
 from .. import jsonio
 from ..errors import ParameterError
 from ..results.statistics import statistic_units
-from ..plotting.campaign import plot_cdf, plot_histograms, plot_miss_cdf
-from ..plotting.figures import save_figure
 from .store import check_rows, csv_line, is_actuated, is_engagement, read_runs, read_settings, run_columns, write_atomic
 
 #: Order of the engagement results in ``by_result`` (:meth:`hosedrogue.results.run.EngagementResult.capture_category`)
@@ -245,6 +243,10 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     write_atomic(out / "summary.csv", text)
     files.append(out / "summary.csv")
     if plots and len(table):
+        # matplotlib on first use: a campaign's worker processes import this module and draw nothing
+        from ..plotting.campaign import plot_cdf, plot_histograms
+        from ..plotting.figures import save_figure
+
         files.append(save_figure(plot_histograms(table, controllers, radii), out / "histograms.png"))
         files.append(save_figure(plot_cdf(table, controllers, radii), out / "cdf.png"))
         if engagement:
@@ -254,6 +256,7 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
 
 def _miss_figure(table, settings: dict, capture: dict):
     """The miss-distance CDF of an engagement campaign, its capture radius from the scenario."""
+    from ..plotting.campaign import plot_miss_cdf
     from ..spec.sections import Probe
 
     probe = settings["scenario"].get("probe") or {}
