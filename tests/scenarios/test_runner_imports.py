@@ -40,3 +40,15 @@ def test_a_fixed_length_run_without_a_controller_imports_no_design_library():
     done = _loaded_after_run("paper-turbulence", 1.0)
     assert done["completed"]
     assert done["loaded"] == []
+
+
+def test_the_gymnasium_environments_import_no_design_library():
+    code = ("import json, sys, gymnasium, hosedrogue.envs\n"
+            "env = gymnasium.make('hosedrogue/Docking-v1')\n"
+            "env.reset(seed=0)\n"
+            "env.step(env.action_space.sample())\n"
+            "print(json.dumps([m for m in sys.argv[1:] if m in sys.modules]))\n")
+    out = subprocess.run([sys.executable, "-c", code, *DESIGN_MODULES], capture_output=True, text=True, timeout=300,
+                         env=os.environ)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert json.loads(out.stdout.strip().splitlines()[-1]) == []

@@ -16,7 +16,6 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from ..controllers.pid import PAPER_PID
 from ..errors import ParameterError
 from ..scenarios import Scenario, scenario_from_dict
 from ..simulation.stepper import FixedLengthStepper
@@ -201,6 +200,8 @@ class StationPD:
     """
 
     def __init__(self, env):
+        from ..controllers.pid import PAPER_PID  # python-control with it: only for this baseline
+
         base = env.unwrapped
         self.max_force_n = float(base.max_force_n)
         g = (PAPER_PID["lateral"], PAPER_PID["vertical"])
