@@ -14,16 +14,29 @@ calls BLAS's ``dgemv`` for ``Ad @ x`` (numba's ``np.dot``, as numpy's ``@``) and
 vectors in the same order; the outputs are the same ``C @ x + D @ u``. The responses are bit
 for bit python-control's: checked on every call of the report's controllers and PID-tuning
 sections (benchmarks/step_responses.py) and in tests/analysis/test_responses.py.
+
+A response is a function of the model's four matrices, the input, the first and last time and
+the number of points alone (the time step is ``(t[-1] - t[0]) / (N - 1)``): :func:`step_outputs`
+keeps the last ones it computed (:data:`MEMO_BYTES` of them at most) under exactly these, so a
+loop stepped again on the same grid (Table 3's paper PID in the PID-tuning section, the LQR's
+design grid that is also Fig. 10's) costs a copy and gives the same bits.
 """
 
 from __future__ import annotations
+
+from collections import OrderedDict
 
 import numpy as np
 from numba import njit
 
 from ..jit import JIT
 
-__all__ = ["freq_response", "step_response", "step_outputs"]
+__all__ = ["freq_response", "step_response", "step_outputs", "MEMO_BYTES"]
+
+#: Most bytes of responses :func:`step_outputs` keeps for a repeated call (the least recently used
+#: leave first); the report's two controller sections compute about 40 MB.
+MEMO_BYTES = 64 * 2**20
+_memo: OrderedDict = OrderedDict()
 
 
 def freq_response(sys, w) -> np.ndarray:
@@ -107,11 +120,10 @@ def step_outputs(sys, t, input_index: int = 0) -> np.ndarray:
         inputs, or ``t`` is not evenly spaced with at least two points.
     """
     import control
-    import scipy.linalg
 
     if not isinstance(sys, control.StateSpace) or not control.isctime(sys, strict=True):
         raise ValueError(f"sys must be a continuous-time control.StateSpace, got {sys!r:.80}")
-    n, m = sys.nstates, sys.ninputs
+    m = sys.ninputs
     if not 0 <= input_index < m:
         raise ValueError(f"input_index = {input_index}: the model has {m} inputs")
     t = np.atleast_1d(np.asarray(t, dtype=float)).reshape(-1)
@@ -122,7 +134,25 @@ def step_outputs(sys, t, input_index: int = 0) -> np.ndarray:
     dt = (t[-1] - t[0]) / (n_steps - 1)
     if not np.allclose(np.diff(t), dt):
         raise ValueError("t must be evenly spaced")
-    A, B, C, D = sys.A, sys.B, sys.C, sys.D
+    A, B, C, D = (np.asarray(x, dtype=float) for x in (sys.A, sys.B, sys.C, sys.D))
+    key = (A.shape, C.shape, A.tobytes(), B.tobytes(), C.tobytes(), D.tobytes(), t[0], t[-1], n_steps, input_index)
+    if key in _memo:
+        _memo.move_to_end(key)
+        return _memo[key].copy()
+    y = _step(A, B, C, D, t, input_index)
+    if y.nbytes <= MEMO_BYTES:
+        _memo[key] = y.copy()
+        while sum(v.nbytes for v in _memo.values()) > MEMO_BYTES:
+            _memo.popitem(last=False)
+    return y
+
+
+def _step(A, B, C, D, t, input_index):
+    """:func:`step_outputs` computed: python-control's discretization, the compiled loop."""
+    import scipy.linalg
+
+    n, m, n_steps = A.shape[0], B.shape[1], t.shape[0]
+    dt = (t[-1] - t[0]) / (n_steps - 1)
     u = np.zeros((m, n_steps))
     u[input_index, :] = np.ones_like(t)
     big = np.block([[A * dt, B * dt, np.zeros((n, m))],
