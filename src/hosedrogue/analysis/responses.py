@@ -58,7 +58,8 @@ def freq_response(sys, w) -> np.ndarray:
 
 
 def step_response(sys, t) -> np.ndarray:
-    """Response of a SISO system to a unit step.
+    """Response of a SISO system to a unit step (a continuous state-space model through
+    :func:`step_outputs`, any other as python-control computes it: the same bits).
 
     Parameters
     ----------
@@ -74,6 +75,8 @@ def step_response(sys, t) -> np.ndarray:
     """
     import control
 
+    if isinstance(sys, control.StateSpace) and control.isctime(sys, strict=True):
+        return np.squeeze(step_outputs(sys, t))
     return np.squeeze(np.asarray(control.step_response(sys, T=t).outputs, dtype=float))
 
 
