@@ -23,6 +23,7 @@ import numpy as np
 import control
 
 from ..analysis.reduction import require_siso
+from ..analysis.responses import step_outputs
 
 __all__ = ["StepMetrics", "StepResponse", "step_metrics", "closed_loop_step"]
 
@@ -204,7 +205,7 @@ def closed_loop_step(plant_siso, controller_tf, t) -> StepResponse:
     if np.any(np.real(t_ry.poles()) >= 0.0):
         raise ValueError(f"closed loop is unstable: poles {t_ry.poles()}")
     t = np.asarray(t, dtype=float)
-    y = control.step_response(t_ry, t).outputs
-    u = control.step_response(t_ru, t).outputs
+    y = step_outputs(t_ry, t)[0]
+    u = step_outputs(t_ru, t)[0]
     yf = float(np.real(control.dcgain(t_ry)))
     return StepResponse(t_s=t, y=np.asarray(y), u=np.asarray(u), metrics=step_metrics(t, y, final_value=yf))

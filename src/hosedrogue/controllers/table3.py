@@ -24,6 +24,7 @@ import control
 
 from ..analysis.linearize import LinearModel
 from ..analysis.reduction import split_channels
+from ..analysis.responses import step_outputs
 from ..paper import CHANNELS, TABLE3, table2_transfer_function
 from .design import DESIGN_ORDER, reduced_channels
 from .lqr import LQRDesign, lqr_integral_design, lqr_tracking_closed_loop, two_channel_plant
@@ -143,8 +144,8 @@ def lqr_steps(design, plant=None, t=None) -> dict[str, StepResponse]:
     dc = np.real(control.dcgain(loop))
     out = {}
     for k, ch in enumerate(CHANNELS):
-        resp = control.step_response(loop, t, input=k, squeeze=False)
-        y, u = resp.outputs[k, 0], resp.outputs[2 + k, 0]
+        outputs = step_outputs(loop, t, k)
+        y, u = outputs[k], outputs[2 + k]
         out[ch] = StepResponse(t_s=t, y=np.asarray(y), u=np.asarray(u),
                                metrics=step_metrics(t, y, final_value=float(dc[k, k])))
     return out
