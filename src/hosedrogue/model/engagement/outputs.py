@@ -167,11 +167,26 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw : numpy.ndarray
         Receives the measurement (``hosedrogue.model.layout.R_*``).
     """
+    raw_kernel(ep)(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
+
+
+def raw_kernel(ep):
+    """:func:`raw_measurement` compiled for the kind of link of ``ep`` (``ep[EP_ELASTIC]``), with
+    or without the loops (:func:`~.evaluation.has_loops`): :data:`eng_raw_rigid`,
+    :data:`eng_raw_elastic` or their ``_bare`` twins, called as :func:`eng_raw` calls them.
+
+    Parameters
+    ----------
+    ep : numpy.ndarray
+        The engagement's parameters (``hosedrogue.model.layout.EP_*``).
+
+    Returns
+    -------
+    numba dispatcher
+    """
     if has_loops(ep):
-        kernel = eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
-    else:
-        kernel = eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
-    kernel(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
+        return eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
+    return eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
 
 
 @njit(**JIT_INLINE)
