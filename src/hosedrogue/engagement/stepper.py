@@ -123,7 +123,7 @@ class EngagementStepper(StepperBase):
                              receiver=receiver, control=control, actuator=actuator, sensor=sensor if
                              not drogue_command else Sensor(), x0=x0, equilibrium=equilibrium, seed=seed,
                              length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2,
-                             drogue_actuator=drogue_actuator)
+                             drogue_actuator=drogue_actuator, measured_rest=True)
         nd = control.n_states if drogue_command else 2  # the drogue command's numbers
         st = self.start
         self.pass_through = bool(receiver_pass_through)
