@@ -107,7 +107,7 @@ def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, d
     probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
     evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
     (NaN without control surfaces). ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant
-    of the compiled caller (:func:`eng_raw`, the control step), which then holds that kind's
+    of the compiled caller (:func:`eng_raw`, which the control step calls too), which then holds that kind's
     evaluation only, with the loops or without them (``loops``, :func:`~.evaluation.has_loops`)."""
     if elastic and loops:
         eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n), dM,

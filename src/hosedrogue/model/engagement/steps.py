@@ -22,7 +22,9 @@ from ..layout import (
 from ..sampled import deliver
 from ..steppers import rk4, sdirk2
 from .chain import chain_kinematics, drogue_motion, elastic_pairs, set_variable_link, tail_start
-from .evaluation import eng_deriv, eng_deriv_bare, eng_deriv_elastic, eng_deriv_elastic_bare, has_loops
+from .evaluation import (
+    eng_deriv_bare_inline, eng_deriv_elastic, eng_deriv_elastic_bare, eng_deriv_inline, has_loops,
+)
 from .outputs import plane_distance, raw_kernel, state_loads
 
 
@@ -32,7 +34,7 @@ def eng_rate(t, z, model, hg, guess, dz):
     ``model`` is ``(n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out)``; the rigid
     chain has no implicit stage (hg and guess are not read)."""
     n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
-    eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+    eng_deriv_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
 
 
 @njit(**JIT_INLINE)
@@ -47,7 +49,7 @@ def eng_rate_elastic(t, z, model, hg, guess, dz):
 def eng_rate_bare(t, z, model, hg, guess, dz):
     """:func:`eng_rate` of a run without loops (:func:`~.evaluation.has_loops`)."""
     n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
-    eng_deriv_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+    eng_deriv_bare_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
 
 
 @njit(**JIT_INLINE)
