@@ -170,21 +170,12 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw_kernel(ep)(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
 
 
-def raw_kernel(ep):
+def raw_kernel(ep, loops=None):
     """:func:`raw_measurement` compiled for the kind of link of ``ep`` (``ep[EP_ELASTIC]``), with
-    or without the loops (:func:`~.evaluation.has_loops`): :data:`eng_raw_rigid`,
-    :data:`eng_raw_elastic` or their ``_bare`` twins, called as :func:`eng_raw` calls them.
-
-    Parameters
-    ----------
-    ep : numpy.ndarray
-        The engagement's parameters (``hosedrogue.model.layout.EP_*``).
-
-    Returns
-    -------
-    numba dispatcher
-    """
-    if has_loops(ep):
+    or without the loops (``loops``; default :func:`~.evaluation.has_loops` of ``ep``):
+    :data:`eng_raw_rigid`, :data:`eng_raw_elastic` or their ``_bare`` twins, called as
+    :func:`eng_raw` calls them."""
+    if has_loops(ep) if loops is None else loops:
         return eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
     return eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
 
@@ -212,12 +203,8 @@ def measured_exit_tension(z, n, l, M, J, ps, env, gust, ep, chart, loop, loops):
     -------
     float
     """
-    if loops:
-        kernel = eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
-    else:
-        kernel = eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
     raw = np.empty(RAW_SIZE)
-    kernel(0.0, z, n, l.copy(), M.copy(), J.copy(), ps, env, gust, ep, chart, loop, make_workspace(n),
+    raw_kernel(ep, loops)(0.0, z, n, l.copy(), M.copy(), J.copy(), ps, env, gust, ep, chart, loop, make_workspace(n),
            make_workspace(n), np.empty(2), np.zeros(O_SIZE), raw)
     return float(raw[R_T0])
 
