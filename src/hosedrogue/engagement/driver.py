@@ -18,7 +18,7 @@ import numpy as np
 
 from ..environment.bow_wave import BowWaveField
 from ..model import layout as LY
-from ..model.engagement import chain as EC, steps as ES
+from ..model.engagement import chain as EC, outputs as EO, steps as ES
 from ..model.engagement.evaluation import has_loops
 from ..spec.params import Actuator, ParameterError, Params, Sensor
 from ..simulation.budget import check_run
@@ -28,7 +28,7 @@ from .events import contact_event, remesh_event, switch_event
 from ..results.run import stop_message
 from .result import EngagementResult, assemble_result
 from .result import segment_outputs as _outputs
-from .loop import drogue_history, engagement_loop, extra_states, set_pilot
+from .loop import drogue_history, engagement_loop, extra_states, no_loop, set_pilot
 from ..spec.sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 
 LAW_CODES = {"locked": LY.LAW_LOCKED, "constant-tension": LY.LAW_CONSTANT_TENSION, "response": LY.LAW_RESPONSE,
@@ -141,7 +141,8 @@ def set_bow_wave(ep: np.ndarray, params: Params, bow_wave: BowWave | None) -> No
     ep[LY.EP_BW_LEN] = bow_wave.nose_length_m
 
 
-def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.ndarray, model) -> float:
+def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.ndarray, model,
+                         measured: bool = False) -> float:
     """T_0 [N] of state z with the reel held (L'' = 0): the steady trail tension at a balance position.
 
     Parameters
@@ -158,6 +159,9 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
         point does not depend on the turbulence seed).
     model : hosedrogue.model.system.HoseModel
         Parameter, environment and gust arrays.
+    measured : bool
+        Evaluate by the raw measurement's kernel (``model.engagement.outputs.measured_exit_tension``,
+        what the sampled-data stepper compiles) instead of the output kernel: the same number.
 
     Returns
     -------
@@ -171,6 +175,9 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
     e[LY.EP_BW] = LY.BW_OFF
     e[LY.EP_CTRL] = 0.0  # no control force: the drogue at its balance position needs none
     steady = SimpleNamespace(ps=model.ps, env=model.steady_env, gust_values=model.gust_values)  # no gusts
+    if measured:  # the raw measurement's kernel, which a sampled-data stepper compiles anyway: the same T_0
+        return EO.measured_exit_tension(z, chain.n, chain.l, chain.M, chain.J, steady.ps, steady.env,
+                                        steady.gust_values, e, chain.chart, no_loop(), has_loops(ep))
     # the variant compiled for the run's loops (model.engagement.outputs.eng_outputs): one, not two
     scal = _outputs(np.zeros(1), z[None, :], chain, steady, e, loops=has_loops(ep))[2]
     return float(scal[0, LY.O_T0])
@@ -269,7 +276,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
             bow_wave: BowWave | None = None, pilot: Pilot | None = None, receiver: Receiver | None = None,
             control=None, actuator: Actuator = Actuator(), sensor: Sensor = Sensor(),
             x0: np.ndarray | None = None, equilibrium=None, seed: int | None = None, length_rate_m_s: float = 0.0,
-            gravity_m_s2: float | None = None, drogue_actuator=None) -> Start:
+            gravity_m_s2: float | None = None, drogue_actuator=None, measured_rest: bool = False) -> Start:
     """An engagement's start: the balance position, the model with the run's gusts, the
     parameters and the initial state (see :func:`simulate_engagement` for the parameters).
 
@@ -301,6 +308,10 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
         The drogue steers itself with these control surfaces (the fixed-length loop's model,
         docs/model.md §10); once coupled their command is zero (they return to neutral).
         ``actuator`` must then have no limits.
+    measured_rest : bool
+        The reel's set point at rest (:func:`exit_tension_at_rest`) by the raw measurement's
+        kernel, which a sampled-data stepper compiles anyway, instead of the output kernel (the
+        same number; a process then compiles one of the two).
 
     Returns
     -------
@@ -332,7 +343,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
                            drogue_actuator)
     t_set = reel.tension_set_n
     if t_set < 0:
-        t_set = exit_tension_at_rest(params, chain, z, ep, model)
+        t_set = exit_tension_at_rest(params, chain, z, ep, model, measured_rest)
         ep[LY.EP_TSET] = t_set
     return Start(params, chain, model, drogue_eq, z, ep, loop, t_set, reel, probe,
                  int(round(duration_s / params.numerics.step_s)), drogue_actuator)

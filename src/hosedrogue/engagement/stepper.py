@@ -27,6 +27,7 @@ import numpy as np
 from ..controllers.linear import LinearController
 from ..errors import ParameterError
 from ..model import chain_dynamics as CD, layout as LY
+from ..model.elastic import make_elastic_workspace
 from ..model.engagement import chain as EC, outputs as EO, probe as EPR, steps as ES
 from ..model.sampled import C_ORIGIN, C_SAVED, C_SPC, C_STEP, C_TARGET, C_TOTAL, deliver, held_command
 from ..spec.params import Actuator, Params, Sensor
@@ -122,7 +123,7 @@ class EngagementStepper(StepperBase):
                              receiver=receiver, control=control, actuator=actuator, sensor=sensor if
                              not drogue_command else Sensor(), x0=x0, equilibrium=equilibrium, seed=seed,
                              length_rate_m_s=length_rate_m_s, gravity_m_s2=gravity_m_s2,
-                             drogue_actuator=drogue_actuator)
+                             drogue_actuator=drogue_actuator, measured_rest=True)
         nd = control.n_states if drogue_command else 2  # the drogue command's numbers
         st = self.start
         self.pass_through = bool(receiver_pass_through)
@@ -196,11 +197,15 @@ class EngagementStepper(StepperBase):
         self._places = self._command_places(run)
         self._model_args = (n, chain.l.copy(), chain.M.copy(), chain.J.copy(), model.ps, model.env, model.gust_values,
                             run.ep, chain.chart, run.loop)
-        self._call = (self.ctr, run.z, self.h, self.every, *self._model_args, run.hist, self.max_yaw,
-                      math.radians(SWITCH_YAW_DEG), SPLIT_RATIO * chain.l_nom, MERGE_RATIO * chain.l_nom, n >= 2,
-                      self._zprev, self._ts, self._zs, self.record, self._work, self._ws, self._ws2, self._dM,
-                      self._out, self.ring, self.delay, self.control_step_s, self.noise3, self.sensor.sample_time_s,
-                      self.balance, self.mbuf, run.loads)
+        limits = (float(self.max_yaw), math.radians(SWITCH_YAW_DEG), float(SPLIT_RATIO * chain.l_nom),
+                  float(MERGE_RATIO * chain.l_nom), n >= 2)
+        # the steps' scratch (model.engagement.steps.eng_advance makes the elastic workspace and pairs
+        # afresh at every call for elastic links; rigid links read neither)
+        scratch = (self._work, self._ws, self._ws2, self._dM, self._out, make_elastic_workspace(n),
+                   EC.elastic_pairs(n, run.ep[LY.EP_PIL] != 0.0, run.ep[LY.EP_RCV] != 0.0))
+        self._call = (self.ctr, run.z, self.h, self.every, *self._model_args, run.hist, limits, self._zprev, self._ts,
+                      self._zs, self.record, scratch, self.ring, self.delay, self.control_step_s, self.noise3,
+                      self.sensor.sample_time_s, self.balance, self.mbuf, run.loads)
 
     def _set_receiver_start(self, probe_start_m, probe_start_velocity_m_s) -> None:
         """The receiver's start point and, passing through, its response replaced by the fed

@@ -12,7 +12,7 @@ import math
 
 from numba import njit
 
-from ...jit import JIT, JIT_NO_ALLOC_INLINE
+from ...jit import JIT, JIT_INLINE, JIT_NO_ALLOC_INLINE
 from .. import drogue_actuator as DA
 from ..chain_dynamics import (
     WS_A, WS_B, WS_C, WS_CS, WS_DINV, WS_DRAG, WS_E, WS_ENV, WS_F, WS_MOM, WS_QDD, WS_R, WS_RHS, WS_TAU, WS_TOW,
@@ -178,11 +178,11 @@ def drogue_surfaces(t, z, n, r, v, ps, env, gust, ep, loop, u, out):
     return ddx, ddy, ddz
 
 
-def _deriv(looped):
+def _deriv(looped, options):
     """:func:`eng_deriv` compiled with the pilot's, receiver's and controller's rates (``looped``)
-    or without them (:func:`has_loops`)."""
+    or without them (:func:`has_loops`), with numba's ``options`` (``JIT``, or ``JIT_INLINE``:
+    the steps' derivative, :func:`eng_deriv_inline`)."""
 
-    @njit(**JIT)
     def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz):
         """dz/dt of the engagement state z (``hist``: the drogue history the pilot's delay reads)."""
         if looped:
@@ -201,11 +201,15 @@ def _deriv(looped):
         else:
             reel_slot_rate(b, ep, dz)
 
-    return eng_deriv
+    return njit(**options)(eng_deriv)
 
 
-#: :func:`_deriv`'s rigid derivative with and without the loops (:func:`has_loops`).
-eng_deriv, eng_deriv_bare = _deriv(True), _deriv(False)
+#: :func:`_deriv`'s rigid derivative with and without the loops (:func:`has_loops`) ...
+eng_deriv, eng_deriv_bare = _deriv(True, JIT), _deriv(False, JIT)
+#: ... and the same text inlined into its caller (numba's ``inline="always"``), for the steps: a
+#: compiled function of its own would generate the machine code of the whole evaluation below it
+#: once more (docs/develop.md, "The compiled core", fifth round)
+eng_deriv_inline, eng_deriv_bare_inline = _deriv(True, JIT_INLINE), _deriv(False, JIT_INLINE)
 
 
 @njit(**JIT)
@@ -406,7 +410,10 @@ def _deriv_elastic(looped):
     return eng_deriv_elastic
 
 
-#: :func:`_deriv_elastic`'s derivative with and without the loops (:func:`has_loops`).
+#: :func:`_deriv_elastic`'s derivative with and without the loops (:func:`has_loops`). Compiled on
+#: its own, not inlined into the steps as the rigid one is (:data:`eng_deriv_inline`): the SDIRK
+#: calls it at more places, and numba's inliner, which copies and re-processes its IR at each, made
+#: a cold elastic run slower (docs/develop.md, "The compiled core", fifth round).
 eng_deriv_elastic, eng_deriv_elastic_bare = _deriv_elastic(True), _deriv_elastic(False)
 
 

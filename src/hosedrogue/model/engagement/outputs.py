@@ -15,7 +15,7 @@ from ...jit import JIT, JIT_INLINE
 from .. import drogue_actuator as DA
 from ..chain_dynamics import (
     WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_F, WS_QDD, WS_R, WS_TOW, WS_V, chain_energy, copy_matrix, copy_vector,
-    make_workspace_jit,
+    make_workspace, make_workspace_jit,
 )
 from ..elastic import (
     EWS_EPSD, EWS_T, axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy,
@@ -24,7 +24,7 @@ from ..elastic import (
 from ..layout import (
     EP_COUPLED, EP_CTRL, EP_ELASTIC, EP_JR, EP_LAW, EP_MU, EP_RD, EP_SPLIT, LAW_LOCKED, O_FPX, O_FPY, O_FPZ, O_LDD,
     O_PAXIAL, O_PX, O_Q, O_SIZE, O_SLACK, O_T0, O_VPX, PS_G, R_COUPLED, R_DROGUE, R_DROGUE_V, R_L, R_PROBE, R_PROBE_V,
-    R_Q, R_REEL_V, R_T0, Z_L, Z_LD,
+    R_Q, R_REEL_V, R_T0, RAW_SIZE, Z_L, Z_LD,
 )
 from .chain import chain_kinematics, tail_start
 from .evaluation import eng_evaluate, eng_evaluate_bare, eng_evaluate_elastic, eng_evaluate_elastic_bare, has_loops
@@ -107,7 +107,7 @@ def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, d
     probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
     evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
     (NaN without control surfaces). ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant
-    of the compiled caller (:func:`eng_raw`, the control step), which then holds that kind's
+    of the compiled caller (:func:`eng_raw`, which the control step calls too), which then holds that kind's
     evaluation only, with the loops or without them (``loops``, :func:`~.evaluation.has_loops`)."""
     if elastic and loops:
         eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n), dM,
@@ -167,11 +167,46 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw : numpy.ndarray
         Receives the measurement (``hosedrogue.model.layout.R_*``).
     """
-    if has_loops(ep):
-        kernel = eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
-    else:
-        kernel = eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
-    kernel(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
+    raw_kernel(ep)(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
+
+
+def raw_kernel(ep, loops=None):
+    """:func:`raw_measurement` compiled for the kind of link of ``ep`` (``ep[EP_ELASTIC]``), with
+    or without the loops (``loops``; default :func:`~.evaluation.has_loops` of ``ep``):
+    :data:`eng_raw_rigid`, :data:`eng_raw_elastic` or their ``_bare`` twins, called as
+    :func:`eng_raw` calls them."""
+    if has_loops(ep) if loops is None else loops:
+        return eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
+    return eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
+
+
+def measured_exit_tension(z, n, l, M, J, ps, env, gust, ep, chart, loop, loops):
+    """The exit tension T_0 [N] of state z at t = 0 by the raw measurement's kernel
+    (:func:`raw_kernel`; ``out[O_T0]`` of the evaluation), the variant with or without the loops
+    as ``loops`` says: what the sampled-data stepper, which compiles that kernel for its
+    measurements, asks for the reel's set point at rest instead of the output kernel
+    (:func:`eng_outputs`, whose evaluation is the same function of the same state: the same
+    number bit for bit), so that a process that steps compiles one of the two, not both.
+
+    Parameters
+    ----------
+    z : numpy.ndarray
+        The engagement's state.
+    n, l, M, J, ps, env, gust, ep, chart, loop : int, numpy.ndarray or LoopArrays
+        The chain and the model, as :func:`eng_raw`'s (``l``, ``M``, ``J`` are copied: the
+        evaluation sets the variable link in them).
+    loops : bool
+        The variant compiled with the loops (:func:`~.evaluation.has_loops` of the run's
+        parameters, which ``ep`` may have switched off).
+
+    Returns
+    -------
+    float
+    """
+    raw = np.empty(RAW_SIZE)
+    raw_kernel(ep, loops)(0.0, z, n, l.copy(), M.copy(), J.copy(), ps, env, gust, ep, chart, loop, make_workspace(n),
+           make_workspace(n), np.empty(2), np.zeros(O_SIZE), raw)
+    return float(raw[R_T0])
 
 
 @njit(**JIT_INLINE)

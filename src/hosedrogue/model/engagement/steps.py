@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ...jit import JIT, JIT_INLINE, JIT_NO_ALLOC
+from ...jit import JIT_INLINE, JIT_NO_ALLOC
 from ..chain_dynamics import WS_CS, make_workspace
-from ..elastic import make_elastic_workspace, make_elastic_workspace_jit
+from ..elastic import make_elastic_workspace
 from ..integrate import step_status
 from ..layout import (
     CHART, C_ORIGIN, C_SAMPLE, C_SAVED, C_STATUS, C_STEP, C_TARGET, EP_COUPLED, EP_ELASTIC, EP_ITER, EP_L_MAX,
@@ -21,9 +21,11 @@ from ..layout import (
 )
 from ..sampled import deliver
 from ..steppers import rk4, sdirk2
-from .chain import chain_kinematics, drogue_motion, elastic_pairs, elastic_pairs_jit, set_variable_link, tail_start
-from .evaluation import eng_deriv, eng_deriv_bare, eng_deriv_elastic, eng_deriv_elastic_bare, has_loops
-from .outputs import plane_distance, raw_measurement, state_loads
+from .chain import chain_kinematics, drogue_motion, elastic_pairs, set_variable_link, tail_start
+from .evaluation import (
+    eng_deriv_bare_inline, eng_deriv_elastic, eng_deriv_elastic_bare, eng_deriv_inline, has_loops,
+)
+from .outputs import plane_distance, raw_kernel, state_loads
 
 
 @njit(**JIT_INLINE)
@@ -32,7 +34,7 @@ def eng_rate(t, z, model, hg, guess, dz):
     ``model`` is ``(n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out)``; the rigid
     chain has no implicit stage (hg and guess are not read)."""
     n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
-    eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+    eng_deriv_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
 
 
 @njit(**JIT_INLINE)
@@ -47,7 +49,7 @@ def eng_rate_elastic(t, z, model, hg, guess, dz):
 def eng_rate_bare(t, z, model, hg, guess, dz):
     """:func:`eng_rate` of a run without loops (:func:`~.evaluation.has_loops`)."""
     n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
-    eng_deriv_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+    eng_deriv_bare_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
 
 
 @njit(**JIT_INLINE)
@@ -290,83 +292,15 @@ def steps_kernel(ep):
     return (eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare)[link_kind(ep)]
 
 
-def _advance(elastic, implicit, loops):
-    """:func:`eng_advance` compiled for one kind of link and integrator, with the loops or without
-    them (as :func:`_steps`)."""
-
-    @njit(**JIT)
-    def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
-                    switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring,
-                    delay, sample_h, noise3, noise3_dt, balance, mbuf, loads):
-        """Integrate from the counters ``ctr`` (``hosedrogue.model.sampled.C_*``: global step,
-        saved rows, the segment's origin ``C_ORIGIN``; updated in place) toward global step
-        ``ctr[C_TARGET]`` (:func:`eng_steps`); when it is
-        reached, the raw measurement of the next sample (``ctr[C_SAMPLE] + 1``) into the ring and
-        its measurement (delayed by ``delay`` samples) into ``mbuf``, and the sample counter moves on
-        (``loads``: the elastic links' per-step record, :func:`eng_segment`).
-        Returns the status of the segment (an event - a remesh, the coupler plane - stops it early)."""
-        step0 = ctr[C_STEP]
-        target = ctr[C_TARGET]
-        origin = ctr[C_ORIGIN]
-        scratch = (work, ws, ws2, dM, out, make_elastic_workspace_jit(n),
-                   elastic_pairs_jit(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0))
-        limits = (max_yaw, switch_yaw, split_at, merge_at, allow_merge)
-        t0, s0, k, sv = origin * h, step0 - origin, target - step0, ctr[C_SAVED]
-        if elastic and implicit and loops:
-            status, done, saved = eng_steps_elastic_sdirk2(
-                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
-                ts, zs, record, sv, scratch, loads, False)
-        elif elastic and implicit:
-            status, done, saved = eng_steps_elastic_sdirk2_bare(
-                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
-                ts, zs, record, sv, scratch, loads, False)
-        elif elastic and loops:
-            status, done, saved = eng_steps_elastic_rk4(
-                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
-                ts, zs, record, sv, scratch, loads, False)
-        elif elastic:
-            status, done, saved = eng_steps_elastic_rk4_bare(
-                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
-                ts, zs, record, sv, scratch, loads, False)
-        elif loops:
-            status, done, saved = eng_steps_rigid(
-                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
-                ts, zs, record, sv, scratch, loads, False)
-        else:
-            status, done, saved = eng_steps_rigid_bare(
-                z, t0, s0, step0, h, k, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev,
-                ts, zs, record, sv, scratch, loads, False)
-        ctr[C_STEP] = step0 + done
-        ctr[C_SAVED] = saved
-        ctr[C_STATUS] = status
-        failed = status == NONFINITE or status == YAW_LIMIT or status == REEL_END or status == STAGE_LIMIT
-        if ctr[C_STEP] == target and not failed:
-            k = ctr[C_SAMPLE] + 1
-            raw_measurement(target * h, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out,
-                            ring[k % ring.shape[0]], elastic, loops)
-            deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
-            ctr[C_SAMPLE] = k
-        return status
-
-    return eng_advance
-
-
-#: The compiled control step of rigid links and of elastic links by RK4 and by the SDIRK, with the
-#: loops and without them (:func:`eng_advance` picks one, :func:`link_kind`, :func:`~.evaluation.has_loops`).
-eng_advance_rigid, eng_advance_elastic_rk4, eng_advance_elastic_sdirk2 = (
-    _advance(False, False, True), _advance(True, False, True), _advance(True, True, True))
-eng_advance_rigid_bare, eng_advance_elastic_rk4_bare, eng_advance_elastic_sdirk2_bare = (
-    _advance(False, False, False), _advance(True, False, False), _advance(True, True, False))
-
-
-def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw,
-                switch_yaw, split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring,
-                delay, sample_h, noise3, noise3_dt, balance, mbuf, loads):
-    """Integrate from the counters ``ctr`` toward global step ``ctr[C_TARGET]`` and deliver the
-    next sample's measurement, compiled for the chain's kind of link and integrator
-    (:func:`link_kind`: :data:`eng_advance_rigid`, :data:`eng_advance_elastic_rk4` or
-    :data:`eng_advance_elastic_sdirk2`, whose docstring says the rest), with or without the loops
-    (:func:`~.evaluation.has_loops`).
+def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev, ts, zs,
+                record, scratch, ring, delay, sample_h, noise3, noise3_dt, balance, mbuf, loads):
+    """Integrate from the counters ``ctr`` (``hosedrogue.model.layout.C_*``: global step, saved
+    rows, the segment's origin ``C_ORIGIN``; updated in place) toward global step
+    ``ctr[C_TARGET]`` by the steps compiled for the chain's kind of link, integrator and loops
+    (:func:`steps_kernel`); when it is reached, the raw measurement of the next sample
+    (``ctr[C_SAMPLE] + 1``, :func:`~.outputs.raw_kernel`) into the ring and its measurement
+    (delayed by ``delay`` samples, :func:`~hosedrogue.model.sampled.deliver`) into ``mbuf``, and
+    the sample counter moves on.
 
     Parameters
     ----------
@@ -376,28 +310,54 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
         The state (advanced in place), the step [s], the saving interval [steps].
     n, l, M, J, ps, env, gust, ep, chart, loop, hist : int, numpy.ndarray or LoopArrays
         The chain and the model, as :func:`eng_segment`'s.
-    max_yaw, switch_yaw, split_at, merge_at, allow_merge : float or bool
-        The events' limits, as :func:`eng_segment`'s.
+    limits : tuple
+        max_yaw, switch_yaw, split_at, merge_at, allow_merge, as :func:`eng_segment`'s.
     zprev, ts, zs, record : numpy.ndarray or bool
         The state before the last step, the saved rows, whether to save.
-    work, ws, ws2, dM, out : numpy.ndarray or tuple
-        The steps' and the evaluation's scratch.
+    scratch : tuple
+        ``(work, ws, ws2, dM, out, ews, pairs)`` as :func:`eng_steps` takes it; with elastic links
+        ``ews`` and ``pairs`` are made afresh here for every call (as the compiled control step
+        made them before), with rigid links they are not read.
     ring, delay, sample_h, noise3, noise3_dt, balance, mbuf : numpy.ndarray, int or float
         The sampled-data measurement: the ring of raw samples, the delay [samples], the sample
         time [s], the sensor's noise [m] and its sample time [s], the balance position, the
         measurement delivered.
     loads : numpy.ndarray
-        The elastic links' per-step loads.
+        The elastic links' per-step loads (:func:`eng_segment`).
 
     Returns
     -------
     int
-        The status of the segment (an event stops it early).
+        The status of the segment (an event - a remesh, the coupler plane - stops it early).
+
+    Notes
+    -----
+    Python calling two compiled functions, the steps and the raw measurement, each of which a
+    process compiles anyway (the driver's segment calls the same steps with the same argument
+    types; the stepper's reset takes the first measurement by the same raw measurement): a
+    compiled control step calling them would generate the machine code of both, with the whole
+    evaluation below them, once more (2.8 s of a cold first Gymnasium transition; docs/develop.md,
+    "The compiled core", fifth round). The same arithmetic in the same order: bit for bit the
+    compiled control step's results.
     """
-    if has_loops(ep):
-        kernel = (eng_advance_rigid, eng_advance_elastic_rk4, eng_advance_elastic_sdirk2)[link_kind(ep)]
-    else:
-        kernel = (eng_advance_rigid_bare, eng_advance_elastic_rk4_bare, eng_advance_elastic_sdirk2_bare)[link_kind(ep)]
-    return kernel(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, max_yaw, switch_yaw,
-                  split_at, merge_at, allow_merge, zprev, ts, zs, record, work, ws, ws2, dM, out, ring, delay, sample_h,
-                  noise3, noise3_dt, balance, mbuf, loads)
+    step0, target, origin = int(ctr[C_STEP]), int(ctr[C_TARGET]), int(ctr[C_ORIGIN])
+    if ep[EP_ELASTIC] != 0.0:
+        scratch = scratch[:5] + (make_elastic_workspace(n), elastic_pairs(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0))
+    status, done, saved = steps_kernel(ep)(
+        z, origin * h, step0 - origin, step0, h, target - step0, save_every, n, l, M, J, ps, env, gust, ep, chart, loop,
+        hist, limits, zprev, ts, zs, record, int(ctr[C_SAVED]), scratch, loads, False)
+    ctr[C_STEP] = step0 + done
+    ctr[C_SAVED] = saved
+    ctr[C_STATUS] = status
+    if step0 + done == target and status not in _FAILED:
+        k = int(ctr[C_SAMPLE]) + 1
+        work, ws, ws2, dM, out = scratch[:5]
+        raw_kernel(ep)(target * h, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out,
+                       ring[k % ring.shape[0]])
+        deliver(ring, k, delay, sample_h, noise3, noise3_dt, balance, mbuf)
+        ctr[C_SAMPLE] = k
+    return status
+
+
+#: The statuses after which the state is not valid and no sample is taken.
+_FAILED = (NONFINITE, YAW_LIMIT, REEL_END, STAGE_LIMIT)
