@@ -7,7 +7,7 @@ Sections (all by default, or name some on the command line):
   (the default environment: approach-moderate, converged preset, RK4 at 5 ms, moderate
   turbulence, bow wave, responsive reel; the baseline policy computed in Python every step;
   resets included; target >= 5,000, the Air Force Arcade anchor 140), the environment alone and
-  through gymnasium.make's wrappers, and the share of a step spent in the compiled loop;
+  through gymnasium.make's wrappers, and the share of a step spent in compiled code;
 * ``vector`` - gymnasium.make_vec: 8 environments in one process ("sync", one core) and 2 in two
   worker processes ("async", two cores), steps of all environments per second;
 * ``baseline`` - the scripted PD-with-feed-forward baseline (hosedrogue.envs.PDFeedForward) and
@@ -87,27 +87,35 @@ def speed():
     env = he.DockingEnv()
     policy = he.PDFeedForward(env)
     share = compiled_share(episodes, env, policy, 40)
-    print(f"  the compiled loop (eng_advance) is {share * 100:.0f} % of a step's CPU time: one compiled "
+    print(f"  the compiled steps and measurement are {share * 100:.0f} % of a step's CPU time: one compiled "
           f"call for many environments could save at most the other {100 - share * 100:.0f} %")
 
 
 def compiled_share(run, *args):
-    """The share of ``run(*args)``'s CPU time spent in the compiled control step (eng_advance)."""
-    original, spent = ES.eng_advance, [0.0]
+    """The share of ``run(*args)``'s CPU time spent in the compiled functions of a control step
+    (``model.engagement.steps.eng_advance``, itself Python: the compiled steps, the raw
+    measurement and its delivery)."""
+    names = ("steps_kernel", "raw_kernel", "deliver")
+    original, spent = {k: getattr(ES, k) for k in names}, [0.0]
 
-    def timed(*a):
-        t = time.process_time()
-        out = original(*a)
-        spent[0] += time.process_time() - t
-        return out
+    def timed(function):
+        def call(*a):
+            t = time.process_time()
+            out = function(*a)
+            spent[0] += time.process_time() - t
+            return out
+        return call
 
-    ES.eng_advance = timed
+    ES.steps_kernel = lambda ep: timed(original["steps_kernel"](ep))
+    ES.raw_kernel = lambda *a: timed(original["raw_kernel"](*a))
+    ES.deliver = timed(original["deliver"])
     try:
         c = time.process_time()
         run(*args)
         c = time.process_time() - c
     finally:
-        ES.eng_advance = original
+        for k, v in original.items():
+            setattr(ES, k, v)
     return spent[0] / c
 
 
