@@ -174,7 +174,21 @@ def raw_kernel(ep, loops=None):
     """:func:`raw_measurement` compiled for the kind of link of ``ep`` (``ep[EP_ELASTIC]``), with
     or without the loops (``loops``; default :func:`~.evaluation.has_loops` of ``ep``):
     :data:`eng_raw_rigid`, :data:`eng_raw_elastic` or their ``_bare`` twins, called as
-    :func:`eng_raw` calls them."""
+    :func:`eng_raw` calls them.
+
+    Parameters
+    ----------
+    ep : numpy.ndarray
+        The engagement's parameters (``hosedrogue.model.layout.EP_*``).
+    loops : bool, optional
+        The variant with the loops' code (True) or without it (False); default: whether ``ep``
+        has loops.
+
+    Returns
+    -------
+    numba dispatcher
+        The compiled raw measurement.
+    """
     if has_loops(ep) if loops is None else loops:
         return eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
     return eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
