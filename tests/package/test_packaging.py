@@ -7,6 +7,7 @@ whole dependency stack (~700 MB) and compiles the numba kernels afresh, about tw
 much for every test run; this test checks the wheel's contents in seconds.
 """
 
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -31,8 +32,16 @@ if Path(hosedrogue.__file__).resolve().parent != PACKAGE:  # pragma: no cover - 
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory):
     out = tmp_path_factory.mktemp("dist")
+    # built from a copy of the project's build inputs: setuptools writes build/ and the egg-info into
+    # the tree it builds, so two builds of one tree (this module's tests on two xdist workers) raced
+    # there ("error: [Errno 2] No such file or directory" while copying modules, seen in a fresh clone)
+    tree = tmp_path_factory.mktemp("tree")
+    shutil.copytree(ROOT / "src", tree / "src",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "*.nbi", "*.nbc", "*.egg-info"))
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy2(ROOT / name, tree / name)
     # isolated build (setuptools from pip's cache or the index), as a user or CI would build it
-    done = subprocess.run([sys.executable, "-m", "build", "--wheel", "--outdir", str(out), str(ROOT)],
+    done = subprocess.run([sys.executable, "-m", "build", "--wheel", "--outdir", str(out), str(tree)],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
     (path,) = out.glob("hosedrogue-*.whl")
