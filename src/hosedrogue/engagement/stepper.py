@@ -199,8 +199,8 @@ class EngagementStepper(StepperBase):
                             run.ep, chain.chart, run.loop)
         limits = (float(self.max_yaw), math.radians(SWITCH_YAW_DEG), float(SPLIT_RATIO * chain.l_nom),
                   float(MERGE_RATIO * chain.l_nom), n >= 2)
-        # the steps' scratch (model.engagement.steps.eng_advance makes the elastic workspace and pairs
-        # afresh at every call for elastic links; rigid links read neither)
+        # the steps' scratch, one per discretization as the driver's segment keeps one for all its
+        # steps (rigid links read neither the elastic workspace nor the pairs)
         scratch = (self._work, self._ws, self._ws2, self._dM, self._out, make_elastic_workspace(n),
                    EC.elastic_pairs(n, run.ep[LY.EP_PIL] != 0.0, run.ep[LY.EP_RCV] != 0.0))
         self._call = (self.ctr, run.z, self.h, self.every, *self._model_args, run.hist, limits, self._zprev, self._ts,

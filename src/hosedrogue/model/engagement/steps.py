@@ -315,9 +315,9 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
     zprev, ts, zs, record : numpy.ndarray or bool
         The state before the last step, the saved rows, whether to save.
     scratch : tuple
-        ``(work, ws, ws2, dM, out, ews, pairs)`` as :func:`eng_steps` takes it; with elastic links
-        ``ews`` and ``pairs`` are made afresh here for every call (as the compiled control step
-        made them before), with rigid links they are not read.
+        ``(work, ws, ws2, dM, out, ews, pairs)`` as :func:`eng_steps` takes it (the caller makes it
+        once per discretization: the driver's segment likewise keeps one for all its steps); with
+        rigid links ``ews`` and ``pairs`` are not read.
     ring, delay, sample_h, noise3, noise3_dt, balance, mbuf : numpy.ndarray, int or float
         The sampled-data measurement: the ring of raw samples, the delay [samples], the sample
         time [s], the sensor's noise [m] and its sample time [s], the balance position, the
@@ -341,8 +341,6 @@ def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loo
     compiled control step's results.
     """
     step0, target, origin = int(ctr[C_STEP]), int(ctr[C_TARGET]), int(ctr[C_ORIGIN])
-    if ep[EP_ELASTIC] != 0.0:
-        scratch = scratch[:5] + (make_elastic_workspace(n), elastic_pairs(n, ep[EP_PIL] != 0.0, ep[EP_RCV] != 0.0))
     status, done, saved = steps_kernel(ep)(
         z, origin * h, step0 - origin, step0, h, target - step0, save_every, n, l, M, J, ps, env, gust, ep, chart, loop,
         hist, limits, zprev, ts, zs, record, int(ctr[C_SAVED]), scratch, loads, False)
