@@ -37,31 +37,4 @@ def __dir__():
     return sorted(set(globals()) | set(_LAZY))
 
 
-__all__ = [
-    "LinearController",
-    "PAPER_PID",
-    "PIDGains",
-    "pid_controller",
-    "tune_pid",
-    "PIDTuning",
-    "StepTargets",
-    "TargetsNotMet",
-    "pid_for_poles",
-    "tune_pid_to_step",
-    "PAPER_LQR_Q",
-    "PAPER_LQR_R",
-    "LQRDesign",
-    "lqr_integral_design",
-    "lqr_tracking_closed_loop",
-    "two_channel_plant",
-    "TURBULENCE_FORCE_PSD",
-    "BalancedLQRChannel",
-    "BalancedLQRDesign",
-    "balanced_realization",
-    "lqr_balanced_design",
-    "lqr_balanced_reference_loop",
-    "StepMetrics",
-    "StepResponse",
-    "closed_loop_step",
-    "step_metrics",
-]
+__all__ = list(_LAZY)  # the public names are the lazily loaded ones
