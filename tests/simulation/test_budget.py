@@ -176,3 +176,30 @@ def test_an_episode_s_time_limit_is_put_on_its_output_grid(limit):
     interval = h * num.output_every
     assert steps % num.output_every == 0 and steps // num.output_every == max(1, round(limit / interval))
     assert abs(sc.duration_s - limit) <= max(0.5 * interval, interval - limit) + 1e-12  # at least one interval
+
+
+#: (value given, what the message shows): a bool is no duration, nor NaN, infinity, zero or a negative
+BAD_DURATIONS = [(True, "True"), (float("nan"), "nan"), (float("inf"), "inf"), (0.0, "0.0"), (-1.0, "-1.0"),
+                 ("1", "'1'")]
+
+
+@pytest.mark.parametrize("value, shown", BAD_DURATIONS)
+@pytest.mark.parametrize("entry", ["simulate", "FixedLengthStepper", "simulate_engagement"])
+def test_every_loop_refuses_a_duration_in_the_same_line(entry, value, shown):
+    """One check (budget.check_duration) for every loop: the same line, naming the field, the value
+    and what is allowed (before, a bool ran for 1 s in three of the four loops)."""
+    from hosedrogue.engagement.simulate import simulate_engagement
+    from hosedrogue.simulation import simulate
+    from hosedrogue.simulation.stepper import FixedLengthStepper
+
+    start = {"simulate": simulate, "simulate_engagement": simulate_engagement,
+             "FixedLengthStepper": lambda p, d: FixedLengthStepper(p, d, control_step_s=p.numerics.step_s)}[entry]
+    with pytest.raises(ParameterError) as err:
+        start(PAPER, value)
+    assert str(err.value) == f"duration_s = {shown}: must be a finite number > 0 s"
+
+
+def test_a_scenario_duration_has_its_upper_bound_in_the_same_check():
+    with pytest.raises(ParameterError, match=r"^duration_s = 86401.0: must be a finite number in \(0, 86400\] s$"):
+        budget.check_duration(86401.0, "duration_s", 86400.0)
+    assert budget.check_duration(86400, "duration_s", 86400.0) == 86400.0

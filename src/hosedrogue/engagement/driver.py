@@ -20,8 +20,9 @@ from ..environment.bow_wave import BowWaveField
 from ..model import layout as LY
 from ..model.engagement import chain as EC, outputs as EO, steps as ES
 from ..model.engagement.evaluation import has_loops
+from ..model.status import status_text
 from ..spec.params import Actuator, ParameterError, Params, Sensor
-from ..simulation.budget import check_run
+from ..simulation.budget import check_duration, check_run
 from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
                     initial_equilibrium)
 from .events import contact_event, remesh_event, switch_event
@@ -33,12 +34,6 @@ from ..spec.sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 
 LAW_CODES = {"locked": LY.LAW_LOCKED, "constant-tension": LY.LAW_CONSTANT_TENSION, "response": LY.LAW_RESPONSE,
              "python": LY.LAW_COMMANDED}
-_STATUS = {LY.NONFINITE: "the state became non-finite (numerical divergence)",
-           LY.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is "
-                              "too long for the hose's motion: shorten numerics.step_s)",
-           LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
-           LY.REEL_END: "the free hose length left the reel's range between its end stops (fully reeled in or "
-                         "fully paid out)"}
 
 
 def engagement_parameters(params: Params, reel: Reel, probe: Probe | None, chain: Chain,
@@ -317,7 +312,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     -------
     Start
     """
-    _check_duration(duration_s)
+    check_duration(duration_s)
     params.numerics.steps(duration_s)
     check_run(params, duration_s)  # its step and output grids reach duration_s; its output fits in memory
     _check_integrator(params)
@@ -378,9 +373,32 @@ def _check_integrator(params: Params) -> None:
                              "with rigid links (hose.axial_stiffness_n = inf) use 'rk4'")
 
 
-def _check_duration(duration_s) -> None:
-    if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
-        raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
+#: the segment's codes that end a run early (the reasons: :func:`failure_reason`)
+FAILURES = (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT, LY.REEL_END)
+
+
+def failure_reason(run, code: int) -> str:
+    """Why an engagement run stopped with a failing segment code.
+
+    Parameters
+    ----------
+    run : _Run
+        The run (its state, chain and engagement parameters).
+    code : int
+        One of :data:`FAILURES`.
+
+    Returns
+    -------
+    str
+        The status table's line (:data:`hosedrogue.model.status.STATUS_TEXT`), and for the reel at
+        an end stop the free length and the reel's range.
+    """
+    reason = status_text(code)
+    if code == LY.REEL_END:
+        L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
+        reason += f": L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m"
+    return reason
+
 
 
 def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: float, gravity_m_s2, duration_s):
@@ -439,12 +457,8 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
     while run.step < total_steps:
         code, zprev = _segment(run, model, h, every, total_steps - run.step, max_yaw)
         kept = float(run.segments[-1][2][-1]) if run.segments else 0.0  # the last state kept
-        if code in (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT):
-            return code, stop_message(kept, _STATUS[code], run.t)
-        if code == LY.REEL_END:
-            L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
-            return code, stop_message(kept, f"{_STATUS[code]}: L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, "
-                                            f"{run.ep[LY.EP_L_MAX]:g}] m", run.t)
+        if code in FAILURES:
+            return code, stop_message(kept, failure_reason(run, code), run.t)
         if code == LY.CHART:
             switch_event(run, model)
         elif code in (LY.SPLIT, LY.MERGE):

@@ -34,7 +34,7 @@ from ..spec.params import Actuator, Params, Sensor
 from ..spec.sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.stepper import StepperBase, sensor_noise3
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, chain_model
-from .driver import _STATUS, prepare, step_record
+from .driver import FAILURES, failure_reason, prepare, step_record
 from .events import contact_event, remesh_event, switch_event
 from ..results.run import stop_message
 from .result import EngagementResult, assemble_result, coupler_geometry, segment_outputs
@@ -317,12 +317,8 @@ class EngagementStepper(StepperBase):
     def _event(self, code: int) -> bool:
         """Handle what ended a compiled segment before the control step's end; True if the run ends."""
         run = self.run
-        if code in (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT, LY.REEL_END):
-            reason = _STATUS[code]
-            if code == LY.REEL_END:
-                L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
-                reason += f": L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m"
-            self._finish(False, stop_message(self._last_kept_s(), reason, run.t), state_valid=False)
+        if code in FAILURES:
+            self._finish(False, stop_message(self._last_kept_s(), failure_reason(run, code), run.t), state_valid=False)
             return True
         self._close_record()
         self.ctr[C_ORIGIN] = self.ctr[C_STEP]  # the next compiled segment counts its times from here, as the driver's

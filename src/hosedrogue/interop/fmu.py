@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import platform
 import shutil
 import tempfile
@@ -27,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
+from ..simulation.budget import check_duration
 from ..spec.params import PAPER, Params, params_from_dict
 from ..units import NO_UNIT, unit_of
 from ..version import __version__
@@ -351,8 +351,7 @@ def check_fmu(fmu: str | Path, duration_s: float = 1.0) -> dict:
     fmu = Path(fmu)
     if not fmu.is_file():
         raise ParameterError(f"fmu = {str(fmu)!r}: no such file")
-    if isinstance(duration_s, bool) or not isinstance(duration_s, (int, float)) or not 0 < duration_s < math.inf:
-        raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
+    check_duration(duration_s)
     import pythonfmu
 
     problems = list(validate_fmu(str(fmu)))

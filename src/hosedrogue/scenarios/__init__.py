@@ -30,6 +30,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
+from ..simulation.budget import check_duration
 from ..spec.config import load_preset, preset_names, read_toml
 from ..spec.params import SECTIONS, PAPER, ParameterError, Params, params_from_dict
 from ..spec.sections import (CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, Actuator, Controller,
@@ -73,7 +74,7 @@ class Scenario:
     source: str = ""  #: where it was read from (``scenarios/NAME.toml`` or a path; "" if built in Python)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "duration_s", _check_duration(self.duration_s, "scenario.duration_s"))
+        object.__setattr__(self, "duration_s", check_duration(self.duration_s, "scenario.duration_s", MAX_DURATION_S))
         if self.initial not in ("equilibrium", "displaced"):
             raise ParameterError(f"scenario.initial = {self.initial!r}: must be one of 'equilibrium', 'displaced'")
         for key in ("initial_pitch_offset_deg", "initial_yaw_offset_deg"):
@@ -182,7 +183,7 @@ class Scenario:
         """
         s = self
         if duration_s is not None:
-            s = dataclasses.replace(s, duration_s=_check_duration(duration_s, "duration_s"))
+            s = dataclasses.replace(s, duration_s=check_duration(duration_s, "duration_s", MAX_DURATION_S))
         if seed is not None:
             if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
                 raise ParameterError(f"seed = {seed!r}: must be an integer >= 0")
@@ -226,14 +227,6 @@ class Scenario:
             out.update(self.engagement.to_dict())
         out.update(self.params.to_dict())
         return out
-
-
-def _check_duration(value: Any, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
-        math.isfinite(value) and 0 < value <= MAX_DURATION_S
-    ):
-        raise ParameterError(f"{name} = {value!r}: must be a finite number in (0, {MAX_DURATION_S:g}] s")
-    return float(value)
 
 
 def shipped_scenarios() -> list[str]:

@@ -23,12 +23,13 @@ one sample after its start, and keep its output within a share of the machine's 
 from __future__ import annotations
 
 import math
+import numbers
 import os
 
 from ..errors import ParameterError
 from ..results.statistics import turbulence_window
 
-__all__ = ["GRID_TOLERANCE", "MEMORY_SHARE", "check_memory", "check_run", "machine_memory_bytes", "on_step_grid",
+__all__ = ["GRID_TOLERANCE", "MEMORY_SHARE", "check_duration", "check_memory", "check_run", "machine_memory_bytes", "on_step_grid",
            "output_bytes", "whole_multiple"]
 
 #: Share of the machine's physical memory that one run's (or campaign's) kept output may take [-].
@@ -126,6 +127,36 @@ def on_step_grid(duration_s: float, step_s: float, every: int = 1) -> float:
     """
     intervals = max(1, round(duration_s / (every * step_s)))
     return float(f"{intervals * every * step_s:.12g}")
+
+
+def check_duration(value, name: str = "duration_s", maximum: float = math.inf) -> float:
+    """Refuse a run's duration that is not a finite number > 0 s (nor above ``maximum``): the one
+    check of every loop (``simulate``, the steppers, the engagement, the FMU's own run, a scenario).
+
+    Parameters
+    ----------
+    value : object
+        The duration given [s]; a bool is not a number here.
+    name : str
+        How the message names it (``scenario.duration_s`` in a scenario).
+    maximum : float
+        The longest allowed [s] (default: no bound but finiteness).
+
+    Returns
+    -------
+    float
+        ``value`` as a float [s].
+
+    Raises
+    ------
+    ParameterError
+        One line naming the field, the value and what is allowed.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 < value <= maximum \
+            or not math.isfinite(value):
+        allowed = "> 0 s" if maximum == math.inf else f"in (0, {maximum:g}] s"
+        raise ParameterError(f"{name} = {value!r}: must be a finite number {allowed}")
+    return float(value)
 
 
 def check_run(params, duration_s: float, name: str = "duration_s", command: bool = False) -> tuple[float, int]:

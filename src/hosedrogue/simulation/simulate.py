@@ -23,33 +23,15 @@ from ..controllers.sampled import SampledController
 from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
                                sensor_noise)
+from ..model.status import status_text
 from ..model.system import HoseModel
 from ..spec.params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..spec.sections import Controller
 from ..results.statistics import turbulence_window
 from ..results.run import SimulationResult, stop_message
-from .budget import check_run
+from .budget import check_duration, check_run
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
-
-_STATUS_TEXT = {
-    LY.NONFINITE: "the state became non-finite (numerical divergence)",
-    LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
-    LY.STEP_LIMIT: "the adaptive integrator could not meet its tolerance (step size limit)",
-    LY.STAGE_LIMIT: "the stiff integrator's stages did not converge, even on 16 substeps of a step (the step is too "
-                   "long for the hose's motion: shorten numerics.step_s)",
-}
-
-
-def _status_text(status: int, params: Params) -> str:
-    """Why a run stopped; a yaw past the limit of the paper's hose (its bending) adds the likely
-    cause, its almost undamped zigzag modes (in turbulence, when it is on), and the cure."""
-    text = _STATUS_TEXT[status]
-    if status == LY.YAW_LIMIT and params.hose.bending == "paper":
-        where = " in turbulence" if params.turbulence.enabled else ""
-        text += (f" (likely the paper's almost undamped zigzag modes growing{where}; for long runs use the model "
-                 "preset: --config converged or [model] preset = \"converged\", docs/long-runs.md)")
-    return text
 
 
 def simulate(
@@ -109,8 +91,7 @@ def simulate(
     SimulationResult
         The saved time series; ``completed`` is False when the run stopped early.
     """
-    if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
-        raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
+    check_duration(duration_s)
     check_run(params, duration_s)  # its step and output grids reach duration_s; its output fits in memory
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
@@ -121,7 +102,6 @@ def simulate(
                              f"{duration_s:g} s; build it with HoseModel(params, duration_s={duration_s:g})")
     if equilibrium is None:
         equilibrium = solve_equilibrium(params, model=model)
-    n = model.n
     nh = model.state_size  # 4n, or 6n for elastic links
     _check_integrator(model)
     x0 = equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
@@ -155,7 +135,7 @@ def simulate(
     if outs is None:
         outs = _derived_outputs(model, ts, xs, us)
     completed = status == LY.OK
-    message = "completed" if completed else stop_message(float(ts[-1]), _status_text(status, params), t_stop)
+    message = "completed" if completed else stop_message(float(ts[-1]), status_text(status, params), t_stop)
     return SimulationResult(
         t_s=ts,
         states=xs,

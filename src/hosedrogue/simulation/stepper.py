@@ -25,21 +25,17 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
-from .budget import check_run, whole_multiple
+from .budget import check_duration, check_run, whole_multiple
 from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
                              held_command)
+from ..model.status import status_text
 from ..model.system import HoseModel
 from ..results.run import SimulationResult, stop_message
 from ..results.statistics import turbulence_window
 from ..results.surfaces import surface_fields
 from ..spec.params import PAPER, Actuator, Params, Sensor
-
-_STATUS_TEXT = {
-    LY.NONFINITE: "the state became non-finite (numerical divergence)",
-    LY.YAW_LIMIT: "a link's yaw passed the limit where the angle coordinates become singular",
-}
 
 
 def sensor_noise3(sensor: Sensor, duration_s: float, seed: int) -> np.ndarray:
@@ -342,8 +338,7 @@ class FixedLengthStepper(StepperBase):
                  x0: np.ndarray | None = None, equilibrium: Equilibrium | None = None,
                  actuator: Actuator = Actuator(), sensor: Sensor = Sensor(), seed: int | None = None,
                  record: bool = True, model: HoseModel | None = None, drogue_actuator=None):
-        if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
-            raise ParameterError(f"duration_s = {duration_s!r}: must be a finite number > 0 s")
+        check_duration(duration_s)
         if params.numerics.integrator != "rk4":
             raise ParameterError(f"numerics.integrator = {params.numerics.integrator!r}: a sampled-data run "
                                  "integrates with fixed-step RK4; use 'rk4'")
@@ -411,7 +406,7 @@ class FixedLengthStepper(StepperBase):
     def _advance(self) -> None:
         status = fl_advance(*self._call)
         if status != LY.OK:
-            self._finish(False, stop_message(self._last_kept_s(), _STATUS_TEXT[status], self.t_s), state_valid=False)
+            self._finish(False, stop_message(self._last_kept_s(), status_text(status, self.params), self.t_s), state_valid=False)
         elif self.ctr[C_STEP] >= self.total_steps:
             self._finish(True, "completed")
 
@@ -451,7 +446,7 @@ class FixedLengthStepper(StepperBase):
         if status == LY.OK:
             self._finish(True, "completed", state_valid=False)  # the kernel saved the last row
         else:
-            self._finish(False, stop_message(self._last_kept_s(), _STATUS_TEXT[status], self.t_s), state_valid=False)
+            self._finish(False, stop_message(self._last_kept_s(), status_text(status, self.params), self.t_s), state_valid=False)
         return self.result()
 
     def result(self) -> SimulationResult:
