@@ -203,3 +203,30 @@ def test_a_scenario_duration_has_its_upper_bound_in_the_same_check():
     with pytest.raises(ParameterError, match=r"^duration_s = 86401.0: must be a finite number in \(0, 86400\] s$"):
         budget.check_duration(86401.0, "duration_s", 86400.0)
     assert budget.check_duration(86400, "duration_s", 86400.0) == 86400.0
+
+
+@pytest.mark.parametrize("entry, integrator", [("simulate_engagement", "adaptive"), ("simulate_engagement", "sdirk2"),
+                                               ("FixedLengthStepper", "adaptive"), ("simulate", "sdirk2"),
+                                               ("scenario", "adaptive")])
+def test_every_loop_refuses_an_integrator_it_does_not_run_from_one_table(entry, integrator):
+    """budget.INTEGRATORS for every loop (before, each loop had its own check, and the engagement
+    run from Python took 'adaptive' with rigid links and ran fixed RK4 steps without a word)."""
+    from hosedrogue.engagement.simulate import simulate_engagement
+    from hosedrogue.scenarios import load_scenario
+    from hosedrogue.simulation import simulate
+    from hosedrogue.simulation.stepper import FixedLengthStepper
+
+    params = PAPER.replace(numerics={"integrator": integrator})
+    loop = {"simulate_engagement": "engagement", "scenario": "engagement", "simulate": "fixed-length",
+            "FixedLengthStepper": "fixed-length stepper"}[entry]
+    allowed = " or ".join(repr(a) for a in budget.INTEGRATORS[loop][False])
+    line = (rf"^numerics.integrator = '{integrator}': the {loop} run of rigid links \(hose.axial_stiffness_n = inf\) "
+            rf"integrates with {allowed}$")
+    with pytest.raises(ParameterError, match=line):
+        if entry == "scenario":
+            sc = load_scenario("approach-moderate")
+            dataclasses.replace(sc, params=sc.params.replace(numerics={"integrator": integrator}))
+        elif entry == "FixedLengthStepper":
+            FixedLengthStepper(params, 0.1, control_step_s=params.numerics.step_s)
+        else:
+            {"simulate": simulate, "simulate_engagement": simulate_engagement}[entry](params, 0.1)

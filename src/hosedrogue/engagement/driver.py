@@ -22,7 +22,7 @@ from ..model.engagement import chain as EC, outputs as EO, steps as ES
 from ..model.engagement.evaluation import has_loops
 from ..model.status import status_text
 from ..spec.params import Actuator, ParameterError, Params, Sensor
-from ..simulation.budget import check_duration, check_run
+from ..simulation.budget import check_duration, check_integrator, check_run
 from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
                     initial_equilibrium)
 from .events import contact_event, remesh_event, switch_event
@@ -315,7 +315,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     check_duration(duration_s)
     params.numerics.steps(duration_s)
     check_run(params, duration_s)  # its step and output grids reach duration_s; its output fits in memory
-    _check_integrator(params)
+    check_integrator(params, "engagement")
     if seed is not None:
         params = params.replace(turbulence={"seed": int(seed)})
     reel = Reel() if reel is None else reel
@@ -359,18 +359,6 @@ def step_record(params: Params, run) -> np.ndarray | None:
     array (steps + 1, 4) or None
     """
     return run.loads[: run.step + 1] if params.hose.elastic else None
-
-
-def _check_integrator(params: Params) -> None:
-    """The engagement runs fixed steps: RK4 (rigid or elastic links) or, for elastic links, the
-    stiff SDIRK (docs/model.md §11)."""
-    integrator = params.numerics.integrator
-    if params.hose.elastic and integrator == "adaptive":
-        raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "
-                             "(hose.axial_stiffness_n finite); use 'sdirk2' or 'rk4'")
-    if not params.hose.elastic and integrator == "sdirk2":
-        raise ParameterError("numerics.integrator = 'sdirk2': the stiff integrator of elastic hoses; "
-                             "with rigid links (hose.axial_stiffness_n = inf) use 'rk4'")
 
 
 #: the segment's codes that end a run early (the reasons: :func:`failure_reason`)

@@ -30,7 +30,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..simulation.budget import check_duration
+from ..simulation.budget import check_duration, check_integrator
 from ..spec.config import load_preset, preset_names, read_toml
 from ..spec.params import SECTIONS, PAPER, ParameterError, Params, params_from_dict
 from ..spec.sections import (CONTROLLER_TYPES, ENGAGEMENT_SECTIONS, LOOP_SECTIONS, Actuator, Controller,
@@ -98,16 +98,7 @@ class Scenario:
             self.loop.drogue_actuator.check_loop(self.loop.actuator == Actuator(), self.loop.controller)
             if num.integrator == "rk4" or self.engagement is not None:
                 self.loop.drogue_actuator.check_step(num.step_s)
-        if self.engagement is not None and num.integrator == "adaptive":
-            raise ParameterError(f"numerics.integrator = {num.integrator!r}: the engagement (hose of varying "
-                                 "length) is integrated with fixed steps; use 'rk4' (or 'sdirk2' for an elastic hose)")
-        elastic = self.params.hose.elastic
-        if num.integrator == "sdirk2" and not elastic:
-            raise ParameterError("numerics.integrator = 'sdirk2': the stiff integrator of elastic hoses; with rigid "
-                                 "links (hose.axial_stiffness_n = inf) use 'rk4'")
-        if num.integrator == "adaptive" and elastic:
-            raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "
-                                 "(hose.axial_stiffness_n finite); use 'sdirk2' or 'rk4'")
+        check_integrator(self.params, "fixed-length" if self.engagement is None else "engagement")
 
     # --- the control loop, by its parts --------------------------------------------------------------
     @property

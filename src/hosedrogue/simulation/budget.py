@@ -29,7 +29,7 @@ import os
 from ..errors import ParameterError
 from ..results.statistics import turbulence_window
 
-__all__ = ["GRID_TOLERANCE", "MEMORY_SHARE", "check_duration", "check_memory", "check_run", "machine_memory_bytes", "on_step_grid",
+__all__ = ["GRID_TOLERANCE", "INTEGRATORS", "MEMORY_SHARE", "check_duration", "check_integrator", "check_memory", "check_run", "machine_memory_bytes", "on_step_grid",
            "output_bytes", "whole_multiple"]
 
 #: Share of the machine's physical memory that one run's (or campaign's) kept output may take [-].
@@ -157,6 +157,43 @@ def check_duration(value, name: str = "duration_s", maximum: float = math.inf) -
         allowed = "> 0 s" if maximum == math.inf else f"in (0, {maximum:g}] s"
         raise ParameterError(f"{name} = {value!r}: must be a finite number {allowed}")
     return float(value)
+
+
+#: What each loop integrates with, by kind of link (False: rigid, True: elastic; docs/model.md
+#: §5, §11): the one table the loops and the scenarios check a run's ``numerics.integrator``
+#: against. The engagement (its driver, its stepper, the engagement FMU and the Gymnasium
+#: environments) takes fixed steps, its hose changing length; the fixed-length stepper
+#: (sampled-data control) runs rigid links only, by RK4 between samples.
+INTEGRATORS = {
+    "fixed-length": {False: ("rk4", "adaptive"), True: ("rk4", "sdirk2")},
+    "engagement": {False: ("rk4",), True: ("rk4", "sdirk2")},
+    "fixed-length stepper": {False: ("rk4",)},
+}
+
+
+def check_integrator(params, loop: str) -> None:
+    """Refuse an integrator the loop does not run for the hose's kind of link (:data:`INTEGRATORS`).
+
+    Parameters
+    ----------
+    params : hosedrogue.spec.params.Params
+        The run's parameters (``numerics.integrator``, ``hose.axial_stiffness_n``).
+    loop : str
+        A key of :data:`INTEGRATORS`.
+
+    Raises
+    ------
+    ParameterError
+        One line naming the integrator, the loop and kind of link, and the integrators it runs.
+    """
+    integrator, elastic = params.numerics.integrator, params.hose.elastic
+    kind = "an elastic hose (hose.axial_stiffness_n finite)" if elastic else "rigid links (hose.axial_stiffness_n = inf)"
+    if elastic not in INTEGRATORS[loop]:
+        raise ParameterError(f"hose.axial_stiffness_n = {params.hose.axial_stiffness_n!r}: the {loop} runs no {kind}")
+    allowed = INTEGRATORS[loop][elastic]
+    if integrator not in allowed:
+        raise ParameterError(f"numerics.integrator = {integrator!r}: the {loop} run of {kind} integrates with "
+                             + " or ".join(repr(a) for a in allowed))
 
 
 def check_run(params, duration_s: float, name: str = "duration_s", command: bool = False) -> tuple[float, int]:

@@ -29,7 +29,7 @@ from ..spec.params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..spec.sections import Controller
 from ..results.statistics import turbulence_window
 from ..results.run import SimulationResult, stop_message
-from .budget import check_duration, check_run
+from .budget import check_duration, check_integrator, check_run
 
 ControlFunction = Callable[[float, np.ndarray], "np.ndarray | tuple[float, float]"]
 
@@ -103,7 +103,7 @@ def simulate(
     if equilibrium is None:
         equilibrium = solve_equilibrium(params, model=model)
     nh = model.state_size  # 4n, or 6n for elastic links
-    _check_integrator(model)
+    check_integrator(model.params, "fixed-length")
     x0 = equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
     if x0.shape != (nh,) or not np.all(np.isfinite(x0)):
         raise ParameterError(f"x0: must be a finite array of shape ({nh},), got shape {x0.shape}")
@@ -288,18 +288,6 @@ def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
     status, saved, t_stop = rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw,
                                     ts, zs, us, *outs)
     return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)
-
-
-def _check_integrator(model: HoseModel) -> None:
-    """The integrators of each chain: the elastic one runs RK4 or the stiff SDIRK, the rigid one
-    RK4 or the adaptive DOP853 (docs/model.md §5, §11)."""
-    integrator = model.params.numerics.integrator
-    if model.elastic and integrator == "adaptive":
-        raise ParameterError("numerics.integrator = 'adaptive': not available for an elastic hose "
-                             "(hose.axial_stiffness_n finite); use 'sdirk2' or 'rk4'")
-    if not model.elastic and integrator == "sdirk2":
-        raise ParameterError("numerics.integrator = 'sdirk2': the stiff integrator of elastic hoses; "
-                             "with rigid links (hose.axial_stiffness_n = inf) use 'rk4' or 'adaptive'")
 
 
 def _run_elastic(model: HoseModel, z0, duration_s, loop: LoopArrays):

@@ -25,7 +25,7 @@ from ..analysis.equilibrium import Equilibrium, solve_equilibrium
 from ..controllers.linear import LinearController
 from ..controllers.sampled import COMMANDS, Measurement, command_problem, discretize, discretize_anti_windup
 from ..errors import ParameterError
-from .budget import check_duration, check_run, whole_multiple
+from .budget import check_duration, check_integrator, check_run, whole_multiple
 from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import loop_arrays, loop_states, save_state, sensor_noise
 from ..model.sampled import (C_SAVED, C_SIZE, C_SPC, C_STEP, C_TOTAL, M_SIZE, RAW_SIZE, deliver, fl_advance, fl_linear_sampled_run, fl_raw,
@@ -339,9 +339,6 @@ class FixedLengthStepper(StepperBase):
                  actuator: Actuator = Actuator(), sensor: Sensor = Sensor(), seed: int | None = None,
                  record: bool = True, model: HoseModel | None = None, drogue_actuator=None):
         check_duration(duration_s)
-        if params.numerics.integrator != "rk4":
-            raise ParameterError(f"numerics.integrator = {params.numerics.integrator!r}: a sampled-data run "
-                                 "integrates with fixed-step RK4; use 'rk4'")
         if seed is not None:
             params = params.replace(turbulence={"seed": int(seed)})
         self.params = params
@@ -351,6 +348,7 @@ class FixedLengthStepper(StepperBase):
         if model is None or not model.gusts_cover(duration_s):
             model = HoseModel(params, duration_s=duration_s)
         self.model = model.rigid_only("the fixed-length stepper")
+        check_integrator(params, "fixed-length stepper")
         self.equilibrium = equilibrium if equilibrium is not None else solve_equilibrium(params, model=model)
         n = model.n
         x0 = self.equilibrium.state if x0 is None else np.asarray(x0, dtype=np.float64)
