@@ -160,6 +160,16 @@ def constant_gusts(gust_m_s) -> "object":
     return GustRecord(t0_s=0.0, dt_s=1.0, values=np.vstack([g, g]), t_on_s=-math.inf, t_off_s=math.inf)
 
 
+def _failure(t_s: float, code: str, detail: str) -> StepFailure:
+    """The run's end at ``t_s`` [s] for the kernels' status ``code`` (its name in
+    :mod:`hosedrogue.model.layout`): the status table's line (:mod:`hosedrogue.model.status`, the
+    same as every loop's), then ``detail``."""
+    from ..model import layout as LY
+    from ..model.status import status_text
+
+    return StepFailure(t_s, f"{status_text(getattr(LY, code))}: {detail}")
+
+
 class HoseDrogueCore:
     """The fixed-length FMU's simulation, independent of pythonfmu (tested directly and through fmpy).
 
@@ -238,14 +248,14 @@ class HoseDrogueCore:
         for k in range(count):
             x = self._rk4(f, t_s + k * h, x, h)
             if not np.all(np.isfinite(x)):
-                raise StepFailure(t_s + (k + 1) * h, "the state became non-finite (numerical divergence; "
-                                                     "check the inputs for NaN or values far beyond the model's range)")
+                raise _failure(t_s + (k + 1) * h, "NONFINITE", "check the inputs for NaN or values far beyond the "
+                                                               "model's range")
             yaw = np.abs(x[1: 2 * n: 2])
             if np.max(yaw) > self._max_yaw:
                 link = int(np.argmax(yaw)) + 1
-                raise StepFailure(t_s + (k + 1) * h, f"the yaw of link {link}, {math.degrees(yaw[link - 1]):.1f} deg, "
-                                                     f"passed numerics.max_yaw_deg = {self.params.numerics.max_yaw_deg:g} "
-                                                     "deg, where the angle coordinates become singular")
+                raise _failure(t_s + (k + 1) * h, "YAW_LIMIT", f"link {link} at {math.degrees(yaw[link - 1]):.1f} deg, "
+                                                               f"numerics.max_yaw_deg = "
+                                                               f"{self.params.numerics.max_yaw_deg:g} deg")
         self.x = x
         self.t_s = t_s + h_s
 
