@@ -1,5 +1,7 @@
-"""The fixed-length FMU's own RK4 loop (hosedrogue.interop.fmu_core.HoseDrogueCore) ends a step it
-cannot take with the status table's line, the one every loop gives, and keeps the state it had."""
+"""The fixed-length FMU's own RK4 loop (hosedrogue.interop.fmu_core.HoseDrogueCore), called
+directly: a step it cannot take ends with the status table's line, the one every loop gives, and
+the core keeps the state it had (tests/interop/test_fmu_description.py checks the same failures
+as fmpy logs them)."""
 
 import math
 

@@ -13,6 +13,8 @@ import numpy as np
 import pytest
 
 from hosedrogue.cli import main
+from hosedrogue.model import layout as LY
+from hosedrogue.model.status import STATUS_TEXT
 from hosedrogue.spec.params import PAPER
 from hosedrogue.units import NO_UNIT, UNITS, unit_of
 
@@ -226,8 +228,8 @@ def test_an_fmu_with_other_variables_is_refused(hose_fmu, tmp_path):
 # --- a failed step ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("force_n, reason", [
-    (1e6, "yaw of link"),  # 650x the tow tension: swings the hose past the yaw limit within 0.1 s
-    (math.nan, "non-finite"),  # a NaN force makes the state NaN in the first step
+    (1e6, STATUS_TEXT[LY.YAW_LIMIT] + ": link "),  # 650x the tow tension: past the yaw limit within 0.1 s
+    (math.nan, STATUS_TEXT[LY.NONFINITE] + ": "),  # a NaN force makes the state NaN in the first step
 ])
 def test_a_failed_step_logs_time_and_reason(hose_fmu, force_n, reason):
     messages = []
