@@ -20,12 +20,11 @@ from ..environment.bow_wave import BowWaveField
 from ..model import layout as LY
 from ..model.engagement import chain as EC, outputs as EO, steps as ES
 from ..model.engagement.evaluation import has_loops
-from ..model.status import status_text
 from ..spec.params import Actuator, ParameterError, Params, Sensor
 from ..simulation.budget import check_duration, check_integrator, check_run
 from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
                     initial_equilibrium)
-from .events import contact_event, remesh_event, switch_event
+from .events import FAILURES, failure_reason, segment_event
 from ..results.run import stop_message
 from .result import EngagementResult, assemble_result
 from .result import segment_outputs as _outputs
@@ -361,34 +360,6 @@ def step_record(params: Params, run) -> np.ndarray | None:
     return run.loads[: run.step + 1] if params.hose.elastic else None
 
 
-#: the segment's codes that end a run early (the reasons: :func:`failure_reason`)
-FAILURES = (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT, LY.REEL_END)
-
-
-def failure_reason(run, code: int) -> str:
-    """Why an engagement run stopped with a failing segment code.
-
-    Parameters
-    ----------
-    run : _Run
-        The run (its state, chain and engagement parameters).
-    code : int
-        One of :data:`FAILURES`.
-
-    Returns
-    -------
-    str
-        The status table's line (:data:`hosedrogue.model.status.STATUS_TEXT`), and for the reel at
-        an end stop the free length and the reel's range.
-    """
-    reason = status_text(code)
-    if code == LY.REEL_END:
-        L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
-        reason += f": L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m"
-    return reason
-
-
-
 def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: float, gravity_m_s2, duration_s):
     """The initial chain, its model (with the gust record of the run), the drogue's reference
     position [m] and the full state z."""
@@ -447,11 +418,7 @@ def _integrate(run: _Run, params: Params, probe, model, duration_s: float) -> tu
         kept = float(run.segments[-1][2][-1]) if run.segments else 0.0  # the last state kept
         if code in FAILURES:
             return code, stop_message(kept, failure_reason(run, code), run.t)
-        if code == LY.CHART:
-            switch_event(run, model)
-        elif code in (LY.SPLIT, LY.MERGE):
-            remesh_event(run, code, params, model)
-        elif code == LY.PLANE and contact_event(run, zprev, h, probe, model):
+        if segment_event(run, code, params, model, zprev, h, probe):
             break
     return LY.OK, "completed"
 

@@ -1,8 +1,10 @@
-"""The events that end a compiled segment of the engagement (:mod:`.driver`): a chart switch, a
-remesh (split or merge of the exit link) and the probe tip reaching the coupler plane (the
-capture test, docs/engagement.md "Capture"). Each handler takes the run's state between segments
-(the driver's ``_Run``: state, chain, parameters, time, events, outcome), changes it and records
-the event with its jumps.
+"""The events that end a compiled segment of the engagement: a chart switch, a remesh (split or
+merge of the exit link) and the probe tip reaching the coupler plane (the capture test,
+docs/engagement.md "Capture"), and the failures that end the run. Each handler takes the run's
+state between segments (the driver's ``_Run``: state, chain, parameters, time, events, outcome),
+changes it and records the event with its jumps; :func:`segment_event` picks the handler of a
+segment's code and :func:`failure_reason` words a failure, for both loops that run segments (the
+driver's and the stepper's).
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import numpy as np
 
 from ..model import layout as LY
 from ..model.engagement import chain as EC
+from ..model.status import status_text
 from ..spec.sections import Probe
 from .chain import SWITCH_YAW_DEG, merge, split, switch_charts
 from .result import segment_energies as _energies
@@ -164,3 +167,66 @@ def contact_event(run, zprev: np.ndarray, h: float, probe: Probe, model) -> bool
     run.events.append({"kind": "contact", "t_s": t_cap, "miss_distance_m": miss, "closure_speed_m_s": vc,
                        "result": outcome["result"]})
     return not captured
+
+
+#: the segment's codes that end a run early, incomplete (their reasons: :func:`failure_reason`)
+FAILURES = (LY.NONFINITE, LY.YAW_LIMIT, LY.STAGE_LIMIT, LY.REEL_END)
+
+
+def failure_reason(run, code: int) -> str:
+    """Why an engagement run stopped with a failing segment code.
+
+    Parameters
+    ----------
+    run : hosedrogue.engagement.driver._Run
+        The run (its state, chain and engagement parameters).
+    code : int
+        One of :data:`FAILURES`.
+
+    Returns
+    -------
+    str
+        The status table's line (:data:`hosedrogue.model.status.STATUS_TEXT`), and for the reel at
+        an end stop the free length and the reel's range.
+    """
+    reason = status_text(code)
+    if code == LY.REEL_END:
+        L = run.z[EC.tail_start(run.chain.n, run.ep) + LY.Z_L]
+        reason += f": L = {L:.3f} m, range [{run.ep[LY.EP_L_MIN]:g}, {run.ep[LY.EP_L_MAX]:g}] m"
+    return reason
+
+
+def segment_event(run, code: int, params, model, zprev: np.ndarray, h: float, probe: Probe) -> bool:
+    """Handle the event that ended a compiled segment (not a failure: :data:`FAILURES`).
+
+    Parameters
+    ----------
+    run : hosedrogue.engagement.driver._Run
+        The run between segments.
+    code : int
+        The segment's code: ``CHART`` (:func:`switch_event`), ``SPLIT`` or ``MERGE``
+        (:func:`remesh_event`), ``PLANE`` (:func:`contact_event`); any other (``OK``: the segment
+        reached its end) changes nothing.
+    params : hosedrogue.spec.params.Params
+        The run's parameters.
+    model : hosedrogue.model.system.HoseModel
+        The run's model.
+    zprev : numpy.ndarray
+        The state one step before the segment's last.
+    h : float
+        The step [s].
+    probe : hosedrogue.spec.sections.Probe
+        The probe (its capture rule).
+
+    Returns
+    -------
+    bool
+        True when the event ends the run, complete: a miss or a failed latch at the coupler plane.
+    """
+    if code == LY.CHART:
+        switch_event(run, model)
+    elif code in (LY.SPLIT, LY.MERGE):
+        remesh_event(run, code, params, model)
+    elif code == LY.PLANE:
+        return contact_event(run, zprev, h, probe, model)
+    return False

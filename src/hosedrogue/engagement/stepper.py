@@ -34,8 +34,8 @@ from ..spec.params import Actuator, Params, Sensor
 from ..spec.sections import BowWave, Pilot, Probe, Receiver, Reel
 from ..simulation.stepper import StepperBase, sensor_noise3
 from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, chain_model
-from .driver import FAILURES, failure_reason, prepare, step_record
-from .events import contact_event, remesh_event, switch_event
+from .driver import prepare, step_record
+from .events import FAILURES, failure_reason, segment_event
 from ..results.run import stop_message
 from .result import EngagementResult, assemble_result, coupler_geometry, segment_outputs
 
@@ -322,11 +322,7 @@ class EngagementStepper(StepperBase):
             return True
         self._close_record()
         self.ctr[C_ORIGIN] = self.ctr[C_STEP]  # the next compiled segment counts its times from here, as the driver's
-        if code == LY.CHART:
-            switch_event(run, self.model)
-        elif code in (LY.SPLIT, LY.MERGE):
-            remesh_event(run, code, self.params, self.model)
-        elif code == LY.PLANE and contact_event(run, self._zprev, self.h, self.probe, self.model):
+        if segment_event(run, code, self.params, self.model, self._zprev, self.h, self.probe):
             self._finish(True, "completed", state_valid=False)  # a miss or a failed latch ends the run
             return True
         self._on_chain()
