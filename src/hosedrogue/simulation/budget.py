@@ -1,6 +1,11 @@
-"""What a run can do, checked before it starts: reach its duration on its step grid, save at least
+"""What a run can do, checked before it starts: a duration that is a finite number of seconds, an
+integrator its loop runs for its kind of link, reach its duration on its step grid, save at least
 one sample after its start, and keep its output within a share of the machine's memory.
 
+* **Duration and integrator** (every loop: ``simulate``, the steppers, the engagement, the FMUs'
+  runs, scenarios). One rule, :func:`check_duration`, and one table, :data:`INTEGRATORS`, with
+  its check :func:`check_integrator`: each refusal is one line naming the field, the value and
+  what is allowed.
 * **Step grid** (every run, from the commands and from Python alike). A run takes
   ``duration_s / step_s`` steps: that must be a whole number (to :data:`GRID_TOLERANCE`), or the
   run would end a fraction of a step early or late (``duration_s = 0.1`` at ``step_s = 0.03``
