@@ -1,7 +1,7 @@
 """Why a compiled run stopped: the one table of the reasons of the kernels' status codes
 (:mod:`hosedrogue.model.layout`), which every loop reads (``simulate``, the fixed-length and the
-engagement steppers, the engagement's driver) to write a run's message
-(:func:`hosedrogue.results.run.stop_message`)."""
+engagement steppers, the engagement's driver, the fixed-length FMU's own RK4 loop) to write a
+run's message (:func:`hosedrogue.results.run.stop_message`)."""
 
 from __future__ import annotations
 
