@@ -414,3 +414,26 @@ def test_without_dask_the_default_runs_here_and_workers_are_refused(reference, t
     with pytest.warns(RuntimeWarning, match="in this process"):
         run_campaign(tiny, 8, tmp_path / "here", progress=False)
     assert_same_rows(tmp_path / "here", reference[0])
+
+
+def test_a_campaign_without_its_figures_keeps_its_data_and_draws_them_later(reference, tiny, tmp_path):
+    """plots=False (what the docking grid's cells use) writes the same data and no figure;
+    summarizing the folder again draws the figures and writes the same summary.json (its
+    verification block kept)."""
+    from hosedrogue.studies.statistics import summarize_campaign
+
+    ref, _ = reference
+    out = tmp_path / "bare"
+    run_campaign(tiny, 8, out, scheduler="synchronous", progress=False, plots=False)
+    figures = ("histograms.png", "cdf.png")
+    assert not any((out / name).exists() for name in figures)
+    for name in ("runs.csv", "summary.json", "summary.csv"):
+        assert (out / name).read_bytes() == (ref / name).read_bytes(), name
+    summary = summarize_campaign(out)
+    assert all((out / name).stat().st_size > 0 for name in figures)
+    assert {p.name for p in summary.files} >= set(figures)
+    assert (out / "summary.json").read_bytes() == (ref / "summary.json").read_bytes()
+    assert "verification" in json.loads((out / "summary.json").read_text())
+    with pytest.raises(ParameterError, match=r"^plots = 'no': must be True or False$"):
+        run_campaign(tiny, 8, tmp_path / "bad", scheduler="synchronous", progress=False, plots="no")
+    assert not (tmp_path / "bad").exists()

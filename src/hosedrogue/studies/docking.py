@@ -106,12 +106,14 @@ def _check_workers(workers, client) -> None:
 
 
 def _run_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, client, progress: bool) -> CampaignCell:
-    """One cell's campaign into ``folder`` (on ``client``, or in this process when None)."""
+    """One cell's campaign into ``folder`` (on ``client``, or in this process when None): its data
+    (campaign.json, runs.csv, summary.json and .csv), not the campaign's own figures (the grid's
+    study draws its figures from all the cells)."""
     from . import executor
     from .campaign import run_campaign
 
     summary = run_campaign(scenario, runs, folder, seed=seed, progress=progress, client=client,
-                           scheduler=None if client is not None else executor.SYNCHRONOUS)
+                           scheduler=None if client is not None else executor.SYNCHRONOUS, plots=False)
     cell = CampaignCell(spec.level, spec.controller, spec.bow_wave, float(scenario.params.turbulence.sigma_m_s[2]),
                         summary.capture, summary.runs, folder, spec.pilot,
                         float(scenario.engagement.probe.closure_speed_m_s), float(scenario.duration_s), scenario)
@@ -136,7 +138,7 @@ def _shared_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, c
                  share: Path) -> CampaignCell:
     """:func:`_run_cell`, once per build: under a lock on the campaign's key in ``share``, a campaign
     another grid of the build ran (its folder named in ``share/<key>``) is copied into ``folder``
-    and resumed there (nothing left to run: its runs.csv, summary and figures are that campaign's);
+    and resumed there (nothing left to run: its runs.csv and summary are that campaign's);
     else it runs and is registered. The lock waits for a campaign another process is running."""
     import shutil
 

@@ -10,6 +10,7 @@ index first, so the statistics do not depend on the order in which runs finished
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -195,7 +196,10 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     plots : bool
         Also write the figures.
     verification : dict, optional
-        summary.json's ``"verification"`` block (:mod:`hosedrogue.studies.campaign_verify`).
+        summary.json's ``"verification"`` block (:mod:`hosedrogue.studies.campaign_verify`);
+        default: the block of the folder's summary.json, if it has one (summarizing a finished
+        campaign again, e.g. to draw the figures of a campaign run with ``plots=False``, keeps
+        what its run found).
 
     Returns
     -------
@@ -207,6 +211,8 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
     settings = settings if settings is not None else read_settings(out)
     if settings is None:
         raise ParameterError(f"out = {str(out)!r}: no campaign.json; not a campaign folder")
+    if verification is None:
+        verification = _previous_verification(out)
     radii = settings["capture_radii_m"]
     controllers = settings["controllers"]
     units = statistic_units(radii)
@@ -252,6 +258,14 @@ def summarize_campaign(out_dir: str | Path, settings: dict | None = None, new_ru
         if engagement:
             files.append(save_figure(_miss_figure(table, settings, capture), out / "miss_cdf.png"))
     return dataclasses.replace(summary, files=tuple(files))
+
+
+def _previous_verification(out: Path) -> dict | None:
+    """The ``"verification"`` block of ``out/summary.json`` (None: no summary, or none in it)."""
+    try:
+        return json.loads((out / "summary.json").read_text()).get("verification")
+    except (OSError, ValueError, AttributeError):
+        return None
 
 
 def _miss_figure(table, settings: dict, capture: dict):
