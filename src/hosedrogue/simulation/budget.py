@@ -34,8 +34,8 @@ import os
 from ..errors import ParameterError
 from ..results.statistics import turbulence_window
 
-__all__ = ["GRID_TOLERANCE", "INTEGRATORS", "MEMORY_SHARE", "check_duration", "check_integrator", "check_memory", "check_run", "machine_memory_bytes", "on_step_grid",
-           "output_bytes", "whole_multiple"]
+__all__ = ["GRID_TOLERANCE", "INTEGRATORS", "MEMORY_SHARE", "check_duration", "check_integrator", "check_memory",
+           "check_run", "machine_memory_bytes", "on_step_grid", "output_bytes", "whole_multiple"]
 
 #: Share of the machine's physical memory that one run's (or campaign's) kept output may take [-].
 MEMORY_SHARE = 0.5
@@ -193,8 +193,9 @@ def check_integrator(params, loop: str) -> None:
     """
     integrator, elastic = params.numerics.integrator, params.hose.elastic
     kind = "an elastic hose (hose.axial_stiffness_n finite)" if elastic else "rigid links (hose.axial_stiffness_n = inf)"
-    if elastic not in INTEGRATORS[loop]:
-        raise ParameterError(f"hose.axial_stiffness_n = {params.hose.axial_stiffness_n!r}: the {loop} runs no {kind}")
+    if elastic not in INTEGRATORS[loop]:  # the fixed-length stepper: rigid links only
+        raise ParameterError(f"hose.axial_stiffness_n = {params.hose.axial_stiffness_n!r}: the {loop} runs rigid "
+                             "links only (hose.axial_stiffness_n = inf)")
     allowed = INTEGRATORS[loop][elastic]
     if integrator not in allowed:
         raise ParameterError(f"numerics.integrator = {integrator!r}: the {loop} run of {kind} integrates with "
