@@ -160,14 +160,12 @@ def constant_gusts(gust_m_s) -> "object":
     return GustRecord(t0_s=0.0, dt_s=1.0, values=np.vstack([g, g]), t_on_s=-math.inf, t_off_s=math.inf)
 
 
-def _failure(t_s: float, code: str, detail: str) -> StepFailure:
-    """The run's end at ``t_s`` [s] for the kernels' status ``code`` (its name in
-    :mod:`hosedrogue.model.layout`): the status table's line (:mod:`hosedrogue.model.status`, the
-    same as every loop's), then ``detail``."""
-    from ..model import layout as LY
+def _failure(t_s: float, code: int, detail: str) -> StepFailure:
+    """The run's end at ``t_s`` [s] for the kernels' status ``code``: the status table's line
+    (:mod:`hosedrogue.model.status`, the same as every loop's), then ``detail``."""
     from ..model.status import status_text
 
-    return StepFailure(t_s, f"{status_text(getattr(LY, code))}: {detail}")
+    return StepFailure(t_s, f"{status_text(code)}: {detail}")
 
 
 class HoseDrogueCore:
@@ -235,6 +233,8 @@ class HoseDrogueCore:
             If the state becomes non-finite or a link yaw passes ``numerics.max_yaw_deg``; the
             state stays that of ``t_s``.
         """
+        from ..model import layout as LY  # loaded with the model (__init__): the module's import stays light
+
         self.set_force(u_n)
         u = self.u_n
         count = max(1, int(math.ceil(h_s / self.params.numerics.step_s - 1e-9)))
@@ -248,14 +248,14 @@ class HoseDrogueCore:
         for k in range(count):
             x = self._rk4(f, t_s + k * h, x, h)
             if not np.all(np.isfinite(x)):
-                raise _failure(t_s + (k + 1) * h, "NONFINITE", "check the inputs for NaN or values far beyond the "
-                                                               "model's range")
+                raise _failure(t_s + (k + 1) * h, LY.NONFINITE, "check the inputs for NaN or values far beyond the "
+                                                                "model's range")
             yaw = np.abs(x[1: 2 * n: 2])
             if np.max(yaw) > self._max_yaw:
                 link = int(np.argmax(yaw)) + 1
-                raise _failure(t_s + (k + 1) * h, "YAW_LIMIT", f"link {link} at {math.degrees(yaw[link - 1]):.1f} deg, "
-                                                               f"numerics.max_yaw_deg = "
-                                                               f"{self.params.numerics.max_yaw_deg:g} deg")
+                raise _failure(t_s + (k + 1) * h, LY.YAW_LIMIT, f"link {link} at {math.degrees(yaw[link - 1]):.1f} "
+                                                                f"deg, numerics.max_yaw_deg = "
+                                                                f"{self.params.numerics.max_yaw_deg:g} deg")
         self.x = x
         self.t_s = t_s + h_s
 
