@@ -1,10 +1,6 @@
 """The one table of why a compiled run stopped (hosedrogue.model.status): every failing code the
 kernels return has its line, and the fixed-length loops (simulate and the stepper) say the same."""
 
-import math
-
-import numpy as np
-
 from hosedrogue.model import layout as LY
 from hosedrogue.model.status import STATUS_TEXT, status_text
 from hosedrogue.spec.params import PAPER
@@ -43,4 +39,4 @@ def test_simulate_and_the_stepper_stop_at_the_yaw_limit_with_the_same_message():
     assert not res.completed and not other.completed
     assert "yaw passed the limit" in res.message and "converged" in res.message
     assert res.message == other.message
-    assert math.isclose(res.t_s[-1], other.t_s[-1]) and np.isfinite(res.t_s[-1])
+    assert res.t_s[-1] == other.t_s[-1]  # the same last state kept: both save on the same output grid
