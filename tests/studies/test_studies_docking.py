@@ -249,6 +249,21 @@ def test_a_second_run_into_the_same_folder_resumes_and_other_settings_are_refuse
         run_grid(grid[:1], RUNS + 1, out)
 
 
+def test_the_reports_grid_leaves_out_the_cells_figures_and_keeps_their_data(tiny, tmp_path):
+    """plots=False (the report's sections): the same capture and runs, no campaign figure; the
+    default (the study command) draws them."""
+    out, grid, _, _, cells = tiny
+    bare = run_grid(grid[:1], RUNS, tmp_path / "bare", plots=False)
+    assert bare[0].capture == cells[0].capture
+    assert (bare[0].runs.drop(columns="message") == cells[0].runs.drop(columns="message")).all().all()
+    figures = ("histograms.png", "cdf.png", "miss_cdf.png")
+    assert not any((tmp_path / "bare" / grid[0].name / f).exists() for f in figures)
+    assert all((out / grid[0].name / f).stat().st_size > 0 for f in figures)
+    with pytest.raises(ParameterError, match=r"^plots = 1: must be True or False$"):
+        run_grid(grid[:1], RUNS, tmp_path / "bad", plots=1)
+    assert not (tmp_path / "bad").exists()
+
+
 def test_comparisons_and_significance(tiny):
     _, grid, _, _, cells = tiny
     table = capture_table(cells[:len(grid)])

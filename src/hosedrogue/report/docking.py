@@ -282,7 +282,7 @@ def _campaigns(out, settings):
     folder = out.dir / CAMPAIGNS
     shutil.rmtree(folder, ignore_errors=True)  # the report's campaigns are its own: never resumed
     t0 = time.perf_counter()
-    every = run_grid(grid + speeds + forces, settings.docking_runs, folder, status=out.status, share=campaign_share(),
+    every = run_grid(grid + speeds + forces, settings.docking_runs, folder, status=out.status, share=campaign_share(), plots=False,
                      **campaign_execution(settings.docking_workers))
     n, m = len(grid), len(grid) + len(speeds)
     return (grid, every[:n]), (speeds, every[n:m]), (forces, every[m:]), time.perf_counter() - t0

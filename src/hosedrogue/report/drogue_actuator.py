@@ -213,7 +213,7 @@ def _study(out, settings) -> dict:
                            settings.actuator_capture_levels)
     folder = out.dir / CAMPAIGNS
     shutil.rmtree(folder, ignore_errors=True)  # the report's campaigns are its own: never resumed
-    cells = run_grid(specs, settings.actuator_runs, folder, status=out.status, share=campaign_share(),
+    cells = run_grid(specs, settings.actuator_runs, folder, status=out.status, share=campaign_share(), plots=False,
                      **campaign_execution(settings.docking_workers))
     return {"margins": margins, "convergence": convergence, "paper": paper, "claim_runs": claim_runs,
             "claims": claims, "one_cm": study.within_one_cm(claims), "capture": actuator_table(specs, cells),

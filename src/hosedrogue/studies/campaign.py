@@ -305,7 +305,7 @@ def run_campaign(
         Relative tolerance of the verification [-] (default 0.03).
     plots : bool
         Also draw the campaign's own figures (``histograms.png``, ``cdf.png``, ``miss_cdf.png``);
-        a study that draws its own from many campaigns (the docking grid's cells) leaves them out:
+        a study that draws its own from many campaigns (the report's docking grids) leaves them out:
         three figures of many axes, about 0.5 s of CPU per campaign. Resuming the campaign with
         nothing left to run draws them.
 

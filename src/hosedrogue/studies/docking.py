@@ -105,15 +105,15 @@ def _check_workers(workers, client) -> None:
         raise ParameterError(f"workers = {workers}: needs dask.distributed (pip install 'hosedrogue[dask]')")
 
 
-def _run_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, client, progress: bool) -> CampaignCell:
-    """One cell's campaign into ``folder`` (on ``client``, or in this process when None): its data
-    (campaign.json, runs.csv, summary.json and .csv), not the campaign's own figures (the grid's
-    study draws its figures from all the cells)."""
+def _run_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, client, progress: bool,
+              plots: bool = True) -> CampaignCell:
+    """One cell's campaign into ``folder`` (on ``client``, or in this process when None), with the
+    campaign's own figures or without them (``plots``, :func:`run_grid`)."""
     from . import executor
     from .campaign import run_campaign
 
     summary = run_campaign(scenario, runs, folder, seed=seed, progress=progress, client=client,
-                           scheduler=None if client is not None else executor.SYNCHRONOUS, plots=False)
+                           scheduler=None if client is not None else executor.SYNCHRONOUS, plots=plots)
     cell = CampaignCell(spec.level, spec.controller, spec.bow_wave, float(scenario.params.turbulence.sigma_m_s[2]),
                         summary.capture, summary.runs, folder, spec.pilot,
                         float(scenario.engagement.probe.closure_speed_m_s), float(scenario.duration_s), scenario)
@@ -135,7 +135,7 @@ def _share_key(scenario, runs: int, seed: int) -> str:
 
 
 def _shared_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, client, progress: bool,
-                 share: Path) -> CampaignCell:
+                 share: Path, plots: bool = True) -> CampaignCell:
     """:func:`_run_cell`, once per build: under a lock on the campaign's key in ``share``, a campaign
     another grid of the build ran (its folder named in ``share/<key>``) is copied into ``folder``
     and resumed there (nothing left to run: its runs.csv and summary are that campaign's);
@@ -145,20 +145,20 @@ def _shared_cell(spec: CellSpec, scenario, runs: int, folder: Path, seed: int, c
     try:
         import fcntl
     except ImportError:  # pragma: no cover - not POSIX: each grid runs its own
-        return _run_cell(spec, scenario, runs, folder, seed, client, progress)
+        return _run_cell(spec, scenario, runs, folder, seed, client, progress, plots)
     key = share / _share_key(scenario, runs, seed)
     with open(key.with_suffix(".lock"), "a") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes, also on an error
         done = Path(key.read_text(encoding="utf-8")) if key.exists() else None
         if done is not None and done != folder and not folder.exists():
             shutil.copytree(done, folder, ignore=shutil.ignore_patterns(".lock"))
-        cell = _run_cell(spec, scenario, runs, folder, seed, client, progress)
+        cell = _run_cell(spec, scenario, runs, folder, seed, client, progress, plots)
         key.write_text(str(folder), encoding="utf-8")
     return cell
 
 
 def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None, seed: int = CAMPAIGN_SEED,
-             status=None, progress: bool = False, base=None, share=None) -> list[CampaignCell]:
+             status=None, progress: bool = False, base=None, share=None, plots: bool = True) -> list[CampaignCell]:
     """Run the campaign of every cell into ``out_dir/<cell>/``, on one dask cluster or in this process.
 
     A cell whose scenario (:func:`.docking_grid.cell_scenario`) is that of an earlier cell is not
@@ -195,6 +195,10 @@ def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None,
         build's docking and actuated-drogue sections share the ideal-force cells this way, from
         two processes: a grid waits while another runs the campaign it needs). Only for grids run
         afresh within one job: a registered folder must not change afterwards.
+    plots : bool
+        Draw each cell's campaign figures (``histograms.png``, ``cdf.png``, ``miss_cdf.png``); the
+        report's sections, which draw their figures from all the cells, leave them out (about 0.5 s
+        of CPU per cell; ``hosedrogue.studies.statistics.summarize_campaign(folder)`` draws them).
 
     Returns
     -------
@@ -212,6 +216,8 @@ def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None,
     _check_int("runs", runs, 1)
     _check_int("seed", seed, 0)
     _check_workers(workers, client)
+    if not isinstance(plots, bool):
+        raise ParameterError(f"plots = {plots!r}: must be True or False")
     specs = list(specs)
     scenarios = [cell_scenario(spec, base) for spec in specs]  # bad cells fail here, before anything runs
     out = Path(out_dir)
@@ -224,9 +230,10 @@ def run_grid(specs, runs: int, out_dir, workers: int | None = None, client=None,
                 if status:
                     status(f"docking campaign {spec.name}")
                 if share is None:
-                    same = _run_cell(spec, scenario, runs, out / spec.name, seed, dask_client, progress)
+                    same = _run_cell(spec, scenario, runs, out / spec.name, seed, dask_client, progress, plots)
                 else:
-                    same = _shared_cell(spec, scenario, runs, out / spec.name, seed, dask_client, progress, Path(share))
+                    same = _shared_cell(spec, scenario, runs, out / spec.name, seed, dask_client, progress, Path(share),
+                                        plots)
                 done.append(same)
             cells.append(same)
     return cells
