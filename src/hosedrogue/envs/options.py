@@ -8,8 +8,9 @@ preset, and the episode's time limit (the run's duration; a turbulence window th
 scenario's end is stretched to the new end). The episode's length is put on the run's step grid
 (:func:`on_grid`: the nearest whole number of steps, recorded as the scenario's ``duration_s``).
 
-Helpers the other environments' modules share: :func:`positive_option` (a number option's check),
-:func:`set_turbulence` (the turbulence option and window), :func:`on_grid`.
+Helpers the other environments' modules share: :func:`set_turbulence` (the turbulence option and
+window), :func:`on_grid`; a number option is checked by
+:func:`~hosedrogue.simulation.budget.positive_number`.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
-from ..simulation.budget import on_step_grid
+from ..simulation.budget import on_step_grid, positive_number
 from ..spec.config import preset_names
 from ..spec.rewards import DockingReward, DockingRewardV1
 from ..scenarios import Scenario, scenario_from_dict
@@ -100,7 +101,7 @@ def docking_scenario(scenario: str | Path | Scenario = "approach-moderate", *, t
         One line naming the option, the value and what is allowed; also a scenario the agent
         cannot fly (no probe, a pilot, the user's controllers).
     """
-    limit = positive_option("time_limit_s", time_limit_s, MAX_TIME_LIMIT_S)
+    limit = positive_number("time_limit_s", time_limit_s, MAX_TIME_LIMIT_S)
     if isinstance(scenario, Scenario) and model is not None:
         raise ParameterError(f"model = {model!r}: a Scenario object carries its model's parameters resolved; "
                              "give the scenario by name or file to change its preset")
@@ -182,7 +183,7 @@ def set_turbulence(tables: dict, turbulence, base: Scenario, limit: float) -> No
                 table.pop("sigma_m_s", None)
                 table["intensity"] = level
         else:
-            sigma = positive_option("turbulence", turbulence, 50.0, unit="m/s", text=", or one of "
+            sigma = positive_number("turbulence", turbulence, 50.0, unit="m/s", text=", or one of "
                               + ", ".join(map(repr, TURBULENCE_CHOICES)))
             table.pop("intensity", None)
             table.update(enabled=True, sigma_m_s=sigma)
@@ -216,36 +217,6 @@ def _choice(name: str, value: Any, choices: tuple) -> str:
         raise ParameterError(f"{name} = {value!r}: must be one of {', '.join(map(repr, choices))}, or None "
                              "(the scenario's)")
     return value
-
-
-def positive_option(name: str, value: Any, hi: float, unit: str = "s", text: str = "") -> float:
-    """An option that must be a finite number in (0, ``hi``].
-
-    Parameters
-    ----------
-    name : str
-        The option's name, for the message.
-    value : Any
-        What was given.
-    hi : float
-        The largest value allowed.
-    unit : str
-        The unit the message gives.
-    text : str
-        More of what is allowed, appended to the message (", or one of ...").
-
-    Returns
-    -------
-    float
-
-    Raises
-    ------
-    ParameterError
-        One line naming the option, the value and the range.
-    """
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and 0 < value <= hi):
-        raise ParameterError(f"{name} = {value!r}: must be a finite number in (0, {hi:g}] {unit}{text}")
-    return float(value)
 
 
 def episode_receiver(scenario: Scenario):

@@ -18,10 +18,11 @@ from gymnasium import spaces
 
 from ..errors import ParameterError
 from ..scenarios import Scenario, scenario_from_dict
+from ..simulation.budget import positive_number
 from ..simulation.stepper import FixedLengthStepper
 from ..spec.rewards import StationKeepingReward
 from ..spec.sections import Actuator
-from .options import on_grid, positive_option, reward_weights, set_turbulence
+from .options import on_grid, reward_weights, set_turbulence
 from .task_common import checked_action, scaled, scenario_source, turbulence_seed_option
 
 #: The observation's components: (name, unit, scale); the observation is each divided by its scale.
@@ -58,7 +59,7 @@ def station_scenario(scenario: str | Path | Scenario = "approach-moderate", turb
     -------
     Scenario
     """
-    limit = positive_option("time_limit_s", time_limit_s, 600.0)
+    limit = positive_number("time_limit_s", time_limit_s, 600.0)
     base, source, tables, name = scenario_source(scenario)
     set_turbulence(tables, turbulence, base, limit)
     tables["scenario"] = {**tables.get("scenario", {}), "duration_s": limit}
@@ -106,7 +107,7 @@ class StationKeepingEnv(gymnasium.Env):
             raise ParameterError(f"render_mode = {render_mode!r}: must be None (no picture)")
         self.render_mode = None
         self.scenario = station_scenario(scenario, turbulence, time_limit_s)
-        self.max_force_n = positive_option("max_force_n", max_force_n, 1e4, unit="N")
+        self.max_force_n = positive_number("max_force_n", max_force_n, 1e4, unit="N")
         self.reward_weights = reward_weights(reward, StationKeepingReward)
         self.stepper = FixedLengthStepper(self.scenario.params, self.scenario.duration_s,
                                           control_step_s=control_step_s, actuator=Actuator(max_force_n=self.max_force_n),

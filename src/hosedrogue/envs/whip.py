@@ -23,8 +23,9 @@ from gymnasium import spaces
 from ..engagement.stepper import EngagementStepper
 from ..errors import ParameterError
 from ..scenarios import Scenario, scenario_from_dict
+from ..simulation.budget import positive_number
 from ..spec.rewards import WhipReward
-from .options import on_grid, positive_option, reward_weights, set_turbulence
+from .options import on_grid, reward_weights, set_turbulence
 from .task_common import checked_action, scaled, scenario_source, turbulence_seed_option
 
 #: The observation's components: (name, unit, scale); the observation is each divided by its scale.
@@ -68,7 +69,7 @@ def whip_scenario(scenario: str | Path | Scenario = "engage-response", turbulenc
     -------
     Scenario
     """
-    after = positive_option("after_contact_s", after_contact_s, 60.0)
+    after = positive_number("after_contact_s", after_contact_s, 60.0)
     base, source, tables, name = scenario_source(scenario)
     e = base.engagement
     if e is None or e.probe is None or not e.probe.enabled or (e.pilot is not None and e.pilot.enabled) \

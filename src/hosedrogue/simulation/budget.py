@@ -28,14 +28,14 @@ one sample after its start, and keep its output within a share of the machine's 
 from __future__ import annotations
 
 import math
-import numbers
 import os
 
 from ..errors import ParameterError
 from ..results.statistics import turbulence_window
 
 __all__ = ["GRID_TOLERANCE", "INTEGRATORS", "MEMORY_SHARE", "check_duration", "check_integrator", "check_memory",
-           "check_run", "machine_memory_bytes", "on_step_grid", "output_bytes", "whole_multiple"]
+           "check_run", "machine_memory_bytes", "on_step_grid", "output_bytes", "positive_number",
+           "whole_multiple"]
 
 #: Share of the machine's physical memory that one run's (or campaign's) kept output may take [-].
 MEMORY_SHARE = 0.5
@@ -134,9 +134,42 @@ def on_step_grid(duration_s: float, step_s: float, every: int = 1) -> float:
     return float(f"{intervals * every * step_s:.12g}")
 
 
+def positive_number(name: str, value: object, hi: float = math.inf, unit: str = "s", text: str = "") -> float:
+    """A value that must be a finite number in (0, ``hi``]: a run's duration (:func:`check_duration`),
+    an environment's time limit or force bound (a bool is not a number here).
+
+    Parameters
+    ----------
+    name : str
+        The value's name, for the message.
+    value : object
+        What was given.
+    hi : float
+        The largest value allowed (default: no bound but finiteness).
+    unit : str
+        The unit the message gives.
+    text : str
+        More of what is allowed, appended to the message (", or one of ...").
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ParameterError
+        One line naming the value, what was given and the range.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and 0 < value <= hi):
+        allowed = f"> 0 {unit}" if hi == math.inf else f"in (0, {hi:g}] {unit}"
+        raise ParameterError(f"{name} = {value!r}: must be a finite number {allowed}{text}")
+    return float(value)
+
+
 def check_duration(value, name: str = "duration_s", maximum: float = math.inf) -> float:
     """Refuse a run's duration that is not a finite number > 0 s (nor above ``maximum``): the one
-    check of every loop (``simulate``, the steppers, the engagement, the FMU's own run, a scenario).
+    check of every loop (``simulate``, the steppers, the engagement, the FMU's own run, a scenario),
+    :func:`positive_number` in seconds.
 
     Parameters
     ----------
@@ -157,11 +190,7 @@ def check_duration(value, name: str = "duration_s", maximum: float = math.inf) -
     ParameterError
         One line naming the field, the value and what is allowed.
     """
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 < value <= maximum \
-            or not math.isfinite(value):
-        allowed = "> 0 s" if maximum == math.inf else f"in (0, {maximum:g}] s"
-        raise ParameterError(f"{name} = {value!r}: must be a finite number {allowed}")
-    return float(value)
+    return positive_number(name, value, maximum, "s")
 
 
 #: What each loop integrates with, by kind of link (False: rigid, True: elastic; docs/model.md
