@@ -49,7 +49,7 @@ from hosedrogue.engagement import driver as DR  # noqa: E402
 _segment_kernel = ES.eng_segment
 _in_segments = [0.0]
 _equilibrium, _assemble = CH.chain_equilibrium, DR.assemble_result
-_events = (DR.remesh_event, DR.switch_event, DR.contact_event)
+_events = DR.segment_event  # the driver's one dispatch of a segment's event (engagement.events)
 _parts = {"balance": 0.0, "assembly": 0.0, "events": 0.0}
 
 
@@ -86,7 +86,7 @@ def timed(scenario, repeats):
     best_parts.update(dict.fromkeys(_parts, math.inf))
     ES.eng_segment = _timed_segment
     CH.chain_equilibrium, DR.assemble_result = _timed(_equilibrium, "balance"), _timed(_assemble, "assembly")
-    DR.remesh_event, DR.switch_event, DR.contact_event = (_timed(f, "events") for f in _events)
+    DR.segment_event = _timed(_events, "events")
     try:
         for _ in range(repeats):
             _in_segments[0] = 0.0
@@ -101,7 +101,7 @@ def timed(scenario, repeats):
     finally:
         ES.eng_segment = _segment_kernel
         CH.chain_equilibrium, DR.assemble_result = _equilibrium, _assemble
-        DR.remesh_event, DR.switch_event, DR.contact_event = _events
+        DR.segment_event = _events
     return cpu, wall, seg, r
 
 
