@@ -1,54 +1,70 @@
 """The engagement's compiled variants (docs/develop.md, "The compiled core", fourth round): the steps
-and outputs compiled without the loops' code (no controller, pilot or receiver) give the bits of
-the ones compiled with it, and each run is given the variant of its kind of link, integrator and
-loops."""
+and outputs compiled without the loops' code (no controller, pilot or receiver), or with a pilot's
+or receiver's only, give the bits of the ones compiled with every loop, and each run is given the
+variant of its kind of link, integrator and loops."""
 
 import dataclasses
 
 import numpy as np
 import pytest
 
+from hosedrogue.engagement import driver as DR
 from hosedrogue.model import layout as LY
 from hosedrogue.model.engagement import evaluation as EV, outputs as EO, steps as ES
 
 
-def test_a_run_without_loops_is_the_same_by_the_steps_compiled_without_them(monkeypatch, tmp_path):
+@pytest.mark.parametrize("name, duration_s, kind", [("engage-response", 4.0, EV.NO_LOOPS),
+                                                     ("approach-moderate-pilot", 3.0, EV.STEERED)])
+def test_a_run_is_the_same_by_the_steps_compiled_for_its_loops_only(monkeypatch, tmp_path, name, duration_s, kind):
     """The responsive reel's engagement (no controller, pilot or receiver) through the capture and
-    the take-up's remeshes: its states, outputs and per-step loads by the steps and outputs
-    compiled without the loops' code are those of the ones compiled with it, to the bit (the
-    pruned code is code that such a run never enters)."""
+    the take-up's remeshes, and the pilot flying the probe in turbulence: their states, outputs
+    and per-step loads by the steps and outputs compiled for their loops only are those of the
+    ones compiled with every loop, to the bit (the pruned code is code that such a run never
+    enters)."""
     from hosedrogue.scenarios import load_scenario
     from hosedrogue.scenarios.runner import run
 
-    scenario = dataclasses.replace(load_scenario("engage-response"), duration_s=4.0)
-    bare = run(scenario)
-    monkeypatch.setattr(ES, "has_loops", lambda ep: True)
-    monkeypatch.setattr(EO, "has_loops", lambda ep: True)
+    scenario = dataclasses.replace(load_scenario(name), duration_s=duration_s)
+    own = run(scenario)
+    for module in (ES, EO, DR):
+        monkeypatch.setattr(module, "loop_kind", lambda ep: EV.CONTROLLED)
     full = run(scenario)
-    assert bare.outcome["result"] == "captured" and bare.outcome["remesh_events"] > 0
-    assert np.array_equal(bare.step_loads, full.step_loads)
-    assert np.array_equal(bare.drogue_tension_n, full.drogue_tension_n)
-    bare.to_csv(tmp_path / "bare.csv")
+    if kind == EV.NO_LOOPS:
+        assert own.outcome["result"] == "captured" and own.outcome["remesh_events"] > 0
+    else:
+        assert own.probe_position_m.shape[0] > 100 and np.ptp(own.probe_position_m[:, 1]) > 0.0  # the pilot flew
+    assert (own.step_loads is None) == (kind == EV.STEERED)  # rigid links keep no per-step loads
+    if own.step_loads is not None:
+        assert np.array_equal(own.step_loads, full.step_loads)
+    assert np.array_equal(own.drogue_tension_n, full.drogue_tension_n)
+    own.to_csv(tmp_path / "own.csv")
     full.to_csv(tmp_path / "full.csv")
-    assert (tmp_path / "bare.csv").read_bytes() == (tmp_path / "full.csv").read_bytes()
+    assert (tmp_path / "own.csv").read_bytes() == (tmp_path / "full.csv").read_bytes()
 
 
-@pytest.mark.parametrize("slot", ["EP_CTRL", "EP_PIL", "EP_RCV"])
-def test_each_loop_selects_the_steps_compiled_with_the_loops(slot):
-    """A controller, a pilot or a receiver each select the steps and outputs compiled with the
-    loops; none of them the ones without; the kind of link and the integrator select theirs."""
+@pytest.mark.parametrize("slots, kind", [((), EV.NO_LOOPS), (("EP_PIL",), EV.STEERED), (("EP_RCV",), EV.STEERED),
+                                         (("EP_CTRL",), EV.CONTROLLED), (("EP_CTRL", "EP_PIL"), EV.CONTROLLED),
+                                         (("EP_CTRL", "EP_RCV"), EV.CONTROLLED)])
+def test_each_loop_selects_the_steps_compiled_for_it(slots, kind):
+    """A controller (with or without a pilot or receiver) selects the steps and outputs compiled
+    with every loop; a pilot or a receiver alone the steered ones; none of them the ones without;
+    the kind of link and the integrator select theirs."""
     ep = np.zeros(LY.EP_SIZE)
-    assert not EV.has_loops(ep)
+    for slot in slots:
+        ep[getattr(LY, slot)] = 1.0
+    assert EV.loop_kind(ep) == kind
     kinds = {(0.0, LY.SCHEME_RK4): 0, (1.0, LY.SCHEME_RK4): 1, (1.0, LY.SCHEME_SDIRK2): 2,
              (0.0, LY.SCHEME_SDIRK2): 0}  # rigid links: RK4 whatever the scheme slot holds
-    bare = (ES.eng_steps_rigid_bare, ES.eng_steps_elastic_rk4_bare, ES.eng_steps_elastic_sdirk2_bare)
-    looped = (ES.eng_steps_rigid, ES.eng_steps_elastic_rk4, ES.eng_steps_elastic_sdirk2)
-    for (elastic, scheme), kind in kinds.items():
+    chosen = set()
+    for (elastic, scheme), link in kinds.items():
         ep[LY.EP_ELASTIC], ep[LY.EP_SCHEME] = elastic, scheme
-        ep[getattr(LY, slot)] = 0.0
-        assert ES.link_kind(ep) == kind and ES.steps_kernel(ep) is bare[kind]
-        ep[getattr(LY, slot)] = 1.0
-        assert EV.has_loops(ep) and ES.steps_kernel(ep) is looped[kind]
+        assert ES.link_kind(ep) == link and ES.steps_kernel(ep) is ES.STEPS[kind, link]
+        chosen.add(ES.steps_kernel(ep))
+        # the raw measurement (and the outputs) exist with the drogue controller and without it only
+        raw = {(True, 1.0): EO.eng_raw_elastic, (True, 0.0): EO.eng_raw_rigid,
+               (False, 1.0): EO.eng_raw_elastic_bare, (False, 0.0): EO.eng_raw_rigid_bare}
+        assert EO.raw_kernel(ep) is raw[kind == EV.CONTROLLED, elastic]
+    assert len(chosen) == 3 and len(set(ES.STEPS.values())) == 9  # nine distinct compiled steps
 
 
 def test_the_loop_arrays_without_a_controller_are_the_numba_type_of_those_with_one():

@@ -19,7 +19,7 @@ import numpy as np
 from ..environment.bow_wave import BowWaveField
 from ..model import layout as LY
 from ..model.engagement import chain as EC, outputs as EO, steps as ES
-from ..model.engagement.evaluation import has_loops
+from ..model.engagement.evaluation import CONTROLLED, loop_kind
 from ..spec.params import Actuator, ParameterError, Params, Sensor
 from ..simulation.budget import check_duration, check_integrator, check_run
 from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
@@ -169,11 +169,12 @@ def exit_tension_at_rest(params: Params, chain: Chain, z: np.ndarray, ep: np.nda
     e[LY.EP_BW] = LY.BW_OFF
     e[LY.EP_CTRL] = 0.0  # no control force: the drogue at its balance position needs none
     steady = SimpleNamespace(ps=model.ps, env=model.steady_env, gust_values=model.gust_values)  # no gusts
+    # the variant compiled for the run's loops (model.engagement.outputs.eng_outputs): one, not two
+    controlled = loop_kind(ep) == CONTROLLED
     if measured:  # the raw measurement's kernel, which a sampled-data stepper compiles anyway: the same T_0
         return EO.measured_exit_tension(z, chain.n, chain.l, chain.M, chain.J, steady.ps, steady.env,
-                                        steady.gust_values, e, chain.chart, no_loop(), has_loops(ep))
-    # the variant compiled for the run's loops (model.engagement.outputs.eng_outputs): one, not two
-    scal = _outputs(np.zeros(1), z[None, :], chain, steady, e, loops=has_loops(ep))[2]
+                                        steady.gust_values, e, chain.chart, no_loop(), controlled)
+    scal = _outputs(np.zeros(1), z[None, :], chain, steady, e, controlled=controlled)[2]
     return float(scal[0, LY.O_T0])
 
 

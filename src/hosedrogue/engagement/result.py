@@ -24,7 +24,7 @@ ENERGY_TERMS = ("kinetic", "elastic", "reel", "motor", "friction", "exit", "flux
 
 
 def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.ndarray, loop=None,
-                    loads: np.ndarray | None = None, loops: bool | None = None):
+                    loads: np.ndarray | None = None, controlled: bool | None = None):
     """The compiled outputs of states ``zs`` of one discretization.
 
     Parameters
@@ -45,8 +45,9 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     loads : array (N, 4), optional
         Elastic links: receives each state's loads as the time loop's per-step record has them
         (exit and drogue-end tension [N], probe load [N], slack [m]; ``model.engagement.outputs.state_loads``).
-    loops : bool, optional
-        The compiled variant, with the loops or without (``model.engagement.outputs.eng_outputs``).
+    controlled : bool, optional
+        The compiled variant, with the drogue controller or without
+        (``model.engagement.outputs.eng_outputs``; default: whether ``ep`` has it).
 
     Returns
     -------
@@ -82,7 +83,7 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
         loads = np.empty((N, 4))
     EO.eng_outputs(np.ascontiguousarray(ts), np.ascontiguousarray(zs), n, chain.l.copy(), chain.M.copy(),
                    chain.J.copy(), model.ps, model.env, model.gust_values, ep, chain.chart, loop, joints, jvel, scal, tow, tdrog,
-                   drag, links_t, loads, loops)
+                   drag, links_t, loads, controlled)
     return joints, jvel, scal, tow, tdrog, drag, links_t
 
 

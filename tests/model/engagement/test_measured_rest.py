@@ -1,6 +1,6 @@
 """The reel's set point at rest by the raw measurement's kernel (what a sampled-data stepper
 compiles; docs/develop.md, "The compiled core", fifth round) is the output kernel's, bit for bit,
-for rigid and elastic links, compiled with the loops' code and without it; and the stepper asks
+for rigid and elastic links, compiled with the drogue controller's code and without it; and the stepper asks
 for it."""
 
 import numpy as np
@@ -22,8 +22,8 @@ def start(request):
     return driver.prepare(sc.params, 0.1, reel=e.reel, probe=e.probe, bow_wave=e.bow_wave)
 
 
-@pytest.mark.parametrize("loops", [False, True])
-def test_the_set_point_at_rest_by_the_measurement_is_the_outputs_one(start, loops):
+@pytest.mark.parametrize("controlled", [False, True])
+def test_the_set_point_at_rest_by_the_measurement_is_the_outputs_one(start, controlled):
     """T_0 of the balance position, in the steady air and with the reel held as
     ``exit_tension_at_rest`` sets them up, by ``measured_exit_tension`` and by the output kernel:
     the same evaluation of the same state, so the same 64 bits (and a tension: positive)."""
@@ -33,9 +33,9 @@ def test_the_set_point_at_rest_by_the_measurement_is_the_outputs_one(start, loop
     e[LY.EP_LAW] = LY.LAW_LOCKED
     e[LY.EP_PROBE] = 0.0
     e[LY.EP_BW] = LY.BW_OFF
-    by_outputs = segment_outputs(np.zeros(1), st.z[None, :], chain, _Steady(model), e, loops=loops)[2][0, LY.O_T0]
+    by_outputs = segment_outputs(np.zeros(1), st.z[None, :], chain, _Steady(model), e, controlled=controlled)[2][0, LY.O_T0]
     by_raw = EO.measured_exit_tension(st.z, chain.n, chain.l, chain.M, chain.J, model.ps, model.steady_env,
-                                      model.gust_values, e, chain.chart, no_loop(), loops)
+                                      model.gust_values, e, chain.chart, no_loop(), controlled)
     assert by_outputs > 0.0
     assert np.float64(by_raw).tobytes() == np.float64(by_outputs).tobytes()
 

@@ -37,9 +37,16 @@ from .probe import air_with_bow_wave, probe_force, probe_tip
 from .reel import commanded_reel, motor_torque, reel_outputs, schedule_acceleration
 
 
+#: The kinds of loops a compiled derivative holds (:func:`loop_kind`): none beside the reel's, a
+#: pilot or receiver flying the probe, or the drogue controller (with or without either). The
+#: evaluations and outputs need only two variants, with the drogue controller or without it
+#: (a pilot's or receiver's states enter the derivative only).
+NO_LOOPS, STEERED, CONTROLLED = 0, 1, 2
+
 def _evaluate(looped):
     """:func:`eng_evaluate` compiled with the drogue controller (``looped``) or without it
-    (:func:`has_loops`: a constant, whose false branches numba prunes before typing)."""
+    (:func:`loop_kind` below :data:`CONTROLLED`: a constant, whose false branches numba prunes
+    before typing)."""
 
     @njit(**JIT)
     def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out):
@@ -146,7 +153,7 @@ def _evaluate(looped):
     return eng_evaluate
 
 
-#: :func:`_evaluate`'s rigid evaluation with and without the drogue controller (:func:`has_loops`).
+#: :func:`_evaluate`'s rigid evaluation with and without the drogue controller (:func:`loop_kind`).
 eng_evaluate, eng_evaluate_bare = _evaluate(True), _evaluate(False)
 
 
@@ -178,14 +185,14 @@ def drogue_surfaces(t, z, n, r, v, ps, env, gust, ep, loop, u, out):
     return ddx, ddy, ddz
 
 
-def _deriv(looped, options):
-    """:func:`eng_deriv` compiled with the pilot's, receiver's and controller's rates (``looped``)
-    or without them (:func:`has_loops`), with numba's ``options`` (``JIT``, or ``JIT_INLINE``:
-    the steps' derivative, :func:`eng_deriv_inline`)."""
+def _deriv(loops, options):
+    """:func:`eng_deriv` compiled for the loops ``loops`` (:func:`loop_kind`: none, a pilot or
+    receiver, or the drogue controller too), with numba's ``options`` (``JIT``, or
+    ``JIT_INLINE``: the steps' derivative, :func:`eng_deriv_inline`)."""
 
     def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz):
         """dz/dt of the engagement state z (``hist``: the drogue history the pilot's delay reads)."""
-        if looped:
+        if loops == CONTROLLED:
             eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         else:
             eng_evaluate_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
@@ -196,20 +203,23 @@ def _deriv(looped, options):
         b = 4 * n
         tail_rates(z, b, out, dz)
         dz[b + Z_WAX] = 0.0
-        if looped:
+        if loops == CONTROLLED:
             loop_rates(t, z, n, b, ep, loop, hist, out, dz)
+        elif loops == STEERED:
+            steer_rates(t, z, n, b, ep, hist, dz)
         else:
             reel_slot_rate(b, ep, dz)
 
     return njit(**options)(eng_deriv)
 
 
-#: :func:`_deriv`'s rigid derivative with and without the loops (:func:`has_loops`) ...
-eng_deriv, eng_deriv_bare = _deriv(True, JIT), _deriv(False, JIT)
+#: :func:`_deriv`'s rigid derivative for each kind of loops (:func:`loop_kind`) ...
+eng_deriv, eng_deriv_steered, eng_deriv_bare = (_deriv(k, JIT) for k in (CONTROLLED, STEERED, NO_LOOPS))
 #: ... and the same text inlined into its caller (numba's ``inline="always"``), for the steps: a
 #: compiled function of its own would generate the machine code of the whole evaluation below it
 #: once more (docs/develop.md, "The compiled core", fifth round)
-eng_deriv_inline, eng_deriv_bare_inline = _deriv(True, JIT_INLINE), _deriv(False, JIT_INLINE)
+eng_deriv_inline, eng_deriv_steered_inline, eng_deriv_bare_inline = (
+    _deriv(k, JIT_INLINE) for k in (CONTROLLED, STEERED, NO_LOOPS))
 
 
 @njit(**JIT)
@@ -227,21 +237,29 @@ def tail_rates(z, b, out, dz):
 @njit(**JIT_NO_ALLOC_INLINE)
 def reel_slot_rate(b, ep, dz):
     """dz/dt of the held take-up speed command of a commanded reel (zero), the one state after
-    the tail at b that a run without loops (:func:`has_loops`) has."""
+    the tail at b that a run without loops (:data:`NO_LOOPS`) has."""
     if ep[EP_REEL_SLOT] != 0.0:
         dz[b + Z_TAIL + int(ep[EP_REEL_SLOT]) - 1] = 0.0  # the held take-up speed command
 
 
 @njit(**JIT)
-def loop_rates(t, z, n, b, ep, loop, hist, out, dz):
-    """dz/dt of the pilot's or receiver's, the commanded reel's, the controller's and the
-    actuator's states (after the tail at b)."""
-    npil = int(ep[EP_NPIL])
+def steer_rates(t, z, n, b, ep, hist, dz):
+    """dz/dt of the pilot's or receiver's and the commanded reel's states (after the tail at b):
+    the loops of a run without the drogue controller (:data:`STEERED`). A function of its own,
+    as :func:`loop_rates` is: the steps inline their derivative at each stage."""
     if ep[EP_PIL] != 0.0:
         pilot_rates(t, z, n, ep, hist, dz)
     elif ep[EP_RCV] != 0.0:
         receiver_rates(t, z, n, ep, dz)
     reel_slot_rate(b, ep, dz)
+
+
+@njit(**JIT)
+def loop_rates(t, z, n, b, ep, loop, hist, out, dz):
+    """dz/dt of the pilot's or receiver's, the commanded reel's (:func:`steer_rates`), the
+    controller's and the actuator's states (after the tail at b)."""
+    npil = int(ep[EP_NPIL])
+    steer_rates(t, z, n, b, ep, hist, dz)
     if ep[EP_CTRL] != 0.0:
         nx = b + Z_TAIL + npil
         if DA.is_actuated(loop.act):
@@ -264,7 +282,7 @@ def loop_rates(t, z, n, b, ep, loop, hist, out, dz):
 
 def _evaluate_elastic(looped):
     """:func:`eng_evaluate_elastic` compiled with the drogue controller (``looped``) or without it
-    (:func:`has_loops`)."""
+    (:func:`loop_kind`)."""
 
     @njit(**JIT)
     def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess):
@@ -383,18 +401,17 @@ def _evaluate_elastic(looped):
     return eng_evaluate_elastic
 
 
-#: :func:`_evaluate_elastic`'s evaluation with and without the drogue controller (:func:`has_loops`).
+#: :func:`_evaluate_elastic`'s evaluation with and without the drogue controller (:func:`loop_kind`).
 eng_evaluate_elastic, eng_evaluate_elastic_bare = _evaluate_elastic(True), _evaluate_elastic(False)
 
 
-def _deriv_elastic(looped):
-    """:func:`eng_deriv_elastic` compiled with the loops' rates (``looped``) or without them
-    (:func:`has_loops`)."""
+def _deriv_elastic(loops):
+    """:func:`eng_deriv_elastic` compiled for the loops ``loops`` (:func:`loop_kind`)."""
 
     @njit(**JIT)
     def eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz):
         """:func:`eng_deriv` of the elastic chain (``hg``, ``guess`` (len(z)): see :func:`eng_evaluate_elastic`)."""
-        if looped:
+        if loops == CONTROLLED:
             eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
         else:
             eng_evaluate_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
@@ -402,27 +419,31 @@ def _deriv_elastic(looped):
         b = 6 * n
         tail_rates(z, b, out, dz)
         dz[b + Z_WAX] = out[O_PAXIAL]
-        if looped:
+        if loops == CONTROLLED:
             loop_rates(t, z, n, b, ep, loop, hist, out, dz)
+        elif loops == STEERED:
+            steer_rates(t, z, n, b, ep, hist, dz)
         else:
             reel_slot_rate(b, ep, dz)
 
     return eng_deriv_elastic
 
 
-#: :func:`_deriv_elastic`'s derivative with and without the loops (:func:`has_loops`). Compiled on
+#: :func:`_deriv_elastic`'s derivative for each kind of loops (:func:`loop_kind`). Compiled on
 #: its own, not inlined into the steps as the rigid one is (:data:`eng_deriv_inline`): the SDIRK
 #: calls it at more places, and numba's inliner, which copies and re-processes its IR at each, made
 #: a cold elastic run slower (docs/develop.md, "The compiled core", fifth round).
-eng_deriv_elastic, eng_deriv_elastic_bare = _deriv_elastic(True), _deriv_elastic(False)
+eng_deriv_elastic, eng_deriv_elastic_steered, eng_deriv_elastic_bare = (
+    _deriv_elastic(k) for k in (CONTROLLED, STEERED, NO_LOOPS))
 
 
-def has_loops(ep) -> bool:
-    """Whether the engagement of parameters ``ep`` has a loop beside the reel's: a drogue
-    controller (``ep[EP_CTRL]``), a pilot (``ep[EP_PIL]``) or a receiver (``ep[EP_RCV]``). The
-    compiled evaluations, derivatives, steps and outputs exist with (``True``) and without them
-    (the ``_bare`` ones, numba prunes their code before typing: a run without a loop compiles
-    none of it; docs/develop.md, "The compiled core"); the Python pickers call this at every call.
+def loop_kind(ep) -> int:
+    """The loops beside the reel's that the engagement of parameters ``ep`` runs, as its compiled
+    derivatives, steps and outputs are specialized for them (numba prunes the other kinds'
+    code before typing: a run compiles only what its loops need; docs/develop.md, "The compiled
+    core"): :data:`CONTROLLED` with a drogue controller (``ep[EP_CTRL]``; a pilot or receiver
+    may fly too), :data:`STEERED` with a pilot (``ep[EP_PIL]``) or receiver (``ep[EP_RCV]``)
+    only, else :data:`NO_LOOPS`. The Python pickers call this at every call.
 
     Parameters
     ----------
@@ -431,7 +452,9 @@ def has_loops(ep) -> bool:
 
     Returns
     -------
-    bool
-        Whether any of the three is on.
+    int
+        :data:`NO_LOOPS`, :data:`STEERED` or :data:`CONTROLLED`.
     """
-    return ep[EP_CTRL] != 0.0 or ep[EP_PIL] != 0.0 or ep[EP_RCV] != 0.0
+    if ep[EP_CTRL] != 0.0:
+        return CONTROLLED
+    return STEERED if ep[EP_PIL] != 0.0 or ep[EP_RCV] != 0.0 else NO_LOOPS

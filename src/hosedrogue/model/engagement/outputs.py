@@ -27,7 +27,9 @@ from ..layout import (
     R_Q, R_REEL_V, R_T0, RAW_SIZE, Z_L, Z_LD,
 )
 from .chain import chain_kinematics, tail_start
-from .evaluation import eng_evaluate, eng_evaluate_bare, eng_evaluate_elastic, eng_evaluate_elastic_bare, has_loops
+from .evaluation import (
+    CONTROLLED, eng_evaluate, eng_evaluate_bare, eng_evaluate_elastic, eng_evaluate_elastic_bare, loop_kind,
+)
 from .probe import probe_force, probe_tip
 
 
@@ -102,20 +104,21 @@ def evaluate_state(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, ew
 
 
 @njit(**JIT_INLINE)
-def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic, loops):
+def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic, controlled):
     """The raw measurement (``hosedrogue.model.sampled.R_*``) of state z at time t [s]: drogue and
     probe tip positions and velocities, free length, take-up speed (-L'), exit tension of the
     evaluation with the commands as they are, coupled flag, an actuated drogue's dynamic pressure
     (NaN without control surfaces). ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant
     of the compiled caller (:func:`eng_raw`, which the control step calls too), which then holds that kind's
-    evaluation only, with the loops or without them (``loops``, :func:`~.evaluation.has_loops`)."""
-    if elastic and loops:
+    evaluation only, with the drogue controller or without it (``controlled``: the run's
+    :func:`~.evaluation.loop_kind` is :data:`~.evaluation.CONTROLLED`)."""
+    if elastic and controlled:
         eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n), dM,
                              out, 0.0, z)
     elif elastic:
         eng_evaluate_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, make_elastic_workspace_jit(n),
                                   dM, out, 0.0, z)
-    elif loops:
+    elif controlled:
         eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
     else:
         eng_evaluate_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
@@ -132,14 +135,14 @@ def raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, d
     raw[R_Q] = out[O_Q] if ep[EP_CTRL] != 0.0 and DA.is_actuated(loop.act) else math.nan
 
 
-def _raw(elastic, loops):
+def _raw(elastic, controlled):
     """:func:`raw_measurement` as a compiled function of its own, for one kind of link, with the
-    loops or without them."""
+    drogue controller or without it."""
 
     @njit(**JIT)
     def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw):
         """:func:`raw_measurement` of rigid or elastic links (the kind this function is for)."""
-        raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic, loops)
+        raw_measurement(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw, elastic, controlled)
 
     return eng_raw
 
@@ -170,9 +173,10 @@ def eng_raw(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, 
     raw_kernel(ep)(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out, raw)
 
 
-def raw_kernel(ep, loops=None):
+def raw_kernel(ep, controlled=None):
     """:func:`raw_measurement` compiled for the kind of link of ``ep`` (``ep[EP_ELASTIC]``), with
-    or without the loops (``loops``; default :func:`~.evaluation.has_loops` of ``ep``):
+    or without the drogue controller (``controlled``; default: whether ``ep`` has it,
+    :func:`~.evaluation.loop_kind`):
     :data:`eng_raw_rigid`, :data:`eng_raw_elastic` or their ``_bare`` twins, called as
     :func:`eng_raw` calls them.
 
@@ -180,24 +184,24 @@ def raw_kernel(ep, loops=None):
     ----------
     ep : numpy.ndarray
         The engagement's parameters (``hosedrogue.model.layout.EP_*``).
-    loops : bool, optional
-        The variant with the loops' code (True) or without it (False); default: whether ``ep``
-        has loops.
+    controlled : bool, optional
+        The variant with the drogue controller's code (True) or without it (False); default:
+        whether ``ep`` has it.
 
     Returns
     -------
     numba dispatcher
         The compiled raw measurement.
     """
-    if has_loops(ep) if loops is None else loops:
+    if loop_kind(ep) == CONTROLLED if controlled is None else controlled:
         return eng_raw_elastic if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid
     return eng_raw_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_raw_rigid_bare
 
 
-def measured_exit_tension(z, n, l, M, J, ps, env, gust, ep, chart, loop, loops):
+def measured_exit_tension(z, n, l, M, J, ps, env, gust, ep, chart, loop, controlled):
     """The exit tension T_0 [N] of state z at t = 0 by the raw measurement's kernel
-    (:func:`raw_kernel`; ``out[O_T0]`` of the evaluation), the variant with or without the loops
-    as ``loops`` says: what the sampled-data stepper, which compiles that kernel for its
+    (:func:`raw_kernel`; ``out[O_T0]`` of the evaluation), the variant with or without the drogue
+    controller as ``controlled`` says: what the sampled-data stepper, which compiles that kernel for its
     measurements, asks for the reel's set point at rest instead of the output kernel
     (:func:`eng_outputs`, whose evaluation is the same function of the same state: the same
     number bit for bit), so that a process that steps compiles one of the two, not both.
@@ -209,23 +213,23 @@ def measured_exit_tension(z, n, l, M, J, ps, env, gust, ep, chart, loop, loops):
     n, l, M, J, ps, env, gust, ep, chart, loop : int, numpy.ndarray or LoopArrays
         The chain and the model, as :func:`eng_raw`'s (``l``, ``M``, ``J`` are copied: the
         evaluation sets the variable link in them).
-    loops : bool
-        The variant compiled with the loops (:func:`~.evaluation.has_loops` of the run's
-        parameters, which ``ep`` may have switched off).
+    controlled : bool
+        The variant compiled with the drogue controller (the run's parameters have it, though
+        ``ep`` may have switched it off; :func:`~.evaluation.loop_kind`).
 
     Returns
     -------
     float
     """
     raw = np.empty(RAW_SIZE)
-    raw_kernel(ep, loops)(0.0, z, n, l.copy(), M.copy(), J.copy(), ps, env, gust, ep, chart, loop, make_workspace(n),
+    raw_kernel(ep, controlled)(0.0, z, n, l.copy(), M.copy(), J.copy(), ps, env, gust, ep, chart, loop, make_workspace(n),
            make_workspace(n), np.empty(2), np.zeros(O_SIZE), raw)
     return float(raw[R_T0])
 
 
 @njit(**JIT_INLINE)
 def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension, loads, elastic, loops):
+                    drogue_drag, link_tension, loads, elastic, controlled):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
     (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
     drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
@@ -236,14 +240,14 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
     functions of the same state, which the time loop then need not compute at the saved steps
     (:func:`~.steps.eng_steps`); untouched for rigid links.
     ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller, as is
-    ``loops`` (evaluated with the loops or without, :func:`~.evaluation.has_loops`)."""
+    ``controlled`` (evaluated with the drogue controller or without, :func:`~.evaluation.loop_kind`)."""
     ws = make_workspace_jit(n)
     ws2 = make_workspace_jit(n)
     ews = without_accelerations(make_elastic_workspace_jit(n))  # the outputs read no accelerations
     dM = np.empty(2)
     out = np.zeros(O_SIZE)
     for i in range(ts.shape[0]):
-        if elastic and loops:
+        if elastic and controlled:
             eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
                                  zs[i])
         elif elastic:
@@ -268,7 +272,7 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
             loads[i, 2] = math.sqrt(fx * fx + fy * fy + fz * fz)
             loads[i, 3] = out[O_SLACK]
             continue
-        if loops:
+        if controlled:
             eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
         else:
             eng_evaluate_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
@@ -300,16 +304,16 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
                              + (F[n, 2] - m * Az) * e[n - 1, 2])
 
 
-def _outputs(elastic, loops):
+def _outputs(elastic, controlled):
     """:func:`derived_outputs` as a compiled function of its own, for one kind of link, with the
-    loops or without them (:func:`~.evaluation.has_loops`)."""
+    drogue controller or without it (:func:`~.evaluation.loop_kind`)."""
 
     @njit(**JIT)
     def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
                     drogue_drag, link_tension, loads):
         """:func:`derived_outputs` of rigid or elastic links (the kind this function is for)."""
         derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                        drogue_drag, link_tension, loads, elastic, loops)
+                        drogue_drag, link_tension, loads, elastic, controlled)
 
     return eng_outputs
 
@@ -319,10 +323,10 @@ eng_outputs_rigid_bare, eng_outputs_elastic_bare = _outputs(False, False), _outp
 
 
 def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                drogue_drag, link_tension, loads, loops=None):
+                drogue_drag, link_tension, loads, controlled=None):
     """Derived outputs at saved states into the given arrays (:func:`derived_outputs`), compiled
     for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_outputs_rigid` or
-    :data:`eng_outputs_elastic`), with the loops or without them (the ``_bare`` ones).
+    :data:`eng_outputs_elastic`), with the drogue controller or without it (the ``_bare`` ones).
 
     Parameters
     ----------
@@ -332,12 +336,13 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
         The chain and the model, as :func:`eng_raw`'s.
     joints, jvel, scal, tow, tension_drogue, drogue_drag, link_tension, loads : numpy.ndarray
         Receive the outputs (:func:`derived_outputs`; ``loads`` (N, 4) the elastic links' loads).
-    loops : bool, optional
-        Take the variant compiled with the loops (default: :func:`~.evaluation.has_loops` of
-        ``ep``): a caller evaluating a run's state with its loops switched off in a copy of ``ep``
-        passes the run's, so that the process compiles one variant, not both (the same numbers).
+    controlled : bool, optional
+        Take the variant compiled with the drogue controller (default: whether ``ep`` has it,
+        :func:`~.evaluation.loop_kind`): a caller evaluating a run's state with its controller
+        switched off in a copy of ``ep`` passes the run's, so that the process compiles one
+        variant, not both (the same numbers).
     """
-    if has_loops(ep) if loops is None else loops:
+    if loop_kind(ep) == CONTROLLED if controlled is None else controlled:
         kernel = eng_outputs_elastic if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid
     else:
         kernel = eng_outputs_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid_bare

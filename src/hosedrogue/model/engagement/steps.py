@@ -2,7 +2,8 @@
 remesh, a chart switch, the coupler plane, a failure), by themselves or a control step at a time
 for the sampled-data controllers. The steps are those of :mod:`hosedrogue.model.steppers` over the
 chain's derivative: RK4 for rigid links, RK4 or the SDIRK (:mod:`hosedrogue.model.implicit`) for
-elastic links, each compiled with the loops' rates (a controller, a pilot, a receiver) and without.
+elastic links, each compiled for the loops' rates it needs: a drogue controller (with or without a
+pilot or receiver), a pilot or receiver only, none.
 """
 
 from __future__ import annotations
@@ -23,50 +24,62 @@ from ..sampled import deliver
 from ..steppers import rk4, sdirk2
 from .chain import chain_kinematics, drogue_motion, elastic_pairs, set_variable_link, tail_start
 from .evaluation import (
-    eng_deriv_bare_inline, eng_deriv_elastic, eng_deriv_elastic_bare, eng_deriv_inline, has_loops,
+    CONTROLLED, NO_LOOPS, STEERED, eng_deriv_bare_inline, eng_deriv_elastic, eng_deriv_elastic_bare,
+    eng_deriv_elastic_steered, eng_deriv_inline, eng_deriv_steered_inline, loop_kind,
 )
 from .outputs import plane_distance, raw_kernel, state_loads
 
 
-@njit(**JIT_INLINE)
-def eng_rate(t, z, model, hg, guess, dz):
-    """:func:`~.evaluation.eng_deriv` as the steppers' derivative (:mod:`hosedrogue.model.steppers`):
-    ``model`` is ``(n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out)``; the rigid
-    chain has no implicit stage (hg and guess are not read)."""
-    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
-    eng_deriv_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+def _rate(loops):
+    """:func:`~.evaluation.eng_deriv` for the loops ``loops`` (:func:`~.evaluation.loop_kind`) as
+    the steppers' derivative (:mod:`hosedrogue.model.steppers`): ``model`` is ``(n, l, M, J, ps,
+    env, gust, ep, chart, loop, hist, ws, ws2, dM, out)``; the rigid chain has no implicit stage
+    (hg and guess are not read)."""
+
+    @njit(**JIT_INLINE)
+    def eng_rate(t, z, model, hg, guess, dz):
+        n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
+        if loops == CONTROLLED:
+            eng_deriv_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+        elif loops == STEERED:
+            eng_deriv_steered_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+        else:
+            eng_deriv_bare_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+
+    return eng_rate
 
 
-@njit(**JIT_INLINE)
-def eng_rate_elastic(t, z, model, hg, guess, dz):
-    """:func:`~.evaluation.eng_deriv_elastic` as the steppers' derivative: ``model`` is ``(n, l, M,
-    J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)``."""
-    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out = model
-    eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
+def _rate_elastic(loops):
+    """:func:`~.evaluation.eng_deriv_elastic` for the loops ``loops`` as the steppers' derivative:
+    ``model`` is ``(n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)``."""
 
+    @njit(**JIT_INLINE)
+    def eng_rate_elastic(t, z, model, hg, guess, dz):
+        n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out = model
+        if loops == CONTROLLED:
+            eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
+        elif loops == STEERED:
+            eng_deriv_elastic_steered(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg,
+                                      guess, dz)
+        else:
+            eng_deriv_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess,
+                                   dz)
 
-@njit(**JIT_INLINE)
-def eng_rate_bare(t, z, model, hg, guess, dz):
-    """:func:`eng_rate` of a run without loops (:func:`~.evaluation.has_loops`)."""
-    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
-    eng_deriv_bare_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
-
-
-@njit(**JIT_INLINE)
-def eng_rate_elastic_bare(t, z, model, hg, guess, dz):
-    """:func:`eng_rate_elastic` of a run without loops (:func:`~.evaluation.has_loops`)."""
-    n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out = model
-    eng_deriv_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
+    return eng_rate_elastic
 
 
 # the steps of the rigid chain (RK4) and of the elastic chain (RK4 or the SDIRK, ep[EP_SCHEME]),
-# with the loops and without them (_bare)
-_rigid_rk4, _ = rk4(eng_rate)
-_elastic_rk4, _ = rk4(eng_rate_elastic)
-_elastic_sdirk2 = sdirk2(eng_rate_elastic)
-_rigid_rk4_bare, _ = rk4(eng_rate_bare)
-_elastic_rk4_bare, _ = rk4(eng_rate_elastic_bare)
-_elastic_sdirk2_bare = sdirk2(eng_rate_elastic_bare)
+# for each kind of loops: with the drogue controller, with a pilot or receiver only (_steered),
+# without loops (_bare)
+_rigid_rk4, _ = rk4(_rate(CONTROLLED))
+_elastic_rk4, _ = rk4(_rate_elastic(CONTROLLED))
+_elastic_sdirk2 = sdirk2(_rate_elastic(CONTROLLED))
+_rigid_rk4_steered, _ = rk4(_rate(STEERED))
+_elastic_rk4_steered, _ = rk4(_rate_elastic(STEERED))
+_elastic_sdirk2_steered = sdirk2(_rate_elastic(STEERED))
+_rigid_rk4_bare, _ = rk4(_rate(NO_LOOPS))
+_elastic_rk4_bare, _ = rk4(_rate_elastic(NO_LOOPS))
+_elastic_sdirk2_bare = sdirk2(_rate_elastic(NO_LOOPS))
 
 
 def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist,
@@ -128,8 +141,8 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
 
 def _steps(elastic, implicit, loops):
     """:func:`eng_steps` compiled for one kind of link (``elastic``) and integrator (``implicit``:
-    the SDIRK, else RK4) and with the loops' rates or without them (``loops``,
-    :func:`~.evaluation.has_loops`), constants of the compiled function (closures over bools, which numba's
+    the SDIRK, else RK4) and for the loops' rates ``loops`` (:func:`~.evaluation.loop_kind`),
+    constants of the compiled function (closures over bools and an int, which numba's
     cache keys on; it prunes the other kind's and integrator's branches before typing), as a
     function of its own without numba's runtime (``JIT_NO_ALLOC``): the steps inlined into it
     then take no reference counts of the arrays they unpack from the chain's tuple (in a function
@@ -165,9 +178,12 @@ def _steps(elastic, implicit, loops):
         flexible = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)
         least = int(ep[EP_ITER])  # the SDIRK's least corrections per stage
         if elastic and s0 == 0:  # a segment's start: the SDIRK's first slope guess is dz/dt there
-            if loops:
+            if loops == CONTROLLED:
                 eng_deriv_elastic(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0,
                                   work[6], work[7])
+            elif loops == STEERED:
+                eng_deriv_elastic_steered(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
+                                          0.0, work[6], work[7])
             else:
                 eng_deriv_elastic_bare(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
                                        0.0, work[6], work[7])
@@ -187,19 +203,25 @@ def _steps(elastic, implicit, loops):
                 zprev[i] = z[i]
             if elastic:
                 if not implicit:
-                    if loops:
+                    if loops == CONTROLLED:
                         _elastic_rk4(t, z, h, flexible, work)
+                    elif loops == STEERED:
+                        _elastic_rk4_steered(t, z, h, flexible, work)
                     else:
                         _elastic_rk4_bare(t, z, h, flexible, work)
                 else:
-                    if loops:  # ws[WS_CS]: the frames
+                    if loops == CONTROLLED:  # ws[WS_CS]: the frames
                         ok = _elastic_sdirk2(t, z, h, flexible, n, least, ws[WS_CS], pairs, work)
+                    elif loops == STEERED:
+                        ok = _elastic_sdirk2_steered(t, z, h, flexible, n, least, ws[WS_CS], pairs, work)
                     else:
                         ok = _elastic_sdirk2_bare(t, z, h, flexible, n, least, ws[WS_CS], pairs, work)
                     if ok != OK:
                         return STAGE_LIMIT, s - 1, saved  # z is the state after the last step done
-            elif loops:
+            elif loops == CONTROLLED:
                 _rigid_rk4(t, z, h, rigid, work)
+            elif loops == STEERED:
+                _rigid_rk4_steered(t, z, h, rigid, work)
             else:
                 _rigid_rk4_bare(t, z, h, rigid, work)
             t = t0 + (s0 + s) * h
@@ -243,13 +265,11 @@ def _steps(elastic, implicit, loops):
     return eng_steps
 
 
-#: :func:`eng_steps` compiled for rigid links (RK4) and for elastic links by RK4 and by the SDIRK,
-#: with the loops (the segment and the control step call them; :func:`steps_kernel` picks one)
-eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2 = (
-    _steps(False, False, True), _steps(True, False, True), _steps(True, True, True))
-#: ... and without them (:func:`~.evaluation.has_loops`)
-eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare = (
-    _steps(False, False, False), _steps(True, False, False), _steps(True, True, False))
+#: :func:`eng_steps` compiled for rigid links (RK4) and for elastic links by RK4 and by the SDIRK
+#: (:func:`link_kind`), for each kind of loops (:func:`~.evaluation.loop_kind`; the segment and the
+#: control step call them, :func:`steps_kernel` picks one). Each is compiled on its first call only.
+STEPS = {(loops, kind): _steps(kind != 0, kind == 2, loops)
+         for loops in (NO_LOOPS, STEERED, CONTROLLED) for kind in (0, 1, 2)}
 
 
 def link_kind(ep):
@@ -274,8 +294,8 @@ def link_kind(ep):
 
 def steps_kernel(ep):
     """:func:`eng_steps` compiled for the kind of link and integrator of ``ep`` (:func:`link_kind`),
-    with or without the loops (:func:`~.evaluation.has_loops`): a process compiles only the
-    integrator and the loops its runs use (docs/develop.md, "The compiled core").
+    for its loops (:func:`~.evaluation.loop_kind`): a process compiles only the integrator and
+    the loops its runs use (docs/develop.md, "The compiled core").
 
     Parameters
     ----------
@@ -287,9 +307,7 @@ def steps_kernel(ep):
     numba dispatcher
         The compiled steps, called as :func:`eng_segment` calls them.
     """
-    if has_loops(ep):
-        return (eng_steps_rigid, eng_steps_elastic_rk4, eng_steps_elastic_sdirk2)[link_kind(ep)]
-    return (eng_steps_rigid_bare, eng_steps_elastic_rk4_bare, eng_steps_elastic_sdirk2_bare)[link_kind(ep)]
+    return STEPS[loop_kind(ep), link_kind(ep)]
 
 
 def eng_advance(ctr, z, h, save_every, n, l, M, J, ps, env, gust, ep, chart, loop, hist, limits, zprev, ts, zs,
