@@ -63,14 +63,14 @@ def rk4(deriv):
 
     @njit(**JIT_INLINE)
     def step_given_k1(t, z, h, model, work):
-        k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
-        rk4_stage(z, 0.5 * h, k1, tmp)
-        deriv(t + 0.5 * h, tmp, model, 0.0, tmp, k2)
-        rk4_stage(z, 0.5 * h, k2, tmp)
-        deriv(t + 0.5 * h, tmp, model, 0.0, tmp, k3)
-        rk4_stage(z, h, k3, tmp)
-        deriv(t + h, tmp, model, 0.0, tmp, k4)
-        rk4_combine(z, h, k1, k2, k3, k4)
+        # the stages k2, k3, k4 in one loop: the derivative's code is put into the step once, not
+        # once per stage (the same arithmetic in the same order)
+        tmp = work[4]
+        for s in range(1, 4):
+            c = 0.5 * h if s < 3 else h
+            rk4_stage(z, c, work[s - 1], tmp)
+            deriv(t + c, tmp, model, 0.0, tmp, work[s])
+        rk4_combine(z, h, work[0], work[1], work[2], work[3])
 
     @njit(**JIT_INLINE)
     def step(t, z, h, model, work):
