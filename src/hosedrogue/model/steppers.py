@@ -128,15 +128,20 @@ def sdirk2(deriv):
     def one_step(t, z, h, model, n, iters, frames, pairs, work):
         # one step; False (z then undefined, the guess row 7 overwritten) if a stage's corrections
         # did not converge. The first stage starts from the guess in row 7 and the second from the
-        # first's slope, each in place (a stage overwrites its guess)
+        # first's slope, each in place (a stage overwrites its guess). The two stages in one loop:
+        # the stage's code (and the derivative's call) is put into the step once, not twice
         hg = h * SDIRK2_GAMMA
         K1, zhat, Y, K2 = work[1], work[2], work[3], work[7]
-        if not stage(t + hg, z, model, n, iters, frames, pairs, hg, K2, K1, Y):
-            return False
-        stage_point(z, K1, hg, pairs, Y)
-        after_stage1(z, h, K1, zhat)
-        if not stage(t + h, zhat, model, n, iters, frames, pairs, hg, K1, K2, Y):
-            return False
+        for s in range(2):
+            if s == 0:
+                ts, base, guess, slope = t + hg, z, K2, K1
+            else:
+                ts, base, guess, slope = t + h, zhat, K1, K2
+            if not stage(ts, base, model, n, iters, frames, pairs, hg, guess, slope, Y):
+                return False
+            if s == 0:
+                stage_point(z, K1, hg, pairs, Y)
+                after_stage1(z, h, K1, zhat)
         stage_point(zhat, K2, hg, pairs, z)  # the new state, into z
         return True
 
