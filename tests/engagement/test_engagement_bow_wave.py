@@ -8,7 +8,7 @@ from matplotlib.figure import Figure
 
 from hosedrogue.engagement.bow_wave import bow_wave_displacement
 from hosedrogue.engagement.chain import chain_equilibrium, initial_chain
-from hosedrogue.engagement.driver import engagement_parameters
+from hosedrogue.engagement.parameters import engagement_parameters
 from hosedrogue.spec.sections import BowWave as BowWaveSection, Reel
 from hosedrogue.environment.bow_wave import BowWaveField
 from hosedrogue.errors import ParameterError

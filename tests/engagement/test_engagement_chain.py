@@ -9,7 +9,7 @@ import pytest
 
 from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.engagement.chain import chain_arrays, chain_equilibrium, chain_for_length, chain_model
-from hosedrogue.engagement.driver import engagement_parameters
+from hosedrogue.engagement.parameters import engagement_parameters
 from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import chain_dynamics as CD, layout as LY
 from hosedrogue.model.engagement import evaluation as EV, outputs as EO

@@ -9,7 +9,7 @@ import pytest
 from hosedrogue.analysis.equilibrium import solve_equilibrium
 from hosedrogue.engagement import Reel, simulate_engagement
 from hosedrogue.engagement.chain import chain_arrays
-from hosedrogue.engagement.driver import engagement_parameters
+from hosedrogue.engagement.parameters import engagement_parameters
 from hosedrogue.engagement.loop import no_loop
 from hosedrogue.model import chain_dynamics as CD, elastic as E, layout as LY
 from hosedrogue.model.engagement import evaluation as EV, outputs as EO

@@ -208,7 +208,7 @@ def test_the_actuator_packs_act():
 
 def test_the_engagement_packs_ep_and_the_block_after_the_tail():
     from hosedrogue.engagement.chain import initial_chain
-    from hosedrogue.engagement.driver import engagement_parameters
+    from hosedrogue.engagement.parameters import engagement_parameters
     from hosedrogue.engagement.loop import extra_states
     from hosedrogue.spec.params import PAPER, Actuator
     from hosedrogue.spec.sections import Pilot, Probe, Receiver, Reel

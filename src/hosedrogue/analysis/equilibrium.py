@@ -140,20 +140,63 @@ def towed_cable_guess(model: HoseModel) -> np.ndarray:
     return q
 
 
-def _residual_fn(model: HoseModel, env: np.ndarray, narrow: bool = False):
-    n = model.n
-    gust = model.gust_values
-    Q = np.empty(2 * n)
-    x = np.zeros(4 * n)  # [q, qd = 0]: the statics
-    kernel = CD.point_kernel(env, x, 0.0, narrow)
-    u = np.zeros(2)
-    ws = CD.make_workspace(n)
-    xi, G = CD.static_scratch(n)
+class ChainStatics:
+    """The statics of the fixed-length chain of ``model`` by its own evaluation: the rigid links'
+    generalized forces at rest, the elastic links', and the outputs of a rest state.
+    :func:`solve_equilibrium` takes another chain's statics with the same three methods (the
+    engagement's, by the engagement's own evaluation: ``hosedrogue.engagement.balance``).
 
-    def fun(q):
-        x[: 2 * n] = q
-        kernel(True, 0.0, x, u, model.l, model.M, model.J, model.ps, env, gust, ws, xi, G, Q)
-        return Q.copy()
+    Parameters
+    ----------
+    model : HoseModel
+        The chain.
+    narrow : bool
+        Evaluate rigid links by the entry compiled for level flight in still air where the flight
+        is that (:func:`hosedrogue.model.chain_dynamics.point_kernel`; the same numbers).
+    """
+
+    def __init__(self, model: HoseModel, narrow: bool = False):
+        self.model, self.narrow = model, narrow
+
+    def residual(self, env: np.ndarray):
+        """The rigid links' generalized forces at rest Q(q) (2n,) [N m] in the air ``env``."""
+        model, n = self.model, self.model.n
+        gust = model.gust_values
+        Q = np.empty(2 * n)
+        x = np.zeros(4 * n)  # [q, qd = 0]: the statics
+        kernel = CD.point_kernel(env, x, 0.0, self.narrow)
+        u = np.zeros(2)
+        ws = CD.make_workspace(n)
+        xi, G = CD.static_scratch(n)
+
+        def fun(q):
+            x[: 2 * n] = q
+            kernel(True, 0.0, x, u, model.l, model.M, model.J, model.ps, env, gust, ws, xi, G, Q)
+            return Q.copy()
+
+        return fun
+
+    def elastic_residual(self, env: np.ndarray):
+        """The elastic links' generalized forces at rest Q(y) (3n,) [N m] of y = [q, lam] in the air
+        ``env`` (:func:`hosedrogue.model.elastic.elastic_static_residual`)."""
+        model = self.model
+        Q = np.empty(3 * model.n)
+
+        def fun(y):
+            E.elastic_static_residual(np.ascontiguousarray(y), model.l, model.M, model.J, model.ps, env,
+                                      model.gust_values, 0.0, Q)
+            return Q.copy()
+
+        return fun
+
+    def outputs(self, rest: np.ndarray):
+        """Joint positions [m], drogue drag and tow-point force [N] and exit tension [N] of the rest
+        state ``rest`` in steady air (:meth:`HoseModel.outputs`)."""
+        return self.model.outputs(rest, steady=True, narrow=self.narrow)
+
+
+def _central_jacobian(fun):
+    """The central-difference Jacobian of ``fun`` (steps of 1e-7 rad)."""
 
     def jac(q, h=1e-7):
         m = q.size
@@ -168,12 +211,12 @@ def _residual_fn(model: HoseModel, env: np.ndarray, narrow: bool = False):
             Jm[:, i] = (fp - fm) / (2 * h)
         return Jm
 
-    return fun, jac
+    return jac
 
 
-def _newton(model: HoseModel, env: np.ndarray, q0: np.ndarray, scale: float, narrow: bool = False):
-    fun, jac = _residual_fn(model, env, narrow)
-    sol = scipy.optimize.root(fun, q0, jac=jac, method="hybr", options={"xtol": 1e-13})
+def _newton(statics, env: np.ndarray, q0: np.ndarray, scale: float):
+    fun = statics.residual(env)
+    sol = scipy.optimize.root(fun, q0, jac=_central_jacobian(fun), method="hybr", options={"xtol": 1e-13})
     res = float(np.max(np.abs(fun(sol.x)))) / scale
     return sol, res
 
@@ -226,7 +269,7 @@ def _band_solve(factors, r: np.ndarray) -> np.ndarray:
     return lapack.dgbtrs(lu, BAND, BAND, r, piv)[0]
 
 
-def _banded_chord(fun, jac, q0: np.ndarray, scale: float):
+def _banded_chord(fun, q0: np.ndarray, scale: float):
     """The rigid balance position by chord iterations on the banded part of the Jacobian
     (:data:`BAND`), refreshed every :data:`BAND_REFRESH` iterations: 22 residual evaluations per
     Jacobian instead of MINPACK's 4n. Returns a scipy ``OptimizeResult`` (``x``, ``residual``,
@@ -250,7 +293,7 @@ def _banded_chord(fun, jac, q0: np.ndarray, scale: float):
 
 
 def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, banded: bool = False,
-                      narrow: bool = False) -> Equilibrium:
+                      narrow: bool = False, statics=None) -> Equilibrium:
     """Balance position for steady air (free stream and, if enabled, the tanker wake), in the
     tanker's initial steady flight: level, or a steady coordinated turn or climb
     (``params.tanker_motion``, docs/model.md §9; the frame's apparent forces are loads of the
@@ -271,6 +314,9 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, ba
         (:func:`hosedrogue.model.chain_dynamics.point_kernel`) when the flight is that: the same
         numbers, a first run compiles a third as much; for a process that evaluates nothing else of
         the chain (``hosedrogue steady``), since one that goes on to simulate compiles both.
+    statics : ChainStatics or alike, optional
+        The chain's statics (residuals and outputs at rest; default :class:`ChainStatics` of
+        ``model``): the engagement passes its own, evaluated by its own compiled evaluation.
 
     Returns
     -------
@@ -283,21 +329,22 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, ba
         If no converged rest state is found; its ``result`` is the last solver result.
     """
     model = model if model is not None else HoseModel(params)
+    statics = statics if statics is not None else ChainStatics(model, narrow)
     scale = model.S[0] * G0 * model.l[0]
     q = towed_cable_guess(model)
     env_full = model.steady_env
-    sol = _banded_chord(*_residual_fn(model, env_full, narrow), q, scale) if banded else None
+    sol = _banded_chord(statics.residual(env_full), q, scale) if banded else None
     if sol is not None:
         res = sol.residual
     else:
-        sol, res = _newton(model, env_full, q, scale, narrow)
+        sol, res = _newton(statics, env_full, q, scale)
     if not (res < RESIDUAL_TOLERANCE):
         # continuation in the wake's circulation
         q_c = q
         for frac in np.linspace(0.0, 1.0, 11):
             env = env_full.copy()
             env[LY.ENV_WAKE + 1] *= frac
-            sol, res = _newton(model, env, q_c, scale, narrow)
+            sol, res = _newton(statics, env, q_c, scale)
             if not np.all(np.isfinite(sol.x)):
                 break
             q_c = sol.x
@@ -310,13 +357,13 @@ def solve_equilibrium(params: Params = PAPER, model: HoseModel | None = None, ba
     q = sol.x.copy()
     lengths = None
     if model.elastic:
-        sol, res, q, lengths = _elastic_newton(model, env_full, q, scale, sol)
+        sol, res, q, lengths = _elastic_newton(model, env_full, q, scale, sol, statics)
     # angles are only defined modulo 2 pi; report the principal values
     q = (q + np.pi) % (2 * np.pi) - np.pi
     rest = np.concatenate([q, np.zeros_like(q)])
     if lengths is not None:
         rest = np.concatenate([rest, lengths, np.zeros_like(lengths)])
-    out = model.outputs(rest, steady=True, narrow=narrow)
+    out = statics.outputs(rest)
     drogue = out.joints_m[-1].copy()
     return Equilibrium(
         q=q,
@@ -379,20 +426,16 @@ def _elastic_chord(fun, n: int, y0: np.ndarray, rigid, EA: float, scale: float):
     return None
 
 
-def _elastic_newton(model: HoseModel, env: np.ndarray, q_rigid: np.ndarray, scale: float, rigid=None):
+def _elastic_newton(model: HoseModel, env: np.ndarray, q_rigid: np.ndarray, scale: float, rigid=None, statics=None):
     """The elastic chain's balance position from the rigid one: each link stretched by its rigid
     tension (``lam = l (1 + T / EA)``), then chord iterations on the rigid solve's Jacobian
     (:func:`_elastic_chord`), or where they do not converge (or without ``rigid``, the rigid
     solver's result) MINPACK's hybrid Newton with a central-difference Jacobian, on the elastic
-    static generalized forces of angles and lengths (:func:`hosedrogue.model.elastic.elastic_static_residual`).
+    static generalized forces of angles and lengths (``statics.elastic_residual``, default
+    :class:`ChainStatics` of ``model``: :func:`hosedrogue.model.elastic.elastic_static_residual`).
     Returns the solver result, the scaled residual, the angles [rad] and the lengths [m]."""
     n, l = model.n, model.l
-    gust = model.gust_values
-    Q = np.empty(3 * n)
-
-    def fun(y):
-        E.elastic_static_residual(np.ascontiguousarray(y), l, model.M, model.J, model.ps, env, gust, 0.0, Q)
-        return Q.copy()
+    fun = (statics if statics is not None else ChainStatics(model)).elastic_residual(env)
 
     tension = fun(np.concatenate([q_rigid, l]))[2 * n:] / l  # at lam = l the residual is l T_rigid
     y0 = np.concatenate([q_rigid, l * (1.0 + tension / model.ps[LY.PS_EA])])

@@ -17,7 +17,7 @@ from ..model.engagement import evaluation as EV
 from ..model.chain_dynamics import WS_QDD, WS_R, make_workspace
 from ..spec.params import Params
 from .chain import chain_equilibrium, initial_chain
-from .driver import engagement_parameters, set_bow_wave
+from .parameters import engagement_parameters, set_bow_wave
 from .loop import no_loop
 from ..spec.sections import BowWave, Reel
 

@@ -379,7 +379,8 @@ def chain_model(params: Params, chain: Chain, duration_s: float | None = None) -
     return HoseModel(params, duration_s=duration_s, lengths=chain.l)
 
 
-def chain_equilibrium(params: Params, chain: Chain, duration_s: float | None = None) -> tuple[Equilibrium, HoseModel]:
+def chain_equilibrium(params: Params, chain: Chain, duration_s: float | None = None,
+                      statics=None) -> tuple[Equilibrium, HoseModel]:
     """Balance position of the chain as it is (any free length, any mesh), in steady air.
 
     Parameters
@@ -390,6 +391,9 @@ def chain_equilibrium(params: Params, chain: Chain, duration_s: float | None = N
         The mesh.
     duration_s : float, optional
         Length of the run [s] the model's gust record must cover (see ``HoseModel``).
+    statics : callable, optional
+        ``statics(model)`` gives the chain's statics for the solver (default: the fixed-length
+        chain's evaluation; the engagement's own: :func:`hosedrogue.engagement.balance.engagement_equilibrium`).
 
     Returns
     -------
@@ -401,7 +405,8 @@ def chain_equilibrium(params: Params, chain: Chain, duration_s: float | None = N
     model = chain_model(params, chain, duration_s)
     # elastic links: the banded chord, the balance position within its residual tolerance, a
     # third of the time (rigid links keep MINPACK's, their results unchanged to the bit)
-    return solve_equilibrium(model.params, model=model, banded=model.elastic), model
+    return solve_equilibrium(model.params, model=model, banded=model.elastic,
+                             statics=None if statics is None else statics(model)), model
 
 
 @functools.lru_cache(maxsize=32)

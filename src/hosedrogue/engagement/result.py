@@ -38,7 +38,7 @@ def segment_outputs(ts: np.ndarray, zs: np.ndarray, chain: Chain, model, ep: np.
     model : hosedrogue.model.system.HoseModel
         Parameter, environment and gust arrays.
     ep : array (EP_SIZE,)
-        Engagement parameters (:func:`hosedrogue.engagement.driver.engagement_parameters`).
+        Engagement parameters (:func:`hosedrogue.engagement.parameters.engagement_parameters`).
     loop : LoopArrays, optional
         The drogue controller's arrays (:func:`hosedrogue.engagement.loop.engagement_loop`); needed
         when ``ep[EP_CTRL]`` is set, else an empty loop is used.

@@ -432,9 +432,16 @@ def elastic_static_residual(y, l, M, J, ps, env, gust, t, Q):
         x[2 * k + 1] = y[2 * k + 1]
         x[4 * n + k] = y[2 * n + k]
     elastic_evaluate_ws(t, x, np.zeros(2), l, M, J, ps, env, gust, ws, ews, 0.0, x)
+    static_forces(n, l, y[2 * n: 3 * n], ws, ews, Q)
+
+
+@njit(**JIT_NO_ALLOC)
+def static_forces(n, l, lam, ws, ews, Q):
+    """:func:`elastic_static_residual`'s Q (3n) [N m] from an evaluation at rest of the elastic chain
+    of material lengths ``l`` and actual lengths ``lam`` (its loads and frames in ``ws``, its
+    tensions in ``ews``): the fixed-length chain's and the engagement's balance positions."""
     # at rest the joint equations are H a = Q: the residual is Q itself, i.e. H a
     F, a, b, e = ws[WS_F], ws[WS_A], ws[WS_B], ws[WS_E]
-    lam = y[2 * n: 3 * n]
     T = ews[EWS_T]
     Gx = Gy = Gz = 0.0
     for k in range(n - 1, -1, -1):

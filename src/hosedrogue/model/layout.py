@@ -20,7 +20,7 @@ The tables, by the array they lay out:
 * ``act``, the drogue's actuator: the ideal actuator, :data:`ACT`
   (:meth:`hosedrogue.spec.sections.Actuator.as_array`), continued by the control surfaces,
   :data:`SURFACES` (:func:`hosedrogue.model.drogue_actuator.actuator_array`);
-* ``ep``, the engagement's scalars: :data:`EP` (:func:`hosedrogue.engagement.driver.engagement_parameters`);
+* ``ep``, the engagement's scalars: :data:`EP` (:func:`hosedrogue.engagement.parameters.engagement_parameters`);
 * the engagement's state after the hose's entries: :data:`TAIL`, then the block of the pilot's
   states, :data:`PILOT`, or of the receiver's, :data:`RECEIVER`;
 * ``out``, the scalars of one engagement evaluation: :data:`OUT`;
