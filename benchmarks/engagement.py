@@ -38,7 +38,7 @@ import math  # noqa: E402
 import time  # noqa: E402
 
 from hosedrogue.analysis import equilibrium as EQ  # noqa: E402
-from hosedrogue.engagement import chain as CH  # noqa: E402
+from hosedrogue.engagement import balance as BAL  # noqa: E402
 from hosedrogue.model.engagement import steps as ES  # noqa: E402
 from hosedrogue.scenarios import load_scenario  # noqa: E402
 from hosedrogue.scenarios.runner import run  # noqa: E402
@@ -48,7 +48,7 @@ from hosedrogue.engagement import driver as DR  # noqa: E402
 
 _segment_kernel = ES.eng_segment
 _in_segments = [0.0]
-_equilibrium, _assemble = CH.chain_equilibrium, DR.assemble_result
+_equilibrium, _assemble = BAL.engagement_equilibrium, DR.assemble_result
 _events = DR.segment_event  # the driver's one dispatch of a segment's event (engagement.events)
 _parts = {"balance": 0.0, "assembly": 0.0, "events": 0.0}
 
@@ -85,13 +85,13 @@ def timed(scenario, repeats):
     cpu = wall = seg = math.inf
     best_parts.update(dict.fromkeys(_parts, math.inf))
     ES.eng_segment = _timed_segment
-    CH.chain_equilibrium, DR.assemble_result = _timed(_equilibrium, "balance"), _timed(_assemble, "assembly")
+    BAL.engagement_equilibrium, DR.assemble_result = _timed(_equilibrium, "balance"), _timed(_assemble, "assembly")
     DR.segment_event = _timed(_events, "events")
     try:
         for _ in range(repeats):
             _in_segments[0] = 0.0
             _parts.update(dict.fromkeys(_parts, 0.0))
-            CH._steady_equilibrium.cache_clear()  # the balance position is part of the whole run
+            BAL._STEADY.clear()  # the balance position is part of the whole run
             c0, w0 = time.process_time(), time.perf_counter()
             r = run(scenario)
             cpu = min(cpu, time.process_time() - c0)
@@ -100,7 +100,7 @@ def timed(scenario, repeats):
             best_parts.update({k: min(best_parts[k], v) for k, v in _parts.items()})
     finally:
         ES.eng_segment = _segment_kernel
-        CH.chain_equilibrium, DR.assemble_result = _equilibrium, _assemble
+        BAL.engagement_equilibrium, DR.assemble_result = _equilibrium, _assemble
         DR.segment_event = _events
     return cpu, wall, seg, r
 

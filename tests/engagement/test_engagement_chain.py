@@ -273,14 +273,15 @@ def test_the_initial_balance_position_is_solved_once_and_is_the_same_bits():
     """The balance position in steady air does not depend on the turbulence (seed, intensity,
     on or off) nor on the run's length: the cached one is a fresh solve's, bit for bit, for each;
     it is solved once per model and flight condition and cannot be changed in place."""
-    from hosedrogue.engagement.chain import chain_equilibrium, initial_chain, initial_equilibrium
+    from hosedrogue.engagement.balance import engagement_equilibrium, initial_equilibrium
+    from hosedrogue.engagement.chain import initial_chain
     from hosedrogue.scenarios import load_scenario
 
     p = load_scenario("approach-moderate").params
     cached = initial_equilibrium(p)
     for turbulence, duration in (({"seed": 7}, 4.5), ({"intensity": "severe"}, 9.0), ({"enabled": False}, None)):
         q = p.replace(turbulence=turbulence)
-        fresh, _ = chain_equilibrium(q, initial_chain(q), duration)
+        fresh, _ = engagement_equilibrium(q, initial_chain(q), duration)
         assert initial_equilibrium(q) is cached
         assert fresh.q.tobytes() == cached.q.tobytes()
         assert fresh.drogue_position_m.tobytes() == cached.drogue_position_m.tobytes()

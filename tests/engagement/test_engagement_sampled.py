@@ -195,8 +195,10 @@ def test_zero_takeup_is_the_locked_reel(locked_setup):
     """A user law commanding zero take-up, on a drive strong enough to hold the whip's tension
     (max_torque_n_m 1e5; the peak exit tension 7.9 kN needs 2.4 kN m at the 0.3 m drum): the
     speed servo asks for L'' = 0 exactly, so the hose length never changes and the run is the
-    locked reel's to round-off (bound 1e-9 m). With the default 2000 N m motor the drum slips
-    while the tension exceeds 6.7 kN (measured 3.3 mm paid out): the motor's limit applies."""
+    locked reel's to round-off (bound 1e-9 m). A weak motor's limit applies: the whip's peak
+    exit tension is 6.4 to 11.4 kN depending on the start's last bits (the locked reel's flail is
+    chaotic, docs/engagement.md), so a 1000 N m motor (3.3 kN at the 0.3 m drum) reaches its limit
+    in any of them and the drum slips (measured 31 and 89 mm for two starts 4e-16 rad apart)."""
     sc = locked_setup
     locked = run(sc)
     zero = Reel(law="python", entry="hosedrogue.examples.controllers:constant_takeup", sample_time_s=0.01,
@@ -205,9 +207,9 @@ def test_zero_takeup_is_the_locked_reel(locked_setup):
     assert got.completed and got.outcome["result"] == "captured"
     assert np.all(got.hose_length_m == got.hose_length_m[0])
     assert np.max(np.abs(got.drogue_position_m - locked.drogue_position_m)) < 1e-9
-    weak = run(_engagement(sc, reel=dataclasses.replace(zero, max_torque_n_m=2000.0)))
+    weak = run(_engagement(sc, reel=dataclasses.replace(zero, max_torque_n_m=1000.0)))
     slip = np.max(weak.hose_length_m) - weak.hose_length_m[0]
-    assert 0.0 < slip < 0.01 and np.max(np.abs(weak.motor_torque_n_m)) == 2000.0
+    assert 0.0 < slip < 0.2 and np.max(np.abs(weak.motor_torque_n_m)) == 1000.0
 
 
 def test_slack_feedback_law_takes_up_and_cuts_the_slack(locked_setup):

@@ -14,8 +14,6 @@ position and velocity exactly, which fixes the new link's length ``|r_2|`` and t
 
 from __future__ import annotations
 
-import dataclasses
-import functools
 import math
 from dataclasses import dataclass
 
@@ -407,33 +405,6 @@ def chain_equilibrium(params: Params, chain: Chain, duration_s: float | None = N
     # third of the time (rigid links keep MINPACK's, their results unchanged to the bit)
     return solve_equilibrium(model.params, model=model, banded=model.elastic,
                              statics=None if statics is None else statics(model)), model
-
-
-@functools.lru_cache(maxsize=32)
-def _steady_equilibrium(steady: Params) -> Equilibrium:
-    eq, _ = chain_equilibrium(steady, initial_chain(steady))
-    for a in (eq.q, eq.joints_m, eq.drogue_position_m, eq.drogue_drag_n, eq.tow_force_n, eq.lengths_m):
-        if a is not None:
-            a.setflags(write=False)  # shared by every run that asks: nobody may change it
-    return eq
-
-
-def initial_equilibrium(params: Params) -> Equilibrium:
-    """The balance position of the initial mesh (:func:`initial_chain`) in steady air, solved once
-    per process for each model and flight condition: the turbulence (its seed, intensity and
-    window) and the run's length do not enter it (the same bits: tests/engagement), so a campaign's
-    runs, which differ only in their gusts, share it. Its arrays are read-only.
-
-    Parameters
-    ----------
-    params : Params
-        Hose, drogue, flight and environment.
-
-    Returns
-    -------
-    hosedrogue.analysis.equilibrium.Equilibrium
-    """
-    return _steady_equilibrium(dataclasses.replace(params, turbulence=type(params.turbulence)()))
 
 
 def chain_for_length(params: Params, L: float) -> Chain:

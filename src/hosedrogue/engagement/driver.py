@@ -21,8 +21,8 @@ from ..model.engagement import chain as EC, outputs as EO, steps as ES
 from ..model.engagement.evaluation import CONTROLLED, loop_kind
 from ..spec.params import Actuator, ParameterError, Params, Sensor
 from ..simulation.budget import check_duration, check_integrator, check_run
-from .chain import (MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain,
-                    initial_equilibrium)
+from .balance import initial_equilibrium
+from .chain import MERGE_RATIO, SPLIT_RATIO, SWITCH_YAW_DEG, Chain, chain_model, initial_chain
 from .events import FAILURES, failure_reason, segment_event
 from ..results.run import stop_message
 from .result import EngagementResult, assemble_result
@@ -219,7 +219,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     # the sections' rules (a pilot or a receiver needs a probe)
     Engagement(reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot, receiver=receiver)
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2,
-                                                duration_s)
+                                                duration_s, control is not None or drogue_actuator is not None)
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
     L0 = z[EC.tail_start(chain.n, ep) + LY.Z_L]
     if not reel.min_length_m <= L0 <= reel.max_length_m:
@@ -258,13 +258,15 @@ def step_record(params: Params, run) -> np.ndarray | None:
     return run.loads[: run.step + 1] if params.hose.elastic else None
 
 
-def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: float, gravity_m_s2, duration_s):
+def _initial_state(params: Params, probe, equilibrium, x0, length_rate_m_s: float, gravity_m_s2, duration_s,
+                   controlled: bool):
     """The initial chain, its model (with the gust record of the run), the drogue's reference
-    position [m] and the full state z."""
+    position [m] and the full state z (``controlled``: the run has a drogue controller, whose
+    evaluation variant the balance position is then solved by)."""
     chain = initial_chain(params)
     need_eq = x0 is None or (probe is not None and probe.enabled)
     if equilibrium is None and need_eq:
-        equilibrium = initial_equilibrium(params)  # solved once per model and flight condition
+        equilibrium = initial_equilibrium(params, controlled)  # solved once per model and flight condition
     model = chain_model(params, chain, duration_s)
     if gravity_m_s2 is not None:
         model.ps[LY.PS_G] = float(gravity_m_s2)

@@ -177,7 +177,8 @@ class EngagementCore:
     def __init__(self, scenario, *, altitude_m: float, airspeed_m_s: float, wake_enabled: bool,
                  sample_time_s: float, position_input: bool, velocity_feed: bool = False, probe_start_m=None,
                  probe_start_velocity_m_s=None, equilibria: dict | None = None):
-        from ..engagement.chain import chain_equilibrium, initial_chain
+        from ..engagement.balance import engagement_equilibrium
+        from ..engagement.chain import initial_chain
         from ..engagement.stepper import EngagementStepper
         from ..scenarios.runner import drogue_controller
         from ..simulation.stepper import whole_multiple
@@ -190,7 +191,7 @@ class EngagementCore:
         key = json.dumps([float(altitude_m), float(airspeed_m_s), bool(wake_enabled)])
         equilibria = {} if equilibria is None else equilibria
         if key not in equilibria:
-            equilibria[key] = chain_equilibrium(params, initial_chain(params), sc.duration_s)[0]
+            equilibria[key] = engagement_equilibrium(params, initial_chain(params), sc.duration_s, controlled=True)[0]
         control = drogue_controller(sc)
         self.scenario, self.position_input = sc, bool(position_input)
         self.velocity_feed = self.position_input and bool(velocity_feed)
