@@ -50,8 +50,6 @@ def displacement_spectrum(result, prediction: dict | None = None) -> dict | None
         (or ``predicted_note``); None when the window holds fewer than :data:`MIN_SAMPLES` samples
         or the output times are not evenly spaced.
     """
-    from scipy.signal import welch
-
     t = np.asarray(result.t_s, dtype=float)
     start, end = result.statistics_window_s
     keep = (t >= start) & (t < end)
@@ -61,6 +59,10 @@ def displacement_spectrum(result, prediction: dict | None = None) -> dict | None
     dt = np.diff(tw)
     if not np.allclose(dt, dt[0], rtol=1e-6, atol=0.0):
         return None
+    # imported here, after the checks: scipy.signal takes 0.3-0.7 s of CPU to import, which a run
+    # too short for a spectrum (a first engagement run) need not pay
+    from scipy.signal import welch
+
     h = float(dt[0])
     span = tw[-1] - tw[0] + h
     segment = min(SEGMENT_S, span / 2.0)
