@@ -96,15 +96,17 @@ def make_elastic_workspace(n):
 make_elastic_workspace_jit = njit(**JIT)(make_elastic_workspace)
 
 
-@njit(**JIT_INLINE)
 def without_accelerations(ews):
     """The elastic workspace ``ews`` with no room for the length accelerations (``ews[EWS_LAMDD]``
     of length 0): :func:`elastic_forward_dynamics` then makes its backward sweep only (the
     tow-point force; no accelerations, ``qdd`` untouched). For output kernels, which read the
     evaluation's forces, tensions and joints and not its accelerations (the forward pass is about
-    a quarter of the solve)."""
+    a quarter of the solve). From Python; compiled code calls :data:`without_accelerations_jit`."""
     return (ews[EWS_U], ews[EWS_DINV], ews[EWS_RHS], ews[EWS_T], ews[EWS_EPSD], ews[EWS_AUG], ews[EWS_TAUL],
             np.empty(0), ews[EWS_ANG_AUG])
+
+
+without_accelerations_jit = njit(**JIT_INLINE)(without_accelerations)
 
 
 @njit(**JIT_NO_ALLOC)
@@ -460,7 +462,7 @@ def elastic_outputs_series(ts, xs, us, l, M, J, ps, env, gust, joints, drogue_ve
     :func:`~hosedrogue.model.chain_dynamics.outputs_series`)."""
     n = l.shape[0]
     ws = make_workspace_jit(n)
-    ews = without_accelerations(make_elastic_workspace_jit(n))  # the outputs need no accelerations
+    ews = without_accelerations_jit(make_elastic_workspace_jit(n))  # the outputs need no accelerations
     for i in range(ts.shape[0]):
         elastic_evaluate_ws(ts[i], xs[i], us[i], l, M, J, ps, env, gust, ws, ews, 0.0, xs[i])
         copy_matrix(joints[i], ws[WS_R])

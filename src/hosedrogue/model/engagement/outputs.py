@@ -11,15 +11,15 @@ import math
 import numpy as np
 from numba import njit
 
-from ...jit import JIT, JIT_INLINE
+from ...jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 from .. import drogue_actuator as DA
 from ..chain_dynamics import (
     WS_A, WS_B, WS_C, WS_CS, WS_DRAG, WS_E, WS_F, WS_QDD, WS_R, WS_TOW, WS_V, chain_energy, copy_matrix, copy_vector,
     make_workspace, make_workspace_jit,
 )
 from ..elastic import (
-    EWS_EPSD, EWS_T, axial_tensions, elastic_exit_tension, make_elastic_workspace_jit, strain_energy,
-    without_accelerations,
+    EWS_EPSD, EWS_T, axial_tensions, elastic_exit_tension, make_elastic_workspace, make_elastic_workspace_jit,
+    strain_energy, without_accelerations,
 )
 from ..layout import (
     EP_COUPLED, EP_CTRL, EP_ELASTIC, EP_JR, EP_LAW, EP_MU, EP_RD, EP_SPLIT, LAW_LOCKED, O_FPX, O_FPY, O_FPZ, O_LDD,
@@ -229,7 +229,7 @@ def measured_exit_tension(z, n, l, M, J, ps, env, gust, ep, chart, loop, control
 
 @njit(**JIT_INLINE)
 def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension, loads, elastic, controlled):
+                    drogue_drag, link_tension, loads, elastic, controlled, scratch):
     """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
     (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
     drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
@@ -240,12 +240,10 @@ def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, 
     functions of the same state, which the time loop then need not compute at the saved steps
     (:func:`~.steps.eng_steps`); untouched for rigid links.
     ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller, as is
-    ``controlled`` (evaluated with the drogue controller or without, :func:`~.evaluation.loop_kind`)."""
-    ws = make_workspace_jit(n)
-    ws2 = make_workspace_jit(n)
-    ews = without_accelerations(make_elastic_workspace_jit(n))  # the outputs read no accelerations
-    dM = np.empty(2)
-    out = np.zeros(O_SIZE)
+    ``controlled`` (evaluated with the drogue controller or without, :func:`~.evaluation.loop_kind`).
+    ``scratch``: :func:`output_scratch`'s (made by the caller: a kernel that allocated it would
+    compile numba's runtime and the allocators into every output kernel)."""
+    ws, ws2, ews, dM, out = scratch
     for i in range(ts.shape[0]):
         if elastic and controlled:
             eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
@@ -308,12 +306,12 @@ def _outputs(elastic, controlled):
     """:func:`derived_outputs` as a compiled function of its own, for one kind of link, with the
     drogue controller or without it (:func:`~.evaluation.loop_kind`)."""
 
-    @njit(**JIT)
+    @njit(**JIT_NO_ALLOC)
     def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension, loads):
+                    drogue_drag, link_tension, loads, scratch):
         """:func:`derived_outputs` of rigid or elastic links (the kind this function is for)."""
         derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                        drogue_drag, link_tension, loads, elastic, controlled)
+                        drogue_drag, link_tension, loads, elastic, controlled, scratch)
 
     return eng_outputs
 
@@ -347,4 +345,22 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
     else:
         kernel = eng_outputs_elastic_bare if ep[EP_ELASTIC] != 0.0 else eng_outputs_rigid_bare
     kernel(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue, drogue_drag,
-           link_tension, loads)
+           link_tension, loads, output_scratch(n))
+
+
+def output_scratch(n):
+    """The scratch of :func:`derived_outputs` for a chain of n links: two workspaces, the elastic
+    workspace without room for accelerations (the outputs read none), dM (2,) and the outputs
+    ``out`` (O_SIZE,) zeroed.
+
+    Parameters
+    ----------
+    n : int
+        Number of links [-].
+
+    Returns
+    -------
+    tuple
+    """
+    return (make_workspace(n), make_workspace(n), without_accelerations(make_elastic_workspace(n)), np.empty(2),
+            np.zeros(O_SIZE))

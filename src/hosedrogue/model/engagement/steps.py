@@ -190,8 +190,8 @@ def _steps(elastic, implicit, loops):
             if step0 == 0:
                 state_loads(t0, z, n, l, M, J, ps, ep, chart, ws, ews, loads[0])
         probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
-        piloted = ep[EP_PIL] != 0.0
-        if piloted and step0 == 0:
+        piloted = ep[EP_PIL] != 0.0  # read only where loops can hold a pilot (numba prunes on the constant)
+        if loops != NO_LOOPS and piloted and step0 == 0:
             hist[0, 0], hist[0, 1], hist[0, 2], hist[0, 3] = drogue_motion(z, n, l, M, J, ep, chart, ws)
         d_before = 0.0
         if probing:
@@ -231,7 +231,7 @@ def _steps(elastic, implicit, loops):
             L = z[nh + Z_L]
             if L < ep[EP_L_MIN] or L > ep[EP_L_MAX]:
                 return REEL_END, s, saved
-            if piloted:
+            if loops != NO_LOOPS and piloted:
                 hist[step0 + s, 0], hist[step0 + s, 1], hist[step0 + s, 2], hist[step0 + s, 3] = drogue_motion(
                     z, n, l, M, J, ep, chart, ws)
             saving = record and (step0 + s) % save_every == 0
