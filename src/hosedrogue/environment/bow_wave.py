@@ -33,14 +33,14 @@ import numpy as np
 import scipy.optimize
 from numba import njit
 
-from ..jit import JIT
+from ..jit import JIT_NO_ALLOC
 
 from ..errors import ParameterError
 from ..spec.sections import BOW_WAVE_SHAPES as SHAPES  # noqa: F401 - the one list of shapes
 from ..spec.sections import BowWave as _Geometry
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def source_velocity(px, py, pz, sx, sy, sz, q):
     """Velocity [m/s] at P induced by a point source of volume flux q [m^3/s] at S (S_p, [m])."""
     dx = px - sx
@@ -51,7 +51,7 @@ def source_velocity(px, py, pz, sx, sy, sz, q):
     return c * dx, c * dy, c * dz
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def line_source_velocity(px, py, pz, sx, sy, sz, length, q):
     """Velocity [m/s] at P of a uniform line source of total flux q [m^3/s] on the segment from
     S (its forward end) to S - length * x_hat (aft along the axis), [m] in S_p.
@@ -196,7 +196,7 @@ SHAPE_OFF, SHAPE_RANKINE, SHAPE_LINE = 0, 1, 2
 CORE_M = 1e-3
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def bow_wave_velocity(px, py, pz, shape, sx, sy, sz, q, length):
     """Bow-wave perturbation velocity [m/s] at P of the source (``shape`` SHAPE_RANKINE) or the
     line's forward end (SHAPE_LINE, ``length`` [m]) at S, flux q [m^3/s]; zero for SHAPE_OFF and

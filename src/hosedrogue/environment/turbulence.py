@@ -22,7 +22,7 @@ import numpy as np
 import scipy.linalg
 from numba import njit
 
-from ..jit import JIT, JIT_INLINE
+from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 
 from ..spec.params import ParameterError, Turbulence
 from ..spec.standards import (  # noqa: F401 - part of this module's public interface
@@ -149,7 +149,7 @@ def _segment(v, i, n, j, f, cubic):
                                             + f * (3.0 * (p1 - p2) + p3 - p0)))
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def gust_at(t, t0, dt, values, t_on, t_off, cubic=False):
     """Gust velocity at time t from a sampled record (numba; the inner-loop lookup).
 

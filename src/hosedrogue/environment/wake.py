@@ -33,7 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..jit import JIT
+from ..jit import JIT_NO_ALLOC
 
 from ..constants import G0
 from ..spec.params import ParameterError, Tanker, Wake
@@ -123,7 +123,7 @@ def wake_scalars(tanker: Tanker, wake: Wake, airspeed_m_s: float, rho: float) ->
     return wk
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def wake_velocity(y, z, wk, at=0):
     """Air velocity induced by the vortex pair at one point (numba).
 

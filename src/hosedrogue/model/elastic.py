@@ -97,11 +97,17 @@ make_elastic_workspace_jit = njit(**JIT)(make_elastic_workspace)
 
 
 def without_accelerations(ews):
-    """The elastic workspace ``ews`` with no room for the length accelerations (``ews[EWS_LAMDD]``
-    of length 0): :func:`elastic_forward_dynamics` then makes its backward sweep only (the
-    tow-point force; no accelerations, ``qdd`` untouched). For output kernels, which read the
-    evaluation's forces, tensions and joints and not its accelerations (the forward pass is about
-    a quarter of the solve). From Python; compiled code calls :data:`without_accelerations_jit`."""
+    """The elastic workspace ``ews`` (:func:`make_elastic_workspace`) with no room for the length
+    accelerations (``ews[EWS_LAMDD]`` of length 0): :func:`elastic_forward_dynamics` then makes its
+    backward sweep only (the tow-point force; ``qdd`` untouched), for output kernels, which read
+    no accelerations (the forward pass is a quarter of the solve). Compiled code calls
+    :data:`without_accelerations_jit`.
+
+    Parameters
+    ----------
+    ews : tuple of numpy.ndarray
+        An elastic workspace.
+    """
     return (ews[EWS_U], ews[EWS_DINV], ews[EWS_RHS], ews[EWS_T], ews[EWS_EPSD], ews[EWS_AUG], ews[EWS_TAUL],
             np.empty(0), ews[EWS_ANG_AUG])
 
@@ -439,9 +445,8 @@ def elastic_static_residual(y, l, M, J, ps, env, gust, t, Q):
 
 @njit(**JIT_NO_ALLOC)
 def static_forces(n, l, lam, ws, ews, Q):
-    """:func:`elastic_static_residual`'s Q (3n) [N m] from an evaluation at rest of the elastic chain
-    of material lengths ``l`` and actual lengths ``lam`` (its loads and frames in ``ws``, its
-    tensions in ``ews``): the fixed-length chain's and the engagement's balance positions."""
+    """:func:`elastic_static_residual`'s Q (3n) [N m] after an evaluation at rest (loads and frames
+    in ``ws``, tensions in ``ews``) of material lengths ``l``, actual ``lam``: both chains' statics."""
     # at rest the joint equations are H a = Q: the residual is Q itself, i.e. H a
     F, a, b, e = ws[WS_F], ws[WS_A], ws[WS_B], ws[WS_E]
     T = ews[EWS_T]

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ...jit import JIT, JIT_INLINE
+from ...jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 from ..chain_dynamics import WS_A, WS_B, WS_C, WS_CS, WS_E, WS_R, WS_V
 from ..chain_loads import joint_kinematics, link_frames
 from ..elastic import add_axial_rates
@@ -55,7 +55,7 @@ def rotate_rows(n, chart, c, inverse):
                 c[k, 2] = y
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def set_variable_link(L, n, l, M, J, ep):
     """Length of the exit link from L, and the masses and inertia that depend on it.
 
@@ -80,7 +80,7 @@ def set_variable_link(L, n, l, M, J, ep):
         J[0] = mu * l[0] ** 3 / 12.0 + (ep[EP_JD] if n == 1 else 0.0)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def patch_kinematics(Ld, n, e, a, b, qd, v, c):
     """Add the variable exit link's terms: L' e_0 to every joint's velocity (joint 0: the hose
     material at the exit) and 2 L' de_0/dt to link 0's velocity-product acceleration."""
@@ -95,7 +95,7 @@ def patch_kinematics(Ld, n, e, a, b, qd, v, c):
         c[0, i] += 2.0 * Ld * (a[0, i] * d1 + b[0, i] * d2)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def chain_kinematics(z, n, l, M, J, ep, chart, ws):
     """Set the exit link's length from L and write the frames (ws[0:4]), joint positions (ws[WS_R]),
     velocities (ws[WS_V]) and velocity-product accelerations (ws[WS_C]) of state z, the reel's L' terms
@@ -128,7 +128,7 @@ def exit_material_velocity(Ld, lam, l, e, v):
     v[0, 2] = s0 * e[0, 2]
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def drogue_motion(z, n, l, M, J, ep, chart, ws):
     """Drogue (joint n) y, z [m] and y', z' [m/s] of state z (kinematics only, into ws)."""
     chain_kinematics(z, n, l, M, J, ep, chart, ws)

@@ -48,7 +48,7 @@ def _evaluate(looped):
     (:func:`loop_kind` below :data:`CONTROLLED`: a constant, whose false branches numba prunes
     before typing)."""
 
-    @njit(**JIT)
+    @njit(**JIT_NO_ALLOC)
     def eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out):
         """Accelerations (ws[WS_QDD] holds qdd, out[O_LDD] holds L'') and the outputs of state z; chart
         (n,) selects each link's angle chart (:func:`~.chain.apply_charts`); ``loop`` the drogue controller's
@@ -222,7 +222,7 @@ eng_deriv_inline, eng_deriv_steered_inline, eng_deriv_bare_inline = (
     _deriv(k, JIT_INLINE) for k in (CONTROLLED, STEERED, NO_LOOPS))
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def tail_rates(z, b, out, dz):
     """dz/dt of L, L' and the work states (the tail starting at b) from the outputs ``out``."""
     dz[b + Z_L] = z[b + Z_LD]
@@ -284,7 +284,7 @@ def _evaluate_elastic(looped):
     """:func:`eng_evaluate_elastic` compiled with the drogue controller (``looped``) or without it
     (:func:`loop_kind`)."""
 
-    @njit(**JIT)
+    @njit(**JIT_NO_ALLOC)
     def eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess):
         """:func:`eng_evaluate` of the elastic chain (docs/model.md §11): z = [q, qd, lam, lamd, tail,
         ...]. Joints 1..n are material points, so L moves no joint: the exit link's strain

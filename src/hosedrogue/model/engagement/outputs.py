@@ -33,7 +33,7 @@ from .evaluation import (
 from .probe import probe_force, probe_tip
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def plane_distance(z, n, l, ws, t, ep):
     """Signed distance [m] of the probe tip aft of the coupler plane (through joint n, normal to
     the last link, e_{n-1} pointing aft); positive before contact. Uses ws[WS_E], ws[WS_R] as filled by
@@ -67,7 +67,7 @@ def eng_energy(z, n, l, M, J, ps, ep, chart, joints, jvel):
     return T, U, Tr
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def state_loads(t, z, n, l, M, J, ps, ep, chart, ws, ews, row):
     """The loads of an elastic state z from its kinematics alone (no solve): exit tension
     (:func:`~hosedrogue.model.elastic.elastic_exit_tension`) and drogue-end tension [N], probe

@@ -10,7 +10,7 @@ import math
 
 from numba import njit
 
-from ...jit import JIT
+from ...jit import JIT_NO_ALLOC
 from ..layout import (
     EP_COUPLED, EP_FEED, EP_H, EP_P0Y, EP_P0Z, EP_PIL_AMAX, EP_PIL_DELAY, EP_PIL_LAG, EP_PIL_TV, EP_PIL_VMAX,
     EP_RCV_AMAX, EP_RCV_TV, EP_RCV_VMAX, PIL_VY, PIL_Y, RCV_CX, RCV_VX, RCV_X, Z_TAIL,
@@ -19,7 +19,7 @@ from .chain import tail_start
 from .probe import fed_tip
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def delayed_drogue(tq, hist, h):
     """Drogue lateral and vertical position [m] at time tq >= 0 from the history ``hist`` (rows:
     global RK4 steps; y, z, y', z' [m, m/s]) by cubic Hermite interpolation between the steps
@@ -45,7 +45,7 @@ def delayed_drogue(tq, hist, h):
     return y, zz
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def pilot_rates(t, z, n, ep, hist, dz):
     """dz/dt of the pilot's states (docs/engagement.md, "Pilot model"): per axis the aim is the
     drogue's position one reaction time ago (before t = 0 the start point: the pilot starts to
@@ -72,7 +72,7 @@ def pilot_rates(t, z, n, ep, hist, dz):
         dz[b + PIL_VY + i] = min(max((vcmd - v) / ep[EP_PIL_TV], -amax), amax)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def receiver_rates(t, z, n, ep, dz):
     """dz/dt of the receiver's states (docs/controllers.md): per axis the held velocity command,
     clipped to the speed bound, is followed through the first-order lag tau_v with the

@@ -10,7 +10,7 @@ import math
 
 from numba import njit
 
-from ...jit import JIT, JIT_INLINE
+from ...jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 from ..chain_loads import fill_env
 from ..layout import (
     BW_OFF, ENV_BW, ENV_BW_LEN, ENV_BW_Q, ENV_BW_X, ENV_BW_Y, ENV_BW_Z, EP_BW, EP_BW_DX, EP_BW_DY, EP_BW_DZ,
@@ -21,7 +21,7 @@ from ..layout import (
 from .chain import tail_start
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def probe_state(t, ep):
     """Prescribed probe-tip position and velocity [m, m/s] in S_p at time t.
 
@@ -61,7 +61,7 @@ def fed_axis(s, ep, i):
             a0 + s * j)
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def fed_tip(t, ep):
     """Position, velocity and acceleration [m, m/s, m/s^2] (tuples of 3) at time t of a probe path
     fed from outside (``EP_FEED``): the cubic from ``EP_FEED_T0`` with ``EP_FEED_P``,
@@ -83,7 +83,7 @@ def probe_force(ep, n, r, v, px, py, pz, vpx, vpy, vpz):
             kp * (pz - r[n, 2]) + cp * (vpz - v[n, 2]))
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def probe_tip(t, z, n, ep):
     """Probe-tip position and velocity [m, m/s] at time t and state z: :func:`probe_state`, whose
     lateral and vertical motion the pilot's states replace when a pilot flies the probe; the
@@ -109,7 +109,7 @@ def probe_tip(t, z, n, ep):
     return px, py, pz, vpx, vpy, vpz
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def air_with_bow_wave(t, env, gust, ep, px, py, pz, scratch):
     """This evaluation's air (``env`` into ``scratch``, with the gust at time t when uniform:
     :func:`~hosedrogue.model.chain_loads.env_at`) and the bow wave of the forebody whose probe tip is

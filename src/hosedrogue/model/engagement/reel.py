@@ -10,7 +10,7 @@ import math
 
 from numba import njit
 
-from ...jit import JIT
+from ...jit import JIT, JIT_NO_ALLOC
 from ..layout import (
     EP_CR, EP_DB, EP_JLINK, EP_JR, EP_KS, EP_KV, EP_K_GOV, EP_LAW, EP_MU, EP_PAY_A, EP_PAY_DIST, EP_PAY_T0,
     EP_PAY_V, EP_RD, EP_REEL_SLOT, EP_REEL_TV, EP_SPLIT, EP_TAU_MAX, EP_TSET, EP_V_IN_MAX, EP_V_OUT_MAX,
@@ -32,7 +32,7 @@ def mass_rates(Ld, n, l, ep, dM):
         dM[1] = 0.0
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def commanded_reel(T00, me, Ld, z, n, ep):
     """Motor torque [N m] and L'' [m/s^2] of the commanded reel (LAW_COMMANDED): the held take-up
     speed command, clipped to the speed limits, is followed through a first-order lag of
@@ -85,7 +85,7 @@ def schedule_acceleration(t, ep):
     return 0.0
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def motor_torque(Ld, slack, ep):
     """Motor torque [N m] (positive reels in) of the ``constant-tension`` and ``response`` laws,
     with the speed governor and the torque limit."""
@@ -110,7 +110,7 @@ def motor_torque(Ld, slack, ep):
     return tau
 
 
-@njit(**JIT)
+@njit(**JIT_NO_ALLOC)
 def reel_outputs(Ld, n, l, ep, dM, v, cs, qd, T0, Ldd, taum, slack, px, py, pz, fx, fy, fz, vpx, vpy, vpz, pm, pf,
                  out):
     """The evaluation's outputs of the reel, the probe and the powers into ``out`` (the ``O_*``
