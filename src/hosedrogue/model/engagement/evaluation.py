@@ -406,11 +406,10 @@ eng_evaluate_elastic, eng_evaluate_elastic_bare = _evaluate_elastic(True), _eval
 
 
 def _deriv_elastic(loops):
-    """:func:`eng_deriv_elastic` compiled for the loops ``loops`` (:func:`loop_kind`), without
-    numba's runtime (it allocates nothing: unpacking the workspaces then takes no reference
-    counts, which also halved its compile time)."""
+    """:func:`eng_deriv_elastic` for the loops ``loops`` (:func:`loop_kind`), inlined into its
+    callers (the steps) without numba's runtime (it allocates nothing)."""
 
-    @njit(**JIT_NO_ALLOC)
+    @njit(**JIT_NO_ALLOC_INLINE)
     def eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz):
         """:func:`eng_deriv` of the elastic chain (``hg``, ``guess`` (len(z)): see :func:`eng_evaluate_elastic`)."""
         if loops == CONTROLLED:
@@ -431,10 +430,10 @@ def _deriv_elastic(loops):
     return eng_deriv_elastic
 
 
-#: :func:`_deriv_elastic`'s derivative for each kind of loops (:func:`loop_kind`). Compiled on
-#: its own, not inlined into the steps as the rigid one is (:data:`eng_deriv_inline`): the SDIRK
-#: calls it at more places, and numba's inliner, which copies and re-processes its IR at each, made
-#: a cold elastic run slower (docs/develop.md, "The compiled core", fifth round).
+#: :func:`_deriv_elastic`'s derivative for each kind of loops (:func:`loop_kind`). Inlined into the
+#: steps as the rigid one is (:data:`eng_deriv_inline`) since the SDIRK's stages are one loop and
+#: call it at one place (in the fifth round, at more places, inlining made a cold elastic run
+#: slower; docs/develop.md, "The compiled core", seventh round).
 eng_deriv_elastic, eng_deriv_elastic_steered, eng_deriv_elastic_bare = (
     _deriv_elastic(k) for k in (CONTROLLED, STEERED, NO_LOOPS))
 

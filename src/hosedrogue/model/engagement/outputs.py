@@ -50,7 +50,7 @@ def eng_energy(z, n, l, M, J, ps, ep, chart, joints, jvel):
     """(hose kinetic, elastic bending (``moment``), reel kinetic) energy [J] of state z
     (:func:`~hosedrogue.model.chain_dynamics.chain_energy`; gravity's work is in the balance's terms);
     with elastic links the elastic energy includes their strain energy. The joints' positions and
-    velocities (n+1, 3) [m, m/s] go to ``joints`` and ``jvel``: those of :func:`derived_outputs`
+    velocities (n+1, 3) [m, m/s] go to ``joints`` and ``jvel``: those of :func:`eng_outputs`
     bit for bit (:func:`~.chain.chain_kinematics` is the first half of an evaluation), all that a
     remesh event compares of the states before and after it."""
     ws = make_workspace_jit(n)
@@ -227,93 +227,88 @@ def measured_exit_tension(z, n, l, M, J, ps, env, gust, ep, chart, loop, control
     return float(raw[R_T0])
 
 
-@njit(**JIT_INLINE)
-def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension, loads, elastic, controlled, scratch):
-    """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
-    (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
-    drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
-    untouched for rigid links). The tow-point force includes the weight of the hose mass lumped
-    at the exit (half the exit link's with ``split`` lumping, as the fixed-length chain's).
-    Elastic links: each state's loads as :func:`state_loads` writes them (exit and drogue-end
-    tension [N], probe load [N], slack [m]) into ``loads`` (N, 4), the same numbers from the same
-    functions of the same state, which the time loop then need not compute at the saved steps
-    (:func:`~.steps.eng_steps`); untouched for rigid links.
-    ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller, as is
-    ``controlled`` (evaluated with the drogue controller or without, :func:`~.evaluation.loop_kind`).
-    ``scratch``: :func:`output_scratch`'s (made by the caller: a kernel that allocated it would
-    compile numba's runtime and the allocators into every output kernel)."""
-    ws, ws2, ews, dM, out = scratch
-    for i in range(ts.shape[0]):
-        if elastic and controlled:
-            eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
-                                 zs[i])
-        elif elastic:
-            eng_evaluate_elastic_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out,
-                                      0.0, zs[i])
-        if elastic:
+def _outputs(elastic, controlled):
+    """:func:`eng_outputs`'s kernel compiled for one kind of link (``elastic``) and with the drogue
+    controller or without it (``controlled``, :func:`~.evaluation.loop_kind`): constants of the
+    compiled function, whose other branches numba prunes before typing. The body is written here,
+    not inlined into the closure from a function of its own (numba's ``inline="always"`` copies and
+    re-processes its IR: docs/develop.md, "The compiled core")."""
+
+    @njit(**JIT_NO_ALLOC)
+    def derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
+                        drogue_drag, link_tension, loads, scratch):
+        """Derived outputs at saved states: joints (N, n+1, 3), joint velocities, the ``out`` scalars
+        (N, O_SIZE), tow-point force (N, 3), the tension in the last link [N] (N,), the drogue's
+        drag (N, 3) [N] and, for elastic links, every link's tension EA eps + c_a deps/dt [N] (N, n;
+        untouched for rigid links). The tow-point force includes the weight of the hose mass lumped
+        at the exit (half the exit link's with ``split`` lumping, as the fixed-length chain's).
+        Elastic links: each state's loads as :func:`state_loads` writes them (exit and drogue-end
+        tension [N], probe load [N], slack [m]) into ``loads`` (N, 4), the same numbers from the same
+        functions of the same state, which the time loop then need not compute at the saved steps
+        (:func:`~.steps.eng_steps`); untouched for rigid links.
+        ``elastic``: the links' kind (``ep[EP_ELASTIC]``), a constant of the compiled caller, as is
+        ``controlled`` (evaluated with the drogue controller or without, :func:`~.evaluation.loop_kind`).
+        ``scratch``: :func:`output_scratch`'s (made by the caller: a kernel that allocated it would
+        compile numba's runtime and the allocators into every output kernel)."""
+        ws, ws2, ews, dM, out = scratch
+        for i in range(ts.shape[0]):
+            if elastic and controlled:
+                eng_evaluate_elastic(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, 0.0,
+                                     zs[i])
+            elif elastic:
+                eng_evaluate_elastic_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out,
+                                          0.0, zs[i])
+            if elastic:
+                copy_matrix(joints[i], ws[WS_R])
+                copy_matrix(jvel[i], ws[WS_V])
+                copy_vector(scal[i], out)
+                for j in range(3):
+                    tow[i, j] = ws[WS_TOW][j]
+                    drogue_drag[i, j] = ws[WS_DRAG][j]
+                if ep[EP_SPLIT] != 0.0:
+                    tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
+                tension_drogue[i] = ews[EWS_T][n - 1]  # the last link's tension EA eps + c_a deps/dt
+                copy_vector(link_tension[i], ews[EWS_T])
+                # state_loads' row: its exit tension, last link's tension, probe load and slack are the
+                # evaluation's (elastic_exit_tension, axial_tensions, probe_force, arc minus chord)
+                loads[i, 0] = out[O_T0]
+                loads[i, 1] = ews[EWS_T][n - 1]
+                fx, fy, fz = out[O_FPX], out[O_FPY], out[O_FPZ]
+                loads[i, 2] = math.sqrt(fx * fx + fy * fy + fz * fz)
+                loads[i, 3] = out[O_SLACK]
+                continue
+            if controlled:
+                eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+            else:
+                eng_evaluate_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+            out[O_PAXIAL] = 0.0
             copy_matrix(joints[i], ws[WS_R])
             copy_matrix(jvel[i], ws[WS_V])
             copy_vector(scal[i], out)
+            Ldd = out[O_LDD]
+            # total force of the hose on the exit: F_0 + sum (F_k - M_k A_k)
             for j in range(3):
-                tow[i, j] = ws[WS_TOW][j]
+                tow[i, j] = ws[WS_TOW][j] + Ldd * ws2[WS_TOW][j]
                 drogue_drag[i, j] = ws[WS_DRAG][j]
             if ep[EP_SPLIT] != 0.0:
                 tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
-            tension_drogue[i] = ews[EWS_T][n - 1]  # the last link's tension EA eps + c_a deps/dt
-            copy_vector(link_tension[i], ews[EWS_T])
-            # state_loads' row: its exit tension, last link's tension, probe load and slack are the
-            # evaluation's (elastic_exit_tension, axial_tensions, probe_force, arc minus chord)
-            loads[i, 0] = out[O_T0]
-            loads[i, 1] = ews[EWS_T][n - 1]
-            fx, fy, fz = out[O_FPX], out[O_FPY], out[O_FPZ]
-            loads[i, 2] = math.sqrt(fx * fx + fy * fy + fz * fz)
-            loads[i, 3] = out[O_SLACK]
-            continue
-        if controlled:
-            eng_evaluate(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
-        else:
-            eng_evaluate_bare(ts[i], zs[i], n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
-        out[O_PAXIAL] = 0.0
-        copy_matrix(joints[i], ws[WS_R])
-        copy_matrix(jvel[i], ws[WS_V])
-        copy_vector(scal[i], out)
-        Ldd = out[O_LDD]
-        # total force of the hose on the exit: F_0 + sum (F_k - M_k A_k)
-        for j in range(3):
-            tow[i, j] = ws[WS_TOW][j] + Ldd * ws2[WS_TOW][j]
-            drogue_drag[i, j] = ws[WS_DRAG][j]
-        if ep[EP_SPLIT] != 0.0:
-            tow[i, 2] += 0.5 * ep[EP_MU] * l[0] * ps[PS_G]
-        # last link's tension: the drogue joint's load minus its inertia, along the link
-        # (joint n's acceleration from the recursion: A_n = L'' e_0 + sum of link terms)
-        e = ws[WS_E]
-        qdd = ws[WS_QDD]
-        Ax = Ldd * e[0, 0]
-        Ay = Ldd * e[0, 1]
-        Az = Ldd * e[0, 2]
-        for k in range(n):
-            Ax += l[k] * (ws[WS_A][k, 0] * qdd[2 * k] + ws[WS_B][k, 0] * qdd[2 * k + 1]) + ws[WS_C][k, 0]
-            Ay += l[k] * (ws[WS_A][k, 1] * qdd[2 * k] + ws[WS_B][k, 1] * qdd[2 * k + 1]) + ws[WS_C][k, 1]
-            Az += l[k] * (ws[WS_A][k, 2] * qdd[2 * k] + ws[WS_B][k, 2] * qdd[2 * k + 1]) + ws[WS_C][k, 2]
-        F = ws[WS_F]
-        m = M[n - 1]
-        tension_drogue[i] = ((F[n, 0] - m * Ax) * e[n - 1, 0] + (F[n, 1] - m * Ay) * e[n - 1, 1]
-                             + (F[n, 2] - m * Az) * e[n - 1, 2])
+            # last link's tension: the drogue joint's load minus its inertia, along the link
+            # (joint n's acceleration from the recursion: A_n = L'' e_0 + sum of link terms)
+            e = ws[WS_E]
+            qdd = ws[WS_QDD]
+            Ax = Ldd * e[0, 0]
+            Ay = Ldd * e[0, 1]
+            Az = Ldd * e[0, 2]
+            for k in range(n):
+                Ax += l[k] * (ws[WS_A][k, 0] * qdd[2 * k] + ws[WS_B][k, 0] * qdd[2 * k + 1]) + ws[WS_C][k, 0]
+                Ay += l[k] * (ws[WS_A][k, 1] * qdd[2 * k] + ws[WS_B][k, 1] * qdd[2 * k + 1]) + ws[WS_C][k, 1]
+                Az += l[k] * (ws[WS_A][k, 2] * qdd[2 * k] + ws[WS_B][k, 2] * qdd[2 * k + 1]) + ws[WS_C][k, 2]
+            F = ws[WS_F]
+            m = M[n - 1]
+            tension_drogue[i] = ((F[n, 0] - m * Ax) * e[n - 1, 0] + (F[n, 1] - m * Ay) * e[n - 1, 1]
+                                 + (F[n, 2] - m * Az) * e[n - 1, 2])
 
-
-def _outputs(elastic, controlled):
-    """:func:`derived_outputs` as a compiled function of its own, for one kind of link, with the
-    drogue controller or without it (:func:`~.evaluation.loop_kind`)."""
-
-    @njit(**JIT_NO_ALLOC)
-    def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                    drogue_drag, link_tension, loads, scratch):
-        """:func:`derived_outputs` of rigid or elastic links (the kind this function is for)."""
-        derived_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
-                        drogue_drag, link_tension, loads, elastic, controlled, scratch)
-
-    return eng_outputs
+    return derived_outputs
 
 
 eng_outputs_rigid, eng_outputs_elastic = _outputs(False, True), _outputs(True, True)
@@ -322,9 +317,10 @@ eng_outputs_rigid_bare, eng_outputs_elastic_bare = _outputs(False, False), _outp
 
 def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel, scal, tow, tension_drogue,
                 drogue_drag, link_tension, loads, controlled=None):
-    """Derived outputs at saved states into the given arrays (:func:`derived_outputs`), compiled
-    for the chain's kind of link (``ep[EP_ELASTIC]``: :data:`eng_outputs_rigid` or
-    :data:`eng_outputs_elastic`), with the drogue controller or without it (the ``_bare`` ones).
+    """Derived outputs at saved states into the given arrays, by the kernel (``derived_outputs`` of
+    :func:`_outputs`) compiled for the chain's kind of link (``ep[EP_ELASTIC]``:
+    :data:`eng_outputs_rigid` or :data:`eng_outputs_elastic`), with the drogue controller or
+    without it (the ``_bare`` ones).
 
     Parameters
     ----------
@@ -333,7 +329,7 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
     n, l, M, J, ps, env, gust, ep, chart, loop : int, numpy.ndarray or LoopArrays
         The chain and the model, as :func:`eng_raw`'s.
     joints, jvel, scal, tow, tension_drogue, drogue_drag, link_tension, loads : numpy.ndarray
-        Receive the outputs (:func:`derived_outputs`; ``loads`` (N, 4) the elastic links' loads).
+        Receive the outputs (see ``derived_outputs``; ``loads`` (N, 4) the elastic links' loads).
     controlled : bool, optional
         Take the variant compiled with the drogue controller (default: whether ``ep`` has it,
         :func:`~.evaluation.loop_kind`): a caller evaluating a run's state with its controller
@@ -349,7 +345,7 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
 
 
 def output_scratch(n):
-    """The scratch of :func:`derived_outputs` for a chain of n links: two workspaces, the elastic
+    """The scratch of the output kernels (:func:`eng_outputs`) for a chain of n links: two workspaces, the elastic
     workspace without room for accelerations (the outputs read none), dM (2,) and the outputs
     ``out`` (O_SIZE,) zeroed.
 

@@ -122,7 +122,7 @@ def eng_segment(z, t0, step0, h, nsteps, save_every, n, l, M, J, ps, env, gust, 
     delayed view of the drogue. With elastic links the loads of the state after every global step k
     go to ``loads[k]`` (:func:`~.outputs.state_loads`; ``loads`` has one row per step of the run, or
     is a (1, 4) placeholder for rigid links), except at the saved steps, whose loads the driver
-    takes from the saved states' outputs (:func:`~.outputs.derived_outputs`, the same numbers;
+    takes from the saved states' outputs (:func:`~.outputs.eng_outputs`, the same numbers;
     :func:`hosedrogue.engagement.result.assemble_result`).
 
     The scratch is allocated here and the steps compiled for the kind of link
@@ -165,7 +165,7 @@ def _steps(elastic, implicit, loops):
         of the compiled caller, which then holds the steps of that kind only), by the SDIRK if
         ``implicit`` (elastic links with ``ep[EP_SCHEME]`` the SDIRK), else RK4: a constant too, so an
         elastic run compiles one integrator, not both. ``saved_loads``: the
-        loads of a saved state are left to its outputs (:func:`~.outputs.derived_outputs` writes the
+        loads of a saved state are left to its outputs (:func:`~.outputs.eng_outputs` writes the
         same numbers, at no extra cost: 4 us of the ~85 us of a saved step at 160 links), their rows
         of ``loads`` left as they are; the segment's caller, whose parameters do not change while it
         runs, fills them. Returns (status, steps done, saved count)."""
