@@ -345,9 +345,9 @@ def eng_outputs(ts, zs, n, l, M, J, ps, env, gust, ep, chart, loop, joints, jvel
 
 
 def output_scratch(n):
-    """The scratch of the output kernels (:func:`eng_outputs`) for a chain of n links: two workspaces, the elastic
-    workspace without room for accelerations (the outputs read none), dM (2,) and the outputs
-    ``out`` (O_SIZE,) zeroed.
+    """The scratch of the output kernels (:func:`eng_outputs`) for a chain of n links: two
+    workspaces, the elastic workspace without room for accelerations (the outputs read none), dM
+    (2,) and the outputs ``out`` (O_SIZE,) zeroed.
 
     Parameters
     ----------
