@@ -123,12 +123,11 @@ class EngagementStatics:
     def outputs(self, rest: np.ndarray) -> StateOutputs:
         """The outputs of the rest state ``rest`` ([q, 0] or [q, 0, lam, 0]) in steady air: joint
         positions [m], drogue drag and tow-point force [N] (with the weight of the hose mass lumped
-        at the exit, as the engagement's outputs add it), exit tension [N]."""
+        at the exit, ``ps[PS_M_TOW]``, as the fixed-length chain's outputs add it), exit tension [N]."""
         n, ws = self.n, self.ws
         self._at_rest(rest[: 2 * n], rest[4 * n: 5 * n] if self.elastic else None, self.model.steady_env)
         tow = ws[CD.WS_TOW].copy()  # the reel held: no L'' term
-        if self.ep[LY.EP_SPLIT] != 0.0:
-            tow[2] += 0.5 * self.ep[LY.EP_MU] * self.l[0] * self.model.ps[LY.PS_G]
+        tow[2] += self.model.ps[LY.PS_M_TOW] * self.model.ps[LY.PS_G]  # the exit's lumped mass, the model's
         return StateOutputs(ws[CD.WS_QDD].copy(), ws[CD.WS_R].copy(), ws[CD.WS_V].copy(), ws[CD.WS_DRAG].copy(), tow,
                             float(self.out[LY.O_T0]))
 

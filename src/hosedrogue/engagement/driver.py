@@ -27,7 +27,7 @@ from .events import FAILURES, failure_reason, segment_event
 from ..results.run import stop_message
 from .result import EngagementResult, assemble_result
 from .result import segment_outputs as _outputs
-from .loop import drogue_history, engagement_loop, extra_states, no_loop, set_pilot
+from .loop import drogue_history, engagement_loop, extra_states, has_drogue_controller, no_loop, set_pilot
 from .parameters import engagement_parameters
 from ..spec.sections import BowWave, Engagement, Pilot, Probe, Receiver, Reel
 
@@ -219,7 +219,7 @@ def prepare(params: Params, duration_s: float, *, reel: Reel | None = None, prob
     # the sections' rules (a pilot or a receiver needs a probe)
     Engagement(reel=reel, probe=probe, bow_wave=bow_wave, pilot=pilot, receiver=receiver)
     chain, model, drogue_eq, z = _initial_state(params, probe, equilibrium, x0, length_rate_m_s, gravity_m_s2,
-                                                duration_s, control is not None or drogue_actuator is not None)
+                                                duration_s, has_drogue_controller(control, drogue_actuator))
     ep = engagement_parameters(params, reel, probe, chain, drogue_eq, bow_wave)
     L0 = z[EC.tail_start(chain.n, ep) + LY.Z_L]
     if not reel.min_length_m <= L0 <= reel.max_length_m:

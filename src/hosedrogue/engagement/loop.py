@@ -65,6 +65,24 @@ def no_loop() -> LoopArrays:
     return engagement_loop(None, np.zeros(2), Actuator(), Sensor(), 1.0, 0)
 
 
+def has_drogue_controller(control, drogue_actuator) -> bool:
+    """Whether a run has a drogue controller in its compiled loop (``ep[EP_CTRL]``): a built-in
+    controller, or an actuated drogue (whose surfaces a zero controller commands).
+
+    Parameters
+    ----------
+    control : LinearController or None
+        The drogue controller.
+    drogue_actuator : DrogueActuator or None
+        The drogue's control surfaces.
+
+    Returns
+    -------
+    bool
+    """
+    return control is not None or drogue_actuator is not None
+
+
 def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Actuator,
                  pilot: Pilot | None, receiver: Receiver | None = None, reel: Reel | None = None,
                  drogue_actuator: DrogueActuator | None = None) -> np.ndarray:
@@ -114,8 +132,8 @@ def extra_states(ep: np.ndarray, control: LinearController | None, actuator: Act
         ep[LY.EP_NPIL] += 1.0
         ep[LY.EP_REEL_SLOT] = ep[LY.EP_NPIL]
         parts.append([0.0])
-    ep[LY.EP_CTRL] = 0.0 if control is None and drogue_actuator is None else 1.0
-    if control is not None or drogue_actuator is not None:
+    ep[LY.EP_CTRL] = 1.0 if has_drogue_controller(control, drogue_actuator) else 0.0
+    if ep[LY.EP_CTRL] != 0.0:
         ctrl = control if control is not None else LinearController.static_zero()
         parts.append(loop_states(ctrl, actuator, drogue_actuator))
     return np.concatenate([np.asarray(p, dtype=np.float64) for p in parts]) if parts else np.zeros(0)

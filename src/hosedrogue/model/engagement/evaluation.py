@@ -185,41 +185,25 @@ def drogue_surfaces(t, z, n, r, v, ps, env, gust, ep, loop, u, out):
     return ddx, ddy, ddz
 
 
-def _deriv(loops, options):
-    """:func:`eng_deriv` compiled for the loops ``loops`` (:func:`loop_kind`: none, a pilot or
-    receiver, or the drogue controller too), with numba's ``options`` (``JIT``, or
-    ``JIT_INLINE``: the steps' derivative, :func:`eng_deriv_inline`)."""
-
-    def eng_deriv(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz):
-        """dz/dt of the engagement state z (``hist``: the drogue history the pilot's delay reads)."""
-        if loops == CONTROLLED:
-            eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
-        else:
-            eng_evaluate_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
-        qdd = ws[WS_QDD]
-        for i in range(2 * n):
-            dz[i] = z[2 * n + i]
-            dz[2 * n + i] = qdd[i]
-        b = 4 * n
-        tail_rates(z, b, out, dz)
-        dz[b + Z_WAX] = 0.0
-        if loops == CONTROLLED:
-            loop_rates(t, z, n, b, ep, loop, hist, out, dz)
-        elif loops == STEERED:
-            steer_rates(t, z, n, b, ep, hist, dz)
-        else:
-            reel_slot_rate(b, ep, dz)
-
-    return njit(**options)(eng_deriv)
-
-
-#: :func:`_deriv`'s rigid derivative for each kind of loops (:func:`loop_kind`) ...
-eng_deriv, eng_deriv_steered, eng_deriv_bare = (_deriv(k, JIT) for k in (CONTROLLED, STEERED, NO_LOOPS))
-#: ... and the same text inlined into its caller (numba's ``inline="always"``), for the steps: a
-#: compiled function of its own would generate the machine code of the whole evaluation below it
-#: once more (docs/develop.md, "The compiled core", fifth round)
-eng_deriv_inline, eng_deriv_steered_inline, eng_deriv_bare_inline = (
-    _deriv(k, JIT_INLINE) for k in (CONTROLLED, STEERED, NO_LOOPS))
+@njit(**JIT_INLINE)
+def eng_deriv(loops, t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz):
+    """dz/dt of the engagement state z of rigid links for the loops ``loops`` (:func:`loop_kind`;
+    ``hist``: the drogue history the pilot's delay reads). Inlined into its callers (the steps),
+    where ``loops`` is a constant: numba prunes the other kinds' code before typing (a compiled
+    function of its own would generate the machine code of the whole evaluation below it once
+    more: docs/develop.md, "The compiled core", fifth round)."""
+    if loops == CONTROLLED:
+        eng_evaluate(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+    else:
+        eng_evaluate_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ws2, dM, out)
+    qdd = ws[WS_QDD]
+    for i in range(2 * n):
+        dz[i] = z[2 * n + i]
+        dz[2 * n + i] = qdd[i]
+    b = 4 * n
+    tail_rates(z, b, out, dz)
+    dz[b + Z_WAX] = 0.0
+    loops_rates(loops, t, z, n, b, ep, loop, hist, out, dz)
 
 
 @njit(**JIT_NO_ALLOC)
@@ -278,6 +262,20 @@ def loop_rates(t, z, n, b, ep, loop, hist, out, dz):
         else:  # coupled: the controller (and actuator) states are frozen
             for i in range(nx, z.shape[0]):
                 dz[i] = 0.0
+
+
+@njit(**JIT_NO_ALLOC_INLINE)
+def loops_rates(loops, t, z, n, b, ep, loop, hist, out, dz):
+    """dz/dt of the states after the tail at b for the loops ``loops`` (:func:`loop_kind`): every
+    loop's (:func:`loop_rates`), a pilot's or receiver's (:func:`steer_rates`) or the one state of
+    a run without loops (:func:`reel_slot_rate`); ``loops`` a constant of the caller it is inlined
+    into."""
+    if loops == CONTROLLED:
+        loop_rates(t, z, n, b, ep, loop, hist, out, dz)
+    elif loops == STEERED:
+        steer_rates(t, z, n, b, ep, hist, dz)
+    else:
+        reel_slot_rate(b, ep, dz)
 
 
 def _evaluate_elastic(looped):
@@ -405,37 +403,21 @@ def _evaluate_elastic(looped):
 eng_evaluate_elastic, eng_evaluate_elastic_bare = _evaluate_elastic(True), _evaluate_elastic(False)
 
 
-def _deriv_elastic(loops):
-    """:func:`eng_deriv_elastic` for the loops ``loops`` (:func:`loop_kind`), inlined into its
-    callers (the steps) without numba's runtime (it allocates nothing)."""
-
-    @njit(**JIT_NO_ALLOC_INLINE)
-    def eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz):
-        """:func:`eng_deriv` of the elastic chain (``hg``, ``guess`` (len(z)): see :func:`eng_evaluate_elastic`)."""
-        if loops == CONTROLLED:
-            eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
-        else:
-            eng_evaluate_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
-        hose_rates(z, n, ws, ews, dz)
-        b = 6 * n
-        tail_rates(z, b, out, dz)
-        dz[b + Z_WAX] = out[O_PAXIAL]
-        if loops == CONTROLLED:
-            loop_rates(t, z, n, b, ep, loop, hist, out, dz)
-        elif loops == STEERED:
-            steer_rates(t, z, n, b, ep, hist, dz)
-        else:
-            reel_slot_rate(b, ep, dz)
-
-    return eng_deriv_elastic
-
-
-#: :func:`_deriv_elastic`'s derivative for each kind of loops (:func:`loop_kind`). Inlined into the
-#: steps as the rigid one is (:data:`eng_deriv_inline`) since the SDIRK's stages are one loop and
-#: call it at one place (in the fifth round, at more places, inlining made a cold elastic run
-#: slower; docs/develop.md, "The compiled core", seventh round).
-eng_deriv_elastic, eng_deriv_elastic_steered, eng_deriv_elastic_bare = (
-    _deriv_elastic(k) for k in (CONTROLLED, STEERED, NO_LOOPS))
+@njit(**JIT_NO_ALLOC_INLINE)
+def eng_deriv_elastic(loops, t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz):
+    """:func:`eng_deriv` of the elastic chain (``hg``, ``guess`` (len(z)): see
+    :func:`eng_evaluate_elastic`), inlined into the steps as the rigid one is: since the SDIRK's
+    stages are one loop it is called at one place per step (in the fifth round, at more places,
+    inlining made a cold elastic run slower; docs/develop.md, "The compiled core", seventh round)."""
+    if loops == CONTROLLED:
+        eng_evaluate_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
+    else:
+        eng_evaluate_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, ws, ews, dM, out, hg, guess)
+    hose_rates(z, n, ws, ews, dz)
+    b = 6 * n
+    tail_rates(z, b, out, dz)
+    dz[b + Z_WAX] = out[O_PAXIAL]
+    loops_rates(loops, t, z, n, b, ep, loop, hist, out, dz)
 
 
 def loop_kind(ep) -> int:

@@ -23,10 +23,7 @@ from ..layout import (
 from ..sampled import deliver
 from ..steppers import rk4, sdirk2
 from .chain import chain_kinematics, drogue_motion, elastic_pairs, set_variable_link, tail_start
-from .evaluation import (
-    CONTROLLED, NO_LOOPS, STEERED, eng_deriv_bare_inline, eng_deriv_elastic, eng_deriv_elastic_bare,
-    eng_deriv_elastic_steered, eng_deriv_inline, eng_deriv_steered_inline, loop_kind,
-)
+from .evaluation import CONTROLLED, NO_LOOPS, STEERED, eng_deriv, eng_deriv_elastic, loop_kind
 from .outputs import plane_distance, raw_kernel, state_loads
 
 
@@ -39,12 +36,7 @@ def _rate(loops):
     @njit(**JIT_INLINE)
     def eng_rate(t, z, model, hg, guess, dz):
         n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out = model
-        if loops == CONTROLLED:
-            eng_deriv_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
-        elif loops == STEERED:
-            eng_deriv_steered_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
-        else:
-            eng_deriv_bare_inline(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
+        eng_deriv(loops, t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ws2, dM, out, dz)
 
     return eng_rate
 
@@ -56,14 +48,8 @@ def _rate_elastic(loops):
     @njit(**JIT_INLINE)
     def eng_rate_elastic(t, z, model, hg, guess, dz):
         n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out = model
-        if loops == CONTROLLED:
-            eng_deriv_elastic(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess, dz)
-        elif loops == STEERED:
-            eng_deriv_elastic_steered(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg,
-                                      guess, dz)
-        else:
-            eng_deriv_elastic_bare(t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess,
-                                   dz)
+        eng_deriv_elastic(loops, t, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, hg, guess,
+                          dz)
 
     return eng_rate_elastic
 
@@ -178,15 +164,8 @@ def _steps(elastic, implicit, loops):
         flexible = (n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out)
         least = int(ep[EP_ITER])  # the SDIRK's least corrections per stage
         if elastic and s0 == 0:  # a segment's start: the SDIRK's first slope guess is dz/dt there
-            if loops == CONTROLLED:
-                eng_deriv_elastic(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0,
-                                  work[6], work[7])
-            elif loops == STEERED:
-                eng_deriv_elastic_steered(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
-                                          0.0, work[6], work[7])
-            else:
-                eng_deriv_elastic_bare(t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out,
-                                       0.0, work[6], work[7])
+            eng_deriv_elastic(loops, t0, z, n, l, M, J, ps, env, gust, ep, chart, loop, hist, ws, ews, dM, out, 0.0,
+                              work[6], work[7])
             if step0 == 0:
                 state_loads(t0, z, n, l, M, J, ps, ep, chart, ws, ews, loads[0])
         probing = ep[EP_PROBE] != 0.0 and ep[EP_COUPLED] == 0.0
