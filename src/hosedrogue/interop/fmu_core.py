@@ -19,11 +19,12 @@ variable                             causality   meaning
 ``tow_tension_n``                    output      magnitude of the force at the tow point [N]
 ===================================  ==========  ================================================
 
-Inputs are held over a communication step (zero-order hold); the step is split into sub-steps no
-longer than ``numerics.step_s`` of :func:`hosedrogue.simulation.simulate.rk4_step_python` on
-:meth:`hosedrogue.model.system.HoseModel.derivative`, the arithmetic of :func:`hosedrogue.simulate`
-with a control function. The FMU starts at rest at the balance position of its flight condition in
-still air.
+Inputs are held over a communication step (zero-order hold); the step is split into equal RK4
+sub-steps no longer than ``numerics.step_s``, integrated by the compiled loop of
+:func:`hosedrogue.simulate` (:func:`hosedrogue.model.integrate.rk4_steps`, the package's one RK4
+step) with the force held as the state of a hold controller
+(:func:`hosedrogue.model.sampled.held_command`, as the steppers hold it). The FMU starts at rest
+at the balance position of its flight condition in still air.
 """
 
 from __future__ import annotations
@@ -179,11 +180,13 @@ class HoseDrogueCore:
 
     def __init__(self, params: Params):
         from ..analysis.equilibrium import solve_equilibrium
+        from ..model import chain_dynamics as CD
+        from ..model.integrate import loop_arrays
+        from ..model.sampled import held_command
         from ..model.system import HoseModel
-        from ..simulation.simulate import rk4_step_python
+        from ..spec.params import Actuator
 
         self.params = params
-        self._rk4 = rk4_step_python
         self._gust = (0.0, 0.0, 0.0)
         self.model = HoseModel(params, gusts=constant_gusts(self._gust))
         self.equilibrium = solve_equilibrium(params, model=self.model)  # in still air
@@ -191,6 +194,14 @@ class HoseDrogueCore:
         self.t_s = 0.0
         self.u_n = np.zeros(2)
         self._max_yaw = math.radians(params.numerics.max_yaw_deg)
+        # the force (u_y, u_z) is the state of a hold controller behind the x of the closed loop:
+        # z = [x, u], u' = 0, through an actuator without limits
+        self._loop = tuple(loop_arrays(held_command(), self.equilibrium.drogue_position_m[1:].copy(), Actuator(),
+                                       np.zeros((1, 2)), 1.0))
+        self._z = np.empty(self.x.size + 2)
+        self._ws = CD.make_workspace(self.model.n)
+        self._work = np.empty((5, self._z.size))
+        self._u = np.empty(2)
 
     def set_gust(self, gust_m_s) -> None:
         """Hold the uniform gust velocity ``gust_m_s`` = (u, v, w) [m/s] from now on.
@@ -234,29 +245,25 @@ class HoseDrogueCore:
             state stays that of ``t_s``.
         """
         from ..model import layout as LY  # loaded with the model (__init__): the module's import stays light
+        from ..model.integrate import rk4_steps
 
         self.set_force(u_n)
-        u = self.u_n
         count = max(1, int(math.ceil(h_s / self.params.numerics.step_s - 1e-9)))
         h = h_s / count
         n = self.model.n
-        x = self.x
-
-        def f(t, state):
-            return self.model.derivative(t, state, u)
-
-        for k in range(count):
-            x = self._rk4(f, t_s + k * h, x, h)
-            if not np.all(np.isfinite(x)):
-                raise _failure(t_s + (k + 1) * h, LY.NONFINITE, "check the inputs for NaN or values far beyond the "
-                                                                "model's range")
-            yaw = np.abs(x[1: 2 * n: 2])
-            if np.max(yaw) > self._max_yaw:
-                link = int(np.argmax(yaw)) + 1
-                raise _failure(t_s + (k + 1) * h, LY.YAW_LIMIT, f"link {link} at {math.degrees(yaw[link - 1]):.1f} "
-                                                                f"deg, numerics.max_yaw_deg = "
-                                                                f"{self.params.numerics.max_yaw_deg:g} deg")
-        self.x = x
+        z = self._z  # the state of t_s and the held force; self.x stays that of t_s until the step succeeds
+        z[:4 * n] = self.x
+        z[4 * n:] = self.u_n
+        status, k = rk4_steps(t_s, 1, count, z, h, *self.model.kernel_args(), *self._loop, self._max_yaw,
+                              self._ws, self._work, self._u, False)
+        if status == LY.NONFINITE:
+            raise _failure(t_s + k * h, LY.NONFINITE, "check the inputs for NaN or values far beyond the model's range")
+        if status != LY.OK:
+            yaw = np.abs(z[1: 2 * n: 2])
+            link = int(np.argmax(yaw)) + 1
+            raise _failure(t_s + k * h, status, f"link {link} at {math.degrees(yaw[link - 1]):.1f} deg, "
+                                                f"numerics.max_yaw_deg = {self.params.numerics.max_yaw_deg:g} deg")
+        self.x = z[:4 * n].copy()
         self.t_s = t_s + h_s
 
     def outputs(self) -> dict[str, float]:

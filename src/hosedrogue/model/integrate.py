@@ -323,27 +323,25 @@ def rk4_steps(t0, first, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, 
     """Steps number ``first`` to ``last`` (counted from 1 at t0) of size h [s], in place; with
     ``given_k1`` the first of them takes k1 from ``work[0]`` (:func:`rk4_step_given_k1`).
 
-    Step ``k`` goes from ``t0 + (k - 1) h`` to ``t0 + k h``. Returns ``(status, t)``: OK and the
-    time after step ``last``, or at the first step whose state is non-finite (NONFINITE) or has
-    a link yaw beyond ``max_yaw`` [rad] (YAW_LIMIT) that status and the time after that step.
-    The one integration loop: :func:`rk4_run`, the batch and the sampled-data loop call it. It is
-    compiled without numba's runtime (:data:`LOOP_JIT`): the steps inlined into it then take no
-    reference counts of the arrays they unpack from ``model`` (inlined into a function that
-    allocates, they would, at every evaluation).
+    Step ``k`` goes from ``t0 + (k - 1) h`` to ``t0 + k h``. Returns ``(status, k)``: OK and
+    ``last``, or at the first step k whose state is non-finite (NONFINITE) or has a link yaw
+    beyond ``max_yaw`` [rad] (YAW_LIMIT) that status and k (the state is then that after step k).
+    The one integration loop: :func:`fl_interval` (the runs, the steppers, the sampled-data loop)
+    and the batch call it. It is compiled without numba's runtime (:data:`LOOP_JIT`): the steps
+    inlined into it then take no reference counts of the arrays they unpack from ``model``
+    (inlined into a function that allocates, they would, at every evaluation).
     """
     n = l.shape[0]
-    t = t0 + (first - 1) * h
     model = (l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, u)
     for step in range(first, last + 1):
         if given_k1 and step == first:
             rk4_step_given_k1(t0 + (step - 1) * h, z, h, model, work)
         else:
             rk4_step(t0 + (step - 1) * h, z, h, model, work)
-        t = t0 + step * h
         status = step_status(z, n, max_yaw)
         if status != OK:
-            return status, t
-    return OK, t
+            return status, step
+    return OK, last
 
 
 @njit(**LOOP_JIT)
@@ -361,38 +359,61 @@ def step_status(z, n, max_yaw):
 @njit(**JIT)
 def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
             act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
-    """Integrate ``nsteps`` RK4 steps of size h from (t0, z0); keep every ``save_every``-th state
-    in ts, zs, us (the force applied at that state) and its derived outputs in joints (N, n+1, 3)
-    [m], drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] and tension (N,) [N] (as
-    :func:`~hosedrogue.model.chain_dynamics.outputs_series` gives them). Returns (status, saved count,
-    stop time).
+    """A whole run of the fixed-length hose: ``nsteps`` RK4 steps of size h from (0, z0) through
+    :func:`fl_interval`, keeping every ``save_every``-th state (the last one included) in ts, zs,
+    us (the force applied at that state) and its derived outputs in joints (N, n+1, 3) [m],
+    drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] and tension (N,) [N] (as
+    :func:`~hosedrogue.model.chain_dynamics.outputs_series` gives them). Returns (status, saved
+    count, stop time). ``t0`` must be 0: the steps' times are counted from 0 (``fl_interval``).
 
-    The outputs of a saved state come from the first stage of the step that starts there (one
-    evaluation serves both). Stops early on a non-finite state (status NONFINITE) or a link yaw
-    beyond ``max_yaw`` [rad] (status YAW_LIMIT); what was saved up to then stays valid.
+    Stops early on a non-finite state (status NONFINITE) or a link yaw beyond ``max_yaw`` [rad]
+    (status YAW_LIMIT); what was saved up to then stays valid.
     """
-    n = l.shape[0]
     z = z0.copy()
     work = np.empty((5, z0.shape[0]))
     u = np.empty(us.shape[1])
-    ws = make_workspace_jit(n)
-    save_state(0, t0, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-               work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
-    saved = 1
-    done = 0
-    while done < nsteps:
-        last = min(done + save_every, nsteps)
-        # the first step of the interval reuses k1 of the saved state (work[0])
-        status, t = rk4_steps(t0, done + 1, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
-                              noise, noise_dt, max_yaw, ws, work, u, True)
-        if status != OK:
-            return status, saved, t
-        done = last
-        if done % save_every == 0:
-            save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                       noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
-            saved += 1
+    ws = make_workspace_jit(l.shape[0])
+    status, saved, done = fl_interval(z, 0, nsteps, h, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc,
+                                      y_ref, act, noise, noise_dt, max_yaw, True, ts, zs, us, joints, drogue_vel,
+                                      drogue_drag, tow, tension, 0, ws, work, u)
+    if status != OK:
+        return status, saved, t0 + done * h
+    if nsteps % save_every == 0:  # the run's end is on the output grid
+        save_state(saved, t0 + nsteps * h, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                   noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
+        saved += 1
     return OK, saved, t0 + nsteps * h
+
+
+@njit(**JIT)
+def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                noise_dt, max_yaw, record, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension, saved,
+                ws, work, u):
+    """The fixed-length hose's event loop: ``nsteps`` RK4 steps of the closed loop from global
+    step ``step0`` (time ``step0 h`` [s]), in place. With ``record`` the state at every global
+    step j in [step0, step0 + nsteps) that is a multiple of ``every`` is saved at row ``saved``
+    on (:func:`save_state`, whose evaluation serves as the first stage of the step that starts
+    there); the steps between two saved states go to :func:`rk4_steps` at once. Returns (status,
+    saved count, steps done): a non-finite state or a yaw beyond ``max_yaw`` [rad] stops after
+    its step. A whole run (:func:`rk4_run`), the stepper's control step
+    (:func:`~.sampled.fl_advance`) and the built-in sampled-data controller
+    (:func:`~.sampled.fl_linear_sampled_run`) all integrate through it."""
+    s = 0
+    while s < nsteps:
+        j = step0 + s
+        given_k1 = record and j % every == 0
+        if given_k1:
+            save_state(saved, j * h, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
+                       work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
+            saved += 1
+        # to the next saved state (or the interval's end); step j + 1 goes from t = j h (rk4_steps' times)
+        last = min(nsteps, s + every - j % every) if record else nsteps
+        status, k = rk4_steps(0.0, j + 1, step0 + last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
+                              act, noise, noise_dt, max_yaw, ws, work, u, given_k1)
+        if status != OK:
+            return status, saved, k - step0
+        s = last
+    return OK, saved, nsteps
 
 
 @njit(**JIT_INLINE)

@@ -29,7 +29,7 @@ from numba import njit
 
 from ..jit import JIT, JIT_NO_ALLOC
 from . import drogue_actuator as DA
-from .integrate import closed_loop_deriv, rk4_steps, save_state
+from .integrate import closed_loop_deriv, fl_interval, save_state
 from .layout import OK
 from .chain_dynamics import WS_R, WS_T0, WS_V, make_workspace_jit
 
@@ -81,33 +81,7 @@ def deliver(ring, k, delay, sample_h, noise, noise_dt, balance, mbuf):
     mbuf[M_Q] = row[R_Q]
 
 
-# --- the fixed-length hose between samples -----------------------------------------------------------
-@njit(**JIT)
-def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                noise_dt, max_yaw, record, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension, saved,
-                ws, work, u):
-    """``nsteps`` RK4 steps of the closed loop from global step ``step0`` (time ``step0 h``), in
-    place; with ``record`` the state at every global step j in [step0, step0 + nsteps) that is a
-    multiple of ``every`` is saved at row ``saved`` on (:func:`~.integrate.save_state`, whose
-    evaluation serves as the step's first stage, as in :func:`~.integrate.rk4_run`). Returns
-    (status, saved count, steps done): a non-finite state or a yaw beyond ``max_yaw`` [rad] stops
-    after its step."""
-    for s in range(nsteps):
-        j = step0 + s
-        t = j * h
-        given_k1 = record and j % every == 0
-        if given_k1:
-            save_state(saved, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-                       work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
-            saved += 1
-        # step j from t = 0 + (j + 1 - 1) h (rk4_steps' times), k1 from save_state's evaluation
-        status, _ = rk4_steps(0.0, j + 1, j + 1, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act,
-                              noise, noise_dt, max_yaw, ws, work, u, given_k1)
-        if status != OK:
-            return status, saved, s + 1
-    return OK, saved, nsteps
-
-
+# --- the fixed-length hose between samples: fl_interval (.integrate) -------------------------------------
 @njit(**JIT)
 def fl_raw(t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u, raw):
     """The raw measurement (``R_*``) of the fixed-length state z at time t [s]: drogue position

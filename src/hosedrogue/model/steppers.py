@@ -42,26 +42,33 @@ def rk4_combine(z, h, k1, k2, k3, k4):
         z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-def rk4(deriv):
+def rk4(deriv, compiled=True):
     """The classical RK4 step of ``deriv``: ``(step, step_given_k1)``.
 
     Parameters
     ----------
-    deriv : numba dispatcher
+    deriv : numba dispatcher or callable
         ``deriv(t, z, model, hg, guess, dz)`` (module docstring), called here with hg = 0.
+    compiled : bool, optional
+        True (the default): the steps are compiled closures, inlined into the compiled loop that
+        calls them. False: the same steps as plain Python functions, for a ``deriv`` that runs
+        Python code (a user's control function, :func:`hosedrogue.simulate`): the one RK4 step
+        of the package either way, its stages and update the compiled :func:`rk4_stage` and
+        :func:`rk4_combine`.
 
     Returns
     -------
-    step : numba dispatcher
+    step : numba dispatcher or function
         ``step(t, z, h, model, work)``: one step of size h [s] from (t, z), in place; ``work``
         (at least 5 rows of len(z)): the slopes k1..k4 in rows 0-3, the trial state in row 4 (the
         explicit evaluations' guess, which they do not read, is the state evaluated).
-    step_given_k1 : numba dispatcher
+    step_given_k1 : numba dispatcher or function
         ``step_given_k1(t, z, h, model, work)``: the same step when ``work[0]`` holds k1 = dz/dt
         at (t, z) already (a saved state's evaluation serves both).
     """
+    wrap = njit(**JIT_INLINE) if compiled else (lambda f: f)
 
-    @njit(**JIT_INLINE)
+    @wrap
     def step_given_k1(t, z, h, model, work):
         # the stages k2, k3, k4 in one loop: the derivative's code is put into the step once, not
         # once per stage (the same arithmetic in the same order)
@@ -72,7 +79,7 @@ def rk4(deriv):
             deriv(t + c, tmp, model, 0.0, tmp, work[s])
         rk4_combine(z, h, work[0], work[1], work[2], work[3])
 
-    @njit(**JIT_INLINE)
+    @wrap
     def step(t, z, h, model, work):
         deriv(t, z, model, 0.0, z, work[0])
         step_given_k1(t, z, h, model, work)

@@ -49,8 +49,9 @@ def _run_summaries(z0, h, nsteps, l, M, S, J, ps, env, gusts, Ac, Bc, Cc, Dc, y_
         status = OK
         t = 0.0
         for step in range(1, nsteps + 1):
-            status, t = rk4_steps(0.0, step, step, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc,
+            status, _ = rk4_steps(0.0, step, step, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc,
                                   y_ref, act, noise, noise_dt, max_yaw, ws, work, u, False)
+            t = step * h
             if status != OK:
                 break
             if statistics.in_window_at(t, t_w0, t_w1):

@@ -3,8 +3,8 @@ Runge-Kutta (DOP853) for cross-checks, open loop, with a linear controller in th
 any Python control-force function ``u(t, x)``.
 
 The compiled paths hand the kernels the model's arrays (:meth:`HoseModel.kernel_args`) and the
-closed loop's (:func:`hosedrogue.model.integrate.loop_arrays`); the Python-control path is the only Python RK4
-(:func:`rk4_step_python`, the formula of the compiled step).
+closed loop's (:func:`hosedrogue.model.integrate.loop_arrays`); the Python-control path takes the same RK4
+step (:func:`hosedrogue.model.steppers.rk4`) as a plain Python function over the model's derivative.
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
                                sensor_noise)
 from ..model.status import status_text
+from ..model.steppers import rk4
 from ..model.system import HoseModel
 from ..spec.params import PAPER, Actuator, ParameterError, Params, Sensor
 from ..spec.sections import Controller
@@ -387,33 +388,21 @@ def _run_adaptive(model: HoseModel, z0, duration_s, loop: LoopArrays):
     return ts, zs, us, LY.OK, duration_s
 
 
-def rk4_step_python(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float) -> np.ndarray:
-    """One classical RK4 step of ``x' = f(t, x)`` in Python.
+def _python_rate(t, z, model, hg, guess, dz):
+    """dz/dt of the hose with a Python control function, in the steppers' form
+    (:mod:`hosedrogue.model.steppers`): ``model`` is ``(HoseModel, control)``, the force
+    ``control(t, z)`` [N] applied at every stage; hg and guess are not read (no implicit stage)."""
+    hose, control = model
+    dz[:] = hose.derivative(t, z, _force_of(control, t, z))
 
-    The only Python RK4: the same formula as the compiled
-    :func:`hosedrogue.model.integrate.rk4_step`, for right-hand sides that call Python code.
 
-    Parameters
-    ----------
-    f : callable
-        ``f(t, x)`` -> dx/dt, with t [s].
-    t : float
-        Time at the start of the step [s].
-    x : array
-        State at t.
-    h : float
-        Step [s].
+def _force_of(control, t, x) -> np.ndarray:
+    """The control function's force (u_hor, u_ver) [N] at (t, x)."""
+    return np.asarray(control(t, x), dtype=np.float64).reshape(2)
 
-    Returns
-    -------
-    array
-        State at ``t + h``.
-    """
-    k1 = f(t, x)
-    k2 = f(t + h / 2, x + h / 2 * k1)
-    k3 = f(t + h / 2, x + h / 2 * k2)
-    k4 = f(t + h, x + h * k3)
-    return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+#: The RK4 step over a Python control function: the package's one RK4 step (:func:`rk4`), not compiled.
+_python_rk4_step, _ = rk4(_python_rate, compiled=False)
 
 
 def _run_python_control(model, params, x0, duration_s, control):
@@ -423,17 +412,10 @@ def _run_python_control(model, params, x0, duration_s, control):
     max_yaw = math.radians(params.numerics.max_yaw_deg)
     n = model.n
     x = x0.copy()
-    ts, xs, us = [0.0], [x.copy()], []
-
-    def u_of(t, state):
-        return np.asarray(control(t, state), dtype=np.float64).reshape(2)
-
-    def f(t, state):
-        return model.derivative(t, state, u_of(t, state))
-
-    us.append(u_of(0.0, x))
+    work = np.empty((5, x.size))
+    ts, xs, us = [0.0], [x.copy()], [_force_of(control, 0.0, x)]
     for step in range(1, nsteps + 1):
-        x = rk4_step_python(f, (step - 1) * h, x, h)
+        _python_rk4_step((step - 1) * h, x, h, (model, control), work)  # x in place
         t = step * h
         if not np.all(np.isfinite(x)):
             return np.array(ts), np.array(xs), np.array(us), LY.NONFINITE, t
@@ -442,7 +424,7 @@ def _run_python_control(model, params, x0, duration_s, control):
         if step % every == 0:
             ts.append(t)
             xs.append(x.copy())
-            us.append(u_of(t, x))
+            us.append(_force_of(control, t, x))
     return np.array(ts), np.array(xs), np.array(us), LY.OK, duration_s
 
 
