@@ -34,7 +34,7 @@ def test_paired_difference_is_the_paired_t_statistics():
     p = ReceiverCampaigns({}, runs, {}).paired()
     keep = np.isfinite(a)
     t = stats.ttest_rel(a[keep], b[keep])
-    assert p["runs"] == 29 and p["f16_larger"] == int((a[keep] > b[keep]).sum())
+    assert p["runs"] == 29 and p["first_larger"] == int((a[keep] > b[keep]).sum())
     assert p["mean_m"] / p["se_m"] == pytest.approx(t.statistic, rel=1e-12)  # round-off
     assert p["mean_m"] == pytest.approx(np.mean(a[keep] - b[keep]), rel=1e-12)
     assert math.isnan(ReceiverCampaigns({}, runs.iloc[:1], {}).paired()["se_m"])

@@ -1,7 +1,8 @@
 """``hosedrogue study``: the studies of the report run on their own; ``study docking`` runs the
 docking grid (:mod:`hosedrogue.studies.docking`), ``study whip-loads`` the whip's loads against
 the hose's axial stiffness and the closure speed (:mod:`hosedrogue.studies.whip_loads`),
-``study actuator`` the actuated drogue's studies (:mod:`.study_actuator`)."""
+``study actuator`` the actuated drogue's studies (:mod:`.study_actuator`), ``study receiver`` the
+receiver aircraft's (:mod:`.study_receiver`)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from ..errors import ParameterError
 from ..jsonio import dumps
 from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
 from .study_actuator import add_study_parser
+from .study_receiver import add_receiver_parser
 from .study_registry import add_registry_studies
 
 NAME = "study"
@@ -71,6 +73,7 @@ def add_parser(sub) -> None:
     d.set_defaults(func=run_docking)
     _add_whip_loads(studies)
     add_study_parser(studies)
+    add_receiver_parser(studies)
     add_registry_studies(studies)
 
 

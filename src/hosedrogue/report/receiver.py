@@ -29,10 +29,6 @@ __all__ = ["build"]
 #: The campaigns' folder inside the report folder (one subfolder per scenario).
 CAMPAIGNS = "receiver/campaigns"
 
-#: The capture radius of both scenarios [m] (their ``[probe] capture_radius_m``, the default).
-CAPTURE_RADIUS_M = 0.305
-
-
 def _trim_html(check) -> str:
     rows = [(f"{r.airspeed_ft_s:g}", f"{r.throttle_book:g} / {r.throttle:.4f}", f"{r.alpha_deg_book:g} / {r.alpha_deg:.4f}",
              f"{r.elevator_deg_book:g} / {r.elevator_deg:.4f}", "yes" if r.within else "no")
@@ -69,7 +65,7 @@ def _html(check, camp, settings) -> str:
     diff = ("" if p["runs"] < 2 else
             f" On the {p['runs']} seeds where both reach the coupler plane the F-16 misses by "
             f"{1e3 * p['mean_m']:+.1f} mm on average (standard error {1e3 * p['se_m']:.1f} mm, "
-            f"{p['mean_m'] / p['se_m']:.1f} of them from zero), by more in {p['f16_larger']} of them.")
+            f"{p['mean_m'] / p['se_m']:.1f} of them from zero), by more in {p['first_larger']} of them.")
     return (
         '<section id="receiver-aircraft"><h2>Receiver aircraft</h2>' + fast
         + "<p>The receiver as an aircraft (docs/receiver.md): the F-16 of Stevens, Lewis &amp; Johnson (2015), "
@@ -121,7 +117,7 @@ def build(out: ReportFolder, settings: ReportSettings) -> None:
     out.status("receiver aircraft: campaigns")
     camp = receiver_campaigns(settings.docking_runs, folder, **campaign_execution(settings.docking_workers))
     out.csv(pd.DataFrame(camp.runs), "receiver_runs.csv")
-    out.figure(camp.figure(CAPTURE_RADIUS_M), "receiver_miss_cdf.png")
+    out.figure(camp.figure(), "receiver_miss_cdf.png")
     out.section("receiver-aircraft", "Receiver aircraft", _html(check, camp, settings))
     f16, point = (camp.capture[n] for n in SCENARIOS)
     p = camp.paired()
@@ -131,5 +127,6 @@ def build(out: ReportFolder, settings: ReportSettings) -> None:
                   f"({p['runs']} paired seeds, F-16 miss {1e3 * p['mean_m']:+.1f} mm on average).")
     out.record("receiver", {"trim_points_within": check.within, "trim_points": len(check.table),
                             "capture": {n: camp.capture[n] for n in SCENARIOS},
-                            "miss_paired_difference": {k: v for k, v in p.items() if np.isfinite(v)}})
+                            "miss_paired_difference": {("f16_larger" if k == "first_larger" else k): v for k, v in p.items()
+                                                       if np.isfinite(v)}})
     return None

@@ -4,13 +4,15 @@ campaign of the F-16 receiver (``approach-f16-moderate``) beside the point recei
 (``approach-moderate-docking``) on the same seeds (:func:`receiver_campaigns`): capture rates with
 their Wilson intervals, the miss distributions and the paired differences of the misses.
 
-Runs from Python without the report; the report's section "Receiver aircraft"
+Runs from Python without the report, and from ``hosedrogue study receiver`` (your approach beside
+another, ``--scenario``/``--against``); the report's section "Receiver aircraft"
 (:mod:`hosedrogue.report.receiver`) renders it.
 """
 
 from __future__ import annotations
 
 import math
+import dataclasses
 from dataclasses import dataclass
 from decimal import Decimal
 from pathlib import Path
@@ -22,7 +24,8 @@ from ..aircraft.published import G_BOOK_FT_S2, TABLE_3_6_2
 from ..aircraft.trim import trim
 from ..constants import FT_TO_M
 
-__all__ = ["SCENARIOS", "CAMPAIGN_SEED", "TrimCheck", "ReceiverCampaigns", "trim_check", "receiver_campaigns"]
+__all__ = ["SCENARIOS", "CAMPAIGN_SEED", "TrimCheck", "ReceiverCampaigns", "trim_check", "receiver_scenarios",
+           "receiver_campaigns"]
 
 #: The two receivers' scenarios, F-16 first: the same approach, controller and turbulence.
 SCENARIOS = ("approach-f16-moderate", "approach-moderate-docking")
@@ -98,33 +101,41 @@ def trim_check(curve_points: int = 68) -> TrimCheck:
 
 @dataclass(frozen=True)
 class ReceiverCampaigns:
-    """The two receivers' campaigns on the same seeds."""
+    """Two receivers' campaigns on the same seeds (:func:`receiver_campaigns`; by default the F-16,
+    then the point receiver)."""
 
     capture: dict  #: scenario -> summary.json's ``"capture"`` (rate, ci95 Wilson, runs, by_result)
     runs: object  #: pandas.DataFrame: per run index, seed, each scenario's result and miss [m]
     folders: dict  #: scenario -> campaign folder
+    names: tuple = SCENARIOS  #: the two scenarios' names, the one compared first
+    #: scenario -> its runs that stopped early (a diverging loop: ``completed`` false in runs.csv) [-]
+    stopped: dict = dataclasses.field(default_factory=dict)
+    capture_radius_m: float = math.nan  #: the first scenario's ``[probe] capture_radius_m`` [m]
 
     def miss(self, scenario: str) -> np.ndarray:
         """(runs,) the miss distance [m] of each run of ``scenario`` (NaN where none)."""
         return self.runs[f"miss_{scenario}"].to_numpy(dtype=np.float64)
 
     def paired(self) -> dict:
-        """The F-16's miss less the point's over the runs where both have one: ``runs``, ``mean_m``,
-        its standard error ``se_m`` [m] and ``f16_larger`` (runs where the F-16 misses by more)."""
-        d = self.miss(SCENARIOS[0]) - self.miss(SCENARIOS[1])
+        """The first scenario's miss less the second's over the runs where both have one: ``runs``,
+        ``mean_m``, its standard error ``se_m`` [m] and ``first_larger`` (runs where the first
+        misses by more)."""
+        d = self.miss(self.names[0]) - self.miss(self.names[1])
         d = d[np.isfinite(d)]
         n = d.size
         se = float(d.std(ddof=1) / math.sqrt(n)) if n > 1 else math.nan
         return {"runs": int(n), "mean_m": float(d.mean()) if n else math.nan, "se_m": se,
-                "f16_larger": int((d > 0).sum())}
+                "first_larger": int((d > 0).sum())}
 
-    def figure(self, capture_radius_m: float):
-        """The two miss distributions (empirical CDFs) beside the capture radius."""
+    def figure(self, capture_radius_m: float | None = None):
+        """The two miss distributions (empirical CDFs) beside the capture radius [m] (default the
+        first scenario's)."""
         from ..plotting.base import new_figure
         from ..plotting.campaign import draw_miss_cdf
 
+        capture_radius_m = self.capture_radius_m if capture_radius_m is None else capture_radius_m
         fig, ax = new_figure(1, 1, size=(6.0, 4.0))
-        for name, style in zip(SCENARIOS, ("-", "--")):
+        for name, style in zip(self.names, ("-", "--")):
             draw_miss_cdf(ax, self.miss(name), label=f"{name} ({{n}} runs)", linestyle=style)
         ax.axvline(capture_radius_m, color="0.4", linestyle=":", linewidth=0.8, label=f"capture radius {capture_radius_m:g} m")
         ax.set_xlabel("miss distance at the coupler plane [m]")
@@ -133,9 +144,42 @@ class ReceiverCampaigns:
         return fig
 
 
+def receiver_scenarios(first=SCENARIOS[0], second=SCENARIOS[1]) -> tuple:
+    """The two approaches to compare, loaded and checked before anything runs.
+
+    Parameters
+    ----------
+    first, second : str, Path or Scenario
+        Shipped scenario names, TOML files or scenarios built in Python: engagements with a probe's
+        approach (default the F-16's ``approach-f16-moderate``, then the point receiver's
+        ``approach-moderate-docking``).
+
+    Returns
+    -------
+    tuple of Scenario
+
+    Raises
+    ------
+    ParameterError
+        A scenario that is not an engagement, or the two of the same name (their campaign folders
+        would be one).
+    """
+    from ..errors import ParameterError
+    from ..scenarios import Scenario, load_scenario
+
+    out = []
+    for field, s in (("scenario", first), ("against", second)):
+        sc = s if isinstance(s, Scenario) else load_scenario(s)
+        out.append(sc.require_model("engagement", field, "the receiver study flies approaches (a [probe])"))
+    if out[0].name == out[1].name:
+        raise ParameterError(f"against = {out[1].name!r}: the same scenario name as the first; the two campaigns "
+                             "need two names (their folders)")
+    return tuple(out)
+
+
 def receiver_campaigns(runs: int, out_dir, seed: int = CAMPAIGN_SEED, workers: int | None = None,
-                       progress: bool = False, client=None) -> ReceiverCampaigns:
-    """Run (or resume) the campaigns of :data:`SCENARIOS` with ``runs`` seeds each into ``out_dir/<scenario>/``.
+                       progress: bool = False, client=None, scenarios=SCENARIOS) -> ReceiverCampaigns:
+    """Run (or resume) the campaigns of two approaches with ``runs`` seeds each into ``out_dir/<name>/``.
 
     Parameters
     ----------
@@ -151,6 +195,9 @@ def receiver_campaigns(runs: int, out_dir, seed: int = CAMPAIGN_SEED, workers: i
         Show the campaigns' progress bars (on a terminal).
     client : distributed.Client, optional
         Run on this dask client (not closed here) instead; not with ``workers``.
+    scenarios : pair of str, Path or Scenario
+        The two approaches (:func:`receiver_scenarios`; default :data:`SCENARIOS`, the F-16 then the
+        point receiver).
 
     Returns
     -------
@@ -161,14 +208,18 @@ def receiver_campaigns(runs: int, out_dir, seed: int = CAMPAIGN_SEED, workers: i
     from . import executor
     from .campaign import run_campaign
 
-    capture, folders, frames = {}, {}, []
-    for name in SCENARIOS:
+    pair = receiver_scenarios(*scenarios)
+    capture, folders, frames, stopped = {}, {}, [], {}
+    for spec, sc in zip(scenarios, pair):  # the campaign takes the name or file as given (its campaign.json)
+        name = sc.name
         folder = Path(out_dir) / name
-        summary = run_campaign(name, runs, folder, seed=seed, workers=workers, progress=progress, client=client,
+        summary = run_campaign(spec, runs, folder, seed=seed, workers=workers, progress=progress, client=client,
                                scheduler=None if workers or client is not None else executor.SYNCHRONOUS)
         capture[name], folders[name] = summary.capture, folder
         df = pd.read_csv(folder / "runs.csv").sort_values("run")
+        stopped[name] = int((~df["completed"].astype(bool)).sum())
         frames.append(df[["run", "seed", "result", "miss_distance_m"]].rename(
             columns={"result": f"result_{name}", "miss_distance_m": f"miss_{name}"}).set_index(["run", "seed"]))
     table = frames[0].join(frames[1], how="inner").reset_index()
-    return ReceiverCampaigns(capture, table, folders)
+    return ReceiverCampaigns(capture, table, folders, tuple(sc.name for sc in pair), stopped,
+                             pair[0].engagement.probe.capture_radius_m)

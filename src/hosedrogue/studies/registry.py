@@ -6,8 +6,8 @@ runs by default and what it takes from one of the user's (``--scenario NAME|FILE
 settings (:class:`Setting`: the command line's options, each with its unit and range), and a
 ``run(scenario, **settings) -> (result, record)`` function: the study's result object (the one the
 report renders) and its numbers as plain JSON types (SI units in the keys; what ``--json``
-prints). The docking grid, the whip loads and the actuated drogue have command lines of their
-own (:mod:`hosedrogue.cli.study`, ``custom_cli``); their entries here still say what they are.
+prints). The docking grid, the whip loads, the actuated drogue and the receiver aircraft have command
+lines of their own (:mod:`hosedrogue.cli.study`, ``custom_cli``); their entries here still say what they are.
 
 A scenario file names Python code only through the entry points its sections allow
 (``controller``, ``reel.law = "python"``): running one runs that code, as a script would.
@@ -247,6 +247,9 @@ STUDIES: dict[str, Study] = {s.name: s for s in (
           (Setting("banks_deg", "floats", (0.0, 15.0, 30.0, 45.0), "bank angles [deg]", -80.0, 80.0, "deg"),
            Setting("paths_deg", "floats", (-10.0, 0.0, 10.0), "flight-path angles [deg]", -45.0, 45.0, "deg")),
           _manoeuvres),
+    Study("receiver", "the F-16's trim against the book, and its docking beside the point receiver on the same seeds",
+          "receiver", "receiver", "approach-f16-moderate, approach-moderate-docking",
+          "your approach (--scenario) beside another (--against), each an engagement", "engagement", custom_cli=True),
     Study("bow-wave", "the receiver's bow wave around the probe and the drogue's steady displacement by it",
           "bow_wave", "docking", "approach-moderate", "an engagement scenario's model, flight condition and "
           "[bow_wave]", "engagement", (), _bow_wave),
