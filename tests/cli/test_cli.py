@@ -303,7 +303,7 @@ def test_design_lqr_paper_json(capsys):
     """The paper's LQR (balanced-state reading) on the paper's Table 2 models: the lateral row
     within 3 % of Table 3 (the paper prints 3 digits and no simulation settings); the vertical
     row is reported beside the paper's (not reproduced, docs/paper-differences.md)."""
-    from hosedrogue.paper import TABLE3
+    from hosedrogue.spec.paper import TABLE3
 
     code, out, err = run(capsys, "design", "lqr", "--plant", "paper", "--json")
     assert code == 0, err
@@ -325,7 +325,7 @@ def test_design_pid_paper_json(capsys):
     figure within 6 % (the requested tolerance; worst is the vertical settling time, +5.3 %, see
     test_controllers)."""
     from hosedrogue.controllers.pid import PAPER_PID
-    from hosedrogue.paper import TABLE3
+    from hosedrogue.spec.paper import TABLE3
 
     code, out, err = run(capsys, "design", "pid", "--plant", "paper", "--gains", "paper", "--json")
     assert code == 0, err

@@ -1,6 +1,6 @@
 """Controllers, step metrics and model reduction on LTI systems.
 
-Reference values come from the paper (Wu et al. 2018), held in `hosedrogue.paper`:
+Reference values come from the paper (Wu et al. 2018), held in `hosedrogue.spec.paper`:
 Table 2 (reduced transfer functions) and Table 3 (closed-loop step figures).
 
 Results recorded when this file was written (python-control 0.10.2, slycot):
@@ -57,7 +57,7 @@ from hosedrogue.controllers import (
     two_channel_plant,
 )
 from hosedrogue.controllers.lqr import augment_with_integrator
-from hosedrogue.paper import CHANNELS, TABLE2, TABLE3, table2_transfer_function
+from hosedrogue.spec.paper import CHANNELS, TABLE2, TABLE3, table2_transfer_function
 
 # Table 3 tolerance requested for the PID reproduction: 6 % relative. The paper prints 2-3
 # significant digits (0.068 s is +/-0.7 %) and does not state its simulation settings.

@@ -24,7 +24,7 @@ from hosedrogue.controllers.lqr_balanced import (
     lqr_balanced_design,
     lqr_balanced_reference_loop,
 )
-from hosedrogue.paper import CHANNELS, TABLE3, table2_transfer_function
+from hosedrogue.spec.paper import CHANNELS, TABLE3, table2_transfer_function
 
 # Step grid: 0.1 ms over 10 s. The fastest regulator pole is -11.8 rad/s (85 ms), the slowest
 # -2.69 rad/s: 10 s is 27 of its time constants; interpolated crossings are accurate to ~1e-6 s.

@@ -17,7 +17,7 @@ from hosedrogue.controllers.pid_loop import ModalStep, plant_polynomials
 from hosedrogue.controllers.pid_tuning import StepTargets, TargetsNotMet, pid_for_poles, tune_pid_to_step
 from hosedrogue.controllers.stepinfo import closed_loop_step
 from hosedrogue.controllers.table3 import channel_models, pid_steps, time_grid_for
-from hosedrogue.paper import CHANNELS, TABLE3
+from hosedrogue.spec.paper import CHANNELS, TABLE3
 
 #: Two evaluations of one step agree to this [-] in the times: the tuner's modal form with
 #: root-found crossings, and control.step_response on Table 3's grid (step <= 0.1 / |p|_max, linear

@@ -9,7 +9,7 @@ import control
 from hosedrogue.controllers.lqr_balanced import lqr_balanced_design, lqr_balanced_reference_loop
 from hosedrogue.controllers.pid import PAPER_PID
 from hosedrogue.controllers.table3 import channel_models, lqr_steps, pid_steps
-from hosedrogue.paper import CHANNELS
+from hosedrogue.spec.paper import CHANNELS
 
 
 def test_pid_steps_are_python_controls_bits():

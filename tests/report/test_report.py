@@ -429,7 +429,7 @@ def test_paper_pid_reproduces_table3_on_the_papers_models(table3):
     report's plumbing. 6 %: the 2 % settling time of the vertical channel reads 1.379 s from the
     printed transfer function against the paper's 1.31 s (the paper rounds its coefficients)."""
     headline, _ = table3
-    from hosedrogue.paper import TABLE3
+    from hosedrogue.spec.paper import TABLE3
 
     for ch in ("lateral", "vertical"):
         for key in ("rise_time_s", "settling_time_s", "overshoot_pct"):
@@ -456,7 +456,7 @@ def test_papers_lqr_reproduces_table3_lateral_row_on_the_papers_models(table3):
     the band. The overshoot is not reproduced (every closed-loop pole is real, so the step cannot
     overshoot): it must read 0 within the interpolation of the metrics, as the page explains."""
     headline, page = table3
-    from hosedrogue.paper import TABLE3
+    from hosedrogue.spec.paper import TABLE3
 
     t3 = headline["table3"]
     for key in ("rise_time_s", "settling_time_s"):

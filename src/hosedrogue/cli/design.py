@@ -55,7 +55,7 @@ def add_parser(sub) -> None:
     s.add_argument("--gains", choices=("tuned", "paper"), default="tuned",
                    help="PID gains: 'tuned' to the step bounds (default) or 'paper' (Eq. 33, designed on the paper's "
                         "Table 2 models)")
-    from ..paper import CHANNELS, TABLE3
+    from ..spec.paper import CHANNELS, TABLE3
 
     def table3(key: str) -> str:
         return " ".join(f"{TABLE3[('PID', ch)][key]:g}" for ch in CHANNELS)
@@ -160,7 +160,7 @@ def _check_targets(args) -> None:
 
 def _targets(args) -> dict:
     """Per channel the step targets: the options where given, Table 3's PID rows otherwise."""
-    from ..paper import CHANNELS, TABLE3
+    from ..spec.paper import CHANNELS, TABLE3
 
     out = {}
     for k, ch in enumerate(CHANNELS):
@@ -186,7 +186,7 @@ def _plant(args, order: int):
     """The design models, the full-order models of both channels and their description (JSON-ready)."""
     from ..analysis.reduction import table2_form
     from ..controllers.table3 import channel_models
-    from ..paper import CHANNELS
+    from ..spec.paper import CHANNELS
 
     info: dict = {"source": args.plant, "order": order}
     lm = None
@@ -215,7 +215,7 @@ def _pid(args, lat, ver):
     """The PID (tuned or the paper's): description, gains, whether the bounds are met and, tuned,
     each channel's exact step figures on the design model (what the table and the message show)."""
     from ..controllers.pid import PAPER_PID
-    from ..paper import CHANNELS
+    from ..spec.paper import CHANNELS
 
     if args.rms_target is not None:
         ctrl, gains, met = rms_pid(args, params_from_args(args))
@@ -250,7 +250,7 @@ def _lqr_balanced(lat, ver, Q, R):
 
     from ..controllers.lqr import POSITION_NOISE_PSD
     from ..controllers.lqr_balanced import TURBULENCE_FORCE_PSD, lqr_balanced_design
-    from ..paper import CHANNELS
+    from ..spec.paper import CHANNELS
 
     try:
         d = lqr_balanced_design(lat, ver, Q, R)
@@ -311,7 +311,7 @@ def _controller(args, lat, ver):
 def _full_order(design, design_models, full) -> dict:
     """The design's unit steps closed around the full-order channels: {channel: metrics or unstable}."""
     from ..controllers.table3 import steps_on
-    from ..paper import CHANNELS
+    from ..spec.paper import CHANNELS
 
     try:
         out = steps_on(design, *full, design_models=design_models)
@@ -370,7 +370,7 @@ def _print_table(args, data: dict, order: int, paper_key: str) -> None:
     """The human-readable form of ``data``."""
     import numpy as np
 
-    from ..paper import CHANNELS
+    from ..spec.paper import CHANNELS
 
     plant, ctrl = data["plant"], data["controller"]
     where = ("the paper's Table 2 models" if args.plant == "paper" else
@@ -443,7 +443,7 @@ def run(args) -> int:
 
     import numpy as np
 
-    from ..paper import CHANNELS, TABLE3
+    from ..spec.paper import CHANNELS, TABLE3
 
     order = _check_args(args)
     (lat, ver), full, plant_info = _plant(args, order)

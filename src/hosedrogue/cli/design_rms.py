@@ -72,7 +72,7 @@ def rms_pid(args, params):
     """
     from ..controllers.covariance import with_standard_turbulence
     from ..controllers.rms_tuning import PHASE_MARGIN_DEG, meets, tune_pid_to_rms
-    from ..paper import CHANNELS
+    from ..spec.paper import CHANNELS
 
     level = args.turbulence or "moderate"
     design = tune_pid_to_rms(with_standard_turbulence(params, level), tuple(args.rms_target), args.sample_time,

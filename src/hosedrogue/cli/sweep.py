@@ -47,7 +47,7 @@ def run(args) -> int:
     """
     from ..analysis.sweep import DEFAULT_AIRSPEEDS_M_S, DEFAULT_ALTITUDES_M, steady_sweep
     from ..plotting.figures import plot_sweep, save_figure
-    from ..progress import progress_bar
+    from ..studies.progress import progress_bar
 
     params = params_from_args(args)
     alts = args.altitudes or DEFAULT_ALTITUDES_M

@@ -118,7 +118,7 @@ def paper_step_targets() -> dict:
         ``{"lateral": StepTargets, "vertical": StepTargets}``: rise time [s], settling time [s],
         overshoot [%].
     """
-    from ..paper import CHANNELS, TABLE3
+    from ..spec.paper import CHANNELS, TABLE3
     from .pid_tuning import StepTargets
 
     return {ch: StepTargets(**TABLE3[("PID", ch)]) for ch in CHANNELS}

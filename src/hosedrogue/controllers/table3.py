@@ -25,7 +25,7 @@ import control
 from ..analysis.linearize import LinearModel
 from ..analysis.reduction import split_channels
 from ..analysis.responses import step_outputs
-from ..paper import CHANNELS, TABLE3, table2_transfer_function
+from ..spec.paper import CHANNELS, TABLE3, table2_transfer_function
 from .design import DESIGN_ORDER, reduced_channels
 from .lqr import LQRDesign, lqr_integral_design, lqr_tracking_closed_loop, two_channel_plant
 from .lqr_balanced import BalancedLQRDesign, lqr_balanced_design, lqr_balanced_reference_loop

@@ -7,7 +7,7 @@ The report presents: the computations are library calls (``analysis``, ``control
 ``studies``, ...). Its files are written through :class:`.writer.ReportFolder`, but for the GIFs
 (:mod:`hosedrogue.plotting`) and the docking campaigns' folders
 (:func:`hosedrogue.studies.docking.run_grid`), which are written into it. Nothing here tunes anything to the
-paper: the paper's numbers (:mod:`hosedrogue.paper`) are shown beside this project's, with their
+paper: the paper's numbers (:mod:`hosedrogue.spec.paper`) are shown beside this project's, with their
 ratio and a plain explanation of each large difference.
 
 Layout
@@ -41,7 +41,7 @@ Adding a section
 1. Write ``report/<name>.py`` with ``build(out, settings, *, <needed keys>) -> Result | None``;
    inside it call ``out.csv``, ``out.figure``, ``out.section(anchor, nav_name, html)`` and, if
    wanted, ``out.summarize(text)``, ``out.comparison.add(...)`` and ``out.record(key, numbers)``.
-   Read published numbers from :mod:`hosedrogue.paper`.
+   Read published numbers from :mod:`hosedrogue.spec.paper`.
 2. Add one line to ``SECTIONS`` in :mod:`.plan`, e.g.
    ``Section("lqr", "LQR", lqr.build, needs=("linear",))``, at its place in the order (the page
    shows sections in build order, after ``page.FRONT``), and import the module there. Its result

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..paper import CHANNELS, SEC33_DISPLACEMENT_M, SEC33_PEAK_FORCE_N
+from ..spec.paper import CHANNELS, SEC33_DISPLACEMENT_M, SEC33_PEAK_FORCE_N
 from .markup import figure_html, html_table
 from .runs import peak_forces_n, peak_offsets_m, rms_offsets_m, run_named_scenario, turbulence_window_s
 

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..paper import CHANNELS, TABLE2, TABLE3
+from ..spec.paper import CHANNELS, TABLE2, TABLE3
 from .comparison import agrees
 from .markup import figure_html, fmt, html_table, ratio
 

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..paper import SEC33_DISPLACEMENT_M
+from ..spec.paper import SEC33_DISPLACEMENT_M
 from ..spec.sections import DrogueActuator
 from ..studies import drogue_actuator as study
 from .docking_cells import CAMPAIGNS as DOCKING_CAMPAIGNS

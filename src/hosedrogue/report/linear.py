@@ -16,7 +16,7 @@ import numpy as np
 
 from ..analysis.reduction import second_order_characteristics
 from ..analysis.responses import freq_response
-from ..paper import CHANNELS, TABLE2
+from ..spec.paper import CHANNELS, TABLE2
 from ..spec.params import PAPER
 from .linear_responses import responses_section
 from .markup import fmt, html_table, ratio

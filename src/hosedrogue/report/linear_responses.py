@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..analysis.responses import freq_response, step_response
-from ..paper import CHANNELS, table2_transfer_function
+from ..spec.paper import CHANNELS, table2_transfer_function
 from .markup import figure_html
 
 if TYPE_CHECKING:

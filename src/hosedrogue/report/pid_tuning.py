@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 import math
 
-from ..paper import TABLE3
+from ..spec.paper import TABLE3
 from ..studies.pid_tuning import PLANTS
 from .markup import figure_html, html_table
 

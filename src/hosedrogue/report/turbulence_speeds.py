@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from ..paper import FIG4_AIRSPEEDS_M_S
+from ..spec.paper import FIG4_AIRSPEEDS_M_S
 from .markup import figure_html, html_table
 from .runs import peak_offsets_m, rms_offsets_m, run_named_scenario, turbulence_window_s
 

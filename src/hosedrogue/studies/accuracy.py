@@ -28,7 +28,7 @@ import numpy as np
 
 from ..analysis.continuum import ContinuumShape, solve_continuum
 from ..analysis.equilibrium import solve_equilibrium
-from ..paper import SEC233_TURBULENCE_WINDOW
+from ..spec.paper import SEC233_TURBULENCE_WINDOW
 from ..spec.params import PAPER, Params
 
 #: Link counts of the study (each a doubling, so that observed orders are log2 of ratios).

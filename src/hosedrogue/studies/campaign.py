@@ -60,7 +60,7 @@ import numpy as np
 from .. import jsonio
 from ..errors import ParameterError
 from ..results.statistics import DEFAULT_CAPTURE_RADII_M, capture_column, turbulence_window, window_statistics
-from ..progress import progress_bar, progress_enabled
+from .progress import progress_bar, progress_enabled
 from ..scenarios import Scenario, load_scenario
 from ..scenarios.runner import run, sampled_controllers
 from ..simulation.budget import check_memory, check_run

@@ -168,7 +168,7 @@ def campaign_verification(out: Path, scenario, settings: dict, sample: int, tole
     -------
     dict
     """
-    from ..progress import progress_bar, progress_enabled
+    from .progress import progress_bar, progress_enabled
 
     if sample == 0:
         try:

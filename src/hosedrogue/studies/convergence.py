@@ -18,7 +18,7 @@ import numpy as np
 from ..analysis.equilibrium import solve_equilibrium
 from ..analysis.linearize import linearize
 from ..controllers.pid import PAPER_PID, pid_controller
-from ..paper import SEC233_TURBULENCE_WINDOW
+from ..spec.paper import SEC233_TURBULENCE_WINDOW
 from ..spec.params import PAPER, Params
 from ..simulation import simulate
 

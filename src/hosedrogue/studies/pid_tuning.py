@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..controllers.pid import PAPER_PID
-from ..paper import CHANNELS
+from ..spec.paper import CHANNELS
 
 __all__ = ["GainsCase", "PIDTuningStudy", "pid_tuning_study", "PLANTS"]
 
