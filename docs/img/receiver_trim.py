@@ -13,7 +13,7 @@ from hosedrogue.aircraft.model_file import load_model
 from hosedrogue.aircraft.published import G_BOOK_FT_S2, TABLE_3_6_2
 from hosedrogue.aircraft.trim import trim
 from hosedrogue.constants import FT_TO_M
-from hosedrogue.plotting.receiver import plot_trim_curves
+from hosedrogue.studies.receiver_figures import plot_trim_curves
 
 
 def main(path=Path(__file__).with_suffix(".png")):

@@ -53,8 +53,8 @@ class TrimCheck:
 
     def figure(self):
         """Throttle, alpha and elevator against airspeed beside the book's points
-        (:func:`hosedrogue.plotting.receiver.plot_trim_curves`, as docs/img/receiver_trim.png)."""
-        from ..plotting.receiver import plot_trim_curves
+        (:func:`hosedrogue.studies.receiver_figures.plot_trim_curves`, as docs/img/receiver_trim.png)."""
+        from .receiver_figures import plot_trim_curves
 
         book = np.array(TABLE_3_6_2) * np.array([FT_TO_M, 1.0, 1.0, 1.0])
         t, c = self.table, self.curve  # the line through the curve's trims and those at the book's speeds

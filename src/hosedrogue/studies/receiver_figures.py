@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from .base import new_figure
+from ..plotting.base import new_figure
 
 
 def plot_trim_curves(airspeed_m_s, throttle, alpha_deg, elevator_deg, published=None,
