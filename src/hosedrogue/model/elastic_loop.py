@@ -18,7 +18,7 @@ from .integrate import actuator_rates, applied_force_at, controller_rates, is_op
 from .chain_dynamics import (WS_CS, WS_DRAG, WS_R, WS_T0, WS_TOW, WS_V, copy_matrix, copy_vector,
                              make_workspace_jit)
 from .layout import OK, SCHEME_RK4, STAGE_LIMIT
-from .steppers import rk4, sdirk2
+from .steppers import event_loop, rk4, sdirk2
 
 
 @njit(**JIT_NO_ALLOC)
@@ -97,45 +97,72 @@ hose_pairs_jit = njit(**JIT)(hose_pairs)
 @njit(**JIT)
 def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                 noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
-    """Integrate ``nsteps`` steps of size h [s] from (t0, z0) with ``scheme`` (RK4 or SDIRK with
-    ``iters`` corrections per stage); keep
-    every ``save_every``-th state in ts, zs, us and its outputs (joints [m], drogue velocity
-    [m/s], drogue drag [N], tow-point force [N], exit tension [N]), as
-    :func:`~hosedrogue.model.integrate.rk4_run`. Returns (status, saved count, stop time)."""
+    """Integrate ``nsteps`` steps of size h [s] from (0, z0) with ``scheme`` (RK4 or SDIRK with
+    ``iters`` corrections per stage) through the fixed-length hose's event loop
+    (:func:`~.steppers.event_loop`, as :func:`~hosedrogue.model.integrate.rk4_run`); keep every
+    ``save_every``-th state (the last one included) in ts, zs, us and its outputs (joints [m],
+    drogue velocity [m/s], drogue drag [N], tow-point force [N], exit tension [N]). Returns
+    (status, saved count, stop time): a step whose SDIRK stages do not converge stops with
+    STAGE_LIMIT at its start (the state of that time kept; the run's last saved row may be
+    older), a non-finite state or a yaw beyond ``max_yaw`` [rad] after its step. ``t0`` must be 0
+    (the steps' times are counted from 0)."""
     n = l.shape[0]
     z = z0.copy()
-    nz = z.shape[0]
-    work = np.zeros((8, nz))
+    work = np.zeros((8, z.shape[0]))
     u = np.empty(2)
     ws = make_workspace_jit(n)
     ews = make_elastic_workspace_jit(n)
-    pairs = hose_pairs_jit(n)
-    saved = 0
-    for step in range(nsteps + 1):
-        t = t0 + step * h
-        if step % save_every == 0 or step == 0:
-            # the true derivative at the saved state: its outputs, and the SDIRK's first guess
-            elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews,
-                               0.0, work[6], work[6], u)
-            if step == 0:
-                for i in range(nz):
-                    work[7, i] = work[6, i]
-            ts[saved] = t
-            copy_vector(zs[saved], z)  # element by element: no array assignment (docs/develop.md)
-            us[saved, 0] = u[0]
-            us[saved, 1] = u[1]
-            copy_matrix(joints[saved], ws[WS_R])
-            copy_vector(drogue_vel[saved], ws[WS_V][n])
-            copy_vector(drogue_drag[saved], ws[WS_DRAG])
-            copy_vector(tow[saved], ws[WS_TOW])
-            tension[saved] = ws[WS_T0][0]
-            saved += 1
-        if step == nsteps:
-            break
-        if elastic_step(t, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt,
-                        ws, ews, pairs, work, u) != OK:
-            return STAGE_LIMIT, saved, t  # the state of step t kept (the run's last saved row may be older)
+    model = (scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, max_yaw)
+    rec = (ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
+    scratch = (ws, ews, hose_pairs_jit(n), work, u)
+    # the SDIRK's first slope guess: dz/dt at the start (then each step's last stage slope)
+    elastic_loop_deriv(t0, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, 0.0,
+                       work[7], work[7], u)
+    status, saved, done = _elastic_interval(z, 0, nsteps, h, save_every, True, 0, model, rec, scratch)
+    if status != OK:
+        return status, saved, t0 + done * h
+    if nsteps % save_every == 0:  # the run's end is on the output grid
+        _elastic_save(saved, t0 + nsteps * h, z, model, rec, scratch)
+        saved += 1
+    return OK, saved, t0 + nsteps * h
+
+
+@njit(**JIT_INLINE)
+def _elastic_advance(j, last, z, h, model, scratch, at_save):
+    # steps j + 1 .. last one by one (the SDIRK's guess carried in work[7]); a step whose stages
+    # do not converge leaves z at its start: the last step done is the one before it
+    scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, max_yaw = model
+    ws, ews, pairs, work, u = scratch
+    n = l.shape[0]
+    for k in range(j + 1, last + 1):
+        if elastic_step((k - 1) * h, z, h, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                        noise_dt, ws, ews, pairs, work, u) != OK:
+            return STAGE_LIMIT, k - 1
         status = step_status(z, n, max_yaw)
         if status != OK:
-            return status, saved, t + h
-    return OK, saved, t0 + nsteps * h
+            return status, k
+    return OK, last
+
+
+@njit(**JIT_INLINE)
+def _elastic_save(i, t, z, model, rec, scratch):
+    # row i: the true derivative at the saved state gives its outputs (into work[6], unused by the steps)
+    _, _, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, _ = model
+    ws, ews, _, work, u = scratch
+    ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension = rec
+    n = l.shape[0]
+    elastic_loop_deriv(t, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, 0.0,
+                       work[6], work[6], u)
+    ts[i] = t
+    copy_vector(zs[i], z)  # element by element: no array assignment (docs/develop.md)
+    us[i, 0] = u[0]
+    us[i, 1] = u[1]
+    copy_matrix(joints[i], ws[WS_R])
+    copy_vector(drogue_vel[i], ws[WS_V][n])
+    copy_vector(drogue_drag[i], ws[WS_DRAG])
+    copy_vector(tow[i], ws[WS_TOW])
+    tension[i] = ws[WS_T0][0]
+
+
+#: The event loop of elastic links (:func:`elastic_run`).
+_elastic_interval = event_loop(_elastic_advance, _elastic_save)

@@ -30,7 +30,7 @@ from .chain_dynamics import (
     forward_dynamics_ws, loads_given_frames, make_workspace_jit,
 )
 from .chain_loads import drogue_from_frames, env_at, link_frames
-from .steppers import rk4
+from .steppers import event_loop, rk4
 from . import drogue_actuator as DA
 from .layout import ACT_RATE, ACT_TAU, ACT_U_MAX
 
@@ -389,31 +389,36 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
 def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                 noise_dt, max_yaw, record, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension, saved,
                 ws, work, u):
-    """The fixed-length hose's event loop: ``nsteps`` RK4 steps of the closed loop from global
-    step ``step0`` (time ``step0 h`` [s]), in place. With ``record`` the state at every global
-    step j in [step0, step0 + nsteps) that is a multiple of ``every`` is saved at row ``saved``
-    on (:func:`save_state`, whose evaluation serves as the first stage of the step that starts
-    there); the steps between two saved states go to :func:`rk4_steps` at once. Returns (status,
-    saved count, steps done): a non-finite state or a yaw beyond ``max_yaw`` [rad] stops after
-    its step. A whole run (:func:`rk4_run`), the stepper's control step
-    (:func:`~.sampled.fl_advance`) and the built-in sampled-data controller
+    """The fixed-length hose's event loop for rigid links (:func:`~.steppers.event_loop`):
+    ``nsteps`` RK4 steps of the closed loop from global step ``step0`` (time ``step0 h`` [s]), in
+    place. With ``record`` the state at every global step j in [step0, step0 + nsteps) that is a
+    multiple of ``every`` is saved at row ``saved`` on (:func:`save_state`, whose evaluation serves
+    as the first stage of the step that starts there); the steps between two saved states go to
+    :func:`rk4_steps` at once. Returns (status, saved count, steps done): a non-finite state or a
+    yaw beyond ``max_yaw`` [rad] stops after its step. A whole run (:func:`rk4_run`), the stepper's
+    control step (:func:`~.sampled.fl_advance`) and the built-in sampled-data controller
     (:func:`~.sampled.fl_linear_sampled_run`) all integrate through it."""
-    s = 0
-    while s < nsteps:
-        j = step0 + s
-        given_k1 = record and j % every == 0
-        if given_k1:
-            save_state(saved, j * h, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws,
-                       work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
-            saved += 1
-        # to the next saved state (or the interval's end); step j + 1 goes from t = j h (rk4_steps' times)
-        last = min(nsteps, s + every - j % every) if record else nsteps
-        status, k = rk4_steps(0.0, j + 1, step0 + last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
-                              act, noise, noise_dt, max_yaw, ws, work, u, given_k1)
-        if status != OK:
-            return status, saved, k - step0
-        s = last
-    return OK, saved, nsteps
+    model = (l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, max_yaw)
+    return _rigid_interval(z, step0, nsteps, h, every, record, saved, model,
+                           (ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension), (ws, work, u))
+
+
+@njit(**JIT_INLINE)
+def _rigid_advance(j, last, z, h, model, scratch, at_save):
+    # steps j + 1 .. last by RK4; the first takes k1 from the saved state's evaluation (work[0])
+    l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, max_yaw = model
+    ws, work, u = scratch
+    return rk4_steps(0.0, j + 1, last, z, h, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+                     noise_dt, max_yaw, ws, work, u, at_save)
+
+
+@njit(**JIT_INLINE)
+def _rigid_save(i, t, z, model, rec, scratch):
+    l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, _ = model
+    ws, work, u = scratch
+    ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension = rec
+    save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, work, u, ts, zs,
+               us, joints, drogue_vel, drogue_drag, tow, tension)
 
 
 @njit(**JIT_INLINE)
@@ -437,3 +442,7 @@ def save_state(i, t, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, n
     us[i, 1] = u[1]
     for j in range(2, us.shape[1]):
         us[i, j] = u[j]
+
+
+#: The event loop of rigid links (:func:`fl_interval`).
+_rigid_interval = event_loop(_rigid_advance, _rigid_save)

@@ -176,3 +176,50 @@ def sdirk2(deriv):
         return STAGE_LIMIT
 
     return step
+
+
+def event_loop(advance, save):
+    """The fixed-length hose's event loop for one kind of link, written once: steps on the global
+    grid of size h [s], a saved state where the grid says, a stop at the first status that is not
+    OK. The kinds give their own two parts, each a compiled inline function:
+
+    * ``advance(j, last, z, h, model, scratch, at_save) -> (status, k)``: the steps number j + 1
+      to ``last`` (step i from t = (i - 1) h to i h), z in place; ``at_save`` says whether the state
+      at j was just saved (its evaluation may serve the first step). Returns OK and ``last``, or the
+      status that stopped it and the last step whose state z holds (the failing step's own, or the
+      one before it for a step that leaves z at its start);
+    * ``save(i, t, z, model, rec, scratch)``: row i of the record ``rec`` from the state at t.
+
+    Parameters
+    ----------
+    advance, save : numba dispatchers
+        See above.
+
+    Returns
+    -------
+    numba dispatcher
+        ``interval(z, step0, nsteps, h, every, record, saved, model, rec, scratch) -> (status,
+        saved count, steps done)``: ``nsteps`` steps from global step ``step0``, in place; with
+        ``record`` the state at every global step j in [step0, step0 + nsteps) that is a multiple
+        of ``every`` is saved at row ``saved`` on (the state after the last step is the caller's
+        to save). Compiled inline into the caller (each kind's run, control step and sampled-data
+        loop), whose cache keeps it.
+    """
+
+    @njit(**JIT_INLINE)
+    def interval(z, step0, nsteps, h, every, record, saved, model, rec, scratch):
+        s = 0
+        while s < nsteps:
+            j = step0 + s
+            at_save = record and j % every == 0
+            if at_save:
+                save(saved, j * h, z, model, rec, scratch)
+                saved += 1
+            last = min(nsteps, s + every - j % every) if record else nsteps  # to the next saved state
+            status, k = advance(j, step0 + last, z, h, model, scratch, at_save)
+            if status != OK:
+                return status, saved, k - step0
+            s = last
+        return OK, saved, nsteps
+
+    return interval
