@@ -19,6 +19,8 @@ EXIT_BAD_INPUT = 2
 #: Exit status of a run that stopped early (partial output written, marked incomplete) or of an
 #: equilibrium that could not be found.
 EXIT_INCOMPLETE = 3
+#: Largest number of runs (or seeds) per cell, campaign or case a study's command line accepts [-].
+MAX_RUNS = 1_000_000
 
 
 class Parser(argparse.ArgumentParser):

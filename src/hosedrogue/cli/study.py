@@ -11,15 +11,12 @@ from pathlib import Path
 
 from ..errors import ParameterError
 from ..jsonio import dumps
-from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
+from .options import EXIT_INCOMPLETE, MAX_RUNS, bounded_int, finite_float, prepare_out
 from .study_actuator import add_study_parser
 from .study_receiver import add_receiver_parser
 from .study_registry import add_registry_studies
 
 NAME = "study"
-
-#: Largest number of runs per cell accepted on the command line [-].
-MAX_RUNS = 1_000_000
 
 
 def add_parser(sub) -> None:

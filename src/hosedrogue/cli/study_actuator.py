@@ -9,12 +9,9 @@ import sys
 from pathlib import Path
 
 from ..jsonio import dumps
-from .options import EXIT_INCOMPLETE, bounded_int, finite_float, prepare_out
+from .options import EXIT_INCOMPLETE, MAX_RUNS, bounded_int, finite_float, prepare_out
 
 __all__ = ["add_study_parser", "run_actuator"]
-
-#: Largest number of runs per cell or seeds per case accepted on the command line [-].
-MAX_RUNS = 1_000_000
 
 
 def add_study_parser(studies) -> None:

@@ -9,12 +9,9 @@ import sys
 from pathlib import Path
 
 from ..jsonio import dumps
-from .options import EXIT_INCOMPLETE, bounded_int, prepare_out
+from .options import EXIT_INCOMPLETE, MAX_RUNS, bounded_int, prepare_out
 
 __all__ = ["add_receiver_parser", "run_receiver"]
-
-#: Largest number of runs per campaign accepted on the command line [-].
-MAX_RUNS = 1_000_000
 
 
 def add_receiver_parser(studies) -> None:
