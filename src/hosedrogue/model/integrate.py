@@ -27,7 +27,7 @@ from ..jit import JIT, JIT_INLINE, JIT_NO_ALLOC
 from .layout import NONFINITE, OK, PS_RHO, YAW_LIMIT
 from .chain_dynamics import (
     WS_A, WS_B, WS_CS, WS_DRAG, WS_E, WS_ENV, WS_F, WS_QDD, WS_R, WS_T0, WS_TOW, WS_V, copy_matrix, copy_vector,
-    forward_dynamics_ws, loads_given_frames, make_workspace_jit,
+    forward_dynamics_ws, loads_given_frames, make_workspace,
 )
 from .chain_loads import drogue_from_frames, env_at, link_frames
 from .steppers import event_loop, rk4
@@ -356,7 +356,6 @@ def step_status(z, n, max_yaw):
     return OK
 
 
-@njit(**JIT)
 def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
             act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
     """A whole run of the fixed-length hose: ``nsteps`` RK4 steps of size h from (0, z0) through
@@ -365,42 +364,69 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] and tension (N,) [N] (as
     :func:`~hosedrogue.model.chain_dynamics.outputs_series` gives them). Returns (status, saved
     count, stop time). ``t0`` must be 0: the steps' times are counted from 0 (``fl_interval``).
+    Plain Python: the loop is ``fl_interval``'s, compiled once for the run and the stepper alike
+    (they pass it the same kinds of arrays).
 
     Stops early on a non-finite state (status NONFINITE) or a link yaw beyond ``max_yaw`` [rad]
     (status YAW_LIMIT); what was saved up to then stays valid.
+
+    Parameters
+    ----------
+    z0 : numpy.ndarray
+        The closed loop's state at the start (:func:`loop_states` after the hose's).
+    t0 : float
+        Start time [s], 0.
+    h : float
+        RK4 step [s].
+    nsteps, save_every : int
+        Steps, and steps from one saved state to the next [-].
+    l, M, S, J, ps, env, gust : numpy.ndarray
+        The model's arrays (:meth:`hosedrogue.model.system.HoseModel.kernel_args`).
+    Ac, Bc, Cc, Dc, y_ref, act, noise : numpy.ndarray
+        The closed loop's arrays (:class:`LoopArrays`).
+    noise_dt : float
+        Sensor noise sample time [s].
+    max_yaw : float
+        Link yaw that stops the run [rad].
+    ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension : numpy.ndarray
+        The record to fill, ``save_every``-th states (:func:`save_state`).
+
+    Returns
+    -------
+    tuple
+        (status, saved rows, stop time [s]).
     """
-    z = z0.copy()
-    work = np.empty((5, z0.shape[0]))
+    z = np.array(z0, dtype=np.float64)
+    work = np.empty((5, z.shape[0]))
     u = np.empty(us.shape[1])
-    ws = make_workspace_jit(l.shape[0])
     status, saved, done = fl_interval(z, 0, nsteps, h, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc,
                                       y_ref, act, noise, noise_dt, max_yaw, True, ts, zs, us, joints, drogue_vel,
-                                      drogue_drag, tow, tension, 0, ws, work, u)
-    if status != OK:
-        return status, saved, t0 + done * h
-    if nsteps % save_every == 0:  # the run's end is on the output grid
-        save_state(saved, t0 + nsteps * h, z, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
-                   noise_dt, ws, work, u, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
-        saved += 1
-    return OK, saved, t0 + nsteps * h
+                                      drogue_drag, tow, tension, 0, make_workspace(l.shape[0]), work, u, True)
+    return status, saved, t0 + done * h
 
 
 @njit(**JIT)
 def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                 noise_dt, max_yaw, record, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension, saved,
-                ws, work, u):
+                ws, work, u, close=False):
     """The fixed-length hose's event loop for rigid links (:func:`~.steppers.event_loop`):
     ``nsteps`` RK4 steps of the closed loop from global step ``step0`` (time ``step0 h`` [s]), in
     place. With ``record`` the state at every global step j in [step0, step0 + nsteps) that is a
     multiple of ``every`` is saved at row ``saved`` on (:func:`save_state`, whose evaluation serves
     as the first stage of the step that starts there); the steps between two saved states go to
-    :func:`rk4_steps` at once. Returns (status, saved count, steps done): a non-finite state or a
-    yaw beyond ``max_yaw`` [rad] stops after its step. A whole run (:func:`rk4_run`), the stepper's
-    control step (:func:`~.sampled.fl_advance`) and the built-in sampled-data controller
-    (:func:`~.sampled.fl_linear_sampled_run`) all integrate through it."""
+    :func:`rk4_steps` at once; with ``close`` (and ``record``) the state after the last step too,
+    if it is on the grid (a whole run's end). Returns (status, saved count, steps done): a
+    non-finite state or a yaw beyond ``max_yaw`` [rad] stops after its step. A whole run
+    (:func:`rk4_run`), the stepper's control step (:func:`~.sampled.fl_advance`) and the built-in
+    sampled-data controller (:func:`~.sampled.fl_linear_sampled_run`) all integrate through it."""
     model = (l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, max_yaw)
-    return _rigid_interval(z, step0, nsteps, h, every, record, saved, model,
-                           (ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension), (ws, work, u))
+    rec = (ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
+    scratch = (ws, work, u)
+    status, saved, done = _rigid_interval(z, step0, nsteps, h, every, record, saved, model, rec, scratch)
+    if status == OK and close and record and (step0 + nsteps) % every == 0:
+        _rigid_save(saved, (step0 + nsteps) * h, z, model, rec, scratch)
+        saved += 1
+    return status, saved, done
 
 
 @njit(**JIT_INLINE)
