@@ -44,9 +44,11 @@ def test_the_users_approach_flies_beside_the_point_receiver_on_the_same_seeds(tm
     (["--scenario", "paper-turbulence"], "scenario: 'paper-turbulence' is a fixed-length scenario; the receiver study"),
     (["--against", "approach-f16-moderate"], "against = 'approach-f16-moderate': the same scenario name as the first"),
 ])
-def test_a_bad_pair_is_refused_before_anything_runs(args, says, tmp_path, capsys):
+@pytest.mark.parametrize("runs", ["1", "0"])
+def test_a_bad_pair_is_refused_before_anything_runs(args, says, runs, tmp_path, capsys):
+    """Also without campaigns (--runs 0): a scenario given is checked, not ignored."""
     out = tmp_path / "o"
-    assert main(["study", "receiver", "--runs", "1", *args, "--out", str(out)]) == 2
+    assert main(["study", "receiver", "--runs", runs, *args, "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert says in err and len(err.strip().splitlines()) == 1
     assert not out.exists()

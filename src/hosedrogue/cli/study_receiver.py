@@ -71,7 +71,7 @@ def run_receiver(args) -> int:
     from ..plotting.base import save_figure
     from ..studies.receiver import receiver_campaigns, receiver_scenarios, trim_check
 
-    pair = receiver_scenarios(args.scenario, args.against) if args.runs else None  # checked before anything runs
+    pair = receiver_scenarios(args.scenario, args.against)  # checked before anything runs, --runs 0 too
     prepare_out(args.out)
     check = trim_check(args.trim_points)
     args.out.mkdir(parents=True, exist_ok=True)
