@@ -71,7 +71,7 @@ def run_receiver(args) -> int:
     from ..plotting.base import save_figure
     from ..studies.receiver import receiver_campaigns, receiver_scenarios, trim_check
 
-    pair = receiver_scenarios(args.scenario, args.against)  # checked before anything runs, --runs 0 too
+    receiver_scenarios(args.scenario, args.against)  # checked before anything runs, --runs 0 too
     prepare_out(args.out)
     check = trim_check(args.trim_points)
     args.out.mkdir(parents=True, exist_ok=True)
@@ -89,7 +89,7 @@ def run_receiver(args) -> int:
         p = camp.paired()
         stopped = sum(camp.stopped.values())
         record.update({"runs_per_campaign": args.runs, "seed": args.seed,
-                       "scenarios": [sc.name for sc in pair],
+                       "scenarios": list(camp.names),
                        "capture": {n: camp.capture[n] for n in camp.names},
                        "stopped_runs": camp.stopped,
                        "miss_paired_difference": p})

@@ -118,13 +118,8 @@ def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, 
     # the SDIRK's first slope guess: dz/dt at the start (then each step's last stage slope)
     elastic_loop_deriv(t0, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, 0.0,
                        work[7], work[7], u)
-    status, saved, done = _elastic_interval(z, 0, nsteps, h, save_every, True, 0, model, rec, scratch)
-    if status != OK:
-        return status, saved, t0 + done * h
-    if nsteps % save_every == 0:  # the run's end is on the output grid
-        _elastic_save(saved, t0 + nsteps * h, z, model, rec, scratch)
-        saved += 1
-    return OK, saved, t0 + nsteps * h
+    status, saved, done = _elastic_interval(z, 0, nsteps, h, save_every, True, True, 0, model, rec, scratch)
+    return status, saved, t0 + done * h
 
 
 @njit(**JIT_INLINE)

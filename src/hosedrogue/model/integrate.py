@@ -420,13 +420,8 @@ def fl_interval(z, step0, nsteps, h, every, l, M, S, J, ps, env, gust, Ac, Bc, C
     (:func:`rk4_run`), the stepper's control step (:func:`~.sampled.fl_advance`) and the built-in
     sampled-data controller (:func:`~.sampled.fl_linear_sampled_run`) all integrate through it."""
     model = (l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, max_yaw)
-    rec = (ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
-    scratch = (ws, work, u)
-    status, saved, done = _rigid_interval(z, step0, nsteps, h, every, record, saved, model, rec, scratch)
-    if status == OK and close and record and (step0 + nsteps) % every == 0:
-        _rigid_save(saved, (step0 + nsteps) * h, z, model, rec, scratch)
-        saved += 1
-    return status, saved, done
+    return _rigid_interval(z, step0, nsteps, h, every, record, close, saved, model,
+                           (ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension), (ws, work, u))
 
 
 @njit(**JIT_INLINE)

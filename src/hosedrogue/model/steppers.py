@@ -198,16 +198,16 @@ def event_loop(advance, save):
     Returns
     -------
     numba dispatcher
-        ``interval(z, step0, nsteps, h, every, record, saved, model, rec, scratch) -> (status,
-        saved count, steps done)``: ``nsteps`` steps from global step ``step0``, in place; with
-        ``record`` the state at every global step j in [step0, step0 + nsteps) that is a multiple
-        of ``every`` is saved at row ``saved`` on (the state after the last step is the caller's
-        to save). Compiled inline into the caller (each kind's run, control step and sampled-data
-        loop), whose cache keeps it.
+        ``interval(z, step0, nsteps, h, every, record, close, saved, model, rec, scratch) ->
+        (status, saved count, steps done)``: ``nsteps`` steps from global step ``step0``, in
+        place; with ``record`` the state at every global step j in [step0, step0 + nsteps) that
+        is a multiple of ``every`` is saved at row ``saved`` on, and with ``close`` too the state
+        after the last step if it is on that grid (a whole run's end). Compiled inline into the
+        caller (each kind's run, control step and sampled-data loop), whose cache keeps it.
     """
 
     @njit(**JIT_INLINE)
-    def interval(z, step0, nsteps, h, every, record, saved, model, rec, scratch):
+    def interval(z, step0, nsteps, h, every, record, close, saved, model, rec, scratch):
         s = 0
         while s < nsteps:
             j = step0 + s
@@ -220,6 +220,9 @@ def event_loop(advance, save):
             if status != OK:
                 return status, saved, k - step0
             s = last
+        if close and record and (step0 + nsteps) % every == 0:
+            save(saved, (step0 + nsteps) * h, z, model, rec, scratch)
+            saved += 1
         return OK, saved, nsteps
 
     return interval

@@ -22,7 +22,7 @@ from ..results.surfaces import surface_fields
 from ..controllers.sampled import SampledController
 from ..model import chain_dynamics as CD, layout as LY
 from ..model.integrate import (LoopArrays, applied_force, closed_loop_deriv, loop_arrays, loop_states, rk4_run,
-                               sensor_noise)
+                               sensor_noise, step_status)
 from ..model.status import status_text
 from ..model.steppers import rk4
 from ..model.system import HoseModel
@@ -417,10 +417,9 @@ def _run_python_control(model, params, x0, duration_s, control):
     for step in range(1, nsteps + 1):
         _python_rk4_step((step - 1) * h, x, h, (model, control), work)  # x in place
         t = step * h
-        if not np.all(np.isfinite(x)):
-            return np.array(ts), np.array(xs), np.array(us), LY.NONFINITE, t
-        if np.max(np.abs(x[1 : 2 * n : 2])) > max_yaw:
-            return np.array(ts), np.array(xs), np.array(us), LY.YAW_LIMIT, t
+        status = step_status(x, n, max_yaw)  # the compiled loops' check: non-finite, then the yaw limit
+        if status != LY.OK:
+            return np.array(ts), np.array(xs), np.array(us), status, t
         if step % every == 0:
             ts.append(t)
             xs.append(x.copy())
