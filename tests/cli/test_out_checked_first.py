@@ -186,3 +186,16 @@ def test_only_the_files_a_command_wrote_are_listed(tmp_path):
             written.add(out / "sub" / "figure.png", tmp_path / "elsewhere.txt")
             (out / "notes.txt").write_text("the user's, edited meanwhile\n")
         assert json.loads((out / MANIFEST).read_text())["files"] == ["sub/figure.png"]
+
+
+def test_a_file_the_system_refuses_while_writing_is_one_line(tmp_path, capsys):
+    """A folder where the run's hose.npz goes (written on a thread beside the CSV): the system's
+    refusal ends the command in one line naming the file, exit 1, not a traceback."""
+    scenario = tmp_path / "tiny.toml"
+    scenario.write_text(TINY)
+    out = tmp_path / "out"
+    (out / "hose.npz").mkdir(parents=True)
+    code = cli.main(["simulate", str(scenario), "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 1, err
+    assert "\n" not in err and err.startswith("hosedrogue: error: ") and "hose.npz" in err, err

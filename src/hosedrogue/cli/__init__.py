@@ -14,7 +14,7 @@ import sys
 from ..errors import EquilibriumError, IncompleteError, ParameterError
 from . import (bow_wave, design, export_fmu, fly, gym, gym_task, linearize, margins, montecarlo, reference, reproduce,
                simulate, steady, study, sweep, trim_receiver, view)
-from .options import EXIT_BAD_INPUT, EXIT_INCOMPLETE, Parser
+from .options import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_SYSTEM, Parser
 
 #: The sub-commands, in the order ``--help`` lists them. A new command is a module here plus a line.
 COMMANDS = (steady, simulate, view, fly, sweep, linearize, margins, design, reproduce, montecarlo, study, bow_wave, gym,
@@ -48,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
     Returns
     -------
     int
-        Exit status (0, 2 bad input, 3 incomplete, 130 interrupted).
+        Exit status (0, 1 a file the system refused, 2 bad input, 3 incomplete, 130 interrupted).
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -63,6 +63,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("hosedrogue: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:  # the system refused a file (a folder where a file goes, a full disk, a port in use)
+        print(f"hosedrogue: error: {exc}", file=sys.stderr)
+        return EXIT_SYSTEM
 
 
 if __name__ == "__main__":  # pragma: no cover

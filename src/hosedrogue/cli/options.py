@@ -14,6 +14,8 @@ from ..spec.config import resolve_configs
 from ..spec.manoeuvres import MAX_BANK_DEG, MAX_FLIGHT_PATH_DEG
 from ..spec.params import Params
 
+#: Exit status of a file operation the system refused (one line on stderr naming the file).
+EXIT_SYSTEM = 1
 #: Exit status of bad input (one line on stderr, nothing written).
 EXIT_BAD_INPUT = 2
 #: Exit status of a run that stopped early (partial output written, marked incomplete) or of an

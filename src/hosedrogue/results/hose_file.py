@@ -10,8 +10,9 @@ fixed-length hose has n+1 at every time. Stored as computed (float64, not resamp
   (:meth:`hosedrogue.results.run.RunResult.hose_shapes`);
 * :func:`split_joints` - the inverse;
 * :func:`write_hose_npz`, :func:`read_hose_npz` - the file (the reader checks that its arrays agree);
-* :func:`run_digests` - the SHA-256 of a run's ``timeseries.csv`` and of its hose's arrays, which
-  ``run.json`` records (:data:`DIGEST_KEY`) so that the viewer knows a ``run.json`` of another run.
+* :func:`run_digests` - the SHA-256 of a run's ``timeseries.csv`` (:func:`file_digest`) and of its
+  hose's arrays (:func:`hose_digest`), which ``run.json`` records (:data:`DIGEST_KEY`) so that the
+  viewer knows a ``run.json`` of another run.
 """
 
 from __future__ import annotations
@@ -23,7 +24,8 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["DIGEST_KEY", "FILE", "stack_joints", "split_joints", "write_hose_npz", "read_hose_npz", "run_digests"]
+__all__ = ["DIGEST_KEY", "FILE", "stack_joints", "split_joints", "write_hose_npz", "read_hose_npz", "hose_digest",
+           "file_digest", "run_digests"]
 
 #: File name of the hose's shape in a run's folder.
 FILE = "hose.npz"
@@ -135,10 +137,37 @@ def read_hose_npz(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     return t.astype(np.float64), counts.astype(np.int64), joints.astype(np.float64)
 
 
+def hose_digest(t_s: np.ndarray, joint_count: np.ndarray, joints_m: np.ndarray) -> str:
+    """The SHA-256 of a hose's arrays as :func:`write_hose_npz` stores them (float64, int64,
+    float64; not the zip's bytes, which carry a time stamp), each preceded by its dtype and shape.
+
+    Parameters
+    ----------
+    t_s, joint_count, joints_m : numpy.ndarray
+        The hose's shape over time (:func:`write_hose_npz`).
+
+    Returns
+    -------
+    str
+        Hex digest.
+    """
+    h = hashlib.sha256()
+    for a, dtype in ((t_s, np.float64), (joint_count, np.int64), (joints_m, np.float64)):
+        a = np.ascontiguousarray(a, dtype=dtype)
+        h.update(f"{a.dtype.str} {a.shape}".encode())
+        h.update(a)  # the array's bytes through the buffer protocol (a.tobytes() copied them first)
+    return h.hexdigest()
+
+
+def file_digest(path: str | Path) -> str:
+    """The SHA-256 of a file's bytes (a run's ``timeseries.csv``), as a hex digest."""
+    with Path(path).open("rb") as fh:
+        return hashlib.file_digest(fh, "sha256").hexdigest()
+
+
 def run_digests(csv_path: str | Path, t_s: np.ndarray, joint_count: np.ndarray, joints_m: np.ndarray) -> dict:
-    """What identifies a run's data: the SHA-256 of its ``timeseries.csv`` (the file's bytes) and of
-    its hose's arrays (as :func:`write_hose_npz` stores them: float64, int64, float64; not the
-    zip's bytes, which carry a time stamp), the same in every process.
+    """What identifies a run's data: the SHA-256 of its ``timeseries.csv`` (the file's bytes,
+    :func:`file_digest`) and of its hose's arrays (:func:`hose_digest`), the same in every process.
 
     Parameters
     ----------
@@ -152,9 +181,4 @@ def run_digests(csv_path: str | Path, t_s: np.ndarray, joint_count: np.ndarray, 
     dict
         ``{"timeseries.csv": hex digest, "hose.npz": hex digest}``.
     """
-    h = hashlib.sha256()
-    for a, dtype in ((t_s, np.float64), (joint_count, np.int64), (joints_m, np.float64)):
-        a = np.ascontiguousarray(a, dtype=dtype)
-        h.update(f"{a.dtype.str} {a.shape}".encode())
-        h.update(a)  # the array's bytes through the buffer protocol (a.tobytes() copied them first)
-    return {"timeseries.csv": hashlib.sha256(Path(csv_path).read_bytes()).hexdigest(), FILE: h.hexdigest()}
+    return {"timeseries.csv": file_digest(csv_path), FILE: hose_digest(t_s, joint_count, joints_m)}

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Sequence
 
@@ -314,6 +315,11 @@ def _sampled_meta(scenario: Scenario) -> dict:
     return out
 
 
+def _write_hose(path: Path, t_s: np.ndarray, shapes: tuple) -> tuple[Path, str]:
+    """Write a run's ``hose.npz`` and return it with its arrays' digest (:func:`write`'s thread)."""
+    return hose_file.write_hose_npz(path, t_s, *shapes), hose_file.hose_digest(t_s, *shapes)
+
+
 def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv",), plot: bool = True) -> list[Path]:
     """Write a run's files to ``out_dir``: ``timeseries.csv``, ``run.json``, ``hose.npz`` (the
     joint positions at every output time, :mod:`hosedrogue.results.hose_file`; what ``hosedrogue view``
@@ -343,11 +349,18 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
         raise ParameterError(f"formats = {list(formats)!r}: each must be one of {', '.join(map(repr, FORMATS))}")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    csv = result.to_csv(out_dir / "timeseries.csv")
     shapes = result.hose_shapes()
-    npz = hose_file.write_hose_npz(out_dir / hose_file.FILE, result.t_s, *shapes)
-    # the digests of the run's data, by which the viewer knows run.json belongs to these files
-    doc = {**result.run_document(), hose_file.DIGEST_KEY: hose_file.run_digests(csv, result.t_s, *shapes)}
+    # hose.npz and the digests of the run's data (by which the viewer knows run.json belongs to
+    # these files) on a thread beside the CSV: writing a file and hashing release Python's lock,
+    # formatting the CSV holds it, so on two cores they take no time of their own (0.2 of the 3 s
+    # that 5000 s of the paper's case add, docs/benchmarks.md)
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="hosedrogue-write") as pool:
+        hose = pool.submit(_write_hose, out_dir / hose_file.FILE, result.t_s, shapes)
+        csv = result.to_csv(out_dir / "timeseries.csv")
+        csv_sha = pool.submit(hose_file.file_digest, csv)
+        doc = result.run_document()
+        npz, hose_sha = hose.result()
+        doc[hose_file.DIGEST_KEY] = {"timeseries.csv": csv_sha.result(), hose_file.FILE: hose_sha}
     (out_dir / "run.json").write_text(dumps(doc, indent=2, default=fallback) + "\n")
     paths = [csv, out_dir / "run.json", npz]
     if plot and result.t_s.size > 1:
