@@ -160,7 +160,18 @@ def hose_digest(t_s: np.ndarray, joint_count: np.ndarray, joints_m: np.ndarray) 
 
 
 def file_digest(path: str | Path) -> str:
-    """The SHA-256 of a file's bytes (a run's ``timeseries.csv``), as a hex digest."""
+    """The SHA-256 of a file's bytes (a run's ``timeseries.csv``).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+
+    Returns
+    -------
+    str
+        Hex digest.
+    """
     with Path(path).open("rb") as fh:
         return hashlib.file_digest(fh, "sha256").hexdigest()
 
