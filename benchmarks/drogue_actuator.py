@@ -67,7 +67,7 @@ def loop_cost(section, repeats=REPEATS):
         ts, zs, us = np.empty(nsave), np.empty((nsave, z0.size)), np.empty((nsave, output_width(loop.act)))
         outs = output_arrays(nsave, model.n)
         t0 = time.process_time()
-        rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, math.radians(85.0), ts, zs, us, *outs)
+        rk4_run(z0, h, nsteps, every, *model.kernel_args(), *loop, math.radians(85.0), ts, zs, us, *outs)
         return (time.process_time() - t0) / nsteps * 1e6
 
     once()

@@ -480,7 +480,7 @@ def hose_rk4_wall(model: HoseModel, x0: np.ndarray, duration_s: float, repeats: 
     ctrl = LinearController.static_zero()
     ts, zs, us = np.empty(2), np.empty((2, x0.size)), np.empty((2, 2))
     loop = loop_arrays(ctrl, np.zeros(2), Actuator(), np.zeros((1, 2)), 1.0)
-    args = (x0, 0.0, h, nsteps, nsteps, *model.kernel_args(), *loop,
+    args = (x0, h, nsteps, nsteps, *model.kernel_args(), *loop,
             math.radians(model.params.numerics.max_yaw_deg), ts, zs, us, *output_arrays(2, model.n))
     best = math.inf
     for _ in range(repeats):

@@ -111,7 +111,7 @@ def rk4_wall_time(model, x0, duration_s, repeats=3):
     zs = np.empty((2, x0.size))
     us = np.empty((2, 2))
     loop = loop_arrays(ctrl, np.zeros(2), Actuator(), np.zeros((1, 2)), 1.0)
-    args = (x0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, math.radians(85.0), ts, zs, us,
+    args = (x0, h, nsteps, every, *model.kernel_args(), *loop, math.radians(85.0), ts, zs, us,
             *output_arrays(2, model.n))
     best = math.inf
     for _ in range(repeats):

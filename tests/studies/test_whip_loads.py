@@ -52,7 +52,7 @@ def test_first_axial_mode_is_the_chains():
     N = steps // 10 + 1
     ts, zs, us = np.empty(N), np.empty((N, 6 * n)), np.empty((N, 2))
     outs = (np.empty((N, n + 1, 3)), np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 3)), np.empty(N))
-    status, saved, _ = elastic_run(x0, 0.0, h, steps, 10, SCHEME_RK4, 2, model.l, model.M, model.J, model.ps,
+    status, saved, _ = elastic_run(x0, h, steps, 10, SCHEME_RK4, 2, model.l, model.M, model.J, model.ps,
                                    model.env, model.gust_values, *loop, math.radians(85.0), ts, zs, us, *outs)
     assert status == LY.OK
     x = -outs[0][:saved, -1, 0]  # the drogue's distance aft of the exit

@@ -95,7 +95,7 @@ hose_pairs_jit = njit(**JIT)(hose_pairs)
 
 
 @njit(**JIT)
-def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
+def elastic_run(z0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise,
                 noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
     """Integrate ``nsteps`` steps of size h [s] from (0, z0) with ``scheme`` (RK4 or SDIRK with
     ``iters`` corrections per stage) through the fixed-length hose's event loop
@@ -104,8 +104,8 @@ def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, 
     drogue velocity [m/s], drogue drag [N], tow-point force [N], exit tension [N]). Returns
     (status, saved count, stop time): a step whose SDIRK stages do not converge stops with
     STAGE_LIMIT at its start (the state of that time kept; the run's last saved row may be
-    older), a non-finite state or a yaw beyond ``max_yaw`` [rad] after its step. ``t0`` must be 0
-    (the steps' times are counted from 0)."""
+    older), a non-finite state or a yaw beyond ``max_yaw`` [rad] after its step. The run starts at
+    t = 0 (the event loop's steps are counted from it)."""
     n = l.shape[0]
     z = z0.copy()
     work = np.zeros((8, z.shape[0]))
@@ -116,10 +116,10 @@ def elastic_run(z0, t0, h, nsteps, save_every, scheme, iters, l, M, J, ps, env, 
     rec = (ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension)
     scratch = (ws, ews, hose_pairs_jit(n), work, u)
     # the SDIRK's first slope guess: dz/dt at the start (then each step's last stage slope)
-    elastic_loop_deriv(t0, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, 0.0,
+    elastic_loop_deriv(0.0, z, l, M, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref, act, noise, noise_dt, ws, ews, 0.0,
                        work[7], work[7], u)
     status, saved, done = _elastic_interval(z, 0, nsteps, h, save_every, True, True, 0, model, rec, scratch)
-    return status, saved, t0 + done * h
+    return status, saved, done * h
 
 
 @njit(**JIT_INLINE)

@@ -44,7 +44,7 @@ class LoopArrays(NamedTuple):
 
     The kernels take them after the model's arrays
     (:meth:`hosedrogue.model.system.HoseModel.kernel_args`), e.g.
-    ``rk4_run(z0, t0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw, ts, zs, us)``.
+    ``rk4_run(z0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw, ts, zs, us, ...)``.
     """
 
     Ac: np.ndarray  #: controller state matrix (nc, nc) [1/s]
@@ -356,14 +356,14 @@ def step_status(z, n, max_yaw):
     return OK
 
 
-def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
+def rk4_run(z0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc, y_ref,
             act, noise, noise_dt, max_yaw, ts, zs, us, joints, drogue_vel, drogue_drag, tow, tension):
     """A whole run of the fixed-length hose: ``nsteps`` RK4 steps of size h from (0, z0) through
     :func:`fl_interval`, keeping every ``save_every``-th state (the last one included) in ts, zs,
     us (the force applied at that state) and its derived outputs in joints (N, n+1, 3) [m],
     drogue_vel, drogue_drag, tow (N, 3) [m/s, N, N] and tension (N,) [N] (as
     :func:`~hosedrogue.model.chain_dynamics.outputs_series` gives them). Returns (status, saved
-    count, stop time). ``t0`` must be 0: the steps' times are counted from 0 (``fl_interval``).
+    count, stop time [s]); the run starts at t = 0 (``fl_interval``'s steps are counted from it).
     Plain Python: the loop is ``fl_interval``'s, compiled once for the run and the stepper alike
     (they pass it the same kinds of arrays).
 
@@ -374,8 +374,6 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     ----------
     z0 : numpy.ndarray
         The closed loop's state at the start (:func:`loop_states` after the hose's).
-    t0 : float
-        Start time [s], 0.
     h : float
         RK4 step [s].
     nsteps, save_every : int
@@ -402,7 +400,7 @@ def rk4_run(z0, t0, h, nsteps, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc
     status, saved, done = fl_interval(z, 0, nsteps, h, save_every, l, M, S, J, ps, env, gust, Ac, Bc, Cc, Dc,
                                       y_ref, act, noise, noise_dt, max_yaw, True, ts, zs, us, joints, drogue_vel,
                                       drogue_drag, tow, tension, 0, make_workspace(l.shape[0]), work, u, True)
-    return status, saved, t0 + done * h
+    return status, saved, done * h
 
 
 @njit(**JIT)

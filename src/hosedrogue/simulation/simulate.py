@@ -286,7 +286,7 @@ def _run_rk4(model: HoseModel, z0, duration_s, loop: LoopArrays):
     us = np.empty((nsave, output_width(loop.act)))
     outs = output_arrays(nsave, model.n)
     max_yaw = math.radians(model.params.numerics.max_yaw_deg)
-    status, saved, t_stop = rk4_run(z0, 0.0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw,
+    status, saved, t_stop = rk4_run(z0, h, nsteps, every, *model.kernel_args(), *loop, max_yaw,
                                     ts, zs, us, *outs)
     return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)
 
@@ -305,7 +305,7 @@ def _run_elastic(model: HoseModel, z0, duration_s, loop: LoopArrays):
     outs = output_arrays(nsave, model.n)
     scheme = SCHEME_SDIRK2 if model.params.numerics.integrator == "sdirk2" else SCHEME_RK4
     max_yaw = math.radians(model.params.numerics.max_yaw_deg)
-    status, saved, t_stop = elastic_run(z0, 0.0, h, nsteps, every, scheme, model.params.numerics.sdirk_corrections,
+    status, saved, t_stop = elastic_run(z0, h, nsteps, every, scheme, model.params.numerics.sdirk_corrections,
                                         model.l, model.M, model.J, model.ps,
                                         model.env, model.gust_values, *loop, max_yaw, ts, zs, us, *outs)
     return ts[:saved], zs[:saved], us[:saved], status, t_stop, tuple(o[:saved] for o in outs)

@@ -12,8 +12,7 @@ another, ``--scenario``/``--against``); the report's section "Receiver aircraft"
 from __future__ import annotations
 
 import math
-import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from decimal import Decimal
 from pathlib import Path
 
@@ -109,7 +108,7 @@ class ReceiverCampaigns:
     folders: dict  #: scenario -> campaign folder
     names: tuple = SCENARIOS  #: the two scenarios' names, the one compared first
     #: scenario -> its runs that stopped early (a diverging loop: ``completed`` false in runs.csv) [-]
-    stopped: dict = dataclasses.field(default_factory=dict)
+    stopped: dict = field(default_factory=dict)
     capture_radius_m: float = math.nan  #: the first scenario's ``[probe] capture_radius_m`` [m]
 
     def miss(self, scenario: str) -> np.ndarray:
@@ -127,13 +126,12 @@ class ReceiverCampaigns:
         return {"runs": int(n), "mean_m": float(d.mean()) if n else math.nan, "se_m": se,
                 "first_larger": int((d > 0).sum())}
 
-    def figure(self, capture_radius_m: float | None = None):
-        """The two miss distributions (empirical CDFs) beside the capture radius [m] (default the
-        first scenario's)."""
+    def figure(self):
+        """The two miss distributions (empirical CDFs) beside the first scenario's capture radius."""
         from ..plotting.base import new_figure
         from ..plotting.campaign import draw_miss_cdf
 
-        capture_radius_m = self.capture_radius_m if capture_radius_m is None else capture_radius_m
+        capture_radius_m = self.capture_radius_m
         fig, ax = new_figure(1, 1, size=(6.0, 4.0))
         for name, style in zip(self.names, ("-", "--")):
             draw_miss_cdf(ax, self.miss(name), label=f"{name} ({{n}} runs)", linestyle=style)
@@ -168,9 +166,9 @@ def receiver_scenarios(first=SCENARIOS[0], second=SCENARIOS[1]) -> tuple:
     from ..scenarios import Scenario, load_scenario
 
     out = []
-    for field, s in (("scenario", first), ("against", second)):
+    for option, s in (("scenario", first), ("against", second)):
         sc = s if isinstance(s, Scenario) else load_scenario(s)
-        out.append(sc.require_model("engagement", field, "the receiver study flies approaches (a [probe])"))
+        out.append(sc.require_model("engagement", option, "the receiver study flies approaches (a [probe])"))
     if out[0].name == out[1].name:
         raise ParameterError(f"against = {out[1].name!r}: the same scenario name as the first; the two campaigns "
                              "need two names (their folders)")
