@@ -143,12 +143,32 @@ def derivative(model: AircraftModel, x: np.ndarray, u: np.ndarray, gravity: floa
     numpy.ndarray
         (14,) derivative.
     """
+    return derivative_and_force(model, x, u, gravity, wind_ned)[0]
+
+
+def derivative_and_force(model: AircraftModel, x: np.ndarray, u: np.ndarray, gravity: float = G0,
+                         wind_ned: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`derivative` and the total body force it was computed from, from one evaluation of the
+    tables (the trim's residuals take both: :mod:`.trim`).
+
+    Parameters
+    ----------
+    model, x, u, gravity, wind_ned
+        As :func:`derivative`'s.
+
+    Returns
+    -------
+    dx : numpy.ndarray
+        (14,) derivative.
+    force_b : numpy.ndarray
+        (3,) total force in body axes [N] (:func:`forces_moments`).
+    """
     force, moment, _ = forces_moments(model, x, u, gravity, wind_ned)
     dx = np.empty(N_STATE)
     dx[:N_BODY] = rigid_body_derivative(x[:N_BODY], force, moment, model.mass_kg, model.inertia_kg_m2,
                                         np.array([model.engine_momentum_kg_m2_s, 0.0, 0.0]))
     dx[POWER] = power_rate(model.engine, x[POWER], commanded_power(model.engine, u[0]))
-    return dx
+    return dx, force
 
 
 def load_factors(model: AircraftModel, x: np.ndarray, u: np.ndarray, gravity: float = G0) -> tuple[float, float]:
@@ -175,5 +195,5 @@ def load_factors(model: AircraftModel, x: np.ndarray, u: np.ndarray, gravity: fl
     return -specific[2] / gravity, specific[1] / gravity
 
 
-__all__ = ["STATE_NAMES", "CONTROL_NAMES", "N_STATE", "POWER", "derivative", "forces_moments", "coefficients",
-           "wind_angles", "load_factors"]
+__all__ = ["STATE_NAMES", "CONTROL_NAMES", "N_STATE", "POWER", "derivative", "derivative_and_force", "forces_moments",
+           "coefficients", "wind_angles", "load_factors"]

@@ -26,7 +26,7 @@ from scipy.optimize import least_squares
 
 from ..constants import G0
 from ..errors import EquilibriumError, ParameterError
-from .dynamics import N_STATE, POWER, derivative, forces_moments
+from .dynamics import N_STATE, POWER, derivative_and_force
 from .engine import commanded_power
 from .model_file import AircraftModel
 from .rigid_body import dcm_body_from_ned, quaternion_from_euler
@@ -104,8 +104,7 @@ def trim_state(model: AircraftModel, airspeed: float, altitude: float, bank: flo
 def _residuals(z, model, airspeed, altitude, climb, bank, gravity):
     x = trim_state(model, airspeed, altitude, bank, z)
     u = z[4:]
-    dx = derivative(model, x, u, gravity)
-    force, _, _ = forces_moments(model, x, u, gravity)
+    dx, force = derivative_and_force(model, x, u, gravity)
     lateral = force[1] / model.mass_kg - gravity * dcm_body_from_ned(x[6:10])[1, 2]
     return np.concatenate([dx[3:6], dx[10:13], [-dx[2] - airspeed * math.sin(climb), lateral]])
 
