@@ -11,8 +11,8 @@ fixed-length hose has n+1 at every time. Stored as computed (float64, not resamp
 * :func:`split_joints` - the inverse;
 * :func:`write_hose_npz`, :func:`read_hose_npz` - the file (the reader checks that its arrays agree);
 * :func:`run_digests` - the SHA-256 of a run's ``timeseries.csv`` (:func:`file_digest`) and of its
-  hose's arrays (:func:`hose_digest`), which ``run.json`` records (:data:`DIGEST_KEY`) so that the
-  viewer knows a ``run.json`` of another run.
+  hose's arrays (:func:`hose_digest`), which ``run.json`` records (:data:`DIGEST_KEY`,
+  :func:`digest_record`) so that the viewer knows a ``run.json`` of another run.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import ParameterError
 
 __all__ = ["DIGEST_KEY", "FILE", "stack_joints", "split_joints", "write_hose_npz", "read_hose_npz", "hose_digest",
-           "file_digest", "run_digests"]
+           "file_digest", "run_digests", "digest_record"]
 
 #: File name of the hose's shape in a run's folder.
 FILE = "hose.npz"
@@ -192,4 +192,23 @@ def run_digests(csv_path: str | Path, t_s: np.ndarray, joint_count: np.ndarray, 
     dict
         ``{"timeseries.csv": hex digest, "hose.npz": hex digest}``.
     """
-    return {"timeseries.csv": file_digest(csv_path), FILE: hose_digest(t_s, joint_count, joints_m)}
+    return digest_record(file_digest(csv_path), hose_digest(t_s, joint_count, joints_m))
+
+
+def digest_record(csv_sha256: str, hose_sha256: str) -> dict:
+    """The digests as ``run.json`` records them (:data:`DIGEST_KEY`) and :func:`run_digests`
+    returns them, from digests taken elsewhere (``scenarios.runner.write`` hashes on a thread).
+
+    Parameters
+    ----------
+    csv_sha256 : str
+        :func:`file_digest` of the run's ``timeseries.csv``.
+    hose_sha256 : str
+        :func:`hose_digest` of its hose's arrays.
+
+    Returns
+    -------
+    dict
+        ``{"timeseries.csv": csv_sha256, "hose.npz": hose_sha256}``.
+    """
+    return {"timeseries.csv": csv_sha256, FILE: hose_sha256}

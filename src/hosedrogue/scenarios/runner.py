@@ -360,7 +360,7 @@ def write(result: RunResult, out_dir: str | Path, formats: Sequence[str] = ("csv
         csv_sha = pool.submit(hose_file.file_digest, csv)
         doc = result.run_document()
         npz, hose_sha = hose.result()
-        doc[hose_file.DIGEST_KEY] = {"timeseries.csv": csv_sha.result(), hose_file.FILE: hose_sha}
+        doc[hose_file.DIGEST_KEY] = hose_file.digest_record(csv_sha.result(), hose_sha)
     (out_dir / "run.json").write_text(dumps(doc, indent=2, default=fallback) + "\n")
     paths = [csv, out_dir / "run.json", npz]
     if plot and result.t_s.size > 1:

@@ -131,11 +131,11 @@ class ReceiverCampaigns:
         from ..plotting.base import new_figure
         from ..plotting.campaign import draw_miss_cdf
 
-        capture_radius_m = self.capture_radius_m
         fig, ax = new_figure(1, 1, size=(6.0, 4.0))
         for name, style in zip(self.names, ("-", "--")):
             draw_miss_cdf(ax, self.miss(name), label=f"{name} ({{n}} runs)", linestyle=style)
-        ax.axvline(capture_radius_m, color="0.4", linestyle=":", linewidth=0.8, label=f"capture radius {capture_radius_m:g} m")
+        ax.axvline(self.capture_radius_m, color="0.4", linestyle=":", linewidth=0.8,
+                   label=f"capture radius {self.capture_radius_m:g} m")
         ax.set_xlabel("miss distance at the coupler plane [m]")
         ax.set_ylabel("fraction of runs [-]")
         ax.legend(loc="lower right", fontsize="small")
